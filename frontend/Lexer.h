@@ -1,0 +1,29 @@
+// Tokenizer for preprocessed L+C text. Positions map back to the user's files through the GNU
+// line markers the preprocessor leaves in its output.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace lcjit::frontend {
+
+struct Token {
+  enum Kind { Identifier, Number, String, Char, Punct, Directive, End };
+  Kind kind = End;
+  std::string text;
+  int file = 0;    // index into Lexed::files
+  int line = 1;
+  int col = 1;
+  bool spaceBefore = false;  // whitespace or a line break precedes it in the source
+
+  bool is(const char* s) const { return (kind == Punct || kind == Identifier) && text == s; }
+};
+
+struct Lexed {
+  std::vector<std::string> files;
+  std::vector<Token> tokens;  // always ends with an End token
+};
+
+// `text` is preprocessor output; `mainFile` names it until the first line marker says otherwise.
+Lexed lex(const std::string& text, const std::string& mainFile);
+
+}  // namespace lcjit::frontend

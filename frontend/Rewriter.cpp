@@ -1,0 +1,713 @@
+// L+C → C++ rewriting (see Rewriter.h). A single pass over the token stream: top-level L+C
+// statements become functions and table entries, C++ passes through at its original position.
+#include "Rewriter.h"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <set>
+#include <optional>
+#include <unordered_map>
+
+#include "Lexer.h"
+
+namespace lcjit::frontend {
+namespace {
+
+struct ModuleEntry {
+  int id;
+  std::vector<std::string> paramTypes;
+};
+
+// The predefined modules (manual §5), from the same table the runtime header uses.
+std::unordered_map<std::string, ModuleEntry> predefinedModules() {
+  std::unordered_map<std::string, ModuleEntry> m;
+#define LCJIT_MODULE(N, I, A, ...) m[#N] = ModuleEntry{I, splitTypes(#__VA_ARGS__)};
+  auto splitTypes = [](std::string s) {
+    std::vector<std::string> out;
+    std::string cur;
+    for (char c : s) {
+      if (c == ',') {
+        out.push_back(cur);
+        cur.clear();
+      } else if (c != ' ') {
+        cur += c;
+      }
+    }
+    if (!cur.empty()) out.push_back(cur);
+    return out;
+  };
+#include "lcjit/stdmods.def"
+#undef LCJIT_MODULE
+  return m;
+}
+
+struct RewriteError {
+  Token at;
+  std::string message;
+};
+
+bool isIdentChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
+
+// Writes C++ while tracking the source position it corresponds to, so that user tokens keep
+// their line (and, where possible, column) under #line directives.
+class Emitter {
+ public:
+  explicit Emitter(const Lexed& l) : lexed_(l) {}
+
+  void token(const Token& t) {
+    moveTo(t);
+    put(t.text);
+  }
+  // Generated text placed at a token's position (so diagnostics about it point there).
+  void glueAt(const Token& t, const std::string& s) {
+    moveTo(t);
+    put(s);
+  }
+  // Generated text continuing the current position.
+  void glue(const std::string& s) {
+    if (!out_.empty() && !s.empty() && isIdentChar(out_.back()) && isIdentChar(s.front())) put(" ");
+    put(s);
+  }
+  // Generated lines outside any user position.
+  void generated(const std::string& s) {
+    if (col_ > 1) newline();
+    out_ += s;
+    if (!s.empty() && s.back() != '\n') out_ += '\n';
+    file_ = -1;
+    col_ = 1;
+  }
+  void directive(const std::string& d) {
+    if (col_ > 1) newline();
+    out_ += d;
+    out_ += '\n';
+    ++line_;
+    col_ = 1;
+  }
+  std::string take() { return std::move(out_); }
+
+ private:
+  void newline() {
+    out_ += '\n';
+    ++line_;
+    col_ = 1;
+  }
+  void put(const std::string& s) {
+    out_ += s;
+    col_ += (int)s.size();
+  }
+  void moveTo(const Token& t) {
+    if (file_ != t.file || t.line < line_ || t.line > line_ + 8) {
+      if (col_ > 1) newline();
+      std::string name;
+      for (char c : lexed_.files[t.file]) {
+        if (c == '\\' || c == '"') name += '\\';
+        name += c;
+      }
+      out_ += "#line " + std::to_string(t.line) + " \"" + name + "\"\n";
+      file_ = t.file;
+      line_ = t.line;
+      col_ = 1;
+    }
+    while (line_ < t.line) newline();
+    if (t.col > col_) {
+      out_.append(t.col - col_, ' ');
+      col_ = t.col;
+    } else if (!out_.empty() && out_.back() != '\n' &&
+               (t.spaceBefore || (isIdentChar(out_.back()) && isIdentChar(t.text.front())))) {
+      put(" ");
+    }
+  }
+
+  const Lexed& lexed_;
+  std::string out_;
+  int file_ = -1, line_ = 0, col_ = 1;
+};
+
+struct PatternModule {
+  Token name;
+  const ModuleEntry* module;
+  std::vector<Token> params;
+};
+
+struct RuleEntry {
+  int kind;
+  int groupKind;
+  std::string group;  // C++ expression
+  int counts[5];
+  int filter;
+  std::vector<int> ids;
+  std::string body;
+  int line;
+};
+
+struct FilterEntry {
+  bool consider;
+  std::vector<int> ids;
+};
+
+class Rewriter {
+ public:
+  Rewriter(Lexed l) : lx_(std::move(l)), out_(lx_), modules_(predefinedModules()) {}
+
+  Rewritten run() {
+    while (!at(Token::End)) topLevelItem();
+    if (!haveAxiom_) throw RewriteError{cur(), "the model has no 'axiom:' statement"};
+    if (!haveDerivationLength_) throw RewriteError{cur(), "the model has no 'derivation length:' statement"};
+    emitTables();
+    Rewritten r;
+    r.cpp = out_.take();
+    r.userModules = userModules_;
+    r.ruleCount = (int)rules_.size();
+    return r;
+  }
+
+ private:
+  // ---- token access
+  const Token& cur() const { return lx_.tokens[pos_]; }
+  const Token& peek(int k = 1) const {
+    size_t i = std::min(pos_ + k, lx_.tokens.size() - 1);
+    return lx_.tokens[i];
+  }
+  bool at(Token::Kind k) const { return cur().kind == k; }
+  bool atText(const char* s) const { return cur().is(s); }
+  const Token& next() {
+    const Token& t = lx_.tokens[pos_];
+    if (t.kind != Token::End) ++pos_;
+    return t;
+  }
+  const Token& expect(const char* s, const char* what) {
+    if (!atText(s)) throw RewriteError{cur(), std::string("expected '") + s + "' " + what};
+    return next();
+  }
+  [[noreturn]] void fail(const Token& t, std::string msg) { throw RewriteError{t, std::move(msg)}; }
+
+  const ModuleEntry* findModule(const std::string& name) const {
+    auto it = modules_.find(name);
+    return it == modules_.end() ? nullptr : &it->second;
+  }
+  const ModuleEntry& requireModule(const Token& t) {
+    if (t.kind != Token::Identifier) fail(t, "expected a module name, found '" + t.text + "'");
+    const ModuleEntry* m = findModule(t.text);
+    if (!m) fail(t, "undeclared module '" + t.text + "'");
+    return *m;
+  }
+
+  // ---- top level
+  void topLevelItem() {
+    const Token& t = cur();
+    if (t.kind == Token::Directive) {
+      out_.directive(t.text);
+      next();
+      atStatementStart_ = true;
+      return;
+    }
+    if (atStatementStart_ && t.kind == Token::Identifier && lsystemStatement()) {
+      atStatementStart_ = true;
+      return;
+    }
+    // C++ passes through; statement boundaries are only recognised at namespace scope.
+    out_.token(t);
+    next();
+    if (t.is("{") || t.is("(") || t.is("[")) ++depth_;
+    if (t.is("}") || t.is(")") || t.is("]")) --depth_;
+    atStatementStart_ = depth_ == 0 && (t.is(";") || t.is("}"));
+  }
+
+  bool isLabel(const char* word) const { return cur().is(word) && peek().is(":") && !peek(2).is(":"); }
+
+  bool lsystemStatement() {
+    const Token& t = cur();
+    const std::string& w = t.text;
+    if (w == "module" && peek().kind == Token::Identifier) return moduleDeclaration(), true;
+    if (w == "derivation" && peek().is("length") && peek(2).is(":")) {
+      next(), next(), next();
+      haveDerivationLength_ = true;
+      expressionFunction("static int __lc_derivation_length() { return (int)(", "derivation length");
+      return true;
+    }
+    if ((w == "axiom" || w == "Axiom") && peek().is(":")) {
+      next(), next();
+      if (haveAxiom_) fail(t, "the model has more than one axiom");
+      haveAxiom_ = true;
+      out_.glueAt(t, "static void __lc_axiom(__lc_Ctx* __lc_ctx) {");
+      successorList(";", /*isProduce=*/false);
+      expect(";", "after the axiom");
+      out_.glue("}");
+      return true;
+    }
+    if (w == "ring" && peek().is("L") && peek(2).is("-") && peek(3).is("system") && peek(4).is(":")) {
+      for (int i = 0; i < 5; ++i) next();
+      haveRing_ = true;
+      expressionFunction("static int __lc_ring_lsystem() { return (int)(", "ring L-system");
+      return true;
+    }
+    if (w == "maximum" && peek().is("depth") && peek(2).is(":")) {
+      next(), next(), next();
+      bool interp = kind_ == 2;
+      (interp ? haveInterpDepth_ : haveDecompDepth_) = true;
+      expressionFunction(interp ? "static int __lc_interpretation_depth() { return (int)("
+                                : "static int __lc_decomposition_depth() { return (int)(",
+                         "maximum depth");
+      return true;
+    }
+    if ((w == "ignore" || w == "consider") && peek().is(":")) {
+      next(), next();
+      FilterEntry f{w == "consider", {}};
+      while (!atText(";")) {
+        if (at(Token::End)) fail(cur(), "expected ';' after the module list");
+        const Token& m = next();
+        f.ids.push_back(requireModule(m).id);
+      }
+      next();
+      if (f.ids.empty() && !f.consider) {
+        filter_ = -1;  // `ignore: ;` cancels
+      } else {
+        filters_.push_back(std::move(f));
+        filter_ = (int)filters_.size() - 1;
+      }
+      return true;
+    }
+    static const std::map<std::string, std::string> control = {
+        {"Start", "__lc_start"}, {"StartEach", "__lc_start_each"}, {"EndEach", "__lc_end_each"}, {"End", "__lc_end"}};
+    if (auto it = control.find(w); it != control.end() && peek().is(":") && peek(2).is("{")) {
+      next(), next();
+      if (!controls_.insert(it->second).second) fail(t, "'" + w + ":' appears more than once");
+      out_.glueAt(t, "static void " + it->second + "()");
+      block(/*rule=*/false);
+      return true;
+    }
+    if ((w == "production" || w == "decomposition" || w == "interpretation" || w == "homomorphism") && isLabel(w.c_str())) {
+      next(), next();
+      kind_ = w == "production" ? 0 : w == "decomposition" ? 1 : 2;
+      group_ = "0";
+      groupKind_ = 0;
+      return true;
+    }
+    if ((w == "group" || w == "ggroup" || w == "vgroup") && peek(2).is(":") &&
+        (peek().kind == Token::Number || peek().kind == Token::Identifier)) {
+      next();
+      group_ = next().text;
+      next();
+      groupKind_ = w == "group" ? 0 : w == "ggroup" ? 1 : 2;
+      return true;
+    }
+    if (w == "endgroup") {
+      next();
+      if (atText(";")) next();
+      group_ = "0";
+      groupKind_ = 0;
+      return true;
+    }
+    if (w == "VerifyString" && peek().is(":")) {  // deprecated (manual §10.4): accepted, not checked
+      while (!at(Token::End) && !atText(";")) next();
+      next();
+      return true;
+    }
+    if (findModule(w)) return rule(), true;
+    return false;
+  }
+
+  void moduleDeclaration() {
+    const Token& kw = next();
+    for (;;) {
+      const Token& name = next();
+      if (name.kind != Token::Identifier) fail(name, "expected a module name after 'module'");
+      if (auto* m = findModule(name.text))
+        fail(name, "module '" + name.text + "' is already declared" + (m->id < 103 ? " (it is a predefined module)" : ""));
+      std::vector<std::string> types;
+      if (atText("(")) {
+        next();
+        std::string type;
+        int depth = 0;
+        while (!(depth == 0 && atText(")"))) {
+          if (at(Token::End) || atText(";")) fail(cur(), "expected ')' to close the parameter list of module '" + name.text + "'");
+          const Token& t = next();
+          if (t.is("(") || t.is("<")) ++depth;
+          if (t.is(")") || t.is(">")) --depth;
+          if (depth == 0 && t.is(",")) {
+            if (type.empty()) fail(t, "missing parameter type in module '" + name.text + "'");
+            types.push_back(type);
+            type.clear();
+            continue;
+          }
+          if (!type.empty() && isIdentChar(type.back()) && isIdentChar(t.text.front())) type += ' ';
+          type += t.text;
+        }
+        next();
+        if (!type.empty()) types.push_back(type);
+        else if (!types.empty()) fail(cur(), "missing parameter type in module '" + name.text + "'");
+        if (types.size() == 1 && types[0] == "void") types.clear();
+      }
+      int id = nextModuleId_++;
+      modules_[name.text] = ModuleEntry{id, types};
+      userModules_.push_back(ModuleDecl{name.text, id, types});
+      emitModule(kw, name.text, id, types);
+      if (atText(",")) {
+        next();
+        continue;
+      }
+      break;
+    }
+    if (atText("=")) fail(cur(), "module ids cannot be assigned in a model");
+    expect(";", "after the module declaration");
+  }
+
+  void emitModule(const Token& at, const std::string& name, int id, const std::vector<std::string>& types) {
+    std::string R = "__lc_R_" + name;
+    std::string s = "struct " + R + " { __lc_ModuleId id;";
+    for (size_t i = 0; i < types.size(); ++i) s += " " + types[i] + " p" + std::to_string(i) + ";";
+    s += " __lc_ModuleId id2; }; enum : __lc_ModuleId { __lc_id_" + name + " = " + std::to_string(id) + " }; ";
+    s += "static inline void __lc_emit_" + name + "(__lc_Ctx* c";
+    for (size_t i = 0; i < types.size(); ++i) s += ", " + types[i] + " a" + std::to_string(i);
+    s += ") { auto r = __lc_blank<" + R + ">();";
+    for (size_t i = 0; i < types.size(); ++i) s += " r.p" + std::to_string(i) + " = a" + std::to_string(i) + ";";
+    s += " __lc_put(c, r, " + std::to_string(id) + "); } ";
+    s += "static const __lc_Field __lc_fields_" + name + "[" + std::to_string(std::max<size_t>(types.size(), 1)) + "] = {";
+    for (size_t i = 0; i < types.size(); ++i) {
+      std::string quoted;
+      for (char c : types[i]) quoted += c == '"' ? std::string("\\\"") : std::string(1, c);
+      s += "{(uint32_t)offsetof(" + R + ", p" + std::to_string(i) + "), (uint32_t)sizeof(" + types[i] + "), __lc_kind_of<" +
+           types[i] + ">(), \"" + quoted + "\"},";
+    }
+    s += "};";
+    out_.glueAt(at, s);
+  }
+
+  // `KEYWORD: expression ;` → a function returning the expression.
+  void expressionFunction(const std::string& head, const char* what) {
+    out_.glueAt(cur(), head);
+    int depth = 0;
+    while (!(depth == 0 && atText(";"))) {
+      if (at(Token::End)) fail(cur(), std::string("expected ';' after the ") + what + " expression");
+      const Token& t = next();
+      if (t.is("(") || t.is("{") || t.is("[")) ++depth;
+      if (t.is(")") || t.is("}") || t.is("]")) --depth;
+      out_.token(t);
+    }
+    next();
+    out_.glue("); }");
+  }
+
+  // ---- productions and rules
+  PatternModule patternModule() {
+    const Token& name = next();
+    const ModuleEntry& m = requireModule(name);
+    PatternModule pm{name, &m, {}};
+    if (atText("(")) {
+      next();
+      while (!atText(")")) {
+        const Token& p = next();
+        if (p.kind != Token::Identifier)
+          fail(p, "expected a parameter name in the predecessor module '" + name.text + "'");
+        pm.params.push_back(p);
+        if (atText(",")) next();
+        else if (!atText(")")) fail(cur(), "expected ',' or ')' in the predecessor module '" + name.text + "'");
+      }
+      next();
+    }
+    if (pm.params.size() != m.paramTypes.size())
+      fail(name, "module '" + name.text + "' has " + std::to_string(m.paramTypes.size()) + " parameter" +
+                     (m.paramTypes.size() == 1 ? "" : "s") + ", the predecessor gives " + std::to_string(pm.params.size()));
+    return pm;
+  }
+
+  void rule() {
+    const Token& first = cur();
+    std::vector<std::vector<PatternModule>> segs(1);
+    std::vector<std::string> ops;
+    while (!atText(":")) {
+      if (at(Token::End) || atText(";") || atText("{"))
+        fail(cur(), "expected ':' after the predecessor of a " + ruleKindName());
+      if (atText("<<") || atText("<") || atText(">") || atText(">>")) {
+        ops.push_back(next().text);
+        segs.emplace_back();
+        continue;
+      }
+      segs.back().push_back(patternModule());
+    }
+    next();
+    // Assign the segments: newLeft << left < strict > right >> newRight.
+    static const char* order[] = {"<<", "<", ">", ">>"};
+    bool hasNewLeft = std::count(ops.begin(), ops.end(), "<<") > 0;
+    bool hasLeft = std::count(ops.begin(), ops.end(), "<") > 0;
+    std::vector<PatternModule> parts[5];
+    int last = -1;
+    for (size_t i = 0; i < segs.size(); ++i) {
+      int part;
+      if (i == 0) {
+        part = hasNewLeft ? 0 : hasLeft ? 1 : 2;
+      } else {
+        int oi = 0;
+        while (ops[i - 1] != order[oi]) ++oi;
+        if (oi <= last) fail(first, "context operators in the wrong order in this predecessor");
+        last = oi;
+        part = oi == 0 ? (hasLeft ? 1 : 2) : oi == 1 ? 2 : oi == 2 ? 3 : 4;
+      }
+      if (segs[i].empty()) fail(first, "empty module list in the predecessor");
+      parts[part] = std::move(segs[i]);
+    }
+    if (parts[2].empty()) fail(first, "the predecessor has no strict predecessor");
+
+    RuleEntry r;
+    r.kind = kind_;
+    r.groupKind = groupKind_;
+    r.group = group_;
+    r.filter = filter_;
+    r.line = first.line;
+    std::string fn = "__lc_rule_" + std::to_string(rules_.size());
+    r.body = fn;
+    out_.glueAt(first, "static void " + fn + "(__lc_Ctx* __lc_ctx, const char* const* __lc_m) {");
+    int k = 0;
+    for (int p = 0; p < 5; ++p) {
+      r.counts[p] = (int)parts[p].size();
+      for (auto& pm : parts[p]) {
+        r.ids.push_back(pm.module->id);
+        if (!pm.params.empty()) {
+          std::string rec = "__lc_r" + std::to_string(k);
+          out_.glueAt(pm.name, "auto " + rec + " = __lc_load<__lc_R_" + pm.name.text + ">(__lc_m[" + std::to_string(k) + "]);");
+          for (size_t i = 0; i < pm.params.size(); ++i) {
+            out_.glue("auto");
+            out_.token(pm.params[i]);
+            out_.glue(" = " + rec + ".p" + std::to_string(i) + ";");
+          }
+        }
+        ++k;
+      }
+    }
+    if (!atText("{")) fail(cur(), "expected '{' to start the body of a " + ruleKindName());
+    ruleGroupKind_ = groupKind_;
+    block(/*rule=*/true);
+    out_.glue("}");
+    if (atText(";")) next();
+    rules_.push_back(std::move(r));
+  }
+
+  std::string ruleKindName() const { return kind_ == 0 ? "production" : kind_ == 1 ? "decomposition rule" : "interpretation rule"; }
+
+  // A `{ ... }` body, with produce/nproduce/propensity/InXContext rewritten when in a rule.
+  void block(bool rule) {
+    const Token& open = next();
+    out_.token(open);
+    int depth = 1;
+    while (depth > 0) {
+      const Token& t = cur();
+      if (t.kind == Token::End) fail(open, "unterminated '{'");
+      if (t.kind == Token::Directive) {
+        out_.directive(t.text);
+        next();
+        continue;
+      }
+      if (t.kind == Token::Identifier) {
+        if (t.text == "produce" || t.text == "nproduce") {
+          if (!rule) fail(t, "'" + t.text + "' can only be used in a production or rule body");
+          next();
+          bool final = t.text == "produce";
+          out_.glueAt(t, "{");
+          successorList(";", false);
+          const Token& semi = expect(";", "after the successor");
+          out_.glueAt(semi, final ? "__lc_ctx->produced = 1; return; }" : "}");
+          continue;
+        }
+        if (t.text == "propensity") {
+          if (!rule) fail(t, "'propensity' can only be used in a production body");
+          if (ruleGroupKind_ != 1) fail(t, "'propensity' can only be used in a ggroup (Gillespie group) production");
+          next();
+          out_.glueAt(t, "{ __lc_emit_Propensity(__lc_ctx, (");
+          int d = 0;
+          while (!(d == 0 && atText("produce"))) {
+            if (at(Token::End) || (d == 0 && atText(";"))) fail(cur(), "expected 'produce' after the propensity expression");
+            const Token& e = next();
+            if (e.is("(") || e.is("[") || e.is("{")) ++d;
+            if (e.is(")") || e.is("]") || e.is("}")) --d;
+            out_.token(e);
+          }
+          const Token& p = next();
+          out_.glueAt(p, "));");
+          successorList(";", false);
+          const Token& semi = expect(";", "after the successor");
+          out_.glueAt(semi, "__lc_ctx->produced = 1; }");
+          continue;
+        }
+        static const std::map<std::string, int> sides = {
+            {"InLeftContext", 0}, {"InRightContext", 1}, {"InNewLeftContext", 2}, {"InNewRightContext", 3}};
+        if (auto it = sides.find(t.text); it != sides.end() && peek().is("(")) {
+          if (!rule) fail(t, "'" + t.text + "' can only be used in a production or rule body");
+          next();
+          inContext(t, it->second);
+          continue;
+        }
+      }
+      if (t.is("{")) ++depth;
+      if (t.is("}")) --depth;
+      out_.token(t);
+      next();
+    }
+  }
+
+  void inContext(const Token& kw, int side) {
+    expect("(", ("after " + kw.text).c_str());
+    std::vector<PatternModule> mods;
+    while (!atText(")")) {
+      if (at(Token::End) || atText(";")) fail(cur(), "expected ')' to close " + kw.text);
+      mods.push_back(patternModule());
+    }
+    const Token& close = next();
+    if (mods.empty()) fail(kw, kw.text + " needs at least one module");
+    std::string n = std::to_string(mods.size());
+    std::string s = "([&]() -> bool { static const __lc_ModuleId __lc_ids[] = {";
+    for (auto& m : mods) s += std::to_string(m.module->id) + ",";
+    s += "}; const char* __lc_p[" + n + "]; if (!lcjit_in_context(__lc_ctx, " + std::to_string(side) + ", __lc_ids, " + n +
+         ", __lc_p)) return false;";
+    out_.glueAt(kw, s);
+    for (size_t i = 0; i < mods.size(); ++i) {
+      auto& m = mods[i];
+      if (m.params.empty()) continue;
+      std::string tmp = "__lc_v" + std::to_string(i);
+      out_.glueAt(m.name, "{ auto __lc_q = __lc_load<__lc_R_" + m.name.text + ">(__lc_p[" + std::to_string(i) + "]);");
+      for (size_t j = 0; j < m.params.size(); ++j) {
+        out_.token(m.params[j]);
+        out_.glue(" = __lc_q.p" + std::to_string(j) + ";");
+      }
+      out_.glue("}");
+    }
+    out_.glueAt(close, "return true; }())");
+  }
+
+  // A module list in an axiom or successor, up to (not including) `terminator` at depth 0.
+  void successorList(const char* terminator, bool /*unused*/) {
+    while (!atText(terminator)) {
+      const Token& t = cur();
+      if (t.kind == Token::End) fail(t, std::string("expected '") + terminator + "' after the module list");
+      if (t.is("(")) {  // produce( A B ); groups are transparent
+        next();
+        successorList(")", false);
+        next();
+        continue;
+      }
+      if (t.kind != Token::Identifier) fail(t, "expected a module name in the module list, found '" + t.text + "'");
+      const ModuleEntry& m = requireModule(t);
+      next();
+      out_.glueAt(t, "__lc_emit_" + t.text + "(__lc_ctx");
+      size_t nargs = 0;
+      if (atText("(")) {
+        next();
+        int depth = 0;
+        bool startArg = true;
+        while (!(depth == 0 && atText(")"))) {
+          if (at(Token::End) || (depth == 0 && atText(";")))
+            fail(cur(), "expected ')' to close the parameters of module '" + t.text + "'");
+          const Token& a = next();
+          if (depth == 0 && a.is(",")) {
+            if (startArg) fail(a, "missing parameter of module '" + t.text + "'");
+            startArg = true;
+            continue;
+          }
+          if (startArg) {
+            out_.glue(",");
+            ++nargs;
+            startArg = false;
+          }
+          if (a.is("(") || a.is("[") || a.is("{")) ++depth;
+          if (a.is(")") || a.is("]") || a.is("}")) --depth;
+          out_.token(a);
+        }
+        if (startArg && nargs > 0) fail(cur(), "missing parameter of module '" + t.text + "'");
+        next();
+      }
+      out_.glue(");");
+      if (nargs != m.paramTypes.size())
+        fail(t, "module '" + t.text + "' has " + std::to_string(m.paramTypes.size()) + " parameter" +
+                    (m.paramTypes.size() == 1 ? "" : "s") + ", " + std::to_string(nargs) + " given");
+    }
+  }
+
+  // ---- the model description
+  void emitTables() {
+    std::string s = "#line 1 \"<lcjit: generated model tables>\"\n";
+    s += "static const __lc_ModuleInfo __lc_user_modules[] = {";
+    for (auto& m : userModules_)
+      s += "{\"" + m.name + "\", " + "(uint32_t)sizeof(__lc_R_" + m.name + ")" +
+           ", " + std::to_string(m.paramTypes.size()) + ", __lc_fields_" + m.name + "},";
+    if (userModules_.empty()) s += "{nullptr, 0, 0, nullptr}";
+    s += "};\n";
+    for (size_t i = 0; i < rules_.size(); ++i) {
+      s += "static const __lc_ModuleId __lc_pattern_" + std::to_string(i) + "[] = {";
+      for (int id : rules_[i].ids) s += std::to_string(id) + ",";
+      s += "};\n";
+    }
+    for (size_t i = 0; i < filters_.size(); ++i) {
+      s += "static const __lc_ModuleId __lc_filter_" + std::to_string(i) + "[] = {";
+      for (int id : filters_[i].ids) s += std::to_string(id) + ",";
+      if (filters_[i].ids.empty()) s += "0";
+      s += "};\n";
+    }
+    s += "static const __lc_Filter __lc_filters[] = {";
+    for (size_t i = 0; i < filters_.size(); ++i)
+      s += "{" + std::to_string(filters_[i].consider ? 1 : 0) + ", " + std::to_string(filters_[i].ids.size()) + ", __lc_filter_" +
+           std::to_string(i) + "},";
+    if (filters_.empty()) s += "{0, 0, nullptr}";
+    s += "};\n";
+    s += "static const __lc_Rule __lc_rules[] = {";
+    for (size_t i = 0; i < rules_.size(); ++i) {
+      auto& r = rules_[i];
+      s += "{" + std::to_string(r.kind) + ", " + std::to_string(r.groupKind) + ", (int16_t)(" + r.group + ")";
+      for (int c : r.counts) s += ", " + std::to_string(c);
+      s += ", " + std::to_string(r.filter) + ", __lc_pattern_" + std::to_string(i) + ", " + r.body + ", " + std::to_string(r.line) + "},\n";
+    }
+    if (rules_.empty()) s += "{}";
+    s += "};\n";
+    auto fnOrNull = [&](bool have, const char* name) { return have ? std::string(name) : std::string("nullptr"); };
+    std::string main = lx_.files.empty() ? "" : lx_.files[0];
+    std::string mainQuoted;
+    for (char c : main) {
+      if (c == '\\' || c == '"') mainQuoted += '\\';
+      mainQuoted += c;
+    }
+    s += "static const __lc_Model __lc_the_model = {" + std::to_string(1) + ", " + std::to_string(userModules_.size()) +
+         ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
+         ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
+         fnOrNull(haveDecompDepth_, "__lc_decomposition_depth") + ", " + fnOrNull(haveInterpDepth_, "__lc_interpretation_depth") +
+         ", " + fnOrNull(controls_.count("__lc_start"), "__lc_start") + ", " +
+         fnOrNull(controls_.count("__lc_start_each"), "__lc_start_each") + ", " +
+         fnOrNull(controls_.count("__lc_end_each"), "__lc_end_each") + ", " + fnOrNull(controls_.count("__lc_end"), "__lc_end") +
+         ", \"" + mainQuoted + "\"};\n";
+    s += "extern \"C\" const __lc_Model* __lc_model() { return &__lc_the_model; }\n";
+    out_.generated(s);
+  }
+
+  Lexed lx_;
+  size_t pos_ = 0;
+  Emitter out_;
+  std::unordered_map<std::string, ModuleEntry> modules_;
+  std::vector<ModuleDecl> userModules_;
+  int nextModuleId_ = 103;
+  int depth_ = 0;
+  bool atStatementStart_ = true;
+  int kind_ = 0;
+  std::string group_ = "0";
+  int groupKind_ = 0;
+  int ruleGroupKind_ = 0;
+  int filter_ = -1;
+  std::vector<FilterEntry> filters_;
+  std::vector<RuleEntry> rules_;
+  std::set<std::string> controls_;
+  bool haveAxiom_ = false, haveDerivationLength_ = false, haveRing_ = false, haveDecompDepth_ = false,
+       haveInterpDepth_ = false;
+};
+
+}  // namespace
+
+llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile) {
+  Lexed lx = lex(preprocessed, mainFile);
+  std::vector<std::string> files = lx.files;
+  try {
+    Rewriter r(std::move(lx));
+    return r.run();
+  } catch (const RewriteError& e) {
+    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%d:%d: error: %s", files[e.at.file].c_str(), e.at.line,
+                                   e.at.col, e.message.c_str());
+  }
+}
+
+}  // namespace lcjit::frontend

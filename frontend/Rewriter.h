@@ -1,0 +1,32 @@
+// L+C → C++: turns the L-system constructs of a preprocessed model (modules, axiom, productions,
+// decomposition/interpretation rules, groups, control statements, produce & co.) into a C++
+// translation unit against lpfgall.h that describes itself through __lc_model() (lcjit/abi.h).
+// Everything else passes through; #line directives keep Clang's diagnostics on the .l file.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "llvm/Support/Error.h"
+
+namespace lcjit::frontend {
+
+struct ModuleDecl {
+  std::string name;
+  int id = 0;
+  std::vector<std::string> paramTypes;
+};
+
+struct Rewritten {
+  std::string cpp;
+  std::vector<ModuleDecl> userModules;  // in declaration order, ids from 103
+  int ruleCount = 0;
+};
+
+// `preprocessed` is preprocessor output with GNU line markers; `mainFile` is the .l path.
+// Errors are `FILE:LINE:COL: error: MESSAGE`.
+llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile);
+
+// The entry point every rewritten model defines.
+inline constexpr const char* kModelEntry = "__lc_model";
+
+}  // namespace lcjit::frontend

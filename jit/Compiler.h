@@ -1,0 +1,99 @@
+// In-process C++ -> native code compiler for generated model code: Clang 19 as a library
+// (with a cached precompiled runtime header) feeding one long-lived LLVM ORC LLJIT.
+#pragma once
+
+#include <llvm/ADT/StringRef.h>
+#include <llvm/Support/Error.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lcjit::jit {
+
+// A C-linkage host function (or variable) the model code may reference by name.
+struct HostSymbol {
+  std::string name;
+  void* address;
+};
+
+struct CompilerConfig {
+  // Absolute path of the model API header (lpfgall.h). It is precompiled once per opt level
+  // and implicitly included in every compile.
+  std::string runtimeHeader;
+  // Extra -I directories for model compiles (the runtime header's directory is added first).
+  std::vector<std::string> includeDirs;
+  // PCH cache directory. Empty: $LCJIT_CACHE_DIR, else $XDG_CACHE_HOME/lcjit, else ~/.cache/lcjit.
+  std::string cacheDir;
+  // Defined explicitly in the JIT so the host binary needs no -rdynamic.
+  std::vector<HostSymbol> hostSymbols;
+};
+
+struct CompileOptions {
+  // 0: -O0 IR, fast instruction selection. 1: light IR pipeline (SROA, early-CSE, instcombine,
+  // simplifycfg, inliner) + fast instruction selection. 2: standard O2 pipeline + default codegen.
+  int optLevel = 1;
+  // Name the main file gets in diagnostics unless `#line` directives say otherwise.
+  std::string bufferName = "model.cpp";
+};
+
+struct CompileStats {
+  double frontendMs = 0;  // parse + IR generation
+  double optimizeMs = 0;  // IR pipeline
+  double codegenMs = 0;   // instruction selection, JIT link, static constructors
+  double pchBuildMs = 0;  // building (or validating) the PCH, when this compile had to
+  bool pchCached = false; // an existing PCH from the disk cache was reused
+};
+
+namespace detail {
+struct JitState;
+}
+
+// One compiled model version, living in its own JITDylib. Destroying it runs the model's static
+// destructors and removes its code from the JIT; it may outlive the Compiler that made it.
+class ModelCode {
+public:
+  ~ModelCode();
+  ModelCode(const ModelCode&) = delete;
+  ModelCode& operator=(const ModelCode&) = delete;
+
+  // Address of an extern "C" symbol defined by the model.
+  llvm::Expected<void*> lookup(llvm::StringRef cName);
+
+  // Unique name of the JITDylib holding this version (for logs).
+  const std::string& name() const { return name_; }
+
+private:
+  friend class Compiler;
+  ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name);
+
+  std::shared_ptr<detail::JitState> state_;
+  void* jd_; // llvm::orc::JITDylib*, kept opaque so this header stays light
+  std::string name_;
+};
+
+// One per process. compile() may run on a background thread while older ModelCode runs.
+class Compiler {
+public:
+  static llvm::Expected<std::unique_ptr<Compiler>> create(CompilerConfig config);
+  ~Compiler();
+  Compiler(const Compiler&) = delete;
+  Compiler& operator=(const Compiler&) = delete;
+
+  // Compile a C++ translation unit (the runtime header is implicitly included via the PCH) and
+  // load it. Errors carry the diagnostics, one per line: `FILE:LINE:COL: error: MESSAGE`.
+  llvm::Expected<std::unique_ptr<ModelCode>> compile(llvm::StringRef cppSource,
+                                                     const CompileOptions& options,
+                                                     CompileStats* stats = nullptr);
+
+  // The resolved cache directory.
+  const std::string& cacheDir() const;
+
+  struct Impl;
+
+private:
+  explicit Compiler(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace lcjit::jit

@@ -1,0 +1,60 @@
+// One model, from files to a runnable engine: input files are sorted by extension (manual
+// §1.1.2), the .l file is preprocessed, rewritten to C++ and compiled in-process, and the
+// derivation engine is set up on the compiled model. Every phase is timed for --stats.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "llvm/Support/Error.h"
+
+namespace lcjit::jit {
+class Compiler;
+class ModelCode;
+}  // namespace lcjit::jit
+namespace lcjit::runtime {
+class Engine;
+class FunctionStore;
+}  // namespace lcjit::runtime
+
+namespace lcjit {
+
+struct PhaseTimes {
+  double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0;
+  bool pchCached = false;
+};
+
+// The files a model run uses, recognised by extension.
+struct ModelFiles {
+  std::string lsystem;
+  std::vector<std::string> functions;  // .func, in command-line order
+  std::string functionSet, timeline, parameters;
+  std::vector<std::string> other;  // view, colormap, animation...: not needed in batch mode
+};
+
+llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
+
+class Session {
+ public:
+  static llvm::Expected<std::unique_ptr<Session>> create();
+  ~Session();
+
+  // Reads input files, compiles the model; on error the previous model (if any) stays loaded.
+  llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times);
+  runtime::Engine& engine() { return *engine_; }
+  const std::string& generatedCpp() const { return cpp_; }
+
+ private:
+  Session() = default;
+  std::unique_ptr<jit::Compiler> compiler_;
+  std::unique_ptr<runtime::FunctionStore> functions_;
+  std::unique_ptr<jit::ModelCode> code_;
+  std::unique_ptr<runtime::Engine> engine_;
+  std::string cpp_;
+};
+
+// Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,
+// overridable with LCJIT_RUNTIME_INCLUDE.
+std::string runtimeIncludeDir();
+
+}  // namespace lcjit

@@ -1,0 +1,158 @@
+// lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
+// (--stats, -O, --emit-cpp). Thin: parsing here, the work in Session and the runtime.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "CLI/CLI.hpp"
+#include "Engine.h"
+#include "Session.h"
+
+namespace {
+
+// lpfg's options are multi-letter with one dash; CLI11 wants two for long names.
+std::vector<std::string> normaliseArgs(int argc, char** argv) {
+  static const std::set<std::string> lpfgLong = {"-out", "-ds", "-dtf", "-dtfes", "-rmode", "-wnb", "-wp", "-wpr", "-wr",
+                                                 "-cleanEA20", "-cn", "-dll", "-lp"};
+  std::vector<std::string> out;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    out.push_back(lpfgLong.count(a) ? "-" + a : a);
+  }
+  return out;
+}
+
+std::string withoutExtension(const std::string& p) {
+  std::filesystem::path path(p);
+  return (path.parent_path() / path.stem()).string();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
+  bool batch = false, animate = false, compileOnly = false, debug = false, quiet = false, verbose = false;
+  bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false, stats = false, emitCpp = false;
+  std::string out, rmode, dll, libPath;
+  int optLevel = 1;
+  std::vector<float> winSize, winPos, winPosRel, winSizeRel;
+  bool noBorder = false, cleanEA = false, cn = false;
+  std::vector<std::string> inputs;
+
+  app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
+  app.add_option("--out", out, "(-out) output file: .str/.txt text, .strb binary");
+  app.add_flag("-a", animate, "animate mode (needs the viewer)");
+  app.add_flag("-c", compileOnly, "compile the model only");
+  app.add_flag("-d", debug, "debug messages");
+  app.add_flag("--ds", dumpSteps, "(-ds) print the string after each derivation step");
+  app.add_flag("--dtf", dumpInterpreted, "(-dtf) write the interpreted final string to <model>.str");
+  app.add_flag("--dtfes", dumpInterpretedEach, "(-dtfes) accepted; per-step interpreted strings need the viewer");
+  app.add_flag("-q", quiet, "quiet: no messages");
+  app.add_flag("-v", verbose, "verbose");
+  app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
+  app.add_option("-w", winSize, "window size")->expected(2);
+  app.add_option("--wp", winPos, "(-wp) window position")->expected(2);
+  app.add_option("--wpr", winPosRel, "(-wpr) relative window position")->expected(2);
+  app.add_option("--wr", winSizeRel, "(-wr) relative window size")->expected(2);
+  app.add_flag("--wnb", noBorder, "(-wnb) window without borders");
+  app.add_flag("--cleanEA20", cleanEA, "(-cleanEA20) accepted");
+  app.add_flag("--cn", cn, "(-cn) accepted");
+  app.add_option("--dll,-o", dll, "(-dll/-o) accepted: lcjit keeps compiled code in memory");
+  app.add_option("--lp", libPath, "(-lp) accepted");
+  app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
+  app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
+  app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
+
+  std::vector<std::string> args = normaliseArgs(argc, argv);
+  std::reverse(args.begin(), args.end());
+  try {
+    app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  if (inputs.empty()) {
+    inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/tree.l");
+    batch = true;
+    if (out.empty()) out = "tree.str";
+    if (!quiet) std::fprintf(stderr, "lcjit: no model given; running the built-in example %s\n", inputs[0].c_str());
+  }
+
+  auto files = lcjit::classifyInputs(inputs);
+  if (!files) {
+    std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
+    return 1;
+  }
+  auto session = lcjit::Session::create();
+  if (!session) {
+    std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
+    return 1;
+  }
+  lcjit::PhaseTimes times;
+  if (emitCpp) {
+    // Show the rewritten model even when it does not compile.
+    if (auto e = (*session)->load(*files, optLevel, times)) llvm::consumeError(std::move(e));
+    std::fputs((*session)->generatedCpp().c_str(), stdout);
+  }
+  if (auto e = (*session)->load(*files, optLevel, times)) {
+    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    return 1;
+  }
+  if (emitCpp || compileOnly) return 0;
+  if (!batch && !quiet)
+    std::fprintf(stderr, "lcjit: the interactive viewer is not built yet; running in batch mode\n");
+
+  auto& engine = (*session)->engine();
+  lcjit::runtime::EngineHooks hooks;
+  if (quiet) hooks.print = [](const char*) {};
+  if (dumpSteps)
+    hooks.afterDerivation = [&](int step) {
+      std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
+    };
+  auto t0 = std::chrono::steady_clock::now();
+  if (auto e = engine.run(hooks)) {
+    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    return 1;
+  }
+  times.deriveMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  if (!out.empty()) {
+    std::string ext = std::filesystem::path(out).extension().string();
+    if (ext == ".strb" || ext == ".bin") {
+      if (auto e = engine.writeBinary(out)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
+    } else {
+      std::ofstream f(out, std::ios::binary);
+      if (!f) {
+        std::fprintf(stderr, "%s: error: cannot write file\n", out.c_str());
+        return 1;
+      }
+      f << engine.text(engine.string());
+    }
+  }
+  if (dumpInterpreted) {
+    lcjit::runtime::ModuleBuffer interpreted;
+    engine.interpret([&](const char* rec) {
+      interpreted.append(rec, engine.modules().recordSize(lcjit::runtime::ModuleTable::idAt(rec)));
+    });
+    std::ofstream f(withoutExtension(files->lsystem) + ".str", std::ios::binary);
+    f << engine.text(interpreted);
+  }
+  if (stats) {
+    std::fprintf(stderr,
+                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"derive_ms\": %.3f, "
+                 "\"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
+                 times.preprocessMs, times.rewriteMs, times.compileMs, times.deriveMs, engine.stepsDone(),
+                 engine.moduleCount(), times.pchCached ? "true" : "false");
+  }
+  return 0;
+}

@@ -1,0 +1,670 @@
+// The derivation engine (see Engine.h). Matching follows lpfg (manual appendix 9): the strict
+// predecessor matches exactly; right context skips lateral branches and ignored modules; left
+// context steps out of branches and over whole sibling branches; SB/EB are always considered.
+#include "Engine.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "Functions.h"
+
+namespace lcjit::runtime {
+namespace {
+constexpr size_t npos = ~size_t(0);
+constexpr int kMaxPattern = 5 * 32;
+thread_local Engine* gCurrent = nullptr;
+
+struct CurrentScope {
+  Engine* saved;
+  explicit CurrentScope(Engine* e) : saved(gCurrent) { gCurrent = e; }
+  ~CurrentScope() { gCurrent = saved; }
+};
+}  // namespace
+
+// The state of one rule application; InXContext calls continue from the saved positions.
+struct Engine::Match {
+  const char* params[kMaxPattern];
+  const __lc_Rule* rule = nullptr;
+  const uint8_t* skip = nullptr;
+  Scan old{}, newLeft{}, newRight{};
+  size_t leftPos = 0, rightPos = 0, newLeftPos = 0, newRightPos = 0;
+  bool forward = true;
+  bool contexts = true;  // InXContext allowed (derivation only, as in lpfg)
+};
+
+Engine* Engine::current() { return gCurrent; }
+
+Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_(model), functions_(functions) {
+  modules_.setUserModules(model.modules, model.nModules);
+  noSkip_.assign(modules_.count(), 0);
+  for (uint32_t f = 0; f < model.nFilters; ++f) {
+    const __lc_Filter& flt = model.filters[f];
+    std::vector<uint8_t> skip(modules_.count(), flt.consider ? 1 : 0);
+    for (uint16_t i = 0; i < flt.n; ++i)
+      if (flt.ids[i] < skip.size()) skip[flt.ids[i]] = flt.consider ? 0 : 1;
+    skip[__lc_id_SB] = skip[__lc_id_EB] = 0;
+    skip_.push_back(std::move(skip));
+  }
+  for (uint32_t i = 0; i < model.nRules; ++i) {
+    const __lc_Rule& r = model.rules[i];
+    auto add = [&](std::map<int, RuleTable>& t, __lc_ModuleId id) {
+      RuleTable& table = t[r.group];
+      if (table.size() < modules_.count()) table.resize(modules_.count());
+      table[id].push_back(&r);
+    };
+    const __lc_ModuleId* strict = r.pattern + r.nNewLeft + r.nLeft;
+    add(byFirst_[r.kind], strict[0]);
+    add(byLast_[r.kind], strict[r.nStrict - 1]);
+    if (r.kind == __lc_Decomposition) hasDecomposition_ = true;
+    int total = r.nNewLeft + r.nLeft + r.nStrict + r.nRight + r.nNewRight;
+    for (int k = 0; k < total; ++k)
+      if (r.pattern[k] >= __lc_id_GetPos && r.pattern[k] <= __lc_id_GetUp) hasQueries_ = true;
+    if (r.kind == __lc_Production) {
+      groupKinds_[r.group] = r.groupKind;
+      maxGroup_ = std::max<int>(maxGroup_, r.group);
+    }
+  }
+}
+
+Engine::~Engine() = default;
+
+void Engine::print(const char* s) {
+  if (hooks_ && hooks_->print) hooks_->print(s);
+  else std::fputs(s, stdout);
+}
+
+void Engine::useGroup(int g) {
+  if (g < 0 || g > maxGroup_) {
+    char msg[80];
+    std::snprintf(msg, sizeof msg, "Invalid group id %d\n", g);
+    print(msg);
+    return;
+  }
+  group_ = g;
+}
+
+const uint8_t* Engine::skipTable(const __lc_Rule& r) const {
+  return r.filter >= 0 && (size_t)r.filter < skip_.size() ? skip_[r.filter].data() : noSkip_.data();
+}
+
+const Engine::RuleList* Engine::candidates(int kind, int group, __lc_ModuleId id, bool byLast) const {
+  const auto& tables = byLast ? byLast_[kind] : byFirst_[kind];
+  auto it = tables.find(group);
+  if (it == tables.end() || id >= it->second.size() || it->second[id].empty()) return nullptr;
+  return &it->second[id];
+}
+
+// ---- context scanning
+
+size_t Engine::findEndOfBranch(const Scan& sc, size_t p) const {
+  int depth = 1;
+  while (p < sc.n) {
+    __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
+    if (id == __lc_id_SB) ++depth;
+    else if (id == __lc_id_EB && --depth == 0) return p;
+    p = modules_.next(sc.s, p);
+  }
+  return npos;
+}
+
+size_t Engine::findStartOfBranch(const Scan& sc, size_t p) const {
+  int depth = 1;
+  while (p > 0) {
+    p = modules_.prev(sc.s, p);
+    __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
+    if (id == __lc_id_EB) ++depth;
+    else if (id == __lc_id_SB && --depth == 0) return p;
+  }
+  return npos;
+}
+
+// Matches `want` at or after p; on success p moves past it and the match's position is returned.
+size_t Engine::scanRight(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const {
+  if (p >= sc.n) {
+    if (!sc.ring || sc.n == 0) return npos;
+    p = 0;
+  }
+  if (want == __lc_id_EB) {
+    p = findEndOfBranch(sc, p);
+    if (p == npos) return npos;
+  }
+  size_t guard = sc.n;  // every module visited at most once, even in a ring
+  for (;;) {
+    if (p >= sc.n) {
+      if (!sc.ring || sc.n == 0) return npos;
+      p = 0;
+    }
+    __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
+    if (id == want) break;
+    if (guard-- == 0) return npos;
+    if (skip[id]) {
+      p = modules_.next(sc.s, p);
+    } else if (id == __lc_id_SB) {
+      size_t e = findEndOfBranch(sc, modules_.next(sc.s, p));
+      if (e == npos) return npos;
+      p = modules_.next(sc.s, e);
+    } else {
+      return npos;
+    }
+  }
+  size_t at = p;
+  p = modules_.next(sc.s, p);
+  return at;
+}
+
+// Matches `want` before p; on success p is the matched module's position (the next scan
+// continues to its left).
+size_t Engine::scanLeft(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const {
+  auto stepBack = [&](size_t q) -> size_t {
+    if (q == 0) {
+      if (!sc.ring || sc.n == 0) return npos;
+      q = sc.n;
+    }
+    return modules_.prev(sc.s, q);
+  };
+  size_t q = stepBack(p);
+  size_t guard = sc.n;
+  while (q != npos) {
+    __lc_ModuleId id = ModuleTable::idAt(sc.s + q);
+    if (id == want) {
+      p = q;
+      return q;
+    }
+    if (guard-- == 0) return npos;
+    if (skip[id] || id == __lc_id_SB) {
+      q = stepBack(q);
+    } else if (id == __lc_id_EB) {
+      size_t b = findStartOfBranch(sc, q);
+      if (b == npos) return npos;
+      q = stepBack(b);
+    } else {
+      return npos;
+    }
+  }
+  return npos;
+}
+
+bool Engine::matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
+                       Match& m) const {
+  const __lc_ModuleId* ids = r.pattern;
+  const int iL = r.nNewLeft, iS = iL + r.nLeft, iR = iS + r.nStrict, iNR = iR + r.nRight;
+  const uint8_t* skip = skipTable(r);
+  if (r.nNewLeft && !m.forward) return false;
+  if (r.nNewRight && m.forward) return false;
+  // Strict predecessor: exact, consecutive.
+  size_t p = pos;
+  for (int j = 0; j < r.nStrict; ++j) {
+    if (p >= old.n) {
+      if (!old.ring || j == 0) return false;
+      p = 0;
+    }
+    if (ModuleTable::idAt(old.s + p) != ids[iS + j]) return false;
+    m.params[iS + j] = old.s + p;
+    p = modules_.next(old.s, p);
+  }
+  // Right context, in the old string.
+  for (int j = 0; j < r.nRight; ++j) {
+    size_t at = scanRight(old, p, ids[iR + j], skip);
+    if (at == npos) return false;
+    m.params[iR + j] = old.s + at;
+  }
+  m.rightPos = p;
+  // New left context (forward) replaces the ordinary left context, as in lpfg.
+  size_t lp = newLeft.n;
+  if (r.nNewLeft) {
+    for (int j = r.nNewLeft - 1; j >= 0; --j) {
+      size_t at = scanLeft(newLeft, lp, ids[j], skip);
+      if (at == npos) return false;
+      m.params[j] = newLeft.s + at;
+    }
+  }
+  m.newLeftPos = lp;
+  lp = pos;
+  if (!r.nNewLeft) {
+    for (int j = r.nLeft - 1; j >= 0; --j) {
+      size_t at = scanLeft(old, lp, ids[iL + j], skip);
+      if (at == npos) return false;
+      m.params[iL + j] = old.s + at;
+    }
+  }
+  m.leftPos = lp;
+  // New right context (backward): the already derived part to the right.
+  size_t rp = 0;
+  for (int j = 0; j < r.nNewRight; ++j) {
+    size_t at = scanRight(newRight, rp, ids[iNR + j], skip);
+    if (at == npos) return false;
+    m.params[iNR + j] = newRight.s + at;
+  }
+  m.newRightPos = rp;
+  m.rule = &r;
+  m.skip = skip;
+  m.old = old;
+  m.newLeft = newLeft;
+  m.newRight = newRight;
+  return true;
+}
+
+bool Engine::inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params) {
+  Match* m = static_cast<Match*>(c->match);
+  if (!m || !m->contexts) return false;
+  switch (side) {
+    case __lc_InLeft: {
+      size_t p = m->leftPos;
+      for (int j = n - 1; j >= 0; --j) {
+        size_t at = scanLeft(m->old, p, ids[j], m->skip);
+        if (at == npos) return false;
+        params[j] = m->old.s + at;
+      }
+      m->leftPos = p;
+      return true;
+    }
+    case __lc_InRight: {
+      size_t p = m->rightPos;
+      for (int j = 0; j < n; ++j) {
+        size_t at = scanRight(m->old, p, ids[j], m->skip);
+        if (at == npos) return false;
+        params[j] = m->old.s + at;
+      }
+      m->rightPos = p;
+      return true;
+    }
+    case __lc_InNewLeft: {
+      if (!m->forward) return false;
+      Scan sc{m->newLeft.s, m->newLeft.n, false};
+      size_t p = m->newLeftPos;
+      for (int j = n - 1; j >= 0; --j) {
+        size_t at = scanLeft(sc, p, ids[j], m->skip);
+        if (at == npos) return false;
+        params[j] = sc.s + at;
+      }
+      m->newLeftPos = p;
+      return true;
+    }
+    case __lc_InNewRight: {
+      if (m->forward) return false;
+      size_t p = m->newRightPos;
+      for (int j = 0; j < n; ++j) {
+        size_t at = scanRight(m->newRight, p, ids[j], m->skip);
+        if (at == npos) return false;
+        params[j] = m->newRight.s + at;
+      }
+      m->newRightPos = p;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Runs the body; on `produce` the successor stays appended to `out`, otherwise it is discarded.
+bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
+  size_t mark = out.size();
+  __lc_Ctx ctx{out.raw(), 0, this, &m};
+  Match* saved = activeMatch_;
+  activeMatch_ = &m;
+  r.body(&ctx, m.params);
+  activeMatch_ = saved;
+  if (!ctx.produced) out.resize(mark);
+  return ctx.produced != 0;
+}
+
+bool Engine::tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft,
+                      const Scan& newRight, ModuleBuffer& out, Match& m) {
+  __lc_ModuleId id = ModuleTable::idAt(old.s + pos);
+  for (int pass = 0; pass < 2; ++pass) {
+    int g = pass == 0 ? group : 0;
+    if (pass == 1 && (!fallback || group == 0)) break;
+    const RuleList* rules = candidates(kind, g, id, false);
+    if (!rules) continue;
+    for (const __lc_Rule* r : *rules) {
+      if (!matchRule(*r, old, pos, newLeft, newRight, m)) continue;
+      if (applyRule(*r, m, out)) return true;
+    }
+  }
+  return false;
+}
+
+// ---- derivation steps
+
+void Engine::deriveForward(int group) {
+  next_.clear();
+  const char* s = string_.data();
+  size_t n = string_.size();
+  Scan old{s, n, ring_};
+  Match m;
+  m.forward = true;
+  size_t pos = 0;
+  while (pos < n) {
+    __lc_ModuleId id = ModuleTable::idAt(s + pos);
+    if (id == __lc_id_Cut) {
+      // The Cut and the rest of its branch go; the closing EB is processed normally.
+      size_t e = findEndOfBranch(old, modules_.next(s, pos));
+      if (e == npos) break;
+      pos = e;
+      continue;
+    }
+    Scan newLeft{next_.data(), next_.size(), false};
+    bool applied = false;
+    for (int pass = 0; pass < 2 && !applied; ++pass) {
+      int g = pass == 0 ? group : 0;
+      if (pass == 1 && group == 0) break;
+      const RuleList* rules = candidates(__lc_Production, g, id, false);
+      if (!rules) continue;
+      for (const __lc_Rule* r : *rules) {
+        if (!matchRule(*r, old, pos, newLeft, Scan{nullptr, 0, false}, m)) continue;
+        if (applyRule(*r, m, next_)) {
+          applied = true;
+          // Advance past the strict predecessor (wrapping in a ring ends the step).
+          size_t p = pos;
+          for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p);
+          if (p <= pos) p = n;
+          pos = p;
+          break;
+        }
+        newLeft = Scan{next_.data(), next_.size(), false};
+      }
+    }
+    if (!applied) {
+      size_t e = modules_.next(s, pos);
+      next_.append(s + pos, e - pos);
+      pos = e;
+    }
+  }
+  string_.swap(next_);
+}
+
+void Engine::deriveBackward(int group) {
+  // The result grows leftwards: `next_` holds it at its end, from `front` on.
+  const char* s = string_.data();
+  size_t n = string_.size();
+  Scan old{s, n, ring_};
+  size_t cap = std::max<size_t>(n * 2, 4096);
+  next_.clear();
+  next_.resize(cap);
+  size_t front = cap;
+  auto prepend = [&](const char* p, size_t len) {
+    if (front < len) {
+      size_t used = next_.size() - front;
+      size_t ncap = std::max(next_.size() * 2, used + len + 4096);
+      ModuleBuffer grown;
+      grown.resize(ncap);
+      std::memcpy(grown.data() + ncap - used, next_.data() + front, used);
+      next_.swap(grown);
+      front = ncap - used;
+    }
+    front -= len;
+    std::memcpy(next_.data() + front, p, len);
+  };
+  Match m;
+  m.forward = false;
+  size_t pos = n;
+  while (pos > 0) {
+    size_t q = modules_.prev(s, pos);
+    __lc_ModuleId id = ModuleTable::idAt(s + q);
+    Scan newRight{next_.data() + front, next_.size() - front, false};
+    bool applied = false;
+    for (int pass = 0; pass < 2 && !applied; ++pass) {
+      int g = pass == 0 ? group : 0;
+      if (pass == 1 && group == 0) break;
+      const RuleList* rules = candidates(__lc_Production, g, id, true);
+      if (!rules) continue;
+      for (const __lc_Rule* r : *rules) {
+        size_t start = q;
+        bool ok = true;
+        for (int j = 1; j < r->nStrict && ok; ++j) {
+          if (start == 0) ok = false;
+          else start = modules_.prev(s, start);
+        }
+        if (!ok || !matchRule(*r, old, start, Scan{nullptr, 0, false}, newRight, m)) continue;
+        scratch_.clear();
+        if (applyRule(*r, m, scratch_)) {
+          prepend(scratch_.data(), scratch_.size());
+          pos = start;
+          applied = true;
+          break;
+        }
+      }
+    }
+    if (!applied) {
+      prepend(s + q, pos - q);
+      pos = q;
+    }
+  }
+  size_t used = next_.size() - front;
+  std::memmove(next_.data(), next_.data() + front, used);
+  next_.resize(used);
+  string_.swap(next_);
+}
+
+void Engine::deriveGillespie(int group) {
+  struct Reaction {
+    float propensity;
+    size_t from, to;          // the strict predecessor's bytes in the string
+    size_t succFrom, succTo;  // the successor's bytes in `pieces`
+  };
+  std::vector<Reaction> reactions;
+  ModuleBuffer pieces;
+  const char* s = string_.data();
+  size_t n = string_.size();
+  Scan old{s, n, false};
+  Match m;
+  m.forward = true;
+  size_t pos = 0;
+  while (pos < n) {
+    __lc_ModuleId id = ModuleTable::idAt(s + pos);
+    if (id == __lc_id_Cut) {
+      size_t e = findEndOfBranch(old, modules_.next(s, pos));
+      if (e == npos) break;
+      pos = e;
+      continue;
+    }
+    if (const RuleList* rules = candidates(__lc_Production, group, id, false)) {
+      for (const __lc_Rule* r : *rules) {
+        if (!matchRule(*r, old, pos, Scan{nullptr, 0, false}, Scan{nullptr, 0, false}, m)) continue;
+        scratch_.clear();
+        __lc_Ctx ctx{scratch_.raw(), 0, this, &m};
+        r->body(&ctx, m.params);
+        if (scratch_.size() == 0) break;
+        if (ModuleTable::idAt(scratch_.data()) != __lc_id_Propensity) {
+          print("Invalid successor for Gillespie production: it must start with a propensity\n");
+          break;
+        }
+        size_t end = pos;
+        for (int j = 0; j < r->nStrict; ++j) end = modules_.next(s, end);
+        // Split the successor at each Propensity(v) module.
+        const char* g = scratch_.data();
+        size_t gp = 0, gn = scratch_.size();
+        while (gp < gn) {
+          float v;
+          std::memcpy(&v, g + gp + offsetof(__lc_R_Propensity, p0), sizeof v);
+          if (!(v >= 0) || std::isinf(v)) v = 0;
+          gp = modules_.next(g, gp);
+          size_t from = pieces.size();
+          while (gp < gn && ModuleTable::idAt(g + gp) != __lc_id_Propensity) {
+            size_t e = modules_.next(g, gp);
+            pieces.append(g + gp, e - gp);
+            gp = e;
+          }
+          reactions.push_back({v, pos, end, from, pieces.size()});
+        }
+        break;
+      }
+    }
+    pos = modules_.next(s, pos);
+  }
+  double sum = 0;
+  for (auto& r : reactions) sum += r.propensity;
+  if (!(sum > 0)) return;
+  double x = sum * gillespieRandom_.next();
+  const Reaction* chosen = &reactions.back();
+  for (auto& r : reactions) {
+    x -= r.propensity;
+    if (x <= 0) {
+      chosen = &r;
+      break;
+    }
+  }
+  gillespieTime_ += -std::log(1 - gillespieRandom_.next()) / sum;
+  next_.clear();
+  next_.append(s, chosen->from);
+  next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
+  next_.append(s + chosen->to, n - chosen->to);
+  string_.swap(next_);
+}
+
+// Decomposition and interpretation: recursive per module, one module at a time (lpfg advances
+// by one even after a multi-module match). When the depth is exhausted the original module stays.
+void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
+                    const std::function<void(const char*)>* sink) {
+  if (levels_.size() <= (size_t)depth) levels_.resize(depth + 1);
+  if (!levels_[depth]) levels_[depth] = std::make_unique<ModuleBuffer>();
+  ModuleBuffer& succ = *levels_[depth];
+  Scan old{src, n, ring_ && kind == __lc_Decomposition};
+  Match m;
+  m.forward = true;
+  m.contexts = false;
+  auto emit = [&](char* rec) {
+    if (target) {
+      target->append(rec, modules_.recordSize(ModuleTable::idAt(rec)));
+    } else {
+      turtle->execute(rec);
+      if (sink) (*sink)(rec);
+    }
+  };
+  size_t pos = 0;
+  while (pos < n) {
+    succ.clear();
+    Scan newLeft = target ? Scan{target->data(), target->size(), false} : Scan{nullptr, 0, false};
+    bool applied = tryRules(kind, group, true, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
+    if (applied && depth > 0) {
+      // The successor buffer of this level is reused by deeper levels: work on a copy.
+      ModuleBuffer local;
+      local.append(succ.data(), succ.size());
+      expand(kind, local.data(), local.size(), depth - 1, group, target, turtle, sink);
+    } else {
+      emit(src + pos);
+    }
+    pos = modules_.next(src, pos);
+  }
+}
+
+void Engine::decompose(int group) {
+  if (!hasDecomposition_) return;
+  ModuleBuffer out;
+  expand(__lc_Decomposition, string_.data(), string_.size(), decompositionDepth_, group, &out, nullptr, nullptr);
+  string_.swap(out);
+}
+
+void Engine::interpret(const std::function<void(const char*)>& sink) {
+  CurrentScope scope(this);
+  Turtle turtle;
+  turtle.reset();
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle,
+         sink ? &sink : nullptr);
+}
+
+void Engine::queryPass() {
+  if (!hasQueries_) return;
+  Turtle turtle;
+  turtle.reset();
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle, nullptr);
+}
+
+// ---- the whole run
+
+llvm::Error Engine::run(const EngineHooks& hooks) {
+  CurrentScope scope(this);
+  hooks_ = &hooks;
+  step_ = 0;
+  gillespieTime_ = 0;
+  string_.clear();
+  if (model_.start) model_.start();
+  int length = model_.derivationLength ? model_.derivationLength() : 0;
+  ring_ = model_.ringLsystem && model_.ringLsystem() != 0;
+  decompositionDepth_ = model_.decompositionDepth ? model_.decompositionDepth() : 1;
+  interpretationDepth_ = model_.interpretationDepth ? model_.interpretationDepth() : 1;
+  stopRequested_ = false;
+  {
+    // Whatever a Start block nproduce'd is not part of the axiom here: the buffer is fresh.
+    __lc_Ctx ctx{string_.raw(), 0, this, nullptr};
+    model_.axiom(&ctx);
+  }
+  decompose(group_);
+  bool ended = false;
+  while (step_ < length && !stopRequested_) {
+    queryPass();
+    ++step_;
+    if (model_.startEach) model_.startEach();
+    int group = group_;
+    auto kind = groupKinds_.find(group);
+    if (kind != groupKinds_.end() && kind->second == __lc_GillespieGroup) {
+      deriveGillespie(group);
+    } else if (forward_) {
+      deriveForward(group);
+    } else {
+      deriveBackward(group);
+    }
+    if (hooks.afterDerivation) hooks.afterDerivation(step_);
+    decompose(group);
+    if (model_.endEach) model_.endEach();
+    if (stopRequested_) {
+      if (model_.end) model_.end();
+      ended = true;
+    }
+  }
+  // The query modules of the final string are filled in too (the brief: after each step).
+  queryPass();
+  if (!ended && model_.end) model_.end();
+  hooks_ = nullptr;
+  return llvm::Error::success();
+}
+
+size_t Engine::moduleCount() const {
+  size_t count = 0;
+  for (size_t p = 0; p < string_.size(); p = modules_.next(string_.data(), p)) ++count;
+  return count;
+}
+
+std::string Engine::text(const ModuleBuffer& str) const {
+  std::string out;
+  out.reserve(str.size() * 2);
+  for (size_t p = 0; p < str.size(); p = modules_.next(str.data(), p)) {
+    modules_.format(str.data() + p, out);
+    out += '\n';
+  }
+  return out;
+}
+
+llvm::Error Engine::writeBinary(const std::string& path) const {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", path.c_str());
+  f.write(string_.data(), (std::streamsize)string_.size());
+  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: write failed", path.c_str());
+  return llvm::Error::success();
+}
+
+llvm::Error Engine::readBinary(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file", path.c_str());
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  // Validate every record before replacing the string.
+  size_t p = 0;
+  while (p < bytes.size()) {
+    if (bytes.size() - p < 4)
+      return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: truncated module at byte %zu", path.c_str(), p);
+    __lc_ModuleId id = ModuleTable::idAt(bytes.data() + p);
+    if (!modules_.valid(id))
+      return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: unknown module id %u at byte %zu", path.c_str(),
+                                     (unsigned)id, p);
+    size_t size = modules_.recordSize(id);
+    if (bytes.size() - p < size || ModuleTable::idAt(bytes.data() + p + size - 2) != id)
+      return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: corrupt module '%s' at byte %zu", path.c_str(),
+                                     modules_.info(id).name, p);
+    p += size;
+  }
+  string_.clear();
+  string_.append(bytes.data(), bytes.size());
+  return llvm::Error::success();
+}
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,122 @@
+// The derivation engine: runs a compiled model (its __lc_Model table) the way lpfg does —
+// Start, axiom, derivation steps with context matching, groups, Gillespie groups, decomposition,
+// interpretation (turtle queries), End — over contiguous module buffers.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ModuleString.h"
+#include "Random.h"
+#include "Turtle.h"
+#include "lcjit/abi.h"
+#include "llvm/Support/Error.h"
+
+namespace lcjit::runtime {
+
+class FunctionStore;
+
+struct EngineHooks {
+  // Called after each derivation step, before decomposition (lpfg's -ds point).
+  std::function<void(int step)> afterDerivation;
+  // Model output (Printf).
+  std::function<void(const char*)> print;
+};
+
+class Engine {
+ public:
+  Engine(const __lc_Model& model, const FunctionStore* functions);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // The whole derivation as `lpfg -b` runs it: Start, axiom, steps, End.
+  llvm::Error run(const EngineHooks& hooks = {});
+
+  // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
+  // `sink` sees each module the turtle executes, after the turtle did.
+  void interpret(const std::function<void(const char* rec)>& sink);
+
+  const ModuleTable& modules() const { return modules_; }
+  const ModuleBuffer& string() const { return string_; }
+  ModuleBuffer& string() { return string_; }
+  std::string text(const ModuleBuffer& s) const;  // one module per line
+  int stepsDone() const { return step_; }
+  size_t moduleCount() const;
+
+  // Binary strings (.strb): lpfg's in-memory layout, no header.
+  llvm::Error writeBinary(const std::string& path) const;
+  llvm::Error readBinary(const std::string& path);
+
+  // ---- used by the host functions model code calls (HostFunctions.cpp)
+  static Engine* current();
+  void useGroup(int g);
+  int currentGroup() const { return group_; }
+  void setForward(bool f) { forward_ = f; }
+  bool forward() const { return forward_; }
+  void stop() { stopRequested_ = true; }
+  int stepNo() const { return step_; }
+  Rand48& random() { return random_; }
+  Rand48& gillespieRandom() { return gillespieRandom_; }
+  double gillespieTime() const { return gillespieTime_; }
+  const FunctionStore* functions() const { return functions_; }
+  void print(const char* s);
+  bool inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
+
+ private:
+  struct Match;
+  struct Scan {
+    const char* s;
+    size_t n;
+    bool ring;
+  };
+  using RuleList = std::vector<const __lc_Rule*>;
+  using RuleTable = std::vector<RuleList>;  // by module id
+
+  const RuleList* candidates(int kind, int group, __lc_ModuleId id, bool byLast) const;
+  bool matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight, Match& m) const;
+  bool applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out);
+  bool tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
+                ModuleBuffer& out, Match& m);
+
+  void deriveForward(int group);
+  void deriveBackward(int group);
+  void deriveGillespie(int group);
+  void decompose(int group);
+  void expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
+              const std::function<void(const char*)>* sink);
+  void queryPass();
+
+  size_t scanRight(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const;
+  size_t scanLeft(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const;
+  size_t findEndOfBranch(const Scan& sc, size_t p) const;
+  size_t findStartOfBranch(const Scan& sc, size_t p) const;
+  const uint8_t* skipTable(const __lc_Rule& r) const;
+
+  const __lc_Model& model_;
+  const FunctionStore* functions_;
+  ModuleTable modules_;
+  std::map<int, RuleTable> byFirst_[3], byLast_[3];
+  std::vector<std::vector<uint8_t>> skip_;  // per filter: 1 = not considered in context
+  std::vector<uint8_t> noSkip_;
+  bool hasDecomposition_ = false, hasQueries_ = false;
+  std::map<int, int> groupKinds_;
+  int maxGroup_ = 0;
+
+  ModuleBuffer string_, next_, scratch_;
+  std::vector<std::unique_ptr<ModuleBuffer>> levels_;  // successor buffers per decomposition level
+  int group_ = 0;
+  bool forward_ = true;
+  bool stopRequested_ = false;
+  int step_ = 0;
+  bool ring_ = false;
+  int decompositionDepth_ = 1, interpretationDepth_ = 1;
+  Rand48 random_, gillespieRandom_;
+  double gillespieTime_ = 0;
+  const EngineHooks* hooks_ = nullptr;
+  Match* activeMatch_ = nullptr;
+};
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,590 @@
+// Parsers for lpfg's function files and the sampled B-spline evaluation behind
+// func/pfunc/tfunc/val. Numerics follow lpfg (lpfg/function.h, function.cpp).
+#include "Functions.h"
+
+#include <llvm/ADT/StringExtras.h>
+#include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/Path.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+
+namespace lcjit::runtime {
+// Named (not anonymous) because FunctionFileParser, a friend of FunctionStore
+// and so not file-local, holds these types.
+namespace functions_detail {
+
+struct Token {
+  std::string_view text;
+  unsigned col;  // 1-based
+};
+
+struct Line {
+  std::string_view text;
+  unsigned no = 0;  // 1-based; 0 = nothing read yet
+
+  std::vector<Token> tokens() const {
+    std::vector<Token> out;
+    size_t i = 0;
+    while (i < text.size()) {
+      while (i < text.size() && llvm::isSpace(text[i])) ++i;
+      size_t b = i;
+      while (i < text.size() && !llvm::isSpace(text[i])) ++i;
+      if (i > b)
+        out.push_back({text.substr(b, i - b), static_cast<unsigned>(b + 1)});
+    }
+    return out;
+  }
+};
+
+}  // namespace functions_detail
+using functions_detail::Line;
+using functions_detail::Token;
+
+namespace {
+
+// lpfg clamps a file's "samples:" into this range.
+constexpr int kMinSamples = 10;
+constexpr int kMaxSamples = 1000;
+// Old "range:" files carry no sample count; funcedit assumes 10.
+constexpr int kDefaultSamples = 10;
+// Bounds that only exist so hostile input cannot exhaust memory.
+constexpr long kMaxPoints = 100000;
+constexpr int kMaxMultiplicity = 1000;
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && llvm::isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && llvm::isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string toUpper(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = llvm::toUpper(c);
+  return r;
+}
+
+// Whole-token number parsing: the editors write plain decimals, so anything
+// else in a point or count is a damaged file worth reporting.
+std::optional<double> parseReal(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double v = 0;
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v))
+    return std::nullopt;
+  return v;
+}
+
+std::optional<long> parseInt(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  long v = 0;
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// Cubic B-spline over clamped uniform knots 0,0,0,0,1,2,...,m-3,m-3,m-3,m-3
+// (m control points), parameter d in [0,1] scaled onto [0, m-3] — lpfg's
+// definition. At d = 1 lpfg's half-open basis functions all vanish and give
+// (0,0); here the last span is used instead, giving the end point.
+class BSpline {
+public:
+  BSpline(std::vector<double> xs, std::vector<double> ys)
+      : x_(std::move(xs)), y_(std::move(ys)),
+        m_(static_cast<int>(x_.size())) {}
+
+  void eval(double d, double& X, double& Y) const {
+    const double u = d * (m_ - 3);
+    int span = u > 0 ? static_cast<int>(std::floor(u)) : 0;
+    span = std::min(span, m_ - 4);
+    const int k = span + 3;  // knot index with knot(k) <= u < knot(k+1)
+    double dx[4], dy[4];
+    for (int j = 0; j < 4; ++j) {
+      dx[j] = x_[span + j];
+      dy[j] = y_[span + j];
+    }
+    for (int r = 1; r <= 3; ++r)
+      for (int j = 3; j >= r; --j) {
+        const double a = knot(j + k - 3), b = knot(j + 1 + k - r);
+        const double alpha = b > a ? (u - a) / (b - a) : 0.0;
+        dx[j] = (1 - alpha) * dx[j - 1] + alpha * dx[j];
+        dy[j] = (1 - alpha) * dy[j - 1] + alpha * dy[j];
+      }
+    X = dx[3];
+    Y = dy[3];
+  }
+
+private:
+  double knot(int j) const {
+    if (j < 4) return 0;
+    if (j > m_ - 1) return m_ - 3;
+    return j - 3;
+  }
+
+  std::vector<double> x_, y_;
+  int m_;
+};
+
+// lpfg tabulates y at x = i/(n-1). It finds each x by bisecting the curve
+// parameter in float and stops as soon as |x(t) - target| <= 0.01/n, so the
+// stored y belongs to a slightly-off x; the same search is repeated here so the
+// table matches lpfg's, not the exact curve. The iteration cap replaces lpfg's
+// endless loop when the last control point's x is below 1.
+std::vector<float> tabulate(const BSpline& s, int n) {
+  std::vector<float> out(n);
+  const float maxError = 0.01f / static_cast<float>(n);
+  for (int i = 0; i < n; ++i) {
+    const float target = static_cast<float>(i) / static_cast<float>(n - 1);
+    float low = 0.0f, high = 1.0f, check = 0.5f;
+    double X = 0, Y = 0;
+    for (int iter = 0; iter < 100; ++iter) {
+      check = (low + high) / 2.0f;
+      s.eval(check, X, Y);
+      if (X > target)
+        high = check;
+      else
+        low = check;
+      if (std::fabs(X - target) <= maxError) break;
+    }
+    out[i] = static_cast<float>(Y);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Line-oriented reader shared by all four formats. Blank lines are skipped
+// everywhere (lpfg does not, but the editors never write meaningful ones).
+class FunctionFileParser {
+public:
+  using Entry = FunctionStore::Entry;
+
+  explicit FunctionFileParser(std::string path) : path_(std::move(path)) {}
+
+  llvm::Error open() {
+    auto buf = llvm::MemoryBuffer::getFile(path_, /*IsText=*/true);
+    if (!buf) return llvm::createStringError(path_ + ": error: cannot open file");
+    buf_ = std::move(*buf);
+    return llvm::Error::success();
+  }
+
+  bool next(Line& out) {
+    const std::string_view all = buf_->getBuffer();
+    while (pos_ < all.size()) {
+      size_t end = all.find('\n', pos_);
+      if (end == std::string_view::npos) end = all.size();
+      std::string_view text = all.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++lineNo_;
+      if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+      if (trim(text).empty()) continue;
+      out = {text, lineNo_};
+      last_ = out;
+      return true;
+    }
+    return false;
+  }
+
+  llvm::Error error(unsigned line, unsigned col, const llvm::Twine& msg) const {
+    return llvm::createStringError(
+        llvm::Twine(path_ + ":") + llvm::Twine(line) + ":" + llvm::Twine(col) +
+        ": error: " + msg);
+  }
+  llvm::Error error(const Token& t, const Line& l, const llvm::Twine& msg) const {
+    return error(l.no, t.col, msg);
+  }
+  llvm::Error errorAtEnd(const llvm::Twine& what) const {
+    if (last_.no == 0) return error(1, 1, "unexpected end of file, expected " + what);
+    return error(last_.no, static_cast<unsigned>(last_.text.size() + 1),
+                 "unexpected end of file, expected " + what);
+  }
+
+  llvm::Error expectLine(Line& l, const llvm::Twine& what) {
+    if (!next(l)) return errorAtEnd(what);
+    return llvm::Error::success();
+  }
+
+  // If the line starts (after indentation) with `key`, yields the trimmed rest
+  // and its column.
+  static bool keyed(const Line& l, std::string_view key, Token& rest,
+                    bool ignoreCase = false) {
+    size_t b = 0;
+    while (b < l.text.size() && llvm::isSpace(l.text[b])) ++b;
+    std::string_view s = l.text.substr(b);
+    if (s.size() < key.size()) return false;
+    std::string_view head = s.substr(0, key.size());
+    if (ignoreCase ? !llvm::StringRef(head).equals_insensitive(key) : head != key)
+      return false;
+    size_t v = b + key.size();
+    while (v < l.text.size() && llvm::isSpace(l.text[v])) ++v;
+    rest = {trim(l.text.substr(v)), static_cast<unsigned>(v + 1)};
+    return true;
+  }
+
+  llvm::Error expectKeyed(std::string_view key, Line& l, Token& rest) {
+    if (auto e = expectLine(l, "'" + llvm::Twine(key) + "'")) return e;
+    if (!keyed(l, key, rest))
+      return error(l.no, firstCol(l), "expected '" + llvm::Twine(key) + "'");
+    return llvm::Error::success();
+  }
+
+  llvm::Error intValue(const Line& l, const Token& t, std::string_view key,
+                       long& out) {
+    std::vector<Token> toks = Line{t.text, 0}.tokens();
+    std::optional<long> v;
+    if (toks.size() == 1) v = parseInt(toks[0].text);
+    if (!v)
+      return error(l.no, t.col,
+                   "expected an integer after '" + llvm::Twine(key) + "'");
+    out = *v;
+    return llvm::Error::success();
+  }
+
+  static unsigned firstCol(const Line& l) {
+    auto t = l.tokens();
+    return t.empty() ? 1 : t[0].col;
+  }
+
+  // One funcedit function; `header` is its already-read first line.
+  llvm::Error parseCurve(const Line& header, std::string_view fallbackName,
+                         Entry& e) {
+    std::vector<Token> h = header.tokens();
+    long samples = kDefaultSamples;
+    Line l;
+    Token rest;
+    if (!h.empty() && h[0].text == "fver") {
+      std::optional<long> maj, min;
+      if (h.size() == 3) {
+        maj = parseInt(h[1].text);
+        min = parseInt(h[2].text);
+      }
+      if (!maj || !min)
+        return error(header.no, h[0].col, "malformed version line, expected 'fver 1 1'");
+      if (*maj != 1 || *min != 1)
+        return error(header.no, h[1].col,
+                     "unsupported function file version " + llvm::Twine(*maj) +
+                         "." + llvm::Twine(*min) + " (only 'fver 1 1' is known)");
+      if (auto err = expectKeyed("name:", l, rest)) return err;
+      if (rest.text.empty()) return error(l.no, rest.col, "empty function name");
+      e.name = std::string(rest.text);
+      if (auto err = expectKeyed("samples:", l, rest)) return err;
+      if (auto err = intValue(l, rest, "samples:", samples)) return err;
+      samples = std::clamp<long>(samples, kMinSamples, kMaxSamples);
+      // Display-only settings precede the points; lpfg ignores them.
+      for (;;) {
+        if (auto err = expectLine(l, "'points:'")) return err;
+        if (keyed(l, "points:", rest)) break;
+        if (!keyed(l, "flip:", rest) && !keyed(l, "background:", rest) &&
+            !keyed(l, "backgroundXY:", rest))
+          return error(l.no, firstCol(l), "expected 'points:'");
+      }
+    } else if (!h.empty() && h[0].text == "range:") {
+      // Version 1.0: no name or sample count (lpfg itself rejects these; they
+      // are accepted here the way funcedit reads them).
+      e.name = std::string(fallbackName);
+      if (auto err = expectKeyed("points:", l, rest)) return err;
+    } else {
+      return error(header.no, firstCol(header), "expected 'fver 1 1'");
+    }
+
+    const Line pointsLine = l;
+    long count = 0;
+    if (auto err = intValue(l, rest, "points:", count)) return err;
+    if (count < 4)
+      return error(l.no, rest.col,
+                   "a function needs at least 4 control points, got " +
+                       llvm::Twine(count));
+    if (count > kMaxPoints)
+      return error(l.no, rest.col, "too many control points");
+
+    std::vector<double> xs, ys;
+    for (long i = 0; i < count; ++i) {
+      if (auto err = expectLine(l, "control point " + llvm::Twine(i + 1) +
+                                       " of " + llvm::Twine(count)))
+        return err;
+      std::vector<Token> t = l.tokens();
+      if (t.size() < 2 || t.size() > 3)
+        return error(l.no, firstCol(l),
+                     "expected a control point 'x y' or 'x y multiplicity'");
+      std::optional<double> x = parseReal(t[0].text), y = parseReal(t[1].text);
+      if (!x) return error(t[0], l, "invalid number '" + llvm::Twine(t[0].text) + "'");
+      if (!y) return error(t[1], l, "invalid number '" + llvm::Twine(t[1].text) + "'");
+      long mult = 1;
+      if (t.size() == 3) {
+        // Written as an integer, but lpfg reads it as a float and truncates.
+        std::optional<double> m = parseReal(t[2].text);
+        if (!m || *m < 0 || *m > kMaxMultiplicity)
+          return error(t[2], l, "invalid multiplicity '" + llvm::Twine(t[2].text) + "'");
+        mult = static_cast<long>(*m);
+      }
+      for (long j = 0; j < mult; ++j) {
+        xs.push_back(static_cast<float>(*x));  // lpfg keeps points as float
+        ys.push_back(static_cast<float>(*y));
+      }
+    }
+    if (xs.size() < 4)
+      return error(pointsLine.no, firstCol(pointsLine),
+                   "a function needs at least 4 control points after "
+                   "multiplicities, got " + llvm::Twine(xs.size()));
+
+    e.samples = tabulate(BSpline(std::move(xs), std::move(ys)),
+                         static_cast<int>(samples));
+    return llvm::Error::success();
+  }
+
+  llvm::Error parseItemsCount(long& items) {
+    Line l;
+    Token rest;
+    if (auto err = expectKeyed("items:", l, rest)) return err;
+    if (auto err = intValue(l, rest, "items:", items)) return err;
+    if (items < 0) return error(l.no, rest.col, "negative item count");
+    return llvm::Error::success();
+  }
+
+  llvm::Error parseGallery(std::vector<Entry>& out) {
+    long items = 0;
+    if (auto err = parseItemsCount(items)) return err;
+    for (long i = 0; i < items; ++i) {
+      Line h;
+      if (auto err = expectLine(h, "function " + llvm::Twine(i + 1) + " of " +
+                                       llvm::Twine(items)))
+        return err;
+      Entry e;
+      if (auto err = parseCurve(h, stem(), e)) return err;
+      out.push_back(std::move(e));
+    }
+    return llvm::Error::success();
+  }
+
+  llvm::Error parseTimeline(std::vector<Entry>& out) {
+    long items = 0;
+    if (auto err = parseItemsCount(items)) return err;
+    for (long i = 0; i < items; ++i) {
+      Line l;
+      Token rest;
+      Entry e;
+      if (auto err = expectKeyed("start:", l, rest)) return err;
+      std::optional<double> start = parseReal(rest.text);
+      if (!start) return error(l.no, rest.col, "expected a number after 'start:'");
+      if (auto err = expectKeyed("end:", l, rest)) return err;
+      std::optional<double> end = parseReal(rest.text);
+      if (!end) return error(l.no, rest.col, "expected a number after 'end:'");
+      if (auto err = expectKeyed("name:", l, rest)) return err;
+      std::string timelineName(rest.text);
+      // Colour and labels only matter to the timeline editor. The manual spells
+      // the labels in lower case, the editor writes camel case.
+      for (;;) {
+        if (auto err = expectLine(l, "'timelineFunceditFileStart:'")) return err;
+        if (keyed(l, "timelineFunceditFileStart:", rest)) break;
+        if (!keyed(l, "color:", rest) && !keyed(l, "startLabel:", rest, true) &&
+            !keyed(l, "endLabel:", rest, true))
+          return error(l.no, firstCol(l), "expected 'timelineFunceditFileStart:'");
+      }
+      Line h;
+      if (auto err = expectLine(h, "'fver 1 1'")) return err;
+      if (auto err = parseCurve(h, timelineName, e)) return err;
+      if (auto err = expectKeyed("timelineFunceditFileEnd:", l, rest)) return err;
+      e.low = static_cast<float>(*start);
+      e.up = static_cast<float>(*end);
+      // lpfg names the function by its funcedit name; the timeline's own name
+      // is what users see in the editor, so it resolves too.
+      if (timelineName != e.name) e.alias = std::move(timelineName);
+      out.push_back(std::move(e));
+    }
+    return llvm::Error::success();
+  }
+
+  // .vset: "#define NAME VALUE" per line. Like lpfg's std::stof, a numeric
+  // prefix is enough ("0.5f" reads as 0.5) and extra tokens are ignored.
+  llvm::Error parseParameters(std::vector<Entry>& out) {
+    Line l;
+    while (next(l)) {
+      std::vector<Token> t = l.tokens();
+      if (t[0].text != "#define")
+        return error(t[0], l, "expected '#define NAME VALUE'");
+      if (t.size() < 3)
+        return error(l.no, static_cast<unsigned>(l.text.size() + 1),
+                     "expected '#define NAME VALUE'");
+      std::string value(t[2].text);
+      char* endp = nullptr;
+      float v = std::strtof(value.c_str(), &endp);
+      if (endp == value.c_str() || !std::isfinite(v))
+        return error(t[2], l, "invalid number '" + llvm::Twine(t[2].text) + "'");
+      Entry e;
+      e.name = std::string(t[1].text);
+      e.isParameter = true;
+      e.value = v;
+      out.push_back(std::move(e));
+    }
+    return llvm::Error::success();
+  }
+
+  std::string stem() const { return llvm::sys::path::stem(path_).str(); }
+
+  enum class FileKind { Function, Set, Parameters };
+  static llvm::Error parseFile(const std::string& path, FileKind kind,
+                               std::vector<Entry>& out);
+
+private:
+  std::string path_;
+  std::unique_ptr<llvm::MemoryBuffer> buf_;
+  size_t pos_ = 0;
+  unsigned lineNo_ = 0;
+  Line last_;
+};
+
+// lpfg decides between gallery and timeline by the header line, not by the
+// file name, so either set loader accepts either set.
+llvm::Error FunctionFileParser::parseFile(const std::string& path, FileKind kind,
+                                          std::vector<Entry>& out) {
+  FunctionFileParser p(path);
+  if (auto err = p.open()) return err;
+  if (kind == FileKind::Parameters) return p.parseParameters(out);
+
+  Line h;
+  const char* expected = kind == FileKind::Function ? "'fver 1 1'"
+                                                    : "'funcgalleryver 1 1' or 'timeEdit 1 2'";
+  if (!p.next(h)) return p.errorAtEnd(expected);
+  if (kind == FileKind::Function) {
+    FunctionStore::Entry e;
+    if (auto err = p.parseCurve(h, p.stem(), e)) return err;
+    out.push_back(std::move(e));
+    return llvm::Error::success();
+  }
+
+  std::vector<Token> t = h.tokens();
+  if (t.size() == 3 && (t[0].text == "funcgalleryver" || t[0].text == "timeEdit")) {
+    const bool gallery = t[0].text == "funcgalleryver";
+    std::optional<long> maj = parseInt(t[1].text), min = parseInt(t[2].text);
+    if (!maj || !min) return p.error(t[1], h, "malformed version line");
+    const long want = gallery ? 1 : 2;
+    if (*maj != 1 || *min != want)
+      return p.error(t[1], h,
+                     "unsupported " + llvm::Twine(gallery ? "function set" : "timeline") +
+                         " version " + llvm::Twine(*maj) + "." + llvm::Twine(*min));
+    return gallery ? p.parseGallery(out) : p.parseTimeline(out);
+  }
+  return p.error(h.no, FunctionFileParser::firstCol(h),
+                 llvm::Twine("expected ") + expected);
+}
+
+namespace {
+using FileKind = FunctionFileParser::FileKind;
+}  // namespace
+
+llvm::Error FunctionStore::loadFunction(const std::string& path) {
+  std::vector<Entry> added;
+  if (auto err = FunctionFileParser::parseFile(path, FileKind::Function, added)) return err;
+  commit(std::move(added));
+  return llvm::Error::success();
+}
+
+llvm::Error FunctionStore::loadFunctionSet(const std::string& path) {
+  std::vector<Entry> added;
+  if (auto err = FunctionFileParser::parseFile(path, FileKind::Set, added)) return err;
+  commit(std::move(added));
+  return llvm::Error::success();
+}
+
+llvm::Error FunctionStore::loadTimeline(const std::string& path) {
+  return loadFunctionSet(path);
+}
+
+llvm::Error FunctionStore::loadParameters(const std::string& path) {
+  std::vector<Entry> added;
+  if (auto err = FunctionFileParser::parseFile(path, FileKind::Parameters, added)) return err;
+  commit(std::move(added));
+  return llvm::Error::success();
+}
+
+void FunctionStore::commit(std::vector<Entry> added) {
+  for (Entry& e : added) {
+    const int id = static_cast<int>(entries_.size()) + 1;
+    if (!e.alias.empty()) {
+      exact_[e.alias] = id;
+      upper_[toUpper(e.alias)] = id;
+    }
+    exact_[e.name] = id;
+    upper_[toUpper(e.name)] = id;
+    entries_.push_back(std::move(e));
+  }
+}
+
+void FunctionStore::clear() {
+  entries_.clear();
+  exact_.clear();
+  upper_.clear();
+}
+
+int FunctionStore::idOf(std::string_view name) const {
+  llvm::StringRef key(name.data(), name.size());
+  if (auto it = exact_.find(key); it != exact_.end()) return it->second;
+  if (auto it = upper_.find(key); it != upper_.end()) return it->second;
+  return 0;
+}
+
+std::string_view FunctionStore::nameOf(int id) const {
+  if (id < 1 || id > size()) return {};
+  return entries_[id - 1].name;
+}
+
+const FunctionStore::Entry* FunctionStore::curve(int id) const {
+  if (id < 1 || id > size()) return nullptr;
+  const Entry& e = entries_[id - 1];
+  return e.isParameter ? nullptr : &e;
+}
+
+// Linear interpolation in lpfg's table, with lpfg's float arithmetic.
+float FunctionStore::evalCurve(const Entry& e, float v) {
+  if (!(v >= 0.0f)) v = 0.0f;  // NaN included: lpfg's behaviour is undefined
+  else if (v > 1.0f) v = 1.0f;
+  const size_t n = e.samples.size();
+  const float index = v * static_cast<float>(n - 1);
+  const size_t i = static_cast<size_t>(index);
+  if (i >= n - 1) return e.samples[n - 1];
+  const float w1 = 1 - index + static_cast<float>(i);
+  const float w2 = index - static_cast<float>(i);
+  return w1 * e.samples[i] + w2 * e.samples[i + 1];
+}
+
+float FunctionStore::func(int id, float x) const {
+  const Entry* e = curve(id);
+  return e ? evalCurve(*e, x) : 0.0f;
+}
+
+float FunctionStore::func(std::string_view name, float x) const {
+  return func(idOf(name), x);
+}
+
+float FunctionStore::pfunc(int id, float x, float min, float max) const {
+  const Entry* e = curve(id);
+  return e ? evalCurve(*e, (x - min) / (max - min)) : 0.0f;
+}
+
+float FunctionStore::pfunc(std::string_view name, float x, float min,
+                           float max) const {
+  return pfunc(idOf(name), x, min, max);
+}
+
+float FunctionStore::tfunc(int id, float x) const {
+  const Entry* e = curve(id);
+  return e ? evalCurve(*e, (x - e->low) / (e->up - e->low)) : 0.0f;
+}
+
+float FunctionStore::tfunc(std::string_view name, float x) const {
+  return tfunc(idOf(name), x);
+}
+
+float FunctionStore::val(int id) const {
+  if (id < 1 || id > size()) return 0.0f;
+  const Entry& e = entries_[id - 1];
+  return e.isParameter ? e.value : 0.0f;
+}
+
+float FunctionStore::val(std::string_view name) const { return val(idOf(name)); }
+
+}  // namespace lcjit::runtime

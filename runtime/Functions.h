@@ -1,0 +1,75 @@
+// lpfg's external functions: readers for .func/.fset/.tset/.vset files and the
+// func/pfunc/tfunc/val evaluators that L+C productions call.
+#pragma once
+
+#include <llvm/ADT/StringMap.h>
+#include <llvm/Support/Error.h>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lcjit::runtime {
+
+// Every entry (curve or .vset parameter) gets the next id, starting at 1, in the
+// order loaded: lpfg numbers them in one sequence and its preprocessor defines
+// each name as its id, so val(NAME) and func(NAME, x) are id lookups there. To
+// reproduce lpfg's ids, load in lpfg's order: the .fset, then the .tset, then
+// the .vset, then the .func files in command-line order.
+//
+// A failed load leaves the store as it was before that call. Evaluation is
+// const and lock-free, so it may run from several threads at once.
+class FunctionStore {
+public:
+  llvm::Error loadFunction(const std::string& path);     // .func (one function)
+  llvm::Error loadFunctionSet(const std::string& path);  // .fset (several)
+  llvm::Error loadTimeline(const std::string& path);     // .tset
+  llvm::Error loadParameters(const std::string& path);   // .vset
+
+  // Unknown id/name, or an id naming a .vset parameter, gives 0. x outside the
+  // domain is clamped to its ends, as lpfg does.
+  float func(int id, float x) const;
+  float func(std::string_view name, float x) const;
+  // x in [min,max] is mapped onto [0,1]. lpfg's pfunc also overwrites the
+  // function's stored range as a side effect (seen by later tfunc calls); that
+  // is deliberately not reproduced.
+  float pfunc(int id, float x, float min, float max) const;
+  float pfunc(std::string_view name, float x, float min, float max) const;
+  // x in the timeline's [start,end] is mapped onto [0,1]; functions that did
+  // not come from a .tset have the range [0,1].
+  float tfunc(int id, float x) const;
+  float tfunc(std::string_view name, float x) const;
+
+  float val(std::string_view name) const;  // unknown → 0
+  float val(int id) const;                 // unknown or not a parameter → 0
+
+  // Name resolution as lpfg's preprocessor does it: the exact name, else the
+  // all-caps form of a name; a later definition of a name wins. 0 if unknown.
+  // Lets a compiler resolve names once instead of per call.
+  int idOf(std::string_view name) const;
+  std::string_view nameOf(int id) const;  // "" if unknown
+  int size() const { return static_cast<int>(entries_.size()); }
+
+  void clear();
+
+private:
+  struct Entry {
+    std::string name;
+    std::string alias;            // a .tset timeline's own name, if different
+    bool isParameter = false;
+    float value = 0.0f;           // .vset value
+    float low = 0.0f, up = 1.0f;  // tfunc domain
+    std::vector<float> samples;   // curve y at x = i/(n-1), n >= 10
+  };
+  friend class FunctionFileParser;
+
+  void commit(std::vector<Entry> added);
+  const Entry* curve(int id) const;
+  static float evalCurve(const Entry& e, float x);
+
+  std::vector<Entry> entries_;
+  llvm::StringMap<int> exact_;
+  llvm::StringMap<int> upper_;
+};
+
+}  // namespace lcjit::runtime

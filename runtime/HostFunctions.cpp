@@ -1,0 +1,113 @@
+// Host functions for model code: each forwards to the engine that is running the model.
+#include "HostFunctions.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <new>
+
+#include "Engine.h"
+#include "Functions.h"
+
+using lcjit::runtime::Engine;
+
+namespace {
+Engine* engine() { return Engine::current(); }
+const lcjit::runtime::FunctionStore* functions() {
+  Engine* e = engine();
+  return e ? e->functions() : nullptr;
+}
+// Random streams outlive engines: lpfg keeps one per process.
+lcjit::runtime::Rand48& fallbackRandom() {
+  static lcjit::runtime::Rand48 r;
+  return r;
+}
+}  // namespace
+
+extern "C" {
+
+void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra) {
+  if (b->cap - b->size >= extra) return;
+  size_t cap = b->cap * 2;
+  if (cap < b->size + extra) cap = b->size + extra;
+  if (cap < 4096) cap = 4096;
+  char* d = static_cast<char*>(std::realloc(b->data, cap));
+  if (!d) throw std::bad_alloc();
+  b->data = d;
+  b->cap = cap;
+}
+
+int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params) {
+  Engine* e = static_cast<Engine*>(c->engine);
+  return e && e->inContext(c, side, ids, n, params) ? 1 : 0;
+}
+
+void lcjit_use_group(int g) {
+  if (Engine* e = engine()) e->useGroup(g);
+}
+int lcjit_current_group() { return engine() ? engine()->currentGroup() : 0; }
+void lcjit_forward() {
+  if (Engine* e = engine()) e->setForward(true);
+}
+void lcjit_backward() {
+  if (Engine* e = engine()) e->setForward(false);
+}
+int lcjit_is_forward() { return engine() ? engine()->forward() : 1; }
+void lcjit_stop() {
+  if (Engine* e = engine()) e->stop();
+}
+int lcjit_step_no() { return engine() ? engine()->stepNo() : 0; }
+
+double lcjit_ran(double range) { return (engine() ? engine()->random() : fallbackRandom()).next() * range; }
+void lcjit_sran(long seed) { (engine() ? engine()->random() : fallbackRandom()).seed(seed); }
+void lcjit_seed_gillespie(long seed) {
+  if (Engine* e = engine()) e->gillespieRandom().seed(seed);
+}
+double lcjit_gillespie_time() { return engine() ? engine()->gillespieTime() : 0; }
+
+float lcjit_func(int id, float x) { return functions() ? functions()->func(id, x) : 0; }
+float lcjit_func_named(const char* name, float x) { return functions() && name ? functions()->func(name, x) : 0; }
+float lcjit_pfunc(int id, float x, float mn, float mx) { return functions() ? functions()->pfunc(id, x, mn, mx) : 0; }
+float lcjit_pfunc_named(const char* name, float x, float mn, float mx) {
+  return functions() && name ? functions()->pfunc(name, x, mn, mx) : 0;
+}
+float lcjit_tfunc(int id, float x) { return functions() ? functions()->tfunc(id, x) : 0; }
+float lcjit_tfunc_named(const char* name, float x) { return functions() && name ? functions()->tfunc(name, x) : 0; }
+float lcjit_val(int id) { return functions() ? functions()->val(id) : 0; }
+float lcjit_val_named(const char* name) { return functions() && name ? functions()->val(name) : 0; }
+
+void lcjit_print(const char* text) {
+  if (Engine* e = engine()) e->print(text);
+  else std::fputs(text, stdout);
+}
+
+void lcjit_output_string(const char* path) {
+  Engine* e = engine();
+  if (!e || !path) return;
+  if (auto err = e->writeBinary(path)) e->print((llvm::toString(std::move(err)) + "\n").c_str());
+}
+
+void lcjit_load_string(const char* path) {
+  Engine* e = engine();
+  if (!e || !path) return;
+  if (auto err = e->readBinary(path)) e->print((llvm::toString(std::move(err)) + "\n").c_str());
+}
+}
+
+namespace lcjit::runtime {
+
+std::vector<std::pair<std::string, void*>> hostFunctions() {
+#define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
+  return {
+      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group),
+      LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
+      LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
+      LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie),
+      LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
+      LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
+      LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
+      LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),
+  };
+#undef LCJIT_HOST
+}
+
+}  // namespace lcjit::runtime

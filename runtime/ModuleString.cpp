@@ -1,0 +1,112 @@
+// Module buffers, descriptors and the text form of modules (see ModuleString.h).
+#include "ModuleString.h"
+
+#include <charconv>
+#include <algorithm>
+#include <new>
+
+namespace lcjit::runtime {
+
+void ModuleBuffer::reserve(size_t extra) {
+  if (b_.cap - b_.size >= extra) return;
+  size_t cap = std::max<size_t>({b_.cap * 2, b_.size + extra, size_t(4096)});
+  char* d = static_cast<char*>(std::realloc(b_.data, cap));
+  if (!d) throw std::bad_alloc();
+  b_.data = d;
+  b_.cap = cap;
+}
+
+ModuleTable::ModuleTable() { setUserModules(nullptr, 0); }
+
+void ModuleTable::setUserModules(const __lc_ModuleInfo* mods, uint32_t n) {
+  infos_.assign(__lc_stdmods, __lc_stdmods + __lc_FirstUserModule);
+  infos_.insert(infos_.end(), mods, mods + n);
+  recordSize_.clear();
+  for (auto& m : infos_) recordSize_.push_back(m.recordSize);
+}
+
+int ModuleTable::find(const std::string& name) const {
+  for (size_t i = 0; i < infos_.size(); ++i)
+    if (name == infos_[i].name) return (int)i;
+  return -1;
+}
+
+namespace {
+
+template <class T> void number(std::string& out, T v, int precision = 0) {
+  char buf[64];
+  std::to_chars_result r;
+  if constexpr (std::is_floating_point_v<T>)
+    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, precision);
+  else
+    r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+template <class T> T get(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+template <class V> void vec(std::string& out, const char* p, int n, int precision) {
+  using T = decltype(V().x);
+  out += '(';
+  for (int i = 0; i < n; ++i) {
+    if (i) out += ',';
+    number(out, get<T>(p + i * sizeof(T)), precision);
+  }
+  out += ')';
+}
+
+void field(std::string& out, const __lc_Field& f, const char* p) {
+  switch (f.kind) {
+    case __lc_FK_Bool: out += get<bool>(p) ? '1' : '0'; break;
+    case __lc_FK_Char: number(out, (int)get<char>(p)); break;
+    case __lc_FK_Signed:
+      if (f.size == 1) number(out, (int)get<int8_t>(p));
+      else if (f.size == 2) number(out, get<int16_t>(p));
+      else if (f.size == 4) number(out, get<int32_t>(p));
+      else number(out, get<int64_t>(p));
+      break;
+    case __lc_FK_Unsigned:
+      if (f.size == 1) number(out, (unsigned)get<uint8_t>(p));
+      else if (f.size == 2) number(out, get<uint16_t>(p));
+      else if (f.size == 4) number(out, get<uint32_t>(p));
+      else number(out, get<uint64_t>(p));
+      break;
+    case __lc_FK_Float: number(out, get<float>(p), 9); break;
+    case __lc_FK_Double: number(out, get<double>(p), 17); break;
+    case __lc_FK_V2f: vec<V2f>(out, p, 2, 9); break;
+    case __lc_FK_V2d: vec<V2d>(out, p, 2, 17); break;
+    case __lc_FK_V3f: vec<V3f>(out, p, 3, 9); break;
+    case __lc_FK_V3d: vec<V3d>(out, p, 3, 17); break;
+    case __lc_FK_Text: {
+      const char* s = get<const char*>(p);
+      out += '"';
+      if (s) out += s;
+      out += '"';
+      break;
+    }
+    default:
+      out += '<';
+      out += f.typeName;
+      out += '>';
+  }
+}
+
+}  // namespace
+
+void ModuleTable::format(const char* rec, std::string& out) const {
+  const __lc_ModuleInfo& m = infos_[idAt(rec)];
+  out += m.name;
+  if (m.nFields == 0) return;
+  out += '(';
+  for (uint32_t i = 0; i < m.nFields; ++i) {
+    if (i) out += ',';
+    field(out, m.fields[i], rec + m.fields[i].offset);
+  }
+  out += ')';
+}
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,114 @@
+// The contract between a compiled model (JIT'd C++ generated from L+C) and the host runtime:
+// the model describes itself with a __lc_Model table; rule bodies write successors through
+// __lc_Ctx; everything else the model needs from the host is a C-linkage lcjit_* function.
+#pragma once
+#include "modules.h"
+
+enum { __lc_AbiVersion = 1 };
+
+struct __lc_Buffer {
+  char* data;
+  size_t size;
+  size_t cap;
+};
+
+// State of one rule application, passed to the generated body.
+struct __lc_Ctx {
+  __lc_Buffer* out;  // successor modules are appended here
+  int produced;      // set by produce: the rule applied
+  void* engine;      // host-owned
+  void* match;       // host-owned matching state (for InLeftContext & co.)
+};
+
+enum __lc_RuleKind : uint8_t { __lc_Production = 0, __lc_Decomposition = 1, __lc_Interpretation = 2 };
+enum __lc_GroupKind : uint8_t { __lc_NormalGroup = 0, __lc_GillespieGroup = 1, __lc_ViewGroup = 2 };
+
+struct __lc_Rule {
+  uint8_t kind;
+  uint8_t groupKind;
+  int16_t group;
+  // The predecessor, in source order: new left context, left context, strict predecessor,
+  // right context, new right context. `pattern` holds their module ids concatenated.
+  uint8_t nNewLeft, nLeft, nStrict, nRight, nNewRight;
+  int16_t filter;  // index into __lc_Model::filters (ignore:/consider: in force), or -1
+  const __lc_ModuleId* pattern;
+  // Parameters of the matched modules are passed as pointers, in pattern order.
+  void (*body)(__lc_Ctx*, const char* const*);
+  int line;  // source line of the predecessor
+};
+
+struct __lc_Filter {
+  uint8_t consider;  // 1: consider: list, 0: ignore: list
+  uint16_t n;
+  const __lc_ModuleId* ids;
+};
+
+struct __lc_Model {
+  uint32_t abiVersion;
+  uint32_t nModules;                // user modules, ids __lc_FirstUserModule...
+  const __lc_ModuleInfo* modules;
+  uint32_t nRules;
+  const __lc_Rule* rules;
+  uint32_t nFilters;
+  const __lc_Filter* filters;
+  void (*axiom)(__lc_Ctx*);
+  int (*derivationLength)();
+  int (*ringLsystem)();           // null when the model is not a ring L-system
+  int (*decompositionDepth)();    // null: 1
+  int (*interpretationDepth)();   // null: 1
+  void (*start)();
+  void (*startEach)();
+  void (*endEach)();
+  void (*end)();
+  const char* sourceFile;
+};
+
+// Which context an InXContext(...) expression tests.
+enum __lc_ContextSide { __lc_InLeft = 0, __lc_InRight = 1, __lc_InNewLeft = 2, __lc_InNewRight = 3 };
+
+// Host functions callable from model code. Every one is listed in runtime/HostSymbols.cpp.
+extern "C" {
+void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra);
+int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
+void lcjit_use_group(int g);
+int lcjit_current_group();
+void lcjit_forward();
+void lcjit_backward();
+int lcjit_is_forward();
+void lcjit_stop();
+int lcjit_step_no();
+double lcjit_ran(double range);
+void lcjit_sran(long seed);
+void lcjit_seed_gillespie(long seed);
+double lcjit_gillespie_time();
+float lcjit_func(int id, float x);
+float lcjit_func_named(const char* name, float x);
+float lcjit_pfunc(int id, float x, float min, float max);
+float lcjit_pfunc_named(const char* name, float x, float min, float max);
+float lcjit_tfunc(int id, float x);
+float lcjit_tfunc_named(const char* name, float x);
+float lcjit_val(int id);
+float lcjit_val_named(const char* name);
+void lcjit_print(const char* text);
+void lcjit_output_string(const char* path);
+void lcjit_load_string(const char* path);
+}
+
+// Appends one module record to the successor being built.
+template <class R> inline void __lc_put(__lc_Ctx* c, R& r, __lc_ModuleId id) {
+  r.id = id;
+  r.id2 = id;
+  __lc_Buffer* b = c->out;
+  if (b->cap - b->size < sizeof(R)) lcjit_buffer_reserve(b, sizeof(R));
+  char* d = b->data + b->size;
+  std::memcpy(d, static_cast<const void*>(&r), sizeof(R));
+  std::memcpy(d + sizeof(R) - 2, &id, 2);
+  b->size += sizeof(R);
+}
+
+// A zeroed record, so padding bytes in strings (and .strb files) are deterministic.
+template <class R> inline R __lc_blank() {
+  R r;
+  std::memset(static_cast<void*>(&r), 0, sizeof(R));
+  return r;
+}

@@ -1,0 +1,123 @@
+// lcjit's model API header, the counterpart of lpfg's <lpfgall.h>: what L+C model code may use
+// (manual §5-§7). Precompiled once; every model translation unit is compiled against it.
+#ifndef LCJIT_LPFGALL_H
+#define LCJIT_LPFGALL_H
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "lcjit/abi.h"
+
+// Successor writers of the predefined modules: produce F(x) calls __lc_emit_F(ctx, x).
+#define __LC_EMIT_ARGS_0()
+#define __LC_EMIT_ARGS_1(a) , a a0
+#define __LC_EMIT_ARGS_2(a, b) , a a0, b a1
+#define __LC_EMIT_ARGS_3(a, b, c) , a a0, b a1, c a2
+#define __LC_EMIT_ARGS_4(a, b, c, d) , a a0, b a1, c a2, d a3
+#define __LC_EMIT_ARGS_6(a, b, c, d, e, f) , a a0, b a1, c a2, d a3, e a4, f a5
+#define __LC_SET_0
+#define __LC_SET_1 r.p0 = a0;
+#define __LC_SET_2 __LC_SET_1 r.p1 = a1;
+#define __LC_SET_3 __LC_SET_2 r.p2 = a2;
+#define __LC_SET_4 __LC_SET_3 r.p3 = a3;
+#define __LC_SET_6 __LC_SET_4 r.p4 = a4; r.p5 = a5;
+#define LCJIT_MODULE(N, I, A, ...)                                        \
+  inline void __lc_emit_##N(__lc_Ctx* c __LC_EMIT_ARGS_##A(__VA_ARGS__)) { \
+    auto r = __lc_blank<__lc_R_##N>();                                  \
+    __LC_SET_##A __lc_put(c, r, I);                                     \
+  }
+#include "lcjit/stdmods.def"
+#undef LCJIT_MODULE
+
+// §6.1 Controlling the derivation.
+inline void Forward() { lcjit_forward(); }
+inline void Backward() { lcjit_backward(); }
+inline bool IsForward() { return lcjit_is_forward() != 0; }
+inline void UseGroup(int g) { lcjit_use_group(g); }
+inline int CurrentGroup() { return lcjit_current_group(); }
+
+// §6.5 Animation functions: Stop works everywhere; the rest need a window.
+inline void Stop() { lcjit_stop(); }
+inline int StepNo() { return lcjit_step_no(); }
+inline void DisplayFrame() {}
+inline void OutputFrame(const char*) {}
+inline void RunSimulation() {}
+inline void PauseSimulation() {}
+
+// §6.6-6.7 Functions and parameters from input files.
+inline float func(int id, float x) { return lcjit_func(id, x); }
+inline float func(const char* name, float x) { return lcjit_func_named(name, x); }
+inline float pfunc(int id, float x, float mn, float mx) { return lcjit_pfunc(id, x, mn, mx); }
+inline float pfunc(const char* name, float x, float mn, float mx) { return lcjit_pfunc_named(name, x, mn, mx); }
+inline float tfunc(int id, float x) { return lcjit_tfunc(id, x); }
+inline float tfunc(const char* name, float x) { return lcjit_tfunc_named(name, x); }
+// Parameter names from .vset files (and function names) are predefined as macros expanding to
+// their ids, as lpfg does, so val(LENGTH) is val(<id>).
+inline float val(int id) { return lcjit_val(id); }
+inline float val(const char* name) { return lcjit_val_named(name); }
+
+// §6.10 Random numbers.
+inline double ran(double range) { return lcjit_ran(range); }
+inline void sran(long seed) { lcjit_sran(seed); }
+inline void SeedGillespie(long seed) { lcjit_seed_gillespie(seed); }
+inline double GillespieTime() { return lcjit_gillespie_time(); }
+
+// §6.9 Input and output.
+inline void Printf(const char* fmt, ...) {
+  char small[512];
+  va_list ap;
+  va_start(ap, fmt);
+  int n = std::vsnprintf(small, sizeof small, fmt, ap);
+  va_end(ap);
+  if (n < (int)sizeof small) {
+    lcjit_print(small);
+    return;
+  }
+  std::vector<char> big(n + 1);
+  va_start(ap, fmt);
+  std::vsnprintf(big.data(), big.size(), fmt, ap);
+  va_end(ap);
+  lcjit_print(big.data());
+}
+inline void OutputString(const char* path) { lcjit_output_string(path); }
+inline void LoadString(const char* path) { lcjit_load_string(path); }
+
+// §6.3 Curves and surfaces. Contours and view-file surfaces are read by the graphics layer;
+// until one is loaded these return neutral values.
+inline float curveX(int, float) { return 0; }
+inline float curveY(int, float) { return 0; }
+inline float curveZ(int, float) { return 0; }
+inline V2f curveXY(int, float) { return V2f(); }
+inline V3f curveXYZ(int, float) { return V3f(); }
+inline void curveScale(int, float, float, float) {}
+inline void curveSetPoint(int, int, float, float, float) {}
+inline void curveRecalculate(int) {}
+inline void curveReset(int) {}
+inline SurfaceObj GetSurface(int) { return SurfaceObj(); }
+
+// §6.4 View functions and §6.8 mouse and menu: neutral values without a window.
+inline void UseView(int) {}
+inline float vvXmin(int) { return 0; }
+inline float vvYmin(int) { return 0; }
+inline float vvZmin(int) { return 0; }
+inline float vvXmax(int) { return 0; }
+inline float vvYmax(int) { return 0; }
+inline float vvZmax(int) { return 0; }
+inline float vvScale(int) { return 1; }
+inline CameraPosition GetCameraPosition(int) { return CameraPosition(); }
+inline MouseStatus GetMouseStatus() { return MouseStatus(); }
+inline void UserMenuItem(const char*, int) {}
+inline int UserMenuChoice() { return -1; }
+inline void UserMenuClear() {}
+
+// §6.11 Environment programs are not connected in batch mode.
+inline void Environment() {}
+inline void NoEnvironment() {}
+
+#endif

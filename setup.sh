@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs what lcjit needs on Debian 12 (only what is missing), then configures and builds.
+# Usage: ./setup.sh            (build into ./build)
+set -euo pipefail
+cd "$(dirname "$0")"
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  llvm-19-dev libclang-19-dev libclang-cpp19-dev clang-19 libclang-common-19-dev
+  libstdc++-12-dev libc6-dev zlib1g-dev libzstd-dev libedit-dev libffi-dev libxml2-dev libcurl4-openssl-dev
+  libfmt-dev libcli11-dev libgtest-dev libbenchmark-dev libglm-dev libstb-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)"
