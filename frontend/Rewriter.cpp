@@ -56,7 +56,7 @@ class Emitter {
   explicit Emitter(const Lexed& l) : lexed_(l) {}
 
   void token(const Token& t) {
-    moveTo(t);
+    moveTo(t, /*exactColumn=*/true);
     put(t.text);
   }
   // Generated text placed at a token's position (so diagnostics about it point there).
@@ -96,8 +96,11 @@ class Emitter {
     out_ += s;
     col_ += (int)s.size();
   }
-  void moveTo(const Token& t) {
-    if (file_ != t.file || t.line < line_ || t.line > line_ + 8) {
+  // With `exactColumn` (user tokens), generated text that pushed the output past the token's
+  // column starts a fresh line under #line, so that Clang's column numbers match the .l file.
+  void moveTo(const Token& t, bool exactColumn = false) {
+    bool drifted = exactColumn && file_ == t.file && t.line == line_ && t.col < col_;
+    if (file_ != t.file || t.line < line_ || t.line > line_ + 8 || drifted) {
       if (col_ > 1) newline();
       std::string name;
       for (char c : lexed_.files[t.file]) {
@@ -305,7 +308,40 @@ class Rewriter {
       return true;
     }
     if (findModule(w)) return rule(), true;
+    if (looksLikePredecessor()) fail(t, "undeclared module '" + w + "'");
     return false;
+  }
+
+  // A namespace-scope statement made only of names, parenthesised groups and context operators
+  // up to a single ':' is no C++ (a declaration with a ':' starts with a class-key or has '::',
+  // '=' or '?' first): it is a predecessor whose first module was never declared. Without this
+  // check Clang would report "unknown type name".
+  bool looksLikePredecessor() const {
+    static const std::set<std::string> keywords = {
+        "struct", "class", "union", "enum", "template", "typedef", "using", "namespace", "static", "extern", "inline",
+        "constexpr", "consteval", "constinit", "const", "volatile", "alignas", "friend", "final", "typename", "decltype",
+        "public", "private", "protected", "case", "default", "virtual", "thread_local", "export", "concept", "requires",
+        "operator", "explicit", "mutable", "register", "static_assert", "asm", "__attribute__", "__declspec"};
+    int depth = 0;
+    for (int k = 0;; ++k) {
+      const Token& p = peek(k);
+      if (p.kind == Token::End || p.kind == Token::Directive || p.is(";") || p.is("{") || p.is("}")) return false;
+      if (p.is("(")) {
+        ++depth;
+        continue;
+      }
+      if (p.is(")")) {
+        if (--depth < 0) return false;
+        continue;
+      }
+      if (depth > 0) continue;
+      if (p.is(":")) return k > 0 && !peek(k + 1).is(":");
+      if (p.kind == Token::Identifier) {
+        if (keywords.count(p.text)) return false;
+        continue;
+      }
+      if (!(p.is("<") || p.is(">") || p.is("<<") || p.is(">>"))) return false;
+    }
   }
 
   void moduleDeclaration() {

@@ -631,7 +631,6 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   auto ctx = std::make_unique<llvm::LLVMContext>();
   std::unique_ptr<llvm::Module> module;
   for (int attempt = 0;; ++attempt) {
-    std::shared_ptr<clang::CompilerInvocation> base;
     {
       std::lock_guard<std::mutex> lock(L.mutex);
       if (auto err = impl_->setupLevel(L, level))
@@ -639,24 +638,21 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       impl_->ensurePch(L, level, attempt > 0, st);
     }
     auto t0 = Clock::now();
-    Impl::FrontendResult fr;
+    // Snapshot the PCH decision; another thread may rebuild concurrently.
+    LevelSetup snapshot;
     {
-      // Snapshot the PCH decision; another thread may rebuild concurrently.
-      LevelSetup snapshot;
-      {
-        std::lock_guard<std::mutex> lock(L.mutex);
-        snapshot.base = L.base;
-        snapshot.pchPath = L.pchPath;
-        snapshot.pchFallback = L.pchFallback;
-      }
-      fr = impl_->runFrontend(snapshot, cppSource, bufferName, *ctx);
+      std::lock_guard<std::mutex> lock(L.mutex);
+      snapshot.base = L.base;
+      snapshot.pchPath = L.pchPath;
+      snapshot.pchFallback = L.pchFallback;
     }
+    Impl::FrontendResult fr = impl_->runFrontend(snapshot, cppSource, bufferName, *ctx);
     st.frontendMs += msSince(t0);
     if (fr.module) {
       module = std::move(fr.module);
       break;
     }
-    if (fr.pchProblem && attempt == 0 && !L.pchFallback) {
+    if (fr.pchProblem && attempt == 0 && !snapshot.pchFallback) {
       // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
       ctx = std::make_unique<llvm::LLVMContext>();
       continue;
@@ -718,7 +714,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (!backendErrors->empty())
       msg = trimTrailingNewlines(*backendErrors);
     else if (!cause.empty())
-      msg = "error: " + what.str() + ": " + cause + "\n(" + msg + ")";
+      msg = "error: " + what.str() + ": " + cause;
     else
       msg = "error: " + what.str() + ": " + msg;
     if (auto e = ES.removeJITDylib(JD))

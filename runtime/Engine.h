@@ -61,6 +61,7 @@ class Engine {
   Rand48& random() { return random_; }
   Rand48& gillespieRandom() { return gillespieRandom_; }
   double gillespieTime() const { return gillespieTime_; }
+  void resetGillespieTime() { gillespieTime_ = 0; }
   const FunctionStore* functions() const { return functions_; }
   void print(const char* s);
   bool inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);

@@ -63,6 +63,9 @@ void lcjit_seed_gillespie(long seed) {
   if (Engine* e = engine()) e->gillespieRandom().seed(seed);
 }
 double lcjit_gillespie_time() { return engine() ? engine()->gillespieTime() : 0; }
+void lcjit_reset_gillespie() {
+  if (Engine* e = engine()) e->resetGillespieTime();
+}
 
 float lcjit_func(int id, float x) { return functions() ? functions()->func(id, x) : 0; }
 float lcjit_func_named(const char* name, float x) { return functions() && name ? functions()->func(name, x) : 0; }
@@ -102,7 +105,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
       LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie),
-      LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
+      LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_reset_gillespie), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),

@@ -49,6 +49,10 @@ inline void DisplayFrame() {}
 inline void OutputFrame(const char*) {}
 inline void RunSimulation() {}
 inline void PauseSimulation() {}
+inline void DelayWrite() {}
+inline void Write() {}
+inline void StartPerformance() {}
+inline void StopPerformance() {}
 
 // §6.6-6.7 Functions and parameters from input files.
 inline float func(int id, float x) { return lcjit_func(id, x); }
@@ -67,6 +71,7 @@ inline double ran(double range) { return lcjit_ran(range); }
 inline void sran(long seed) { lcjit_sran(seed); }
 inline void SeedGillespie(long seed) { lcjit_seed_gillespie(seed); }
 inline double GillespieTime() { return lcjit_gillespie_time(); }
+inline void ResetGillespie() { lcjit_reset_gillespie(); }
 
 // §6.9 Input and output.
 inline void Printf(const char* fmt, ...) {
@@ -99,10 +104,15 @@ inline void curveScale(int, float, float, float) {}
 inline void curveSetPoint(int, int, float, float, float) {}
 inline void curveRecalculate(int) {}
 inline void curveReset(int) {}
+inline V3f curveNormal(int, float) { return V3f(); }
+inline float curveGAL(int) { return 0; }
+inline V2f funcTangent(int, float) { return V2f(); }
 inline SurfaceObj GetSurface(int) { return SurfaceObj(); }
+inline V3f GetSurfacePoint(int, int) { return V3f(); }
 
 // §6.4 View functions and §6.8 mouse and menu: neutral values without a window.
 inline void UseView(int) {}
+inline void CloseView(int) {}
 inline float vvXmin(int) { return 0; }
 inline float vvYmin(int) { return 0; }
 inline float vvZmin(int) { return 0; }
@@ -119,5 +129,6 @@ inline void UserMenuClear() {}
 // §6.11 Environment programs are not connected in batch mode.
 inline void Environment() {}
 inline void NoEnvironment() {}
+inline bool IgnoreEnvironment() { return true; }
 
 #endif

@@ -81,6 +81,7 @@ double lcjit_ran(double range);
 void lcjit_sran(long seed);
 void lcjit_seed_gillespie(long seed);
 double lcjit_gillespie_time();
+void lcjit_reset_gillespie();
 float lcjit_func(int id, float x);
 float lcjit_func_named(const char* name, float x);
 float lcjit_pfunc(int id, float x, float min, float max);
