@@ -454,7 +454,7 @@ class Rewriter {
     std::vector<std::string> ops;
     while (!atText(":")) {
       if (at(Token::End) || atText(";") || atText("{"))
-        fail(cur(), "expected ':' after the predecessor of a " + ruleKindName());
+        fail(cur(), "expected ':' after the predecessor of " + ruleKindName());
       if (atText("<<") || atText("<") || atText(">") || atText(">>")) {
         ops.push_back(next().text);
         segs.emplace_back();
@@ -511,7 +511,7 @@ class Rewriter {
         ++k;
       }
     }
-    if (!atText("{")) fail(cur(), "expected '{' to start the body of a " + ruleKindName());
+    if (!atText("{")) fail(cur(), "expected '{' to start the body of " + ruleKindName());
     ruleGroupKind_ = groupKind_;
     block(/*rule=*/true);
     out_.glue("}");
@@ -519,7 +519,7 @@ class Rewriter {
     rules_.push_back(std::move(r));
   }
 
-  std::string ruleKindName() const { return kind_ == 0 ? "production" : kind_ == 1 ? "decomposition rule" : "interpretation rule"; }
+  std::string ruleKindName() const { return kind_ == 0 ? "a production" : kind_ == 1 ? "a decomposition rule" : "an interpretation rule"; }
 
   // A `{ ... }` body, with produce/nproduce/propensity/InXContext rewritten when in a rule.
   void block(bool rule) {

@@ -329,8 +329,15 @@ struct JitState {
   std::atomic<uint64_t> counter{0};
   std::mutex errorMutex;
   std::string sessionErrors;
+  // JITDylibs of failed compiles, kept allocated: the generic IR platform keys its init/atexit
+  // tables by JITDylib address and only clears them on a full initialize/deinitialize, so a
+  // reused address could inherit stale entries.
+  std::vector<orc::JITDylibSP> failedDylibs;
 
-  ~JitState() { jit.reset(); } // before the mutexes the error reporter uses
+  ~JitState() {
+    failedDylibs.clear();
+    jit.reset(); // before the mutexes the error reporter uses
+  }
 
   std::string takeSessionErrors() {
     std::lock_guard<std::mutex> lock(errorMutex);
@@ -708,6 +715,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
 
   // ORC's lookup error only says which symbols failed to materialize; the cause (e.g. "Symbols
   // not found: [ foo ]") went to the session's error reporter.
+  bool initAttempted = false;
   auto fail = [&](llvm::Error err, llvm::StringRef what) -> llvm::Error {
     std::string msg = llvm::toString(std::move(err));
     std::string cause = trimTrailingNewlines(state.takeSessionErrors());
@@ -717,6 +725,16 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       msg = "error: " + what.str() + ": " + cause;
     else
       msg = "error: " + what.str() + ": " + msg;
+    if (initAttempted) {
+      // Destroy what the initializers managed to construct (registered atexit handlers).
+      llvm::Error e = llvm::Error::success();
+      try {
+        e = J.deinitialize(JD);
+      } catch (...) {
+      }
+      llvm::consumeError(std::move(e));
+    }
+    state.failedDylibs.push_back(&JD);
     if (auto e = ES.removeJITDylib(JD))
       llvm::consumeError(std::move(e));
     state.takeSessionErrors();
@@ -737,9 +755,18 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   if (!backendErrors->empty())
     return fail(makeError("code generation failed"), "code generation failed");
   st.codegenMs = msSince(t2);
-  // Static constructors of the model.
-  if (auto err = J.initialize(JD))
-    return fail(std::move(err), "running static initializers failed");
+  // Static constructors of the model. One that throws must not escape with the JITDylib half
+  // set up (no ORC locks are held while initializers run, so catching here is safe).
+  llvm::Error initErr = llvm::Error::success();
+  initAttempted = true;
+  try {
+    initErr = J.initialize(JD);
+  } catch (...) {
+    llvm::consumeError(std::move(initErr));
+    initErr = makeError("a static initializer threw an exception");
+  }
+  if (initErr)
+    return fail(std::move(initErr), "running static initializers failed");
   if (!backendErrors->empty())
     return fail(makeError("code generation failed"), "code generation failed");
   st.codegenMs = msSince(t2);
@@ -758,7 +785,14 @@ ModelCode::~ModelCode() {
   std::lock_guard<std::mutex> lock(state_->mutex);
   auto& J = *state_->jit;
   // Static destructors / atexit handlers of this version only, then free its memory.
-  if (auto err = J.deinitialize(JD))
+  llvm::Error err = llvm::Error::success();
+  try {
+    err = J.deinitialize(JD);
+  } catch (...) {
+    llvm::consumeError(std::move(err));
+    err = makeError("a static destructor threw an exception");
+  }
+  if (err)
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name_ + ": ");
   if (auto err = J.getExecutionSession().removeJITDylib(JD))
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name_ + ": ");

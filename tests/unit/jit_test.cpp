@@ -398,6 +398,20 @@ TEST_F(JitTest, ExceptionsPropagateIntoHost) {
   EXPECT_EQ(caught, 17);
 }
 
+TEST_F(JitTest, ThrowingStaticConstructorIsACompileError) {
+  g_notes.clear();
+  std::string err = errorText(compiler_->compile(R"(
+    struct Ok { Ok() { lcjit_test_host_note(1); } ~Ok() { lcjit_test_host_note(-1); } } ok;
+    struct Boom { Boom() { throw 5; } } boom;
+    extern "C" int never() { return 0; })",
+                                                 CompileOptions{}));
+  EXPECT_NE(err.find("static initializer threw"), std::string::npos) << err;
+  EXPECT_EQ(g_notes, (std::vector<int>{1, -1})); // the constructed object was destroyed
+  auto code = compileOk("extern \"C\" int fine() { return 3; }");
+  ASSERT_TRUE(code);
+  EXPECT_EQ(lookupFn<int (*)()>(*code, "fine")(), 3);
+}
+
 TEST_F(JitTest, ThreadLocalWorks) {
   auto code = compileOk(R"(thread_local int tl = 5; extern "C" int tlBump() { return ++tl; })");
   ASSERT_TRUE(code);
@@ -444,6 +458,28 @@ TEST_F(JitTest, CompileOnBackgroundThreadWhileOldCodeRuns) {
   auto run2 = lookupFn<double (*)(int)>(*v2, "model_run");
   EXPECT_EQ(run2(6), expected);
   EXPECT_EQ(lookupFn<int (*)(int)>(*v2, "model_host")(1), 1 + 2 + 1000);
+}
+
+TEST_F(JitTest, ConcurrentCompilesOnOneCompiler) {
+  std::vector<std::unique_ptr<ModelCode>> codes(4);
+  std::string errors[4];
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      CompileOptions o;
+      o.optLevel = t % 2;
+      auto r = compiler_->compile("extern \"C\" int which() { return " + std::to_string(t) + "; }", o);
+      if (r)
+        codes[t] = std::move(*r);
+      else
+        errors[t] = llvm::toString(r.takeError());
+    });
+  for (auto& th : threads)
+    th.join();
+  for (int t = 0; t < 4; ++t) {
+    ASSERT_TRUE(codes[t]) << errors[t];
+    EXPECT_EQ(lookupFn<int (*)()>(*codes[t], "which")(), t);
+  }
 }
 
 TEST_F(JitTest, ReloadLoopKeepsMemoryFlat) {
@@ -495,6 +531,48 @@ TEST(JitCacheTest, SecondCompilerReusesPch) {
   ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
   EXPECT_TRUE(st2.pchCached);
   EXPECT_EQ(reinterpret_cast<int (*)()>(cantFail((*code)->lookup("one")))(), 4);
+}
+
+TEST(JitCacheTest, ConcurrentPchBuildsIntoSameCacheDir) {
+  // Two compilers (as two processes under ctest -j would) race to build the same PCH.
+  std::string dir = g_cacheRoot + "/race";
+  std::string errors[2];
+  int results[2] = {0, 0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 2; ++t)
+    threads.emplace_back([&, t] {
+      auto c = Compiler::create(makeConfig(dir));
+      if (!c) {
+        errors[t] = llvm::toString(c.takeError());
+        return;
+      }
+      CompileOptions o;
+      o.optLevel = 0;
+      auto code = (*c)->compile("extern \"C\" int id(int x) { return testapi::twice(x); }", o);
+      if (!code) {
+        errors[t] = llvm::toString(code.takeError());
+        return;
+      }
+      auto fn = (*code)->lookup("id");
+      if (!fn) {
+        errors[t] = llvm::toString(fn.takeError());
+        return;
+      }
+      results[t] = reinterpret_cast<int (*)(int)>(*fn)(t + 1);
+    });
+  for (auto& th : threads)
+    th.join();
+  EXPECT_EQ(results[0], 2) << errors[0];
+  EXPECT_EQ(results[1], 4) << errors[1];
+  int pchFiles = 0, leftovers = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() == ".pch")
+      ++pchFiles;
+    else
+      ++leftovers;
+  }
+  EXPECT_EQ(pchFiles, 1);
+  EXPECT_EQ(leftovers, 0); // no temp files left behind
 }
 
 TEST(JitCacheTest, CorruptPchIsRebuilt) {

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Runs lcjit on one bad input and checks that it fails cleanly: exit status 1 (not a signal, not
+# a crash), and every line of NAME.err appears (as a substring) in its standard error.
+# Usage: run_error.sh LCJIT ERRORS_DIR NAME
+# lcjit runs in ERRORS_DIR on `[files from NAME.files] NAME.l`, so messages name the files as
+# they are written here (NAME.l:LINE:COL: error: ...). NAME.l need not exist.
+set -u
+lcjit=$1 dir=$2 name=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+extra=()
+if [ -f "$dir/$name.files" ]; then
+  for f in $(cat "$dir/$name.files"); do extra+=("$f"); done
+fi
+(cd "$dir" && "$lcjit" -b -out "$work/out.str" "${extra[@]}" "$name.l") >"$work/stdout" 2>"$work/stderr"
+rc=$?
+echo "--- lcjit exited with $rc; stderr:"
+cat "$work/stderr"
+fail=0
+if [ "$rc" -ne 1 ]; then
+  echo "FAIL: expected exit status 1, got $rc"
+  fail=1
+fi
+if grep -qE 'PLEASE submit a bug report|Stack dump|Assertion .* failed|internal error' "$work/stderr"; then
+  echo "FAIL: lcjit crashed or reported an internal error"
+  fail=1
+fi
+while IFS= read -r want || [ -n "$want" ]; do
+  [ -z "$want" ] && continue
+  if ! grep -qF -- "$want" "$work/stderr"; then
+    echo "FAIL: stderr lacks: $want"
+    fail=1
+  fi
+done <"$dir/$name.err"
+if [ -e "$work/out.str" ]; then
+  echo "FAIL: an output string was written although the model is in error"
+  fail=1
+fi
+[ "$fail" -eq 0 ] && echo "ok: $name"
+exit "$fail"

@@ -1,0 +1,553 @@
+// Unit tests for lcjit::frontend::rewrite (L+C -> C++): generated records, rules and tables,
+// produce/nproduce, contexts, groups and filters, #line mapping back to the .l file, and the
+// rewriter's own error messages (FILE:LINE:COL: error: ...).
+#include "frontend/Rewriter.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <utility>
+
+using lcjit::frontend::rewrite;
+using lcjit::frontend::Rewritten;
+
+namespace {
+
+// Preprocessor output for m.l: a line marker, then the model text starting on line 1.
+std::string model(const std::string& text) { return "# 1 \"m.l\"\n" + text; }
+
+const char* const kMinimal = "module A(float);\nderivation length: 1;\naxiom: A(1);\n";
+
+// Rewrites, failing the test on error.
+Rewritten ok(const std::string& text) {
+  auto r = rewrite(model(text), "m.l");
+  if (!r) {
+    ADD_FAILURE() << "unexpected rewrite error: " << llvm::toString(r.takeError()) << "\nfor:\n" << text;
+    return {};
+  }
+  return std::move(*r);
+}
+
+// Rewrites, expecting an error; returns its message.
+std::string err(const std::string& text) {
+  auto r = rewrite(model(text), "m.l");
+  if (r) {
+    ADD_FAILURE() << "expected a rewrite error for:\n" << text << "\ngot:\n" << r->cpp;
+    return {};
+  }
+  return llvm::toString(r.takeError());
+}
+
+// The generated C++ without #line directives and without any whitespace: fragments can be
+// compared regardless of how the emitter laid them out.
+std::string squash(const std::string& cpp) {
+  std::istringstream in(cpp);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (line.rfind("#line", 0) == 0) continue;
+    for (char c : line)
+      if (!std::isspace((unsigned char)c)) out += c;
+  }
+  return out;
+}
+
+bool has(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
+#define EXPECT_HAS(hay, needle) EXPECT_TRUE(has(hay, needle)) << "missing: " << (needle) << "\nin:\n" << (hay)
+#define EXPECT_HASNT(hay, needle) EXPECT_FALSE(has(hay, needle)) << "unexpected: " << (needle) << "\nin:\n" << (hay)
+
+size_t count(const std::string& hay, const std::string& needle) {
+  size_t n = 0;
+  for (size_t p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + needle.size())) ++n;
+  return n;
+}
+
+// Where a (unique, identifier-like) text of the generated C++ lands for Clang: follows #line
+// directives the way Clang does and returns "FILE:LINE:COL" of the first occurrence.
+std::string sourcePosition(const std::string& cpp, const std::string& text) {
+  std::istringstream in(cpp);
+  std::string line, file = "<generated>";
+  int lineNo = 1;
+  while (std::getline(in, line)) {
+    if (line.rfind("#line ", 0) == 0) {
+      std::istringstream d(line.substr(6));
+      int n;
+      d >> n;
+      size_t q = line.find('"');
+      if (q != std::string::npos) file = line.substr(q + 1, line.find('"', q + 1) - q - 1);
+      lineNo = n;
+      continue;
+    }
+    if (line.rfind("#", 0) != 0) {
+      size_t c = line.find(text);
+      if (c != std::string::npos) return file + ":" + std::to_string(lineNo) + ":" + std::to_string(c + 1);
+    }
+    ++lineNo;
+  }
+  return "<not found>";
+}
+
+// The entry of rule `index` in __lc_rules, squashed: {kind,groupKind,(int16_t)(group),
+// nNewLeft,nLeft,nStrict,nRight,nNewRight,filter,__lc_pattern_i,__lc_rule_i,line}.
+std::string ruleEntry(const std::string& cpp, int index) {
+  std::string s = squash(cpp);
+  std::string tail = ",__lc_pattern_" + std::to_string(index) + ",__lc_rule_" + std::to_string(index) + ",";
+  size_t p = s.find(tail);
+  if (p == std::string::npos) return "<no rule " + std::to_string(index) + ">";
+  size_t b = s.rfind('{', p);
+  size_t e = s.find('}', p);
+  return s.substr(b, e - b + 1);
+}
+
+// ---- modules
+
+TEST(RewriterModules, RecordStructEmitterAndFields) {
+  auto r = ok("module A(float, int);\nmodule B;\nderivation length: 1;\naxiom: A(1, 2) B;\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "struct__lc_R_A{__lc_ModuleIdid;floatp0;intp1;__lc_ModuleIdid2;};");
+  EXPECT_HAS(s, "enum:__lc_ModuleId{__lc_id_A=103};");
+  EXPECT_HAS(s, "staticinlinevoid__lc_emit_A(__lc_Ctx*c,floata0,inta1){autor=__lc_blank<__lc_R_A>();r.p0=a0;r.p1=a1;__lc_put(c,r,103);}");
+  EXPECT_HAS(s, "struct__lc_R_B{__lc_ModuleIdid;__lc_ModuleIdid2;};");
+  EXPECT_HAS(s, "__lc_id_B=104");
+  EXPECT_HAS(s, "staticinlinevoid__lc_emit_B(__lc_Ctx*c){");
+  EXPECT_HAS(s, "__lc_fields_A[2]={{(uint32_t)offsetof(__lc_R_A,p0),(uint32_t)sizeof(float),__lc_kind_of<float>(),\"float\"},"
+                "{(uint32_t)offsetof(__lc_R_A,p1),(uint32_t)sizeof(int),__lc_kind_of<int>(),\"int\"},};");
+  EXPECT_HAS(s, "__lc_user_modules[]={{\"A\",(uint32_t)sizeof(__lc_R_A),2,__lc_fields_A},{\"B\",(uint32_t)sizeof(__lc_R_B),0,__lc_fields_B},};");
+  ASSERT_EQ(r.userModules.size(), 2u);
+  EXPECT_EQ(r.userModules[0].name, "A");
+  EXPECT_EQ(r.userModules[0].id, 103);
+  EXPECT_EQ(r.userModules[0].paramTypes, (std::vector<std::string>{"float", "int"}));
+  EXPECT_EQ(r.userModules[1].name, "B");
+  EXPECT_EQ(r.userModules[1].id, 104);
+  EXPECT_TRUE(r.userModules[1].paramTypes.empty());
+}
+
+TEST(RewriterModules, ListsEmptyParensVoidAndCompoundTypes) {
+  auto r = ok("module A(), B(void), C(unsigned int, std::pair<int, float>);\nderivation length: 1;\naxiom: A B C(1, {});\n");
+  ASSERT_EQ(r.userModules.size(), 3u);
+  EXPECT_TRUE(r.userModules[0].paramTypes.empty());
+  EXPECT_TRUE(r.userModules[1].paramTypes.empty());
+  EXPECT_EQ(r.userModules[2].id, 105);
+  EXPECT_EQ(r.userModules[2].paramTypes, (std::vector<std::string>{"unsigned int", "std::pair<int,float>"}));
+  EXPECT_HAS(squash(r.cpp), "struct__lc_R_C{__lc_ModuleIdid;unsignedintp0;std::pair<int,float>p1;__lc_ModuleIdid2;};");
+}
+
+TEST(RewriterModules, NoUserModules) {
+  auto r = ok("derivation length: 1;\naxiom: F(1);\n");
+  EXPECT_TRUE(r.userModules.empty());
+  EXPECT_HAS(squash(r.cpp), "__lc_user_modules[]={{nullptr,0,0,nullptr}};");
+}
+
+// ---- axiom, derivation length, control statements
+
+TEST(RewriterStatements, AxiomAndDerivationLength) {
+  auto r = ok("module A(float);\nderivation length: 2 + 3;\naxiom: A(1) SB() F(2) EB() A(3.5f);\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "staticint__lc_derivation_length(){return(int)(2+3);}");
+  EXPECT_HAS(s, "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){__lc_emit_A(__lc_ctx,1);__lc_emit_SB(__lc_ctx);__lc_emit_F(__lc_ctx,2);"
+                "__lc_emit_EB(__lc_ctx);__lc_emit_A(__lc_ctx,3.5f);}");
+  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,\"m.l\"};");
+  EXPECT_HAS(s, "extern\"C\"const__lc_Model*__lc_model(){return&__lc_the_model;}");
+  EXPECT_EQ(r.ruleCount, 0);
+}
+
+TEST(RewriterStatements, CapitalAxiomSpelling) {
+  auto r = ok("module A;\nderivation length: 1;\nAxiom: A A;\n");
+  EXPECT_HAS(squash(r.cpp), "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){__lc_emit_A(__lc_ctx);__lc_emit_A(__lc_ctx);}");
+}
+
+TEST(RewriterStatements, EmptyAxiom) {
+  auto r = ok("derivation length: 1;\naxiom: ;\n");
+  EXPECT_HAS(squash(r.cpp), "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){}");
+}
+
+TEST(RewriterStatements, ControlStatementsAndDepths) {
+  auto r = ok(std::string(kMinimal) +
+              "Start: { int a = 1; }\nStartEach: { }\nEndEach: { }\nEnd: { }\n"
+              "ring L-system: 1;\ndecomposition:\nmaximum depth: 4;\ninterpretation:\nmaximum depth: 7;\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "staticvoid__lc_start(){inta=1;}");
+  EXPECT_HAS(s, "staticvoid__lc_start_each(){}");
+  EXPECT_HAS(s, "staticvoid__lc_end_each(){}");
+  EXPECT_HAS(s, "staticvoid__lc_end(){}");
+  EXPECT_HAS(s, "staticint__lc_ring_lsystem(){return(int)(1);}");
+  EXPECT_HAS(s, "staticint__lc_decomposition_depth(){return(int)(4);}");
+  EXPECT_HAS(s, "staticint__lc_interpretation_depth(){return(int)(7);}");
+  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,__lc_ring_lsystem,__lc_decomposition_depth,__lc_interpretation_depth,"
+                "__lc_start,__lc_start_each,__lc_end_each,__lc_end,\"m.l\"};");
+}
+
+TEST(RewriterStatements, CppPassesThrough) {
+  // Namespace-scope C++ with ':' in it must not be taken for a predecessor.
+  auto r = ok("#include <vector>\n"
+              "struct Base { int b = 0; };\n"
+              "struct S : Base { public: int x; S() : x(0) {} };\n"
+              "enum class E : int { X, Y };\n"
+              "template <class T> struct W : T { };\n"
+              "static int pick(int a) { return a > 0 ? 1 : 2; }\n"
+              "std::vector<int> v;\n"
+              "int counter = true ? 1 : 0;\n"
+              "namespace ns { int q; }\n"
+              "int ns2 = ns::q;\n" +
+              std::string(kMinimal));
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(r.cpp, "#include <vector>\n");
+  EXPECT_HAS(s, "structS:Base{public:intx;S():x(0){}};");
+  EXPECT_HAS(s, "enumclassE:int{X,Y};");
+  EXPECT_HAS(s, "template<classT>structW:T{};");
+  EXPECT_HAS(s, "staticintpick(inta){returna>0?1:2;}");
+  EXPECT_HAS(s, "std::vector<int>v;");
+  EXPECT_HAS(s, "intns2=ns::q;");
+  EXPECT_EQ(r.ruleCount, 0);
+}
+
+// ---- productions
+
+TEST(RewriterRules, ProductionLoadsParametersAndTable) {
+  auto r = ok(std::string(kMinimal) + "A(x): { produce A(x + 1); }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "staticvoid__lc_rule_0(__lc_Ctx*__lc_ctx,constchar*const*__lc_m){auto__lc_r0=__lc_load<__lc_R_A>(__lc_m[0]);autox=__lc_r0.p0;");
+  EXPECT_HAS(s, "{{__lc_emit_A(__lc_ctx,x+1);__lc_ctx->produced=1;return;}}}");
+  EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_pattern_0[]={103,};");
+  // Production (kind 0), normal group 0, strict predecessor of one module, no filter, line 4.
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+}
+
+TEST(RewriterRules, PredefinedModuleIds) {
+  auto r = ok(std::string(kMinimal) + "A(x) > SB() F(l) EB(): { produce A(x); }\nF(l): { produce f(l) Left(1) Right(2); }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "__lc_pattern_0[]={103,0,2,1,};");
+  EXPECT_HAS(s, "__lc_pattern_1[]={2,};");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,3,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_HAS(s, "__lc_emit_f(__lc_ctx,l);__lc_emit_Left(__lc_ctx,1);__lc_emit_Right(__lc_ctx,2);");
+  // F's parameter comes from the pattern's second record (index 2 in pattern order).
+  EXPECT_HAS(s, "auto__lc_r2=__lc_load<__lc_R_F>(__lc_m[2]);autol=__lc_r2.p0;");
+}
+
+TEST(RewriterRules, MultiModuleStrictPredecessor) {
+  auto r = ok("module A(int), B, C(float);\nderivation length: 1;\naxiom: A(1) B C(2);\nA(n) B C(y): { produce C(n * y); }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "__lc_pattern_0[]={103,104,105,};");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,3,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_HAS(s, "auto__lc_r0=__lc_load<__lc_R_A>(__lc_m[0]);auton=__lc_r0.p0;auto__lc_r2=__lc_load<__lc_R_C>(__lc_m[2]);autoy=__lc_r2.p0;");
+}
+
+struct ContextCase {
+  const char* predecessor;
+  const char* counts;   // nNewLeft,nLeft,nStrict,nRight,nNewRight
+  const char* pattern;  // ids in source order
+};
+
+class RewriterContexts : public ::testing::TestWithParam<ContextCase> {};
+
+TEST_P(RewriterContexts, CountsAndPattern) {
+  const ContextCase& c = GetParam();
+  auto r = ok(std::string("module A, B, C, D, E;\nderivation length: 1;\naxiom: A;\n") + c.predecessor + ": { produce; }\n");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), std::string("{0,0,(int16_t)(0),") + c.counts + ",-1,__lc_pattern_0,__lc_rule_0,4}")
+      << c.predecessor;
+  EXPECT_HAS(squash(r.cpp), std::string("__lc_pattern_0[]={") + c.pattern + "};");
+}
+
+// A=103 B=104 C=105 D=106 E=107.
+INSTANTIATE_TEST_SUITE_P(
+    All, RewriterContexts,
+    ::testing::Values(ContextCase{"B", "0,0,1,0,0", "104,"}, ContextCase{"A < B", "0,1,1,0,0", "103,104,"},
+                      ContextCase{"B > C", "0,0,1,1,0", "104,105,"}, ContextCase{"A < B > C", "0,1,1,1,0", "103,104,105,"},
+                      ContextCase{"A << B", "1,0,1,0,0", "103,104,"}, ContextCase{"B >> C", "0,0,1,0,1", "104,105,"},
+                      ContextCase{"A << B >> C", "1,0,1,0,1", "103,104,105,"},
+                      ContextCase{"A B < C D > E", "0,2,2,1,0", "103,104,105,106,107,"},
+                      ContextCase{"A << B < C > D >> E", "1,1,1,1,1", "103,104,105,106,107,"},
+                      ContextCase{"A < B C >> D E", "0,1,2,0,2", "103,104,105,106,107,"},
+                      ContextCase{"SB() A < B > EB()", "0,2,1,1,0", "0,103,104,1,"}));
+
+TEST(RewriterRules, ProduceAndNproduce) {
+  auto r = ok("module A(int), B;\nderivation length: 1;\naxiom: A(3);\n"
+              "A(n): {\n  for (int i = 0; i < n; ++i) nproduce B;\n  nproduce A(0);\n  produce;\n}\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "for(inti=0;i<n;++i){__lc_emit_B(__lc_ctx);}");
+  EXPECT_HAS(s, "{__lc_emit_A(__lc_ctx,0);}");
+  // The empty produce only marks the rule applied.
+  EXPECT_HAS(s, "{__lc_ctx->produced=1;return;}");
+  EXPECT_EQ(count(s, "__lc_ctx->produced=1;return;"), 1u);
+}
+
+TEST(RewriterRules, NproduceAloneHasNoReturn) {
+  auto r = ok("module A, B;\nderivation length: 1;\naxiom: A;\nA: { nproduce B B; }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "{{__lc_emit_B(__lc_ctx);__lc_emit_B(__lc_ctx);}}");
+  EXPECT_HASNT(s, "produced");
+  EXPECT_HASNT(s, "return;");
+}
+
+TEST(RewriterRules, ProduceWithParenthesisedGroupsAndBrackets) {
+  auto r = ok("module A(float);\nderivation length: 1;\naxiom: A(1);\nA(x): { produce (A(x) SB() (F(x))) EB(); }\n");
+  EXPECT_HAS(squash(r.cpp), "{__lc_emit_A(__lc_ctx,x);__lc_emit_SB(__lc_ctx);__lc_emit_F(__lc_ctx,x);__lc_emit_EB(__lc_ctx);"
+                            "__lc_ctx->produced=1;return;}");
+}
+
+TEST(RewriterRules, SuccessorArgumentsWithCommasInside) {
+  auto r = ok("module A(float, float);\nderivation length: 1;\naxiom: A(f2(1, 2), (3, 4));\n");
+  EXPECT_HAS(squash(r.cpp), "__lc_emit_A(__lc_ctx,f2(1,2),(3,4));");
+}
+
+TEST(RewriterRules, DecompositionInterpretationHomomorphismKinds) {
+  auto r = ok(std::string(kMinimal) +
+              "A(x): { produce A(x); }\n"
+              "decomposition:\nA(x): { produce A(x); }\n"
+              "interpretation:\nA(x): { produce F(x); }\n"
+              "production:\nA(x): { produce A(x); }\n"
+              "homomorphism:\nA(x): { produce F(x); }\n");
+  EXPECT_EQ(r.ruleCount, 5);
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{1,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{2,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+  EXPECT_EQ(ruleEntry(r.cpp, 4), "{2,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
+}
+
+// ---- groups and filters
+
+TEST(RewriterGroups, GroupGgroupVgroupEndgroup) {
+  auto r = ok(std::string(kMinimal) +
+              "A(x): { produce A(x); }\n"
+              "group 2:\nA(x): { produce A(x); }\n"
+              "ggroup 3:\nA(x): { propensity x produce A(x); }\n"
+              "vgroup 4:\nA(x): { produce A(x); }\n"
+              "endgroup\nA(x): { produce A(x); }\n"
+              "group NAMED:\nA(x): { produce A(x); }\nendgroup;\n");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(2),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,1,(int16_t)(3),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,2,(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+  EXPECT_EQ(ruleEntry(r.cpp, 4), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
+  // A group named by an identifier (e.g. an enum constant) keeps the expression.
+  EXPECT_EQ(ruleEntry(r.cpp, 5), "{0,0,(int16_t)(NAMED),0,0,1,0,0,-1,__lc_pattern_5,__lc_rule_5,14}");
+  // propensity: the expression goes to the Propensity pseudo-module, then the successor.
+  EXPECT_HAS(squash(r.cpp), "{__lc_emit_Propensity(__lc_ctx,(x));__lc_emit_A(__lc_ctx,x);__lc_ctx->produced=1;}");
+}
+
+TEST(RewriterGroups, IgnoreAndConsiderCreateFilters) {
+  auto r = ok("module A, B, C;\nderivation length: 1;\naxiom: A;\n"
+              "A: { produce A; }\n"
+              "ignore: B C;\nA: { produce A; }\n"
+              "consider: A SB EB;\nA: { produce A; }\n"
+              "ignore: ;\nA: { produce A; }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_filter_0[]={104,105,};");
+  EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_filter_1[]={103,0,1,};");
+  EXPECT_HAS(s, "staticconst__lc_Filter__lc_filters[]={{0,2,__lc_filter_0},{1,3,__lc_filter_1},};");
+  EXPECT_HAS(s, "__lc_rules,2,__lc_filters,");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),0,0,1,0,0,0,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,0,(int16_t)(0),0,0,1,0,0,1,__lc_pattern_2,__lc_rule_2,8}");
+  // `ignore: ;` cancels the filter in force.
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+}
+
+TEST(RewriterGroups, NoFilters) {
+  auto r = ok(kMinimal);
+  EXPECT_HAS(squash(r.cpp), "__lc_filters[]={{0,0,nullptr}};");
+}
+
+// ---- InXContext
+
+TEST(RewriterContextQueries, InLeftContextBecomesHostCall) {
+  auto r = ok("module A(float), B(int);\nderivation length: 1;\naxiom: A(1) B(2);\n"
+              "B(n): { float y; if (InLeftContext(A(y))) produce B(n + 1); }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "([&]()->bool{staticconst__lc_ModuleId__lc_ids[]={103,};constchar*__lc_p[1];"
+                "if(!lcjit_in_context(__lc_ctx,0,__lc_ids,1,__lc_p))returnfalse;"
+                "{auto__lc_q=__lc_load<__lc_R_A>(__lc_p[0]);y=__lc_q.p0;}returntrue;}())");
+}
+
+TEST(RewriterContextQueries, SidesAndSeveralModules) {
+  auto r = ok("module A(float), B(int), C;\nderivation length: 1;\naxiom: A(1) B(2);\n"
+              "B(n): { float y; int k;\n"
+              "  if (InRightContext(C A(y))) produce;\n"
+              "  if (InNewLeftContext(B(k) C)) produce;\n"
+              "  if (InNewRightContext(SB() C EB())) produce;\n}\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "__lc_ids[]={105,103,};constchar*__lc_p[2];if(!lcjit_in_context(__lc_ctx,1,__lc_ids,2,__lc_p))returnfalse;"
+                "{auto__lc_q=__lc_load<__lc_R_A>(__lc_p[1]);y=__lc_q.p0;}returntrue;");
+  EXPECT_HAS(s, "__lc_ids[]={104,105,};constchar*__lc_p[2];if(!lcjit_in_context(__lc_ctx,2,__lc_ids,2,__lc_p))returnfalse;"
+                "{auto__lc_q=__lc_load<__lc_R_B>(__lc_p[0]);k=__lc_q.p0;}returntrue;");
+  EXPECT_HAS(s, "__lc_ids[]={0,105,1,};constchar*__lc_p[3];if(!lcjit_in_context(__lc_ctx,3,__lc_ids,3,__lc_p))returnfalse;returntrue;");
+}
+
+TEST(RewriterContextQueries, OutsideRulesItIsAnError) {
+  EXPECT_EQ(err(std::string(kMinimal) + "Start: { float y; if (InLeftContext(A(y))) {} }\n"),
+            "m.l:4:23: error: 'InLeftContext' can only be used in a production or rule body");
+}
+
+// ---- #line mapping
+
+TEST(RewriterLines, BodyTokensMapToTheirLineAndColumn) {
+  auto r = ok("module A(float);\nderivation length: 1;\naxiom: A(1);\n\n\n"
+              "A(x): {\n"                               // line 6
+              "  float marker_one = x;\n"               // line 7, col 9
+              "  produce A(x) A(marker_two);\n"         // line 8, col 18
+              "}\n"
+              "\n\n\n\n\n\n\n\n\n\n\n\n"                // a gap of more than 8 lines
+              "A(x) > A(z): { produce A(marker_three); }\n");  // line 22, col 26
+  EXPECT_HAS(r.cpp, "#line 6 \"m.l\"\n");
+  EXPECT_EQ(sourcePosition(r.cpp, "marker_one"), "m.l:7:9");
+  EXPECT_EQ(sourcePosition(r.cpp, "marker_two"), "m.l:8:18");
+  EXPECT_EQ(sourcePosition(r.cpp, "marker_three"), "m.l:22:26");
+  EXPECT_EQ(sourcePosition(r.cpp, "static void __lc_rule_1("), "m.l:22:1");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),0,0,1,1,0,-1,__lc_pattern_1,__lc_rule_1,22}");
+}
+
+TEST(RewriterLines, IncludedFileAndBackToMain) {
+  std::string pp = "# 1 \"m.l\"\n"
+                   "module A;\n"
+                   "# 1 \"dir/h.h\" 1\n"
+                   "inline int in_header() { return 1; }\n"
+                   "\n"
+                   "int header_marker = 2;\n"
+                   "# 3 \"m.l\" 2\n"
+                   "derivation length: 1;\n"
+                   "axiom: A;\n"
+                   "A: { int main_marker = 0; produce A; }\n";
+  auto r = rewrite(pp, "m.l");
+  ASSERT_TRUE(bool(r)) << llvm::toString(r.takeError());
+  EXPECT_EQ(sourcePosition(r->cpp, "in_header"), "dir/h.h:1:12");
+  EXPECT_EQ(sourcePosition(r->cpp, "header_marker"), "dir/h.h:3:5");
+  EXPECT_EQ(sourcePosition(r->cpp, "main_marker"), "m.l:5:10");
+  EXPECT_EQ(ruleEntry(r->cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,5}");
+}
+
+TEST(RewriterLines, GeneratedTablesHaveTheirOwnName) {
+  auto r = ok(kMinimal);
+  EXPECT_HAS(r.cpp, "#line 1 \"<lcjit: generated model tables>\"\n");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_the_model =").rfind("<lcjit: generated model tables>:", 0), 0u);
+}
+
+TEST(RewriterLines, KeptDirectivesPassThrough) {
+  auto r = ok("#include <cmath>\n#pragma once\n" + std::string(kMinimal));
+  EXPECT_HAS(r.cpp, "#include <cmath>\n");
+  EXPECT_HAS(r.cpp, "#pragma once\n");
+}
+
+// ---- errors (FILE:LINE:COL exact)
+
+TEST(RewriterErrors, UndeclaredModuleInPredecessor) {
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x); }\nB(x): { produce A(x); }\n"),
+            "m.l:5:1: error: undeclared module 'B'");
+  EXPECT_EQ(err(std::string(kMinimal) + "B: { produce A(1); }\n"), "m.l:4:1: error: undeclared module 'B'");
+  EXPECT_EQ(err(std::string(kMinimal) + "B < A(x): { produce A(x); }\n"), "m.l:4:1: error: undeclared module 'B'");
+  EXPECT_EQ(err(std::string(kMinimal) + "B(y) << A(x): { produce A(x); }\n"), "m.l:4:1: error: undeclared module 'B'");
+  // A later module of the predecessor.
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x) > Q: { produce A(x); }\n"), "m.l:4:8: error: undeclared module 'Q'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x) Q(y): { produce A(x); }\n"), "m.l:4:6: error: undeclared module 'Q'");
+}
+
+TEST(RewriterErrors, UndeclaredModuleInSuccessorAxiomAndContextQuery) {
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): {\n  produce A(x) Q(2);\n}\n"), "m.l:5:16: error: undeclared module 'Q'");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A Zed;\n"), "m.l:3:10: error: undeclared module 'Zed'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { nproduce Q; }\n"), "m.l:4:18: error: undeclared module 'Q'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { if (InLeftContext(Q)) produce; }\n"), "m.l:4:27: error: undeclared module 'Q'");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A;\nignore: A Q;\n"), "m.l:4:11: error: undeclared module 'Q'");
+}
+
+TEST(RewriterErrors, ParameterCounts) {
+  EXPECT_EQ(err("module A(float, int);\nderivation length: 1;\naxiom: A(1, 2);\n\nA(x): { produce A(x, 1); }\n"),
+            "m.l:5:1: error: module 'A' has 2 parameters, the predecessor gives 1");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A;\nA(x): { produce A; }\n"),
+            "m.l:4:1: error: module 'A' has 0 parameters, the predecessor gives 1");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x) > F: { produce A(x); }\n"),
+            "m.l:4:8: error: module 'F' has 1 parameter, the predecessor gives 0");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): {\n  if (x > 0)\n    produce A(x, 2);\n}\n"),
+            "m.l:6:13: error: module 'A' has 1 parameter, 2 given");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { nproduce A(); }\n"), "m.l:4:18: error: module 'A' has 1 parameter, 0 given");
+  EXPECT_EQ(err("module A(float);\nderivation length: 1;\naxiom: F(1) A;\n"), "m.l:3:13: error: module 'A' has 1 parameter, 0 given");
+  EXPECT_EQ(err("module A(float, float);\nderivation length: 1;\naxiom: A(1,);\n"), "m.l:3:12: error: missing parameter of module 'A'");
+  EXPECT_EQ(err("module A(float, float);\nderivation length: 1;\naxiom: A(, 1);\n"), "m.l:3:10: error: missing parameter of module 'A'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { float y; if (InLeftContext(A(y, y))) produce; }\n"),
+            "m.l:4:36: error: module 'A' has 1 parameter, the predecessor gives 2");
+}
+
+TEST(RewriterErrors, ModuleDeclarations) {
+  EXPECT_EQ(err("module A(float);\nmodule B, A;\nderivation length: 1;\naxiom: A(1);\n"),
+            "m.l:2:11: error: module 'A' is already declared");
+  EXPECT_EQ(err("module F(float);\nderivation length: 1;\naxiom: F(1);\n"),
+            "m.l:1:8: error: module 'F' is already declared (it is a predefined module)");
+  EXPECT_EQ(err("module  SB;\nderivation length: 1;\naxiom: ;\n"),
+            "m.l:1:9: error: module 'SB' is already declared (it is a predefined module)");
+  EXPECT_EQ(err("module A(float;\nderivation length: 1;\naxiom: A(1);\n"),
+            "m.l:1:15: error: expected ')' to close the parameter list of module 'A'");
+  EXPECT_EQ(err("module A(float, );\nderivation length: 1;\naxiom: A(1);\n"),
+            "m.l:1:18: error: missing parameter type in module 'A'");
+  EXPECT_EQ(err("module A(, float);\nderivation length: 1;\naxiom: A(1);\n"),
+            "m.l:1:10: error: missing parameter type in module 'A'");
+  EXPECT_EQ(err("module A = 5;\nderivation length: 1;\naxiom: A;\n"), "m.l:1:10: error: module ids cannot be assigned in a model");
+  EXPECT_EQ(err("module A\nderivation length: 1;\naxiom: A;\n"), "m.l:2:1: error: expected ';' after the module declaration");
+}
+
+TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
+  // Reported at the end of the input.
+  EXPECT_EQ(err("module A(float);\nderivation length: 1;\nA(x): { produce A(x); }\n"),
+            "m.l:4:1: error: the model has no 'axiom:' statement");
+  EXPECT_EQ(err("module A(float);\naxiom: A(1);\n"), "m.l:3:1: error: the model has no 'derivation length:' statement");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A;\nAxiom: A A;\n"), "m.l:4:1: error: the model has more than one axiom");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A\n"), "m.l:4:1: error: expected ';' after the module list");
+  EXPECT_EQ(err("module A;\naxiom: A;\nderivation length: 1\n"), "m.l:4:1: error: expected ';' after the derivation length expression");
+}
+
+TEST(RewriterErrors, Bodies) {
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): {\n  if (x > 0) {\n    produce A(x);\n}\n"), "m.l:4:7: error: unterminated '{'");
+  EXPECT_EQ(err(std::string(kMinimal) + "Start: {\n"), "m.l:4:8: error: unterminated '{'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x) { produce A(x); }\n"), "m.l:4:6: error: expected ':' after the predecessor of a production");
+  EXPECT_EQ(err(std::string(kMinimal) + "decomposition:\nA(x) ;\n"),
+            "m.l:5:6: error: expected ':' after the predecessor of a decomposition rule");
+  EXPECT_EQ(err(std::string(kMinimal) + "interpretation:\nA(x): produce F(x);\n"),
+            "m.l:5:7: error: expected '{' to start the body of an interpretation rule");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) }\n"), "m.l:4:22: error: expected a module name in the module list, found '}'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x ; }\n"), "m.l:4:21: error: expected ')' to close the parameters of module 'A'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) + 1; }\n"),
+            "m.l:4:22: error: expected a module name in the module list, found '+'");
+}
+
+TEST(RewriterErrors, ProduceAndPropensityPlacement) {
+  EXPECT_EQ(err(std::string(kMinimal) + "Start: {\n  produce A(1);\n}\n"),
+            "m.l:5:3: error: 'produce' can only be used in a production or rule body");
+  EXPECT_EQ(err(std::string(kMinimal) + "End: { nproduce A(1); }\n"),
+            "m.l:4:8: error: 'nproduce' can only be used in a production or rule body");
+  EXPECT_EQ(err(std::string(kMinimal) + "group 1:\nA(x): { propensity 1.0 produce A(x); }\n"),
+            "m.l:5:9: error: 'propensity' can only be used in a ggroup (Gillespie group) production");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { propensity 1.0 produce A(x); }\n"),
+            "m.l:4:9: error: 'propensity' can only be used in a ggroup (Gillespie group) production");
+  EXPECT_EQ(err(std::string(kMinimal) + "StartEach: { propensity 1.0 produce A(1); }\n"),
+            "m.l:4:14: error: 'propensity' can only be used in a production body");
+  EXPECT_EQ(err(std::string(kMinimal) + "ggroup 1:\nA(x): { propensity x; }\n"),
+            "m.l:5:21: error: expected 'produce' after the propensity expression");
+}
+
+TEST(RewriterErrors, PredecessorShape) {
+  EXPECT_EQ(err("module A, B, C;\nderivation length: 1;\naxiom: A;\nA > B < C: { produce B; }\n"),
+            "m.l:4:1: error: context operators in the wrong order in this predecessor");
+  EXPECT_EQ(err("module A, B, C;\nderivation length: 1;\naxiom: A;\nA < B < C: { produce B; }\n"),
+            "m.l:4:1: error: context operators in the wrong order in this predecessor");
+  EXPECT_EQ(err("module A, B;\nderivation length: 1;\naxiom: A;\nA < : { produce; }\n"),
+            "m.l:4:1: error: empty module list in the predecessor");
+  EXPECT_EQ(err("module A, B;\nderivation length: 1;\naxiom: A;\nA > B > : { produce; }\n"),
+            "m.l:4:1: error: context operators in the wrong order in this predecessor");
+  EXPECT_EQ(err("module A(float);\nderivation length: 1;\naxiom: A(1);\nA(1): { produce; }\n"),
+            "m.l:4:3: error: expected a parameter name in the predecessor module 'A'");
+  EXPECT_EQ(err("module A(float, float);\nderivation length: 1;\naxiom: A(1, 2);\nA(x y): { produce; }\n"),
+            "m.l:4:5: error: expected ',' or ')' in the predecessor module 'A'");
+}
+
+TEST(RewriterErrors, ControlStatementsAndQueries) {
+  EXPECT_EQ(err(std::string(kMinimal) + "Start: { }\nStart: { }\n"), "m.l:5:1: error: 'Start:' appears more than once");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { float y; if (InLeftContext()) produce; }\n"),
+            "m.l:4:22: error: InLeftContext needs at least one module");
+}
+
+TEST(RewriterErrors, ErrorsInIncludedFilesNameTheFile) {
+  std::string pp = "# 1 \"m.l\"\nmodule A;\n# 1 \"inc/h.h\" 1\n\nmodule A;\n# 3 \"m.l\" 2\nderivation length: 1;\naxiom: A;\n";
+  auto r = rewrite(pp, "m.l");
+  ASSERT_FALSE(bool(r));
+  EXPECT_EQ(llvm::toString(r.takeError()), "inc/h.h:2:8: error: module 'A' is already declared");
+}
+
+}  // namespace
