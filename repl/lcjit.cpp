@@ -75,7 +75,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help exits 0; every usage error exits 1, like every other lcjit error.
+    return app.exit(e) == 0 ? 0 : 1;
   }
 
   if (inputs.empty()) {
