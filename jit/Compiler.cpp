@@ -149,6 +149,17 @@ struct BackendDiagHandler : llvm::DiagnosticHandler {
   std::shared_ptr<std::string> out;
 };
 
+// Runs an ORC call that executes model code (static constructors/destructors); a C++ exception
+// thrown by that code becomes an Error instead of unwinding through ORC into the caller.
+template <class Fn>
+llvm::Error callCatching(Fn fn, const char* who) {
+  try {
+    return fn();
+  } catch (...) {
+    return makeError(llvm::Twine("a ") + who + " threw an exception");
+  }
+}
+
 std::string trimTrailingNewlines(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r'))
     s.pop_back();
@@ -727,12 +738,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       msg = "error: " + what.str() + ": " + msg;
     if (initAttempted) {
       // Destroy what the initializers managed to construct (registered atexit handlers).
-      llvm::Error e = llvm::Error::success();
-      try {
-        e = J.deinitialize(JD);
-      } catch (...) {
-      }
-      llvm::consumeError(std::move(e));
+      llvm::consumeError(callCatching([&] { return J.deinitialize(JD); }, "static destructor"));
     }
     state.failedDylibs.push_back(&JD);
     if (auto e = ES.removeJITDylib(JD))
@@ -757,15 +763,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   st.codegenMs = msSince(t2);
   // Static constructors of the model. One that throws must not escape with the JITDylib half
   // set up (no ORC locks are held while initializers run, so catching here is safe).
-  llvm::Error initErr = llvm::Error::success();
   initAttempted = true;
-  try {
-    initErr = J.initialize(JD);
-  } catch (...) {
-    llvm::consumeError(std::move(initErr));
-    initErr = makeError("a static initializer threw an exception");
-  }
-  if (initErr)
+  if (llvm::Error initErr = callCatching([&] { return J.initialize(JD); }, "static initializer"))
     return fail(std::move(initErr), "running static initializers failed");
   if (!backendErrors->empty())
     return fail(makeError("code generation failed"), "code generation failed");
@@ -785,14 +784,7 @@ ModelCode::~ModelCode() {
   std::lock_guard<std::mutex> lock(state_->mutex);
   auto& J = *state_->jit;
   // Static destructors / atexit handlers of this version only, then free its memory.
-  llvm::Error err = llvm::Error::success();
-  try {
-    err = J.deinitialize(JD);
-  } catch (...) {
-    llvm::consumeError(std::move(err));
-    err = makeError("a static destructor threw an exception");
-  }
-  if (err)
+  if (llvm::Error err = callCatching([&] { return J.deinitialize(JD); }, "static destructor"))
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name_ + ": ");
   if (auto err = J.getExecutionSession().removeJITDylib(JD))
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name_ + ": ");
