@@ -4,14 +4,8 @@
 # Usage: run_error.sh LCJIT ERRORS_DIR NAME
 # lcjit runs in ERRORS_DIR on `[files from NAME.files] NAME.l`, so messages name the files as
 # they are written here (NAME.l:LINE:COL: error: ...). NAME.l need not exist.
-set -u
-lcjit=$1 dir=$2 name=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-extra=()
-if [ -f "$dir/$name.files" ]; then
-  for f in $(cat "$dir/$name.files"); do extra+=("$f"); done
-fi
+extra_prefix=""
+source "$(dirname "$0")/model_env.sh"
 (cd "$dir" && "$lcjit" -b -out "$work/out.str" "${extra[@]}" "$name.l") >"$work/stdout" 2>"$work/stderr"
 rc=$?
 echo "--- lcjit exited with $rc; stderr:"

@@ -6,14 +6,7 @@
 #   2. with PATH holding only fake clang/gcc/ld/... that record any call, reusing that cache.
 # Where strace works, both runs are traced and must show exactly one execve: lcjit's own.
 # Usage: run_no_compiler.sh LCJIT MODELS_DIR NAME
-set -u
-lcjit=$1 dir=$2 name=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-extra=()
-if [ -f "$dir/$name.files" ]; then
-  for f in $(cat "$dir/$name.files"); do extra+=("$dir/$f"); done
-fi
+source "$(dirname "$0")/model_env.sh"
 fail=0
 
 fake="$work/fakebin"
