@@ -1,10 +1,12 @@
 // Loading a model (see Session.h).
 #include "Session.h"
 
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 
+#include "Drawing.h"
 #include "Engine.h"
 #include "Functions.h"
 #include "HostFunctions.h"
@@ -20,6 +22,67 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 llvm::Error error(const std::string& msg) { return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", msg.c_str()); }
+
+// A file named in the view file: relative to the view file's folder, else as given (lpfg runs in
+// the object's folder).
+std::string besideView(const std::string& viewFile, const std::string& name) {
+  std::filesystem::path p(name);
+  if (p.is_absolute()) return name;
+  std::filesystem::path beside = std::filesystem::path(viewFile).parent_path() / p;
+  return std::filesystem::exists(beside) ? beside.string() : name;
+}
+
+// Loads the graphics inputs. Nothing here is fatal: lpfg reports a bad view file line or an
+// unreadable colormap and goes on drawing with what it has.
+std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files, std::vector<std::string>& warnings) {
+  auto d = std::make_unique<runtime::DrawingFiles>();
+  auto warn = [&](llvm::Error e) {
+    if (e) warnings.push_back(llvm::toString(std::move(e)));
+  };
+  if (!files.view.empty()) {
+    auto text = frontend::preprocess(files.view, {});
+    if (!text) {
+      warn(text.takeError());
+    } else {
+      std::vector<runtime::ViewFileWarning> w;
+      d->view = runtime::parseViewFile(*text, files.view, w);
+      for (auto& x : w) warnings.push_back(x.file + ":" + std::to_string(x.line) + ":" + std::to_string(x.column) + ": warning: " + x.message);
+    }
+  }
+  if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap));
+  if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));
+  warn(d->contours.loadFiles(files.contours));
+  for (auto& s : d->view.surfaces) {
+    auto surface = runtime::loadSurface(besideView(files.view, s.file));
+    if (!surface) {
+      warn(surface.takeError());  // lpfg skips it: later ids shift down
+      continue;
+    }
+    d->shapes.surfaces.push_back({std::move(*surface), s.scale, s.sdiv, s.tdiv, s.texture});
+  }
+  for (auto& m : d->view.meshes) {
+    runtime::MeshLoadOptions o;
+    o.scale = m.scale;
+    o.contact = m.contact;
+    auto mesh = runtime::loadMesh(besideView(files.view, m.file), o);
+    if (!mesh) {
+      warn(mesh.takeError());
+      continue;
+    }
+    d->shapes.meshes.push_back({std::move(*mesh), m.texture});
+  }
+  for (auto& t : d->view.textures) {
+    std::string path = besideView(files.view, t);
+    auto image = runtime::loadImage(path);
+    if (!image) {
+      warn(image.takeError());
+      image = runtime::Image();  // keep the ids of later textures
+    }
+    d->textures.push_back(std::move(*image));
+    d->textureFiles.push_back(path);
+  }
+  return d;
+}
 
 }  // namespace
 
@@ -44,8 +107,15 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
       f.timeline = p;
     } else if (ext == ".vset") {
       f.parameters = p;
-    } else if (ext == ".a" || ext == ".v" || ext == ".map" || ext == ".mat" || ext == ".con" || ext == ".cset" ||
-               ext == ".e" || ext == ".s") {
+    } else if (ext == ".v" || ext == ".dr") {
+      f.view = p;
+    } else if (ext == ".map") {
+      f.colormap = p;
+    } else if (ext == ".mat") {
+      f.materials = p;
+    } else if (ext == ".con" || ext == ".cset") {
+      f.contours.push_back(p);
+    } else if (ext == ".a" || ext == ".e" || ext == ".s") {
       f.other.push_back(p);
     } else {
       return error(p + ": error: unknown input file type '" + ext +
@@ -70,6 +140,7 @@ llvm::Expected<std::unique_ptr<Session>> Session::create() {
 Session::~Session() {
   // The engine refers to the model's tables; the model's code must go after it.
   engine_.reset();
+  drawing_.reset();
   code_.reset();
   functions_.reset();
 }
@@ -87,12 +158,23 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   for (auto& f : files.functions)
     if (auto e = functions->loadFunction(f)) return e;
 
+  std::vector<std::string> warnings;
+  auto drawing = loadDrawingFiles(files, warnings);
+
   auto t0 = std::chrono::steady_clock::now();
   frontend::PreprocessOptions pp;
   for (int id = 1; id <= functions->size(); ++id) {
     std::string name(functions->nameOf(id));
     if (!name.empty()) pp.defines.push_back({name, std::to_string(id)});
   }
+  // lpfg defines contour and surface names as their ids (names that are identifiers).
+  auto defineId = [&](const std::string& name, size_t id) {
+    bool ok = !name.empty() && !std::isdigit((unsigned char)name[0]);
+    for (char c : name) ok = ok && (std::isalnum((unsigned char)c) || c == '_');
+    if (ok) pp.defines.push_back({name, std::to_string(id)});
+  };
+  for (int id = 0; id < drawing->contours.size(); ++id) defineId(drawing->contours.nameOf(id), id);
+  for (size_t id = 0; id < drawing->shapes.surfaces.size(); ++id) defineId(drawing->shapes.surfaces[id].surface.name, id);
   auto text = frontend::preprocess(files.lsystem, pp);
   if (!text) return text.takeError();
   times.preprocessMs = msSince(t0);
@@ -123,6 +205,10 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   code_ = std::move(*code);
   functions_ = std::move(functions);
   engine_ = std::make_unique<runtime::Engine>(*model, functions_.get());
+  drawing_ = std::move(drawing);
+  warnings_ = std::move(warnings);
+  engine_->setTurtleSetup(drawing_->turtleSetup());
+  engine_->setCurves(&drawing_->contours);
   return llvm::Error::success();
 }
 

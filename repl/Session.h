@@ -15,12 +15,13 @@ class ModelCode;
 namespace lcjit::runtime {
 class Engine;
 class FunctionStore;
+struct DrawingFiles;
 }  // namespace lcjit::runtime
 
 namespace lcjit {
 
 struct PhaseTimes {
-  double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0;
+  double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0, interpretMs = 0, renderMs = 0;
   bool pchCached = false;
 };
 
@@ -29,7 +30,10 @@ struct ModelFiles {
   std::string lsystem;
   std::vector<std::string> functions;  // .func, in command-line order
   std::string functionSet, timeline, parameters;
-  std::vector<std::string> other;  // view, colormap, animation...: not needed in batch mode
+  std::string view;                  // .v (lpfg also reads .dr)
+  std::string colormap, materials;   // .map / .mat: the last one given wins
+  std::vector<std::string> contours;  // .con and .cset, in command-line order
+  std::vector<std::string> other;     // animation (.a), environment (.e): not used in batch mode
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
@@ -42,6 +46,10 @@ class Session {
   // Reads input files, compiles the model; on error the previous model (if any) stays loaded.
   llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times);
   runtime::Engine& engine() { return *engine_; }
+  const runtime::DrawingFiles& drawing() const { return *drawing_; }
+  // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
+  // fatal, as in lpfg. Refilled by every load().
+  const std::vector<std::string>& warnings() const { return warnings_; }
   const std::string& generatedCpp() const { return cpp_; }
 
  private:
@@ -50,7 +58,9 @@ class Session {
   std::unique_ptr<runtime::FunctionStore> functions_;
   std::unique_ptr<jit::ModelCode> code_;
   std::unique_ptr<runtime::Engine> engine_;
+  std::unique_ptr<runtime::DrawingFiles> drawing_;
   std::string cpp_;
+  std::vector<std::string> warnings_;
 };
 
 // Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "CLI/CLI.hpp"
+#include "Drawing.h"
 #include "Engine.h"
+#include "Frame.h"
 #include "Session.h"
 
 namespace {
@@ -46,7 +48,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> inputs;
 
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
-  app.add_option("--out", out, "(-out) output file: .str/.txt text, .strb binary");
+  app.add_option("--out", out,
+                 "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
+                 ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pov geometry");
   app.add_flag("-a", animate, "animate mode (needs the viewer)");
   app.add_flag("-c", compileOnly, "compile the model only");
   app.add_flag("-d", debug, "debug messages");
@@ -79,11 +83,12 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 1;
   }
 
+  const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
   if (inputs.empty()) {
-    inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/tree.l");
+    for (const char* f : {"tree.l", "tree.v"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
+    if (out.empty()) out = "tree.png";
     batch = true;
-    if (out.empty()) out = "tree.str";
-    if (!quiet) std::fprintf(stderr, "lcjit: no model given; running the built-in example %s\n", inputs[0].c_str());
+    if (!quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
   }
 
   auto files = lcjit::classifyInputs(inputs);
@@ -107,12 +112,22 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (emitCpp || compileOnly) return 0;
-  if (!batch && !quiet)
-    std::fprintf(stderr, "lcjit: the interactive viewer is not built yet; running in batch mode\n");
+  (void)haveDisplay;
+  if (!batch && out.empty()) {
+    // No window yet (issue 4): show the model as a picture beside it instead.
+    out = std::filesystem::path(files->lsystem).stem().string() + ".png";
+    if (!quiet) std::fprintf(stderr, "lcjit: the interactive viewer is not built yet; writing %s\n", out.c_str());
+  }
+  lcjit::FrameWriter frames(winSize.size() == 2 ? (int)winSize[0] : 800, winSize.size() == 2 ? (int)winSize[1] : 800);
 
   auto& engine = (*session)->engine();
   lcjit::runtime::EngineHooks hooks;
   if (quiet) hooks.print = [](const char*) {};
+  hooks.outputFrame = [&](const char* path) {
+    if (auto e = frames.write(path, engine, (*session)->drawing())) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+  };
+  if (!quiet)
+    for (const std::string& w : (*session)->warnings()) std::fprintf(stderr, "%s\n", w.c_str());
   if (dumpSteps)
     hooks.afterDerivation = [&](int step) {
       std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
@@ -126,7 +141,15 @@ int main(int argc, char** argv) {
 
   if (!out.empty()) {
     std::string ext = std::filesystem::path(out).extension().string();
-    if (ext == ".strb" || ext == ".bin") {
+    if (lcjit::isFrameOutput(out)) {
+      lcjit::FrameTimes ft;
+      if (auto e = frames.write(out, engine, (*session)->drawing(), &ft)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
+      times.interpretMs = ft.interpretMs;
+      times.renderMs = ft.renderMs;
+    } else if (ext == ".strb" || ext == ".bin") {
       if (auto e = engine.writeBinary(out)) {
         std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
         return 1;
@@ -151,8 +174,9 @@ int main(int argc, char** argv) {
   if (stats) {
     std::fprintf(stderr,
                  "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"derive_ms\": %.3f, "
-                 "\"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
-                 times.preprocessMs, times.rewriteMs, times.compileMs, times.deriveMs, engine.stepsDone(),
+                 "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
+                 times.preprocessMs, times.rewriteMs, times.compileMs, times.deriveMs, times.interpretMs, times.renderMs,
+                 engine.stepsDone(),
                  engine.moduleCount(), times.pchCached ? "true" : "false");
   }
   return 0;

@@ -69,6 +69,10 @@ Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_
 
 Engine::~Engine() = default;
 
+void Engine::outputFrame(const char* path) {
+  if (hooks_ && hooks_->outputFrame) hooks_->outputFrame(path);
+}
+
 void Engine::print(const char* s) {
   if (hooks_ && hooks_->print) hooks_->print(s);
   else std::fputs(s, stdout);
@@ -555,18 +559,19 @@ void Engine::decompose(int group) {
   string_.swap(out);
 }
 
-void Engine::interpret(const std::function<void(const char*)>& sink) {
+void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry) {
   CurrentScope scope(this);
   Turtle turtle;
-  turtle.reset();
+  turtle.reset(turtleSetup_, geometry);
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle,
          sink ? &sink : nullptr);
+  turtle.finish();
 }
 
 void Engine::queryPass() {
   if (!hasQueries_) return;
   Turtle turtle;
-  turtle.reset();
+  turtle.reset(turtleSetup_);
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle, nullptr);
 }
 

@@ -23,6 +23,8 @@ struct EngineHooks {
   std::function<void(int step)> afterDerivation;
   // Model output (Printf).
   std::function<void(const char*)> print;
+  // OutputFrame("file.ext") from model code: render or export the current string.
+  std::function<void(const char* path)> outputFrame;
 };
 
 class Engine {
@@ -36,8 +38,17 @@ class Engine {
   llvm::Error run(const EngineHooks& hooks = {});
 
   // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
-  // `sink` sees each module the turtle executes, after the turtle did.
-  void interpret(const std::function<void(const char* rec)>& sink);
+  // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
+  // receives what the turtle draws.
+  void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr);
+  void interpret(Geometry& geometry) { interpret(nullptr, &geometry); }
+  // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
+  // the turtle). The pointed-to data must outlive the engine's runs.
+  void setTurtleSetup(const TurtleSetup& setup) { turtleSetup_ = setup; }
+  const TurtleSetup& turtleSetup() const { return turtleSetup_; }
+  // The contours the curve functions read and edit (curveSetPoint & co.).
+  void setCurves(ContourStore* curves) { curves_ = curves; }
+  ContourStore* curves() const { return curves_; }
 
   const ModuleTable& modules() const { return modules_; }
   const ModuleBuffer& string() const { return string_; }
@@ -64,6 +75,7 @@ class Engine {
   void resetGillespieTime() { gillespieTime_ = 0; }
   const FunctionStore* functions() const { return functions_; }
   void print(const char* s);
+  void outputFrame(const char* path);
   bool inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
 
  private:
@@ -118,6 +130,8 @@ class Engine {
   double gillespieTime_ = 0;
   const EngineHooks* hooks_ = nullptr;
   Match* activeMatch_ = nullptr;
+  TurtleSetup turtleSetup_;
+  ContourStore* curves_ = nullptr;
 };
 
 }  // namespace lcjit::runtime

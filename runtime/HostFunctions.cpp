@@ -3,10 +3,12 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 
 #include "Engine.h"
 #include "Functions.h"
+#include "Shapes.h"
 
 using lcjit::runtime::Engine;
 
@@ -15,6 +17,14 @@ Engine* engine() { return Engine::current(); }
 const lcjit::runtime::FunctionStore* functions() {
   Engine* e = engine();
   return e ? e->functions() : nullptr;
+}
+lcjit::runtime::Contour* curve(int id) {
+  Engine* e = engine();
+  return e && e->curves() ? e->curves()->get(id) : nullptr;
+}
+const lcjit::runtime::ShapeLibrary* shapes() {
+  Engine* e = engine();
+  return e ? e->turtleSetup().shapes : nullptr;
 }
 // Random streams outlive engines: lpfg keeps one per process.
 lcjit::runtime::Rand48& fallbackRandom() {
@@ -89,6 +99,48 @@ void lcjit_output_string(const char* path) {
   if (auto err = e->writeBinary(path)) e->print((llvm::toString(std::move(err)) + "\n").c_str());
 }
 
+void lcjit_output_frame(const char* path) {
+  if (Engine* e = engine(); e && path) e->outputFrame(path);
+}
+
+void lcjit_curve(int id, float t, int what, float* out) {
+  V3f v;
+  if (auto* c = curve(id)) v = what == 1 ? c->normalAt(t) : c->pointAt(t);
+  out[0] = v.x;
+  out[1] = v.y;
+  out[2] = v.z;
+}
+
+float lcjit_curve_length(int id) {
+  auto* c = curve(id);
+  return c ? c->arcLength() : 0;
+}
+
+void lcjit_curve_op(int op, int id, int p, float x, float y, float z) {
+  auto* c = curve(id);
+  if (!c) return;
+  switch (op) {
+    case 0: c->scale(V3f(x, y, z)); break;
+    case 1: c->setControlPoint(p, V3f(x, y, z)); break;
+    case 2: c->recalculate(); break;
+    default: c->reset(); break;
+  }
+}
+
+void lcjit_get_surface(int id, float* points48) {
+  SurfaceObj s;
+  if (auto* lib = shapes(); lib && id >= 0 && id < (int)lib->surfaces.size()) s = lib->surfaces[id].surface.first();
+  std::memcpy(points48, s.points, sizeof s.points);
+}
+
+void lcjit_get_surface_point(int id, int k, float* out) {
+  V3f v;
+  if (auto* lib = shapes(); lib && id >= 0 && id < (int)lib->surfaces.size()) v = lib->surfaces[id].surface.controlPoint(k);
+  out[0] = v.x;
+  out[1] = v.y;
+  out[2] = v.z;
+}
+
 void lcjit_load_string(const char* path) {
   Engine* e = engine();
   if (!e || !path) return;
@@ -109,6 +161,8 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),
+      LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
+      LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
   };
 #undef LCJIT_HOST
 }

@@ -1,12 +1,41 @@
-// The turtle core (manual §5.2-5.3): position and H/L/U frame moved by the predefined modules,
-// a branch stack, colour and width, and the answers to the query modules GetPos & co.
+// The turtle (manual §5): executes predefined modules, moving a position and H/L/U frame, and —
+// when given a Geometry — draws them as data with lpfg's rules (line styles, polygons, circles,
+// spheres, generalized cylinders, surfaces, meshes, tropisms). Query modules (GetPos & co.)
+// receive the state. Without a Geometry it only moves, which is what the query pass needs.
 #pragma once
+#include <array>
+#include <map>
 #include <vector>
 
+#include "Geometry.h"
 #include "ModuleString.h"
+#include "files/Contours.h"
+#include "files/ViewFile.h"
+#include "lcjit/types.h"
 #include "lcjit/vectors.h"
 
 namespace lcjit::runtime {
+
+struct ShapeLibrary;
+struct PatchGrid;
+
+// What the turtle draws with: the view file's settings and the shapes it names.
+struct TurtleSetup {
+  const ViewSettings* view = nullptr;     // null: lpfg's defaults
+  V3f viewDirection{0, 0, -1};            // for screen-facing shapes (polygon lines, CircleFront)
+  const ContourStore* contours = nullptr;  // .con/.cset files, ids from 1
+  const ShapeLibrary* shapes = nullptr;    // surfaces, meshes of the view file
+};
+
+// A generalized-cylinder ring: where the last cylinder point was recorded (manual §5.7).
+struct CylinderPoint {
+  V3f position, heading, left, up;
+  float scaleP = 1, scaleQ = 1;
+  int contour = 0, contour2 = 0;
+  float blend = 0;
+};
+
+constexpr int kMaxTropisms = 8;
 
 struct TurtleState {
   V3f position{0, 0, 0};
@@ -14,25 +43,89 @@ struct TurtleState {
   V3f left{-1, 0, 0};
   V3f up{0, 0, 1};
   int color = 1;
-  float width = 1;
-  // SetCoordinateSystem: the frame the affine-geometry modules (LineTo & co.) work in.
-  bool hasCoordinateSystem = false;
-  V3f csOrigin, csX{1, 0, 0}, csY{0, 1, 0}, csZ{0, 0, 1};
+  float width = 1, widthUp = 1;  // ScaleContour(p, q) sets both; SetWidth(w) sets both to w
+  // SetCoordinateSystem: point (x,y,z) maps to origin + scale·(−x·xAxis + y·yAxis + z·zAxis).
+  V3f csOrigin{0, 0, 0}, csX{-1, 0, 0}, csY{0, 1, 0}, csZ{0, 0, 1};
+  float csScale = 1;
+
+  int contour = 0, contour2 = 0;  // 0: the default circle
+  float blend = 0;
+  int contourSides = 0;  // ContourSides module; 0: the view file's `contour sides`
+  int texture = -1;
+  float textureV = 0, textureVCoeff = 1;
+  int uPrecision = 0, vPrecision = 0;  // 0: the surface's own
+
+  bool cylinderOn = false, cylinderInherited = false;
+  CylinderPoint cylinder;
+
+  std::array<float, kMaxTropisms> elasticity{};
+  V3f simpleTropism{0, 1, 0};
+  float simpleElasticity = 0;
 };
 
 class Turtle {
  public:
-  void reset();
+  // Starts a fresh interpretation. `out` may be null (query pass: move only).
+  void reset(const TurtleSetup& setup = {}, Geometry* out = nullptr);
   // Executes one module record; query modules (GetPos...) get the state written into `rec`.
   void execute(char* rec);
+  // Ends the interpretation: open polygons are dropped, as in lpfg.
+  void finish();
   const TurtleState& state() const { return state_; }
 
  private:
+  // ---- motion (Turtle.cpp)
   void rotate(V3f& a, V3f& b, float degrees);  // a' = cos·a + sin·b, b' = cos·b − sin·a
   void rotateAbout(V3f axis, float degrees);
   V3f mapPoint(V3f p) const;
+  V3f mapDirection(V3f d) const;
+  void forward(float d, bool draw, bool polygonVertex);
+  void lineTo(V3f target);
+  void applyTropisms();
+  void applySimpleTropism();
+  void pushBranch();
+  void popBranch();
+
+  // ---- drawing (TurtleDrawing.cpp)
+  void drawSegment(const TurtleState& before, float length);
+  void drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float length, bool inCylinder);
+  void drawCircle(float r, bool front, float inner);
+  void drawSphere(float r);
+  void drawRhombus(float a, float b);
+  void drawTriangle(float a, float b);
+  void endPolygon();
+  void drawPatch(const V3f (&points)[16], bool turtleFrame);
+  // Adds a tessellated grid; positions/normals map through the turtle frame scaled by `scale`
+  // (x along −L, y along H, z along U) unless `world` is set.
+  void addGrid(const PatchGrid& grid, bool world, V3f scale, int texture);
+  void drawSurface(int id, V3f scale);
+  void drawMesh(int id, V3f scale);
+  void startCylinder();
+  CylinderPoint cylinderHere() const;
+  const ContourSamples& ring(int contour, int divisions);
+  int circleSides() const;
+  int cylinderDivisions(int contour) const;
+  void extend(V3f p) {
+    if (out_) out_->extent.add(p);
+  }
+  MeshVertex vertex(V3f p, V3f n, float u = 0, float v = 0) const;
+
+  TurtleSetup setup_;
+  ViewSettings defaults_;
+  const ViewSettings* view_ = &defaults_;
+  Geometry* out_ = nullptr;
   TurtleState state_;
   std::vector<TurtleState> stack_;
+
+  struct PolygonVertex {
+    V3f position, normal;
+    int color;
+  };
+  bool polygonOn_ = false;
+  std::vector<PolygonVertex> polygon_;
+  V3f userPatch_[16] = {};  // InitSurface/SurfacePoint/DrawSurface
+
+  std::map<std::pair<int, int>, ContourSamples> rings_;  // by (contour, divisions)
 };
 
 }  // namespace lcjit::runtime

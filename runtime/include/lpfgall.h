@@ -46,7 +46,7 @@ inline int CurrentGroup() { return lcjit_current_group(); }
 inline void Stop() { lcjit_stop(); }
 inline int StepNo() { return lcjit_step_no(); }
 inline void DisplayFrame() {}
-inline void OutputFrame(const char*) {}
+inline void OutputFrame(const char* path) { lcjit_output_frame(path); }
 inline void RunSimulation() {}
 inline void PauseSimulation() {}
 inline void DelayWrite() {}
@@ -93,22 +93,34 @@ inline void Printf(const char* fmt, ...) {
 inline void OutputString(const char* path) { lcjit_output_string(path); }
 inline void LoadString(const char* path) { lcjit_load_string(path); }
 
-// §6.3 Curves and surfaces. Contours and view-file surfaces are read by the graphics layer;
-// until one is loaded these return neutral values.
-inline float curveX(int, float) { return 0; }
-inline float curveY(int, float) { return 0; }
-inline float curveZ(int, float) { return 0; }
-inline V2f curveXY(int, float) { return V2f(); }
-inline V3f curveXYZ(int, float) { return V3f(); }
-inline void curveScale(int, float, float, float) {}
-inline void curveSetPoint(int, int, float, float, float) {}
-inline void curveRecalculate(int) {}
-inline void curveReset(int) {}
-inline V3f curveNormal(int, float) { return V3f(); }
-inline float curveGAL(int) { return 0; }
+// §6.3 Curves and surfaces: contours (.con/.cset) and the view file's surfaces.
+inline V3f __lc_curve(int id, float t, int what) {
+  V3f v;
+  lcjit_curve(id, t, what, &v.x);
+  return v;
+}
+inline float curveX(int id, float t) { return __lc_curve(id, t, 0).x; }
+inline float curveY(int id, float t) { return __lc_curve(id, t, 0).y; }
+inline float curveZ(int id, float t) { return __lc_curve(id, t, 0).z; }
+inline V2f curveXY(int id, float t) { V3f v = __lc_curve(id, t, 0); return V2f(v.x, v.y); }
+inline V3f curveXYZ(int id, float t) { return __lc_curve(id, t, 0); }
+inline V3f curveNormal(int id, float t) { return __lc_curve(id, t, 1); }
+inline float curveGAL(int id) { return lcjit_curve_length(id); }
+inline void curveScale(int id, float x, float y, float z) { lcjit_curve_op(0, id, 0, x, y, z); }
+inline void curveSetPoint(int id, int p, float x, float y, float z) { lcjit_curve_op(1, id, p, x, y, z); }
+inline void curveRecalculate(int id) { lcjit_curve_op(2, id, 0, 0, 0, 0); }
+inline void curveReset(int id) { lcjit_curve_op(3, id, 0, 0, 0, 0); }
 inline V2f funcTangent(int, float) { return V2f(); }
-inline SurfaceObj GetSurface(int) { return SurfaceObj(); }
-inline V3f GetSurfacePoint(int, int) { return V3f(); }
+inline SurfaceObj GetSurface(int id) {
+  SurfaceObj s;
+  lcjit_get_surface(id, &s.points[0].x);
+  return s;
+}
+inline V3f GetSurfacePoint(int id, int k) {
+  V3f v;
+  lcjit_get_surface_point(id, k, &v.x);
+  return v;
+}
 
 // §6.4 View functions and §6.8 mouse and menu: neutral values without a window.
 inline void UseView(int) {}

@@ -93,6 +93,14 @@ float lcjit_val_named(const char* name);
 void lcjit_print(const char* text);
 void lcjit_output_string(const char* path);
 void lcjit_load_string(const char* path);
+void lcjit_output_frame(const char* path);
+// Curve functions (§6.3): what = 0 point, 1 normal, into out[3]; ops 0 scale (x,y,z),
+// 1 set point p, 2 recalculate, 3 reset.
+void lcjit_curve(int id, float t, int what, float* out);
+float lcjit_curve_length(int id);
+void lcjit_curve_op(int op, int id, int p, float x, float y, float z);
+void lcjit_get_surface(int id, float* points48);
+void lcjit_get_surface_point(int id, int k, float* out);
 }
 
 // Appends one module record to the successor being built.

@@ -1,0 +1,93 @@
+// Pictures of the model (see Frame.h).
+#include "Frame.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "Camera.h"
+#include "Drawing.h"
+#include "Engine.h"
+#include "Headless.h"
+#include "export/Export.h"
+
+namespace lcjit {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
+  return ext;
+}
+
+bool isImage(const std::string& path) {
+  std::string ext = lowerExtension(path);
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Runtime images are stored bottom row first; the renderer takes them as the file shows them.
+std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& d) {
+  std::vector<viewer::TextureImage> out;
+  for (const runtime::Image& im : d.textures) {
+    viewer::TextureImage t;
+    t.width = im.width;
+    t.height = im.height;
+    t.rgba.resize(im.rgba.size());
+    size_t row = (size_t)im.width * 4;
+    for (int y = 0; y < im.height; ++y)
+      std::copy_n(&im.rgba[(size_t)y * row], row, &t.rgba[(size_t)(im.height - 1 - y) * row]);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+}  // namespace
+
+bool isFrameOutput(const std::string& path) { return isImage(path) || runtime::isExportFormat(path); }
+
+FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
+FrameWriter::~FrameWriter() = default;
+
+llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                               FrameTimes* times) {
+  auto t0 = std::chrono::steady_clock::now();
+  runtime::Geometry geometry;
+  engine.interpret(geometry);
+  if (times) {
+    times->interpretMs = msSince(t0);
+    times->triangles = geometry.triangleCount();
+    times->segments = geometry.segments.size();
+  }
+  t0 = std::chrono::steady_clock::now();
+  if (isImage(path)) {
+    if (!renderer_) {
+      auto r = viewer::HeadlessRenderer::create();
+      if (!r) return r.takeError();
+      renderer_ = std::move(*r);
+    }
+    viewer::HeadlessOptions options;
+    options.width = width_;
+    options.height = height_;
+    auto image = renderer_->render(geometry, drawing.view, viewer::RenderPalette::fromPalette(drawing.palette),
+                                   textureImages(drawing), options);
+    if (!image) return image.takeError();
+    if (auto e = viewer::writeImage(*image, path)) return e;
+  } else {
+    runtime::ExportInput in;
+    in.geometry = &geometry;
+    in.palette = &drawing.palette;
+    in.view = &drawing.view;
+    in.textureFiles = drawing.textureFiles;
+    in.width = width_;
+    in.height = height_;
+    if (auto e = runtime::exportGeometry(path, in)) return e;
+  }
+  if (times) times->renderMs = msSince(t0);
+  return llvm::Error::success();
+}
+
+}  // namespace lcjit

@@ -1,0 +1,41 @@
+// Pictures of the model: `-out FILE` and OutputFrame("FILE") from model code. The extension
+// chooses: .png/.jpg/.jpeg/.bmp render headless through EGL with the viewer's renderer; .obj,
+// .ply, .stl, .gltf, .glb, .svg, .ps, .eps and .pov go through the exporters. Every output is
+// the same interpreted Geometry framed by the same camera.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "llvm/Support/Error.h"
+
+namespace lcjit::runtime {
+class Engine;
+struct DrawingFiles;
+}  // namespace lcjit::runtime
+namespace lcjit::viewer {
+class HeadlessRenderer;
+}
+
+namespace lcjit {
+
+bool isFrameOutput(const std::string& path);
+
+struct FrameTimes {
+  double interpretMs = 0, renderMs = 0;
+  size_t triangles = 0, segments = 0;
+};
+
+class FrameWriter {
+ public:
+  FrameWriter(int width = 800, int height = 800);
+  ~FrameWriter();
+  // Interprets the engine's current string and writes it to `path`.
+  llvm::Error write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                    FrameTimes* times = nullptr);
+
+ private:
+  int width_, height_;
+  std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused
+};
+
+}  // namespace lcjit

@@ -1,0 +1,34 @@
+// Everything a picture of a model needs besides its string: the view file, colours, contours,
+// shapes and textures, as loaded from the vlab object's files (manual §1.1.2, §8.2).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "Shapes.h"
+#include "Turtle.h"
+#include "files/Contours.h"
+#include "files/Images.h"
+#include "files/Palette.h"
+#include "files/ViewFile.h"
+
+namespace lcjit::runtime {
+
+struct DrawingFiles {
+  ViewSettings view;
+  Palette palette;
+  ContourStore contours;
+  ShapeLibrary shapes;
+  std::vector<Image> textures;
+  std::vector<std::string> textureFiles;  // resolved paths, by texture id
+
+  TurtleSetup turtleSetup() const {
+    TurtleSetup s;
+    s.view = &view;
+    s.contours = &contours;
+    s.shapes = &shapes;
+    if (!view.views.empty() && view.views[0].dir) s.viewDirection = view.views[0].dir->Normalized();
+    return s;
+  }
+};
+
+}  // namespace lcjit::runtime

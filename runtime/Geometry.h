@@ -1,0 +1,153 @@
+// Geometry as data: what the turtle interpretation produces (manual §5) and what renderers and
+// exporters consume. Nothing here knows about OpenGL; colours are lpfg colour/material indices
+// (0..255) resolved against a Palette by whoever draws, so a colormap change needs no
+// re-interpretation.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lcjit/vectors.h"
+
+namespace lcjit::runtime {
+
+struct MeshVertex {
+  V3f position;
+  V3f normal;  // unit length; (0,0,0) for vertices drawn unlit
+  V2f uv;      // texture coordinates (0,0 when untextured)
+  int32_t color = 1;
+};
+
+// A run of triangles sharing one texture (-1: untextured). Runs partition `indices`.
+struct TriangleRun {
+  uint32_t firstIndex = 0, indexCount = 0;
+  int texture = -1;
+};
+
+// `line style: pixel` segments (F, G, LineTo…): width is the turtle width, in pixels.
+struct Segment {
+  V3f from, to;
+  float width = 1;
+  int32_t color = 1;
+};
+
+// Screen-plane circles (CircleFront*, CircleFrontB): they face the camera, so they stay abstract
+// until a view exists. inner = 0 for a filled disc.
+struct Disc {
+  V3f center;
+  float inner = 0, outer = 0;
+  int32_t color = 1;
+};
+
+struct Label {
+  V3f position;
+  std::string text;
+  int32_t color = 1;
+};
+
+// The Camera module: the view looks from `position` along `heading` with `up` (manual §5.3.4).
+struct CameraPose {
+  V3f position, heading{0, 1, 0}, up{0, 0, 1};
+};
+
+struct Bounds {
+  V3f min{1e30f, 1e30f, 1e30f}, max{-1e30f, -1e30f, -1e30f};
+  bool empty() const { return min.x > max.x; }
+  void add(V3f p) {
+    if (p.x < min.x) min.x = p.x;
+    if (p.y < min.y) min.y = p.y;
+    if (p.z < min.z) min.z = p.z;
+    if (p.x > max.x) max.x = p.x;
+    if (p.y > max.y) max.y = p.y;
+    if (p.z > max.z) max.z = p.z;
+  }
+  void add(const Bounds& b) {
+    if (!b.empty()) {
+      add(b.min);
+      add(b.max);
+    }
+  }
+  V3f center() const { return (min + max) * 0.5f; }
+};
+
+// Interpretation order across primitive kinds (painter order matters with `z buffer: off`, lpfg's
+// default): each batch is a contiguous range of one kind (`first`/`count` count indices for
+// triangles, elements for segments and discs). Producers using addTriangle/addSegment/addDisc get
+// it for free; primitives no batch covers are drawn after the batches, triangles first.
+struct DrawBatch {
+  enum class Kind : uint8_t { Triangles, Segments, Discs } kind = Kind::Triangles;
+  uint32_t first = 0, count = 0;
+};
+
+struct Geometry {
+  std::vector<MeshVertex> vertices;
+  std::vector<uint32_t> indices;  // triangles, three per face, counter-clockwise = front
+  std::vector<TriangleRun> runs;
+  std::vector<Segment> segments;
+  std::vector<Disc> discs;
+  std::vector<Label> labels;
+  std::optional<CameraPose> camera;
+  // lpfg's bounding box, which framing uses: built by the turtle with lpfg's rules (f/g moves
+  // count, MoveTo does not, labels and pixel widths do not). Empty: use bounds().
+  Bounds extent;
+  std::vector<DrawBatch> order;
+
+  void clear() { *this = Geometry(); }
+  size_t triangleCount() const { return indices.size() / 3; }
+  bool empty() const { return indices.empty() && segments.empty() && discs.empty() && labels.empty(); }
+
+  // Everything drawn: triangles, segment ends (widened by nothing: pixel widths have no model
+  // size), discs with their radius, label anchors. This is lpfg's bounding box.
+  Bounds bounds() const {
+    Bounds b;
+    for (const MeshVertex& v : vertices) b.add(v.position);
+    for (const Segment& s : segments) {
+      b.add(s.from);
+      b.add(s.to);
+    }
+    for (const Disc& d : discs) {
+      b.add(d.center - V3f(d.outer, d.outer, d.outer));
+      b.add(d.center + V3f(d.outer, d.outer, d.outer));
+    }
+    for (const Label& l : labels) b.add(l.position);
+    return b;
+  }
+
+  // Starts a triangle run with `texture` unless the last run already has it.
+  void useTexture(int texture) {
+    if (runs.empty() || runs.back().texture != texture) {
+      if (!runs.empty() && runs.back().indexCount == 0) runs.back().texture = texture;
+      else runs.push_back({(uint32_t)indices.size(), 0, texture});
+    }
+  }
+  uint32_t addVertex(const MeshVertex& v) {
+    vertices.push_back(v);
+    return (uint32_t)vertices.size() - 1;
+  }
+  void addTriangle(uint32_t a, uint32_t b, uint32_t c) {
+    if (runs.empty()) runs.push_back({(uint32_t)indices.size(), 0, -1});
+    indices.push_back(a);
+    indices.push_back(b);
+    indices.push_back(c);
+    runs.back().indexCount += 3;
+    noteOrder(DrawBatch::Kind::Triangles, (uint32_t)indices.size() - 3, 3);
+  }
+  void addSegment(const Segment& s) {
+    segments.push_back(s);
+    noteOrder(DrawBatch::Kind::Segments, (uint32_t)segments.size() - 1, 1);
+  }
+  void addDisc(const Disc& d) {
+    discs.push_back(d);
+    noteOrder(DrawBatch::Kind::Discs, (uint32_t)discs.size() - 1, 1);
+  }
+  // Records that [first, first+count) of `kind` comes next in drawing order.
+  void noteOrder(DrawBatch::Kind kind, uint32_t first, uint32_t count) {
+    if (!order.empty() && order.back().kind == kind && order.back().first + order.back().count == first)
+      order.back().count += count;
+    else
+      order.push_back({kind, first, count});
+  }
+};
+
+}  // namespace lcjit::runtime

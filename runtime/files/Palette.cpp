@@ -1,0 +1,119 @@
+// Colormap (.map) and materials (.mat) files; formats from the vlab tools manual §3 and §4.4,
+// behaviour checked against lpfg (colormap.h/.cpp, material.h/.cpp, materialset.cpp, glenv.cpp).
+#include "Palette.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <system_error>
+
+#include "llvm/Support/MemoryBuffer.h"
+
+namespace lcjit::runtime {
+
+namespace {
+
+constexpr size_t kColors = 256;
+constexpr size_t kPageBytes = kColors * 3;  // one colormap page: 256 RGB triplets
+constexpr size_t kMaterialRecord = 15;      // u8 index + 14 bytes of material
+
+llvm::Error fileError(const std::string& path, const std::string& what) {
+  return llvm::createStringError(std::make_error_code(std::errc::invalid_argument), "%s: %s",
+                                 path.c_str(), what.c_str());
+}
+
+llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readBinary(const std::string& path) {
+  auto buffer = llvm::MemoryBuffer::getFile(path, /*IsText=*/false,
+                                            /*RequiresNullTerminator=*/false);
+  if (!buffer)
+    return llvm::createStringError(buffer.getError(), "%s: cannot read: %s", path.c_str(),
+                                   buffer.getError().message().c_str());
+  return std::move(*buffer);
+}
+
+std::array<float, 4> rgba(const float* c, float alpha) { return {c[0], c[1], c[2], alpha}; }
+
+}  // namespace
+
+Palette::Palette() {
+  // lpfg's Colormap constructor: 0 black, everything else white.
+  std::array<std::array<float, 4>, 256> page;
+  page.fill({1, 1, 1, 1});
+  page[0] = {0, 0, 0, 1};
+  pages_.push_back(page);
+}
+
+llvm::Error Palette::loadColormap(const std::string& path) {
+  auto buffer = readBinary(path);
+  if (!buffer) return buffer.takeError();
+  llvm::StringRef data = (*buffer)->getBuffer();
+  if (data.empty()) return fileError(path, "empty colormap file (expected 768 bytes per page)");
+  if (data.size() < kPageBytes)
+    return fileError(path, "truncated colormap: " + std::to_string(data.size()) +
+                               " bytes, a page needs 768 (256 RGB triplets)");
+  size_t count = data.size() / kPageBytes;
+  std::vector<std::array<std::array<float, 4>, 256>> pages(count);
+  const auto* bytes = reinterpret_cast<const uint8_t*>(data.data());
+  for (size_t p = 0; p < count; ++p)
+    for (size_t i = 0; i < kColors; ++i) {
+      const uint8_t* c = bytes + p * kPageBytes + i * 3;
+      pages[p][i] = {c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f};
+    }
+  pages_ = std::move(pages);
+  page_ = 0;
+  materials_.fill(Material{});
+  usesMaterials_ = false;
+  return llvm::Error::success();
+}
+
+llvm::Error Palette::loadMaterials(const std::string& path) {
+  auto buffer = readBinary(path);
+  if (!buffer) return buffer.takeError();
+  llvm::StringRef data = (*buffer)->getBuffer();
+  if (data.empty()) return fileError(path, "empty materials file (no 15-byte records)");
+  if (data.size() % kMaterialRecord != 0)
+    return fileError(path, "truncated materials file: " + std::to_string(data.size()) +
+                               " bytes is not a whole number of 15-byte records (last record has " +
+                               std::to_string(data.size() % kMaterialRecord) + " bytes)");
+  std::array<Material, 256> materials{};
+  const auto* bytes = reinterpret_cast<const uint8_t*>(data.data());
+  for (size_t off = 0; off < data.size(); off += kMaterialRecord) {
+    const uint8_t* r = bytes + off;
+    Material& m = materials[r[0]];
+    m.transparency = r[1] / 255.0f;
+    float alpha = 1.0f - m.transparency;
+    auto set = [&](float* dst, const uint8_t* src) {
+      for (int k = 0; k < 3; ++k) dst[k] = src[k] / 255.0f;
+      dst[3] = alpha;
+    };
+    set(m.ambient, r + 2);
+    set(m.diffuse, r + 5);
+    set(m.emission, r + 8);
+    set(m.specular, r + 11);
+    m.shininess = r[14];
+  }
+  materials_ = materials;
+  usesMaterials_ = true;
+  return llvm::Error::success();
+}
+
+std::array<float, 4> Palette::color(int index) const {
+  index = std::clamp(index, 0, 255);
+  if (!usesMaterials_) return pages_[page_][index];
+  const Material& m = materials_[index];
+  return index == 0 ? rgba(m.emission, m.emission[3]) : rgba(m.diffuse, m.diffuse[3]);
+}
+
+std::array<float, 4> Palette::textColor(int index) const {
+  index = std::clamp(index, 0, 255);
+  if (!usesMaterials_) return pages_[page_][index];
+  const Material& m = materials_[index];
+  return rgba(m.emission, m.emission[3]);
+}
+
+const Material& Palette::material(int index) const {
+  return materials_[std::clamp(index, 0, 255)];
+}
+
+void Palette::selectPage(int page) { page_ = std::clamp(page, 0, (int)pages_.size() - 1); }
+
+}  // namespace lcjit::runtime

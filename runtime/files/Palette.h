@@ -1,0 +1,62 @@
+// Colours for colour/material indices 0..255: a colormap (.map, binary RGB, possibly several
+// pages) or a materials file (.mat). Index 0 is the background.
+// lpfg: one colour file, chosen by its extension on the command line (the last one given wins);
+// without one it is in colormap mode with index 0 black and 1..255 white. In colormap mode lpfg
+// draws unlit with glColor (lights unused); in materials mode lighting is always on
+// (glMaterial, two-sided) and the background is material 0's emission.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "llvm/Support/Error.h"
+
+namespace lcjit::runtime {
+
+// A default-constructed Material is lpfg's (and OpenGL's) default, used for every index a .mat
+// file does not list.
+struct Material {
+  float ambient[4] = {0.2f, 0.2f, 0.2f, 1};
+  float diffuse[4] = {0.8f, 0.8f, 0.8f, 1};
+  float specular[4] = {0, 0, 0, 1};
+  float emission[4] = {0, 0, 0, 1};
+  float shininess = 0;     // the file's byte as is (0..255; medit writes 0..128)
+  float transparency = 0;  // 0 opaque .. 1; every colour's alpha above is 1 - transparency
+};
+
+class Palette {
+ public:
+  Palette();  // lpfg's default colours when no .map/.mat is given
+
+  // .map: 256 × RGB bytes per page; every page becomes a colormap (page 0 active). lpfg itself
+  // reads only the first 768 bytes. Fewer than 768 bytes is an error; bytes after the last whole
+  // page are ignored. Switches to colormap mode. On error nothing changes.
+  llvm::Error loadColormap(const std::string& path);
+  // .mat: binary materials (vlab tools manual §4.4): 15-byte records {u8 index, u8 transparency,
+  // u8 ambient[3], diffuse[3], emission[3], specular[3], u8 shininess}, colours /255, later
+  // records win. Unlisted indices get Material{}. An empty file or a partial record is an error.
+  // Switches to materials mode. On error nothing changes.
+  llvm::Error loadMaterials(const std::string& path);
+
+  bool usesMaterials() const { return usesMaterials_; }
+  // The colour a flat (unlit) drawing uses for `index` (clamped to 0..255): the colormap colour
+  // (alpha 1), or as lpfg's GLEnv::GetSolidColor: the material's diffuse, for index 0 its
+  // emission (alpha 1 - transparency).
+  std::array<float, 4> color(int index) const;
+  // lpfg's text (label) colour: the colormap colour, or the material's emission.
+  std::array<float, 4> textColor(int index) const;
+  const Material& material(int index) const;  // Material{} entries in colormap mode
+  std::array<float, 4> background() const { return color(0); }
+
+  int pageCount() const { return (int)pages_.size(); }
+  void selectPage(int page);  // clamped to the pages there are
+  int page() const { return page_; }
+
+ private:
+  std::vector<std::array<std::array<float, 4>, 256>> pages_;
+  int page_ = 0;
+  std::array<Material, 256> materials_;
+  bool usesMaterials_ = false;
+};
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,833 @@
+// Exporters (runtime/export): a hand-made Geometry written in every format and read back —
+// OBJ with tinyobjloader, glTF/GLB with tinygltf, PLY/STL with the small readers below, SVG,
+// PostScript and POV-Ray by counting their elements and reading their coordinates.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#define TINYOBJLOADER_IMPLEMENTATION
+#include <tiny_obj_loader.h>
+#include <tiny_gltf.h>
+
+#include "Export.h"
+
+using namespace lcjit::runtime;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string readAll(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+size_t countOf(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+std::string hex(const std::array<float, 4>& c) {
+  char buf[8];
+  auto b = [](float f) { return (int)std::lround(std::clamp(f, 0.0f, 1.0f) * 255); };
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", b(c[0]), b(c[1]), b(c[2]));
+  return buf;
+}
+
+// The test scene (model units; the camera below shows x, y ∈ [0, 4] in a 400 × 400 window):
+//   a unit quad (two triangles) of colour 2 at z = 0, normals +z;
+//   a triangle of colour 5 at z = 1..2 with zero normals (drawn unlit), nearest the viewer;
+//   a triangle of colour 2 with texture 0;
+//   segments: a chain (0,0,0)→(0,2,0)→(0,3,0) of colour 3, width 2, and (2,0,0)→(2,1,0) colour 4;
+//   a disc of colour 6 at (3,3,0), radius 0.5; a label of colour 7 at (1,1,0).
+constexpr int kMeshTriangles = 4, kDiscSides = 32;
+
+Geometry makeGeometry() {
+  Geometry g;
+  auto vtx = [&](V3f p, V3f n, int color, V2f uv = V2f(0, 0)) {
+    MeshVertex v;
+    v.position = p;
+    v.normal = n;
+    v.color = color;
+    v.uv = uv;
+    return g.addVertex(v);
+  };
+  V3f up(0, 0, 1), none(0, 0, 0);
+  uint32_t a = vtx({0, 0, 0}, up, 2), b = vtx({1, 0, 0}, up, 2), c = vtx({1, 1, 0}, up, 2), d = vtx({0, 1, 0}, up, 2);
+  g.addTriangle(a, b, c);
+  g.addTriangle(a, c, d);
+  uint32_t e = vtx({2, 2, 1}, none, 5), f = vtx({3, 2, 1}, none, 5), h = vtx({2, 3, 2}, none, 5);
+  g.addTriangle(e, f, h);
+  g.useTexture(0);
+  uint32_t i = vtx({1, 2, 0}, up, 2, {0, 0}), j = vtx({2, 2, 0}, up, 2, {1, 0}), k = vtx({1, 3, 0}, up, 2, {0, 1});
+  g.addTriangle(i, j, k);
+  g.useTexture(-1);
+  g.segments.push_back({{0, 0, 0}, {0, 2, 0}, 2, 3});
+  g.segments.push_back({{0, 2, 0}, {0, 3, 0}, 2, 3});
+  g.segments.push_back({{2, 0, 0}, {2, 1, 0}, 1, 4});
+  g.discs.push_back({{3, 3, 0}, 0, 0.5f, 6});
+  g.labels.push_back({{1, 1, 0}, "A<b>&(c)", 7});
+  return g;
+}
+
+CameraMatrices makeCamera() {
+  CameraMatrices cam;
+  cam.width = cam.height = 400;
+  cam.eye = {2, 2, 10};
+  cam.viewDirection = {0, 0, -1};
+  cam.view = glm::lookAt(glm::vec3(2, 2, 10), glm::vec3(2, 2, 0), glm::vec3(0, 1, 0));
+  cam.projection = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, 1.0f, 20.0f);
+  cam.perspective = false;
+  return cam;
+}
+
+// Where the camera puts a model point, in window pixels (x right, y down).
+std::pair<float, float> window(float x, float y) { return {x * 100, 400 - y * 100}; }
+
+class ExportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("lcjit_export_test_" + std::to_string(::getpid()) + "_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // A colormap with a distinct colour per index.
+    std::string map(768, '\0');
+    for (int i = 0; i < 256; ++i) {
+      map[3 * i] = (char)i;
+      map[3 * i + 1] = (char)(255 - i);
+      map[3 * i + 2] = (char)((i * 37) & 255);
+    }
+    std::ofstream(dir / "colors.map", std::ios::binary) << map;
+    llvm::Error err = palette.loadColormap((dir / "colors.map").string());
+    ASSERT_FALSE((bool)err) << llvm::toString(std::move(err));
+    static const unsigned char png[] = {0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00, 0x00, 0x0D, 0x49,
+                                        0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06,
+                                        0x00, 0x00, 0x00, 0x1F, 0x15, 0xC4, 0x89, 0x00, 0x00, 0x00, 0x0A, 0x49, 0x44,
+                                        0x41, 0x54, 0x78, 0x9C, 0x63, 0x00, 0x01, 0x00, 0x00, 0x05, 0x00, 0x01, 0x0D,
+                                        0x0A, 0x2D, 0xB4, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42,
+                                        0x60, 0x82};
+    std::ofstream(dir / "leaf.png", std::ios::binary).write((const char*)png, sizeof png);
+    geometry = makeGeometry();
+    in.geometry = &geometry;
+    in.palette = &palette;
+    in.view = &view;
+    in.camera = makeCamera();
+    in.width = in.height = 400;
+    in.textureFiles = {"leaf.png"};
+    in.textureDirectory = dir.string();
+    in.discSegments = kDiscSides;
+  }
+  // LCJIT_KEEP_EXPORT_TEST=1 keeps the files to look at.
+  void TearDown() override {
+    if (!std::getenv("LCJIT_KEEP_EXPORT_TEST")) fs::remove_all(dir);
+  }
+
+  fs::path exportTo(const std::string& name) {
+    fs::path p = dir / name;
+    llvm::Error err = exportGeometry(p.string(), in);
+    EXPECT_FALSE((bool)err) << llvm::toString(std::move(err));
+    EXPECT_TRUE(fs::exists(p)) << p;
+    return p;
+  }
+  std::array<float, 4> color(int i) const { return palette.color(i); }
+
+  // The bounds every mesh format should reproduce: all vertices, segment ends, the disc's rim
+  // (in the camera's x/y plane, so z stays at the centre).
+  Bounds meshBounds() const {
+    Bounds b;
+    for (const MeshVertex& v : geometry.vertices) b.add(v.position);
+    for (const Segment& s : geometry.segments) b.add(s.from), b.add(s.to);
+    for (const Disc& d : geometry.discs) {
+      b.add(d.center + V3f(d.outer, d.outer, 0));
+      b.add(d.center - V3f(d.outer, d.outer, 0));
+    }
+    return b;
+  }
+
+  fs::path dir;
+  Palette palette;
+  ViewSettings view;
+  Geometry geometry;
+  ExportInput in;
+};
+
+void expectBounds(const Bounds& got, const Bounds& want, float tol = 1e-5f) {
+  EXPECT_NEAR(got.min.x, want.min.x, tol);
+  EXPECT_NEAR(got.min.y, want.min.y, tol);
+  EXPECT_NEAR(got.min.z, want.min.z, tol);
+  EXPECT_NEAR(got.max.x, want.max.x, tol);
+  EXPECT_NEAR(got.max.y, want.max.y, tol);
+  EXPECT_NEAR(got.max.z, want.max.z, tol);
+}
+
+void expectColor(const float* got, const std::array<float, 4>& want, float tol = 1e-5f) {
+  EXPECT_NEAR(got[0], want[0], tol);
+  EXPECT_NEAR(got[1], want[1], tol);
+  EXPECT_NEAR(got[2], want[2], tol);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(ExportFormat, ByExtension) {
+  EXPECT_TRUE(isExportFormat("obj"));
+  EXPECT_TRUE(isExportFormat(".GLB"));
+  EXPECT_TRUE(isExportFormat("out/tree.Svg"));
+  EXPECT_TRUE(isExportFormat("a.b/c.eps"));
+  EXPECT_FALSE(isExportFormat("png"));
+  EXPECT_FALSE(isExportFormat("tree.obj.txt"));
+  EXPECT_FALSE(isExportFormat("dir.obj/tree"));
+  EXPECT_EQ(exportFormatFor("x.ply"), ExportFormat::Ply);
+  EXPECT_EQ(exportFormatFor("x.gltf"), ExportFormat::Gltf);
+  EXPECT_EQ(exportFormatFor("x.pov"), ExportFormat::Pov);
+  EXPECT_STREQ(exportFormatExtension(ExportFormat::Stl), "stl");
+}
+
+TEST_F(ExportTest, Errors) {
+  llvm::Error e = exportGeometry((dir / "tree.xyz").string(), in);
+  ASSERT_TRUE((bool)e);
+  std::string msg = llvm::toString(std::move(e));
+  EXPECT_NE(msg.find("tree.xyz"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("unknown"), std::string::npos) << msg;
+
+  for (const char* name : {"tree.obj", "tree.ply", "tree.stl", "tree.gltf", "tree.glb", "tree.svg", "tree.ps", "tree.pov"}) {
+    std::string path = (dir / "no such dir" / name).string();
+    llvm::Error err = exportGeometry(path, in);
+    ASSERT_TRUE((bool)err) << name;
+    std::string m = llvm::toString(std::move(err));
+    EXPECT_NE(m.find("no such dir"), std::string::npos) << m;
+  }
+  geometry.indices.push_back(999);
+  geometry.indices.push_back(0);
+  geometry.indices.push_back(1);
+  llvm::Error bad = exportGeometry((dir / "bad.obj").string(), in);
+  ASSERT_TRUE((bool)bad);
+  EXPECT_NE(llvm::toString(std::move(bad)).find("999"), std::string::npos);
+  ExportInput none;
+  EXPECT_TRUE((bool)llvm::errorToBool(exportGeometry((dir / "x.obj").string(), none)));
+}
+
+TEST_F(ExportTest, Obj) {
+  fs::path p = exportTo("tree.obj");
+  ASSERT_TRUE(fs::exists(dir / "tree.mtl"));
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  ASSERT_TRUE(tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, p.string().c_str(), dir.string().c_str()))
+      << err;
+  EXPECT_TRUE(err.empty()) << err;
+
+  const size_t discVertices = kDiscSides + 1;
+  const size_t segmentPoints = 3 + 2;  // the chain shares its middle point
+  EXPECT_EQ(attrib.vertices.size() / 3, geometry.vertices.size() + discVertices + segmentPoints);
+  EXPECT_EQ(attrib.normals.size() / 3, geometry.vertices.size() + discVertices);
+  EXPECT_EQ(attrib.texcoords.size() / 2, geometry.vertices.size() + discVertices);
+  Bounds b;
+  for (size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
+    b.add(V3f(attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]));
+  expectBounds(b, meshBounds());
+  for (size_t i = 0; i + 2 < attrib.normals.size(); i += 3)
+    EXPECT_NEAR(std::hypot(attrib.normals[i], attrib.normals[i + 1], attrib.normals[i + 2]), 1, 1e-5);
+
+  std::map<std::string, int> materialIndex;
+  for (size_t i = 0; i < materials.size(); ++i) materialIndex[materials[i].name] = (int)i;
+  for (const char* name : {"s002", "s005", "s002_t0", "s006", "s003", "s004"})
+    EXPECT_TRUE(materialIndex.count(name)) << name;
+  EXPECT_EQ(materials.size(), 6u);
+  for (auto [name, index] : std::map<std::string, int>{{"s002", 2}, {"s005", 5}, {"s006", 6}, {"s003", 3}, {"s004", 4}})
+    expectColor(materials[materialIndex[name]].diffuse, color(index));
+  EXPECT_EQ(materials[materialIndex["s002_t0"]].diffuse_texname, "leaf.png");
+  EXPECT_TRUE(materials[materialIndex["s002"]].diffuse_texname.empty());
+
+  size_t faces = 0, lineSegments = 0;
+  std::map<std::string, int> facesPerMaterial;
+  for (const tinyobj::shape_t& s : shapes) {
+    faces += s.mesh.num_face_vertices.size();
+    for (int id : s.mesh.material_ids) facesPerMaterial[id >= 0 ? materials[id].name : "?"]++;
+    for (int n : s.lines.num_line_vertices) lineSegments += n - 1;
+  }
+  EXPECT_EQ(faces, kMeshTriangles + kDiscSides);
+  EXPECT_EQ(facesPerMaterial["s002"], 2);
+  EXPECT_EQ(facesPerMaterial["s005"], 1);
+  EXPECT_EQ(facesPerMaterial["s002_t0"], 1);
+  EXPECT_EQ(facesPerMaterial["s006"], kDiscSides);
+  EXPECT_EQ(lineSegments, geometry.segments.size());
+
+  std::string text = readAll(p);
+  EXPECT_NE(text.find("mtllib tree.mtl"), std::string::npos);
+  EXPECT_EQ(countOf(text, "\nl "), 2u);  // two polylines
+}
+
+// ---------------------------------------------------------------------------------------------
+// A small PLY reader: header, then vertex/face/edge elements (binary little endian or ASCII).
+
+struct PlyData {
+  std::vector<std::string> vertexProps;
+  std::vector<std::vector<double>> vertices;  // every vertex property as double
+  std::vector<std::vector<uint32_t>> faces;
+  std::vector<std::vector<double>> edges;
+  std::vector<std::string> comments;
+  size_t prop(const std::string& name) const {
+    return std::find(vertexProps.begin(), vertexProps.end(), name) - vertexProps.begin();
+  }
+};
+
+PlyData readPly(const fs::path& p) {
+  std::string data = readAll(p);
+  size_t end = data.find("end_header\n");
+  EXPECT_NE(end, std::string::npos);
+  std::istringstream header(data.substr(0, end));
+  std::string line, format;
+  struct Element {
+    std::string name;
+    size_t count;
+    std::vector<std::pair<std::string, std::string>> props;  // type, name ("list" types joined)
+  };
+  std::vector<Element> elements;
+  while (std::getline(header, line)) {
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") {
+      ls >> format;
+    } else if (word == "comment") {
+      continue;
+    } else if (word == "element") {
+      Element e;
+      ls >> e.name >> e.count;
+      elements.push_back(e);
+    } else if (word == "property") {
+      std::string type, name;
+      ls >> type;
+      if (type == "list") {
+        std::string a, b;
+        ls >> a >> b >> name;
+        type = "list " + a + " " + b;
+      } else {
+        ls >> name;
+      }
+      elements.back().props.push_back({type, name});
+    }
+  }
+  PlyData out;
+  {
+    std::istringstream hs(data.substr(0, end));
+    while (std::getline(hs, line))
+      if (line.rfind("comment ", 0) == 0) out.comments.push_back(line.substr(8));
+  }
+  const bool ascii = format == "ascii";
+  EXPECT_TRUE(ascii || format == "binary_little_endian") << format;
+  size_t at = end + std::strlen("end_header\n");
+  std::istringstream text(ascii ? data.substr(at) : std::string());
+  auto scalar = [&](const std::string& type) -> double {
+    if (ascii) {
+      double v;
+      text >> v;
+      return v;
+    }
+    auto take = [&](auto v) {
+      std::memcpy(&v, data.data() + at, sizeof v);
+      at += sizeof v;
+      return (double)v;
+    };
+    if (type == "float") return take(float());
+    if (type == "double") return take(double());
+    if (type == "uchar") return take(uint8_t());
+    if (type == "int") return take(int32_t());
+    if (type == "uint") return take(uint32_t());
+    ADD_FAILURE() << "type " << type;
+    return 0;
+  };
+  for (const Element& e : elements) {
+    for (size_t i = 0; i < e.count; ++i) {
+      std::vector<double> values;
+      std::vector<uint32_t> list;
+      for (auto& [type, name] : e.props) {
+        if (type.rfind("list", 0) == 0) {
+          std::istringstream ts(type);
+          std::string l, countType, itemType;
+          ts >> l >> countType >> itemType;
+          size_t n = (size_t)scalar(countType);
+          for (size_t k = 0; k < n; ++k) list.push_back((uint32_t)scalar(itemType));
+        } else {
+          values.push_back(scalar(type));
+        }
+      }
+      if (e.name == "vertex") out.vertices.push_back(values);
+      else if (e.name == "face") out.faces.push_back(list);
+      else if (e.name == "edge") out.edges.push_back(values);
+    }
+    if (e.name == "vertex")
+      for (auto& pr : e.props) out.vertexProps.push_back(pr.second);
+  }
+  if (!ascii) {
+    EXPECT_EQ(at, data.size());
+  }
+  return out;
+}
+
+void checkPly(const PlyData& ply, const Geometry& g, const Palette& palette, const Bounds& want) {
+  const size_t disc = kDiscSides + 1, points = 5;
+  ASSERT_EQ(ply.vertices.size(), g.vertices.size() + disc + points);
+  EXPECT_EQ(ply.faces.size(), size_t(kMeshTriangles + kDiscSides));
+  EXPECT_EQ(ply.edges.size(), g.segments.size());
+  for (const auto& f : ply.faces) {
+    ASSERT_EQ(f.size(), 3u);
+    for (uint32_t i : f) EXPECT_LT(i, ply.vertices.size());
+  }
+  size_t x = ply.prop("x"), red = ply.prop("red"), s = ply.prop("s");
+  ASSERT_LT(red, ply.vertexProps.size());
+  EXPECT_LT(s, ply.vertexProps.size());  // textured: s, t present
+  Bounds b;
+  for (const auto& v : ply.vertices) b.add(V3f((float)v[x], (float)v[x + 1], (float)v[x + 2]));
+  expectBounds(b, want);
+  // Vertex colours: the quad's first vertex is colour 2, the colour-5 triangle's is 5.
+  for (auto [vertex, index] : std::vector<std::pair<int, int>>{{0, 2}, {4, 5}}) {
+    auto c = palette.color(index);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(ply.vertices[vertex][red + k], std::lround(c[k] * 255), 0.5);
+  }
+  // Edges: colour of the chain (3) then of the single segment (4), indices past the mesh vertices.
+  auto c3 = palette.color(3), c4 = palette.color(4);
+  EXPECT_NEAR(ply.edges[0][2], std::lround(c3[0] * 255), 0.5);
+  EXPECT_NEAR(ply.edges[2][3], std::lround(c4[1] * 255), 0.5);
+  for (const auto& e : ply.edges) {
+    EXPECT_GE(e[0], g.vertices.size() + disc);
+    EXPECT_LT(e[1], ply.vertices.size());
+  }
+  // Edge end points are the segments' ends.
+  const auto& v0 = ply.vertices[(size_t)ply.edges[0][0]];
+  const auto& v1 = ply.vertices[(size_t)ply.edges[0][1]];
+  EXPECT_NEAR(v0[x + 1], 0, 1e-6);
+  EXPECT_NEAR(v1[x + 1], 2, 1e-6);
+}
+
+TEST_F(ExportTest, PlyBinary) {
+  PlyData ply = readPly(exportTo("tree.ply"));
+  checkPly(ply, geometry, palette, meshBounds());
+  EXPECT_NE(std::find(ply.comments.begin(), ply.comments.end(), "TextureFile leaf.png"), ply.comments.end());
+}
+
+TEST_F(ExportTest, PlyAscii) {
+  in.ascii = true;
+  fs::path p = exportTo("tree.ply");
+  EXPECT_NE(readAll(p).find("format ascii 1.0"), std::string::npos);
+  checkPly(readPly(p), geometry, palette, meshBounds());
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST_F(ExportTest, StlBinary) {
+  std::string data = readAll(exportTo("tree.stl"));
+  ASSERT_GE(data.size(), 84u);
+  EXPECT_NE(data.substr(0, 5), "solid");
+  uint32_t n;
+  std::memcpy(&n, data.data() + 80, 4);
+  EXPECT_EQ(n, uint32_t(kMeshTriangles + kDiscSides));
+  ASSERT_EQ(data.size(), 84u + 50u * n);
+  Bounds b;
+  std::map<int, int> perColor;
+  for (uint32_t t = 0; t < n; ++t) {
+    float f[12];
+    std::memcpy(f, data.data() + 84 + 50 * t, 48);
+    EXPECT_NEAR(std::hypot(f[0], f[1], f[2]), 1, 1e-5);
+    for (int k = 1; k < 4; ++k) b.add(V3f(f[3 * k], f[3 * k + 1], f[3 * k + 2]));
+    uint16_t attr;
+    std::memcpy(&attr, data.data() + 84 + 50 * t + 48, 2);
+    EXPECT_TRUE(attr & 0x8000);
+    perColor[attr]++;
+  }
+  // No segments in STL: bounds are the triangles' (mesh vertices and the disc).
+  Bounds want;
+  for (const MeshVertex& v : geometry.vertices) want.add(v.position);
+  want.add(V3f(2.5f, 2.5f, 0)), want.add(V3f(3.5f, 3.5f, 0));
+  expectBounds(b, want);
+  auto word = [&](int i) {
+    auto c = color(i);
+    auto five = [](float x) { return (int)std::lround(x * 31); };
+    return 0x8000 | five(c[0]) << 10 | five(c[1]) << 5 | five(c[2]);
+  };
+  EXPECT_EQ(perColor[word(2)], 3);
+  EXPECT_EQ(perColor[word(5)], 1);
+  EXPECT_EQ(perColor[word(6)], kDiscSides);
+}
+
+TEST_F(ExportTest, StlAscii) {
+  in.ascii = true;
+  std::string text = readAll(exportTo("tree.stl"));
+  EXPECT_EQ(text.rfind("solid lcjit", 0), 0u);
+  EXPECT_EQ(countOf(text, "facet normal"), size_t(kMeshTriangles + kDiscSides));
+  EXPECT_EQ(countOf(text, "vertex "), size_t(3 * (kMeshTriangles + kDiscSides)));
+  EXPECT_NE(text.find("endsolid"), std::string::npos);
+  // The quad's normal is +z.
+  EXPECT_NE(text.find("facet normal 0 0 1\n"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+void checkGltf(const tinygltf::Model& model, const Geometry& g, const Palette& palette, const Bounds& want) {
+  ASSERT_EQ(model.meshes.size(), 1u);
+  ASSERT_EQ(model.nodes.size(), 1u);
+  const tinygltf::Mesh& mesh = model.meshes[0];
+  std::map<std::string, int> trianglesPerMaterial;
+  size_t lineIndices = 0;
+  Bounds b;
+  for (const tinygltf::Primitive& p : mesh.primitives) {
+    const tinygltf::Accessor& pos = model.accessors[p.attributes.at("POSITION")];
+    ASSERT_EQ(pos.minValues.size(), 3u);
+    b.add(V3f((float)pos.minValues[0], (float)pos.minValues[1], (float)pos.minValues[2]));
+    b.add(V3f((float)pos.maxValues[0], (float)pos.maxValues[1], (float)pos.maxValues[2]));
+    const tinygltf::Accessor& idx = model.accessors[p.indices];
+    EXPECT_EQ(idx.componentType, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+    // Every index is within the position accessor.
+    const tinygltf::BufferView& view = model.bufferViews[idx.bufferView];
+    const uint32_t* data =
+        reinterpret_cast<const uint32_t*>(model.buffers[view.buffer].data.data() + view.byteOffset + idx.byteOffset);
+    for (size_t i = 0; i < idx.count; ++i) EXPECT_LT(data[i], pos.count);
+    const tinygltf::Material& m = model.materials.at(p.material);
+    if (p.mode == TINYGLTF_MODE_TRIANGLES) {
+      EXPECT_TRUE(p.attributes.count("NORMAL"));
+      EXPECT_TRUE(p.attributes.count("TEXCOORD_0"));
+      trianglesPerMaterial[m.name] += (int)idx.count / 3;
+    } else {
+      EXPECT_EQ(p.mode, TINYGLTF_MODE_LINE);
+      lineIndices += idx.count;
+    }
+    // Base colour = the palette colour of the material's index (sNNN).
+    int index = std::stoi(m.name.substr(1, 3));
+    auto c = palette.color(index);
+    ASSERT_EQ(m.pbrMetallicRoughness.baseColorFactor.size(), 4u);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(m.pbrMetallicRoughness.baseColorFactor[k], c[k], 1e-5);
+  }
+  expectBounds(b, want);
+  EXPECT_EQ(trianglesPerMaterial["s002"], 2);
+  EXPECT_EQ(trianglesPerMaterial["s005"], 1);
+  EXPECT_EQ(trianglesPerMaterial["s002_t0"], 1);
+  EXPECT_EQ(trianglesPerMaterial["s006"], kDiscSides);
+  EXPECT_EQ(lineIndices, 2 * g.segments.size());
+  // The textured material refers to the texture file.
+  ASSERT_EQ(model.images.size(), 1u);
+  EXPECT_EQ(model.images[0].uri, "leaf.png");
+  for (const tinygltf::Material& m : model.materials)
+    EXPECT_EQ(m.pbrMetallicRoughness.baseColorTexture.index >= 0, m.name == "s002_t0") << m.name;
+  // Unit normals everywhere (the zero ones were replaced).
+  for (const tinygltf::Primitive& p : mesh.primitives) {
+    if (!p.attributes.count("NORMAL")) continue;
+    const tinygltf::Accessor& n = model.accessors[p.attributes.at("NORMAL")];
+    const tinygltf::BufferView& view = model.bufferViews[n.bufferView];
+    const float* f = reinterpret_cast<const float*>(model.buffers[view.buffer].data.data() + view.byteOffset);
+    for (size_t i = 0; i < n.count; ++i) EXPECT_NEAR(std::hypot(f[3 * i], f[3 * i + 1], f[3 * i + 2]), 1, 1e-5);
+  }
+}
+
+bool noImages(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+TEST_F(ExportTest, Glb) {
+  fs::path p = exportTo("tree.glb");
+  EXPECT_EQ(readAll(p).substr(0, 4), "glTF");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(noImages, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, p.string())) << err;
+  checkGltf(model, geometry, palette, meshBounds());
+}
+
+TEST_F(ExportTest, Gltf) {
+  fs::path p = exportTo("tree.gltf");
+  EXPECT_TRUE(fs::exists(dir / "tree.bin"));
+  EXPECT_NE(readAll(p).find("\"tree.bin\""), std::string::npos);
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(noImages, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, p.string())) << err;
+  checkGltf(model, geometry, palette, meshBounds());
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::vector<std::pair<float, float>> numbers(const std::string& s, const std::regex& pattern) {
+  std::vector<std::pair<float, float>> out;
+  for (std::sregex_iterator it(s.begin(), s.end(), pattern), end; it != end; ++it)
+    out.push_back({std::stof((*it)[1]), std::stof((*it)[2])});
+  return out;
+}
+
+bool near(std::pair<float, float> a, std::pair<float, float> b, float tol = 0.02f) {
+  return std::fabs(a.first - b.first) <= tol && std::fabs(a.second - b.second) <= tol;
+}
+
+TEST_F(ExportTest, Svg) {
+  std::string svg = readAll(exportTo("tree.svg"));
+  EXPECT_NE(svg.find("width=\"400\" height=\"400\" viewBox=\"0 0 400 400\""), std::string::npos);
+  EXPECT_NE(svg.find("<rect id=\"background\" x=\"0\" y=\"0\" width=\"400\" height=\"400\" fill=\"" + hex(color(0)) + "\""),
+            std::string::npos);
+  EXPECT_EQ(countOf(svg, "<polygon "), size_t(kMeshTriangles));
+  EXPECT_EQ(countOf(svg, "<line "), geometry.segments.size());
+  EXPECT_EQ(countOf(svg, "<circle "), 1u);
+  EXPECT_EQ(countOf(svg, "<text "), 1u);
+  EXPECT_NE(svg.find(">A&lt;b&gt;&amp;(c)</text>"), std::string::npos);
+  EXPECT_EQ(countOf(svg, "fill=\"" + hex(color(2)) + "\""), 3u);
+  EXPECT_EQ(countOf(svg, "fill=\"" + hex(color(5)) + "\""), 1u);
+  EXPECT_EQ(countOf(svg, "stroke=\"" + hex(color(3)) + "\" stroke-width=\"2\""), 2u);
+  EXPECT_EQ(countOf(svg, "stroke=\"" + hex(color(4)) + "\" stroke-width=\"1\""), 1u);
+
+  // Polygon corners are the projected vertices.
+  auto corners = numbers(svg, std::regex("([-0-9.]+),([-0-9.]+)"));
+  ASSERT_EQ(corners.size(), size_t(3 * kMeshTriangles));
+  for (auto [x, y] : std::vector<std::pair<float, float>>{{0, 0}, {1, 0}, {1, 1}, {2, 2}, {3, 2}, {2, 3}, {1, 3}})
+    EXPECT_TRUE(std::any_of(corners.begin(), corners.end(), [&](auto c) { return near(c, window(x, y)); }))
+        << x << "," << y;
+  // Painter order: the colour-5 triangle is nearest the viewer, so it is drawn last.
+  size_t last = svg.rfind("<polygon ");
+  EXPECT_NE(svg.find(hex(color(5)), last), std::string::npos);
+  // Segment ends and the disc.
+  auto lineEnds = numbers(svg, std::regex("x1=\"([-0-9.]+)\" y1=\"([-0-9.]+)\""));
+  ASSERT_EQ(lineEnds.size(), 3u);
+  EXPECT_TRUE(near(lineEnds[0], window(0, 0)));
+  auto circle = numbers(svg, std::regex("cx=\"([-0-9.]+)\" cy=\"([-0-9.]+)\""));
+  ASSERT_EQ(circle.size(), 1u);
+  EXPECT_TRUE(near(circle[0], window(3, 3)));
+  EXPECT_NE(svg.find(" r=\"50\""), std::string::npos);
+  auto text = numbers(svg, std::regex("<text x=\"([-0-9.]+)\" y=\"([-0-9.]+)\""));
+  ASSERT_EQ(text.size(), 1u);
+  EXPECT_TRUE(near(text[0], window(1, 1)));
+}
+
+TEST_F(ExportTest, SvgBackfaceCulling) {
+  view.backfaceCulling = true;
+  // Turn the colour-5 triangle around: it faces away from the viewer now.
+  std::swap(geometry.indices[6 + 1], geometry.indices[6 + 2]);
+  std::string svg = readAll(exportTo("tree.svg"));
+  EXPECT_EQ(countOf(svg, "<polygon "), size_t(kMeshTriangles - 1));
+  EXPECT_EQ(countOf(svg, hex(color(5))), 0u);
+}
+
+// `shade`: Lambert shading with the view's lights (the default light shines along the view).
+TEST_F(ExportTest, SvgShaded) {
+  in.shade = true;
+  std::string svg = readAll(exportTo("tree.svg"));
+  EXPECT_EQ(countOf(svg, "fill=\"" + hex(color(2)) + "\""), 3u);  // facing the light: full colour
+  EXPECT_EQ(countOf(svg, hex(color(5))), 0u);                      // tilted 45°: darker
+  auto c = color(5);
+  float k = 0.2f + std::sqrt(0.5f);
+  EXPECT_NE(svg.find(hex({c[0] * k, c[1] * k, c[2] * k, 1})), std::string::npos);
+}
+
+TEST_F(ExportTest, PostScript) {
+  std::string ps = readAll(exportTo("tree.ps"));
+  EXPECT_EQ(ps.rfind("%!PS-Adobe", 0), 0u);
+  // lpfg's page: a 400 × 400 picture scaled by 1.44 to 576 pt, centred in 8 × 10 in, 18 pt margin.
+  EXPECT_NE(ps.find("%%BoundingBox: 18 90 594 666\n"), std::string::npos);
+  EXPECT_EQ(countOf(ps, " T\n"), size_t(kMeshTriangles));
+  EXPECT_EQ(countOf(ps, " L\n"), geometry.segments.size());
+  EXPECT_EQ(countOf(ps, " D\n"), 1u);
+  EXPECT_EQ(countOf(ps, ") show\n"), 1u);
+  EXPECT_NE(ps.find("(A<b>&\\(c\\)) show"), std::string::npos);
+  EXPECT_NE(ps.find("showpage"), std::string::npos);
+  // Model (0,0) is window (0,400): page (18, 90). Model (1,1): (18 + 144, 90 + 144).
+  EXPECT_NE(ps.find(" 18 90 T\n"), std::string::npos);
+  EXPECT_NE(ps.find(" 162 234 "), std::string::npos);
+  // Line widths scale with the page: width 2 px → 2.88 pt.
+  EXPECT_EQ(countOf(ps, " 2.88 "), 2u);
+}
+
+TEST_F(ExportTest, Eps) {
+  std::string eps = readAll(exportTo("tree.eps"));
+  EXPECT_EQ(eps.rfind("%!PS-Adobe-3.0 EPSF-3.0\n", 0), 0u);
+  EXPECT_NE(eps.find("%%BoundingBox: 0 0 400 400\n"), std::string::npos);
+  EXPECT_EQ(countOf(eps, " T\n"), size_t(kMeshTriangles));
+  // 1 pt per pixel, y up: model (1,1) → (100, 100); the disc at (300, 300) with radius 50.
+  EXPECT_NE(eps.find(" 300 300 50 D\n"), std::string::npos);
+  EXPECT_NE(eps.find(" 100 100 moveto ("), std::string::npos);
+}
+
+TEST_F(ExportTest, Pov) {
+  std::string pov = readAll(exportTo("tree.pov"));
+  EXPECT_NE(pov.find("#version 3.7;"), std::string::npos);
+  auto c0 = color(0);
+  EXPECT_NE(pov.find(fmt::format("background {{ srgb <{},{},{}> }}", c0[0], c0[1], c0[2])), std::string::npos);
+  EXPECT_EQ(countOf(pov, "camera {"), 1u);
+  EXPECT_NE(pov.find("orthographic"), std::string::npos);
+  // The view is 4 × 4 model units: right/up vectors of that length along x and y.
+  EXPECT_NE(pov.find("right <4,0,0>"), std::string::npos);
+  EXPECT_NE(pov.find("up <0,4,0>"), std::string::npos);
+  EXPECT_EQ(countOf(pov, "light_source"), 1u);
+  EXPECT_EQ(countOf(pov, "mesh2 {"), 1u);
+  EXPECT_NE(pov.find(fmt::format("vertex_vectors {{ {},", geometry.vertices.size())), std::string::npos);
+  EXPECT_NE(pov.find(fmt::format("face_indices {{ {},", kMeshTriangles)), std::string::npos);
+  EXPECT_NE(pov.find("texture_list { 3,"), std::string::npos);
+  EXPECT_NE(pov.find("uv_vectors"), std::string::npos);
+  // Colormap mode: flat colours (lpfg draws colormaps unlit).
+  for (int i : {2, 3, 4, 5, 6}) {
+    auto c = color(i);
+    EXPECT_NE(pov.find(fmt::format("#declare s{:03d} = texture {{ pigment {{ srgbt <{},{},{},0> }} finish {{ ambient 0 "
+                                   "diffuse 0 emission 1 }} }}",
+                                   i, c[0], c[1], c[2])),
+              std::string::npos)
+        << i;
+  }
+  auto t7 = palette.textColor(7);
+  EXPECT_NE(pov.find(fmt::format("#declare text_s007 = texture {{ pigment {{ srgb <{},{},{}> }}", t7[0], t7[1], t7[2])),
+            std::string::npos);
+  EXPECT_NE(pov.find("#declare s002_t0 = texture { uv_mapping pigment { image_map { png \"leaf.png\""), std::string::npos);
+  EXPECT_EQ(countOf(pov, "\ncylinder {"), geometry.segments.size());
+  // Width 2 px at 100 px per unit → radius 0.01.
+  EXPECT_NE(pov.find("cylinder { <0,0,0>, <0,2,0>, 0.01 texture { s003 } }"), std::string::npos);
+  EXPECT_NE(pov.find("disc { <3,3,0>, <0,0,1>, 0.5 texture { s006 } }"), std::string::npos);
+  EXPECT_NE(pov.find("text { ttf \"timrom.ttf\" \"A<b>&(c)\""), std::string::npos);
+}
+
+// Without a camera the picture is framed with frameView (the renderer's framing).
+TEST_F(ExportTest, FramedByView) {
+  in.camera.reset();
+  in.width = 320, in.height = 200;
+  std::string svg = readAll(exportTo("framed.svg"));
+  EXPECT_NE(svg.find("width=\"320\" height=\"200\""), std::string::npos);
+  EXPECT_EQ(countOf(svg, "<line "), geometry.segments.size());
+  // Everything drawn lies inside the window.
+  for (auto [x, y] : numbers(svg, std::regex("([-0-9.]+),([-0-9.]+)"))) {
+    EXPECT_GE(x, -0.01f);
+    EXPECT_LE(x, 320.01f);
+    EXPECT_GE(y, -0.01f);
+    EXPECT_LE(y, 200.01f);
+  }
+  exportTo("framed.pov");
+  exportTo("framed.obj");
+}
+
+// A materials file: OBJ/MTL, glTF and POV-Ray take the material's parts.
+TEST_F(ExportTest, Materials) {
+  // .mat records: index, transparency, ambient rgb, diffuse rgb, emission rgb, specular rgb, shininess.
+  std::string mat;
+  auto record = [&](int index, int transparency, std::array<int, 12> c, int shininess) {
+    mat += (char)index;
+    mat += (char)transparency;
+    for (int v : c) mat += (char)v;
+    mat += (char)shininess;
+  };
+  record(2, 0, {51, 51, 51, 200, 100, 50, 0, 0, 0, 255, 255, 255}, 40);
+  record(5, 128, {0, 0, 0, 10, 20, 30, 255, 0, 0, 0, 0, 0}, 0);
+  std::ofstream(dir / "plant.mat", std::ios::binary) << mat;
+  Palette materials;
+  llvm::Error err = materials.loadMaterials((dir / "plant.mat").string());
+  ASSERT_FALSE((bool)err) << llvm::toString(std::move(err));
+  ASSERT_TRUE(materials.usesMaterials());
+  in.palette = &materials;
+  const Material& m2 = materials.material(2);
+  const Material& m5 = materials.material(5);
+
+  fs::path obj = exportTo("m.obj");
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> mtl;
+  std::string warn, e;
+  ASSERT_TRUE(tinyobj::LoadObj(&attrib, &shapes, &mtl, &warn, &e, obj.string().c_str(), dir.string().c_str())) << e;
+  std::map<std::string, const tinyobj::material_t*> byName;
+  for (const auto& x : mtl) byName[x.name] = &x;
+  ASSERT_TRUE(byName.count("s002") && byName.count("s005"));
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(byName["s002"]->diffuse[k], m2.diffuse[k], 1e-6);
+    EXPECT_NEAR(byName["s002"]->specular[k], m2.specular[k], 1e-6);
+    EXPECT_NEAR(byName["s002"]->ambient[k], m2.ambient[k], 1e-6);
+    EXPECT_NEAR(byName["s005"]->emission[k], m5.emission[k], 1e-6);
+  }
+  EXPECT_NEAR(byName["s002"]->shininess, m2.shininess, 1e-6);
+  EXPECT_NEAR(byName["s005"]->dissolve, 1 - m5.transparency, 1e-6);
+  EXPECT_NEAR(byName["s002"]->dissolve, 1, 1e-6);
+
+  fs::path glb = exportTo("m.glb");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(noImages, nullptr);
+  tinygltf::Model model;
+  std::string gerr, gwarn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &gerr, &gwarn, glb.string())) << gerr;
+  for (const tinygltf::Material& m : model.materials) {
+    if (m.name == "s005") {
+      EXPECT_EQ(m.alphaMode, "BLEND");
+      EXPECT_NEAR(m.pbrMetallicRoughness.baseColorFactor[3], 1 - m5.transparency, 1e-6);
+      EXPECT_NEAR(m.emissiveFactor[0], m5.emission[0], 1e-6);
+    }
+    if (m.name == "s002") {
+      EXPECT_EQ(m.alphaMode, "OPAQUE");
+      EXPECT_NEAR(m.pbrMetallicRoughness.baseColorFactor[1], m2.diffuse[1], 1e-6);
+    }
+  }
+
+  std::string pov = readAll(exportTo("m.pov"));
+  EXPECT_NE(pov.find(fmt::format("#declare s002 = texture {{ pigment {{ srgbt <{},{},{},0> }} finish {{ ambient srgb <{},{},{}> "
+                                 "diffuse 1 phong 1 phong_size {} }} }}",
+                                 m2.diffuse[0], m2.diffuse[1], m2.diffuse[2], m2.ambient[0], m2.ambient[1],
+                                 m2.ambient[2], m2.shininess)),
+            std::string::npos)
+      << pov;
+  // The background is the palette's (material 0's emission in materials mode).
+  auto bg = materials.background();
+  EXPECT_NE(pov.find(fmt::format("background {{ srgb <{},{},{}> }}", bg[0], bg[1], bg[2])), std::string::npos);
+  std::string svg = readAll(exportTo("m.svg"));
+  EXPECT_NE(svg.find("fill=\"" + hex(bg) + "\""), std::string::npos);
+  EXPECT_NE(svg.find("fill-opacity=\""), std::string::npos);  // the half-transparent colour 5
+}
+
+// A perspective camera for POV-Ray: the direction vector carries the field of view.
+TEST_F(ExportTest, PovPerspective) {
+  CameraMatrices cam = makeCamera();
+  cam.perspective = true;
+  cam.projection = glm::perspective(glm::radians(90.0f), 1.0f, 1.0f, 20.0f);
+  in.camera = cam;
+  std::string pov = readAll(exportTo("p.pov"));
+  EXPECT_NE(pov.find("perspective\n  location <2,2,10>\n  direction <0,0,-1>\n"), std::string::npos) << pov;
+  // 90° field of view: right and up are twice the direction's length.
+  EXPECT_NE(pov.find("right <2,0,0>"), std::string::npos);
+  EXPECT_NE(pov.find("up <0,2,0>"), std::string::npos);
+  // Segment radius from the pixel width at the segment's depth (10 units: 20 units / 400 px).
+  EXPECT_NE(pov.find("cylinder { <0,0,0>, <0,2,0>, 0.05 "), std::string::npos);
+}
+
+// The PostScript gradient (`gradient: 1 m`) brightens triangles along their first texture
+// coordinate, as lpfg does across a surface's patch.
+TEST_F(ExportTest, PostScriptGradient) {
+  view.gradientDirection = 1;
+  view.gradientMagnitude = 0.5f;
+  in.textureFiles.clear();
+  // Colour 2 is dark enough to brighten without clipping: (2, 253, 74)/255 → green clips, red does not.
+  std::string ps = readAll(exportTo("g.ps"));
+  auto c = color(2);
+  float k = 1 + 0.5f * (0 + 1 + 0) / 3.0f;  // the textured triangle's u: 0, 1, 0
+  char want[64];
+  std::snprintf(want, sizeof want, "%g ", std::round(c[0] * k * 1000) / 1000);
+  EXPECT_NE(ps.find(std::string("\n") + want), std::string::npos) << want;
+}
+
+// Default palette and view; empty geometry.
+TEST_F(ExportTest, DefaultsAndEmpty) {
+  in.palette = nullptr;
+  in.view = nullptr;
+  for (const char* name : {"d.obj", "d.ply", "d.stl", "d.glb", "d.gltf", "d.svg", "d.ps", "d.eps", "d.pov"}) exportTo(name);
+  Geometry empty;
+  in.geometry = &empty;
+  for (const char* name : {"e.obj", "e.ply", "e.stl", "e.glb", "e.gltf", "e.svg", "e.ps", "e.eps", "e.pov"}) exportTo(name);
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, (dir / "e.glb").string())) << err;
+  EXPECT_EQ(readAll(dir / "e.stl").size(), 84u);
+}
+
+}  // namespace

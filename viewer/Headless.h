@@ -1,0 +1,69 @@
+// Headless rendering: an EGL context with no window system (Mesa's surfaceless platform, else the
+// default display with a 1×1 pbuffer), an offscreen framebuffer of W×H with depth, the Renderer,
+// glReadPixels, and image files (.png, .jpg/.jpeg, .bmp by extension, stb_image_write). Works with
+// no X display and no GPU (llvmpipe).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "llvm/Support/Error.h"
+
+#include "Renderer.h"
+
+namespace lcjit::viewer {
+
+// RGBA8, rows top to bottom (row 0 is the top of the picture).
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+  std::array<uint8_t, 4> pixel(int x, int y) const {
+    const uint8_t* p = &rgba[(size_t(y) * width + x) * 4];
+    return {p[0], p[1], p[2], p[3]};
+  }
+};
+
+struct HeadlessOptions {
+  int width = 800, height = 800;
+  int viewId = 0;                    // view:/box: entries used
+  runtime::ViewAdjustment adjust;    // identity for batch output
+  RenderOptions render;
+};
+
+class HeadlessRenderer {
+ public:
+  static llvm::Expected<std::unique_ptr<HeadlessRenderer>> create();
+  ~HeadlessRenderer();
+  HeadlessRenderer(const HeadlessRenderer&) = delete;
+  HeadlessRenderer& operator=(const HeadlessRenderer&) = delete;
+
+  // Frames the geometry with lpfg's rule (runtime::frameView), uploads everything and renders.
+  llvm::Expected<Image> render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
+                               const RenderPalette& palette, const std::vector<TextureImage>& textures,
+                               const HeadlessOptions& options = {});
+  // Renders what was uploaded through renderer() with a given camera (animations, tests).
+  llvm::Expected<Image> renderFrame(const runtime::ViewSettings& view, const runtime::CameraMatrices& camera,
+                                    const RenderOptions& options = {});
+
+  // Makes the context current and gives the renderer (for uploads between frames).
+  Renderer& renderer();
+  std::string glRenderer() const;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+
+  struct Impl;
+
+ private:
+  explicit HeadlessRenderer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Writes by extension: .png (RGB, or RGBA with `alpha`), .jpg/.jpeg (RGB, `jpegQuality`), .bmp.
+llvm::Error writeImage(const Image& image, const std::string& path, bool alpha = false, int jpegQuality = 95);
+
+// One picture to a file: create a context, render, write.
+llvm::Error renderToFile(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
+                         const RenderPalette& palette, const std::vector<TextureImage>& textures,
+                         const std::string& path, const HeadlessOptions& options = {});
+
+}  // namespace lcjit::viewer
