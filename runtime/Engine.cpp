@@ -563,7 +563,9 @@ void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* g
   CurrentScope scope(this);
   Turtle turtle;
   turtle.reset(turtleSetup_, geometry);
-  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle,
+  // Interpretation rules live in view groups, not derivation groups (manual §4.4, §7.3): the
+  // main view (and the query pass) uses vgroup 0.
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle,
          sink ? &sink : nullptr);
   turtle.finish();
 }
@@ -572,7 +574,7 @@ void Engine::queryPass() {
   if (!hasQueries_) return;
   Turtle turtle;
   turtle.reset(turtleSetup_);
-  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, group_, nullptr, &turtle, nullptr);
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle, nullptr);
 }
 
 // ---- the whole run

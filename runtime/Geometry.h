@@ -74,7 +74,8 @@ struct Bounds {
 // Interpretation order across primitive kinds (painter order matters with `z buffer: off`, lpfg's
 // default): each batch is a contiguous range of one kind (`first`/`count` count indices for
 // triangles, elements for segments and discs). Producers using addTriangle/addSegment/addDisc get
-// it for free; primitives no batch covers are drawn after the batches, triangles first.
+// it for free. If the batches do not cover every primitive (something pushed into the vectors
+// directly), renderers ignore them and draw segments, then triangles, then discs.
 struct DrawBatch {
   enum class Kind : uint8_t { Triangles, Segments, Discs } kind = Kind::Triangles;
   uint32_t first = 0, count = 0;
@@ -113,6 +114,9 @@ struct Geometry {
     for (const Label& l : labels) b.add(l.position);
     return b;
   }
+
+  // What framing (the camera) fits: lpfg's box when the turtle built one, else bounds().
+  Bounds framingBounds() const { return extent.empty() ? bounds() : extent; }
 
   // Starts a triangle run with `texture` unless the last run already has it.
   void useTexture(int texture) {

@@ -89,7 +89,7 @@ V3f Turtle::mapDirection(V3f d) const {
 
 V3f Turtle::mapPoint(V3f p) const { return state_.csOrigin + mapDirection(p) * state_.csScale; }
 
-// Tropisms of the view file, applied before every F/f move (lpfg's rules; see docs/graphics.md):
+// Tropisms of the view file, applied before every F/f move (lpfg's rules, docs/graphics.md):
 // the heading bends towards the combined tropism vector by min(|H × D|, 1) radians, and torques
 // roll U about H away from their vector.
 void Turtle::applyTropisms() {

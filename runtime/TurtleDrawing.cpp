@@ -56,7 +56,7 @@ void Turtle::drawSegment(const TurtleState& before, float length) {
   TurtleState& t = state_;
   switch (view_->lineStyle) {
     case LineStyle::Pixel:
-      out_->segments.push_back({before.position, t.position, t.width, t.color});
+      out_->addSegment({before.position, t.position, t.width, t.color});
       extend(before.position);
       extend(t.position);
       break;
@@ -157,7 +157,7 @@ void Turtle::drawCircle(float r, bool front, float inner) {
   TurtleState& t = state_;
   if (inner < 0) inner = 0;
   if (front) {
-    out_->discs.push_back({t.position, inner, r, t.color});
+    out_->addDisc({t.position, inner, r, t.color});
     extend(t.position - V3f(r, r, r));
     extend(t.position + V3f(r, r, r));
     return;

@@ -172,7 +172,7 @@ std::string HeadlessRenderer::glRenderer() const {
 llvm::Expected<Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings& view,
                                                    const runtime::CameraMatrices& camera, const RenderOptions& options) {
   if (!impl_->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
-  if (llvm::Error e = impl_->ensureFramebuffer(camera.width, camera.height)) return std::move(e);
+  if (llvm::Error e = impl_->ensureFramebuffer(camera.width, camera.height)) return e;
   Renderer& r = *impl_->renderer;
   r.draw(view, camera, options);
   if (!r.lastError().empty()) return error("rendering: " + r.lastError());
@@ -207,7 +207,7 @@ llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry
   r.setPalette(palette);
   r.setTextures(textures);
   r.setGeometry(geometry);
-  runtime::CameraMatrices cam = runtime::frameView(view, geometry.bounds(), geometry.camera, options.width,
+  runtime::CameraMatrices cam = runtime::frameView(view, geometry.framingBounds(), geometry.camera, options.width,
                                                    options.height, options.viewId, options.adjust);
   return renderFrame(view, cam, options.render);
 }

@@ -406,13 +406,13 @@ struct Renderer::Impl {
   // CPU-side copies of what is built per frame or needed to order the draws.
   std::vector<runtime::TriangleRun> runs;
   std::vector<DrawBatch> order;
+  bool orderComplete = false;  // `order` covers every primitive (else it is not used)
   std::vector<runtime::Disc> discs;
   std::vector<runtime::Label> labels;
   uint32_t indexCount = 0, segmentCount = 0;
   std::vector<uint32_t> discFirstVertex;  // per disc, and one past the end
   RenderPalette palette;
   bool paletteDirty = true;
-  bool paletteMaterialsForShadows = false;  // which material rows were uploaded for colormaps
 
   GlyphSet glyphs;
   std::vector<unsigned char> fontData;
@@ -453,6 +453,9 @@ struct Renderer::Impl {
     GLfloat range[2] = {1, 1};
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
     maxLineWidth = range[1];
+    GLint flags = 0;
+    glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
+    if (flags & GL_CONTEXT_FLAG_FORWARD_COMPATIBLE_BIT) maxLineWidth = 1;  // wide lines removed (macOS)
 
     glGenVertexArrays(1, &textVao);
     glGenBuffers(1, &textVbo);
@@ -510,6 +513,11 @@ struct Renderer::Impl {
     runs = g.runs;
     if (runs.empty() && indexCount) runs.push_back({0, indexCount, -1});
     order = g.order;
+    {
+      uint64_t covered[3] = {0, 0, 0};
+      for (const DrawBatch& b : order) covered[int(b.kind)] += b.count;
+      orderComplete = covered[0] == g.indices.size() && covered[1] == g.segments.size() && covered[2] == g.discs.size();
+    }
     discs = g.discs;
     labels = g.labels;
 
@@ -865,6 +873,7 @@ struct Renderer::Impl {
   };
   int currentProgram = -1;  // 0 mesh, 1 segment quads, 2 segment lines
   bool depthTestOn = false;
+  bool targetHasDepth = true;  // the framebuffer drawn into has a depth buffer
   bool translucent = false;   // some colour is not opaque: blending order matters
 
   float wireframeWidth = 1;
@@ -929,10 +938,12 @@ struct Renderer::Impl {
     for (const SegmentChunk& c : chunks)
       for (const WidthGroup& wg : c.groups)
         if (wg.width > maxLineWidth) return false;
+    if (!depthTestOn && !targetHasDepth) return false;
     useSegments(pass, true);
     Program* p = pass.lineProg;
     glUniform1i(p->loc("uForceFront"), 1);
     const bool order = !depthTestOn;
+    if (order && !targetHasDepth) return false;
     if (order) {
       glDepthMask(GL_TRUE);
       glClear(GL_DEPTH_BUFFER_BIT);
@@ -1023,7 +1034,7 @@ struct Renderer::Impl {
 
   void drawAll(const Pass& pass, bool painterOrder) {
     currentProgram = -1;
-    if (painterOrder && !order.empty()) {
+    if (painterOrder && orderComplete) {
       uint32_t covered[3] = {0, 0, 0};
       for (const DrawBatch& b : order) {
         switch (b.kind) {
@@ -1042,8 +1053,10 @@ struct Renderer::Impl {
       if (covered[1] < segmentCount) drawSegments(pass, covered[1], segmentCount - covered[1]);
       if (covered[2] < discs.size()) drawDiscs(pass, covered[2], (uint32_t)discs.size() - covered[2]);
     } else {
-      drawTriangles(pass, 0, indexCount);
+      // No (complete) order from the producer: lines first, then polygons over them (an
+      // L-system's branches before its leaves), then discs.
       drawSegments(pass, 0, segmentCount);
+      drawTriangles(pass, 0, indexCount);
       drawDiscs(pass, 0, (uint32_t)discs.size());
     }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
@@ -1205,6 +1218,15 @@ struct Renderer::Impl {
 
     GLint prevFbo = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prevFbo);
+    {
+      GLint type = GL_NONE, bits = 0;
+      GLenum attachment = prevFbo ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
+      glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+      if (type != GL_NONE)
+        glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+      targetHasDepth = type != GL_NONE && bits > 0;
+      glGetError();  // a default framebuffer without depth may answer GL_INVALID_OPERATION
+    }
 
     const bool shadows = view.renderMode == RenderMode::Shadows;
     const bool wireframe = view.renderMode == RenderMode::Wireframe;
@@ -1269,7 +1291,7 @@ struct Renderer::Impl {
     if (wireframe) {
       GLfloat range[2] = {1, 1};
       glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
-      wireframeWidth = std::clamp(std::round(view.wireframeLineWidth), range[0], range[1]);
+      wireframeWidth = std::clamp(std::round(view.wireframeLineWidth), range[0], std::max(range[0], std::min(range[1], maxLineWidth)));
     }
 
     Variant v = shadows ? kShadow : view.renderMode == RenderMode::Filled ? kFlat : kSmooth;
@@ -1282,7 +1304,7 @@ struct Renderer::Impl {
     }
     beginPass({&cam, &lights, &view, lit, false, matBase, shadowMatrix, lightView, lightProj});
     Pass pass{&mesh[v], &segment[v], &lines[v], wireframe, view.backfaceCulling, false};
-    drawAll(pass, !depthTest);
+    drawAll(pass, !depthTest || translucent);  // blending needs lpfg's order even with a z buffer
     if (wireframe) glLineWidth(1);
 
     drawLabels(view, cam, options);

@@ -10,10 +10,13 @@
 // fixed-function pipeline is restated in shaders: per-vertex OpenGL lighting (GL_FLAT in filled
 // mode, Gouraud in shaded/wireframe), two-sided lighting, infinite viewer, global ambient 0.2,
 // GL_MODULATE textures with GL_NEAREST, alpha test > 0.1, SRC_ALPHA blending. Pixel-style lines
-// (`line style: pixel`, glLineWidth(width) in lpfg) are drawn as screen-space parallelograms
-// that cover exactly the pixels of an aliased wide GL line (width rounded, at least 1, spanning
-// vertically for x-major lines and horizontally for y-major ones), so a million segments of
-// varying widths go in one draw call and need no wide-line support from the driver.
+// (`line style: pixel`, glLineWidth(width) in lpfg) come from one buffer texture and are drawn
+//  - as GL_LINES with glLineWidth, one draw per run of equal (rounded) width, when runs are long;
+//  - grouped by width when widths change every few segments, painter's order then kept through
+//    the depth buffer (segment number as depth) when the z buffer is off;
+//  - else (short batches, translucent colours, no wide lines as in macOS core profiles) as
+//    screen-space quads covering what an aliased wide GL line covers.
+// A million segments take ~0.2 s to draw on llvmpipe with two cores.
 #pragma once
 #include <array>
 #include <cstdint>

@@ -73,7 +73,7 @@ const CameraMatrices& Context::camera() const {
   if (!camera_) {
     if (in.camera) camera_ = *in.camera;
     else
-      camera_ = frameView(view, geometry.bounds(), geometry.camera, std::max(1, in.width), std::max(1, in.height),
+      camera_ = frameView(view, geometry.framingBounds(), geometry.camera, std::max(1, in.width), std::max(1, in.height),
                           in.viewId, in.adjust);
   }
   return *camera_;

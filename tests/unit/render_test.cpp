@@ -387,6 +387,13 @@ TEST(Render, PainterOrderAcrossKinds) {
   EXPECT_EQ(rgb(render(h, ViewSettings{}, colors()), 100, 100), kGreen);
 }
 
+TEST(Render, IncompleteOrderDrawsLinesFirst) {
+  Geometry g;
+  tri(g, {-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, 2);
+  g.segments.push_back({{-1, 0, 0}, {1, 0, 0}, 9, 1});  // not recorded in g.order
+  EXPECT_EQ(rgb(render(g, ViewSettings{}, colors()), 100, 100), kGreen);
+}
+
 TEST(Render, Discs) {
   Geometry g;
   g.addDisc({{0, 0, 0}, 0, 1, 1});

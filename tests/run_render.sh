@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Rendering test: tests/render/NAME.args holds the lcjit arguments (files relative to examples/);
+# the picture (400×400) must match tests/render/NAME.png (tests/tools/image_diff.cpp).
+# LCJIT_UPDATE_REFERENCES=1 rewrites the reference instead. With "expect-differ" as the 5th
+# argument the picture must NOT match (the test's own sensitivity check).
+# Usage: run_render.sh LCJIT IMAGE_DIFF EXAMPLES_DIR RENDER_DIR NAME [expect-differ]
+set -u
+lcjit=$1 diff=$2 examples=$3 dir=$4 name=$5 mode=${6:-}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# A mutant names the reference it must differ from in its first line: "# reference: NAME".
+if [ -n "$mode" ]; then
+  argsfile="$dir/mutants/$name.args"
+  reference="$dir/$(sed -n 's/^# reference: *//p' "$argsfile").png"
+else
+  argsfile="$dir/$name.args"
+  reference="$dir/$name.png"
+fi
+args=$(grep -v '^#' "$argsfile")
+out="$work/$name.png"
+(cd "$examples" && "$lcjit" -q -w 400 400 -out "$out" $args) || { echo "lcjit failed"; exit 1; }
+if [ -n "${LCJIT_UPDATE_REFERENCES:-}" ] && [ -z "$mode" ]; then
+  cp "$out" "$reference" && echo "updated $reference" && exit 0
+fi
+"$diff" "$reference" "$out"
+status=$?
+if [ "$mode" = expect-differ ]; then
+  [ $status -eq 1 ] && { echo "differs, as it must"; exit 0; }
+  echo "the mutated model still matches $reference: the comparison is not sensitive enough"
+  exit 1
+fi
+exit $status
