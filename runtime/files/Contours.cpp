@@ -1,5 +1,6 @@
 // Contours: see Contours.h. Follows lpfg's contour reader and sampler (facts, not code).
 #include "Contours.h"
+#include "TextLines.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,38 +13,13 @@
 namespace lcjit::runtime {
 namespace {
 
+using textfile::fail;
+using textfile::splitLines;
+using textfile::trim;
+
 constexpr float kEpsilon = 0.0001f;
 constexpr size_t kStepsPerSegment = 1000;  // lpfg evaluates each B-spline segment at 1000 points
 constexpr size_t kMaxControlPoints = 20000;  // 2·10^7 curve evaluations at most
-
-llvm::Error fail(const std::string& file, size_t line, const std::string& msg) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu: error: %s", file.c_str(),
-                                 line, msg.c_str());
-}
-
-std::vector<std::string_view> splitLines(std::string_view text) {
-  std::vector<std::string_view> lines;
-  size_t start = 0;
-  while (start <= text.size()) {
-    size_t nl = text.find('\n', start);
-    if (nl == std::string_view::npos) {
-      if (start < text.size()) lines.push_back(text.substr(start));
-      break;
-    }
-    std::string_view l = text.substr(start, nl - start);
-    lines.push_back(l);
-    start = nl + 1;
-  }
-  for (auto& l : lines)
-    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-  return lines;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace((unsigned char)s.front())) s.remove_prefix(1);
-  while (!s.empty() && std::isspace((unsigned char)s.back())) s.remove_suffix(1);
-  return s;
-}
 
 std::vector<std::string> tokens(std::string_view s) {
   std::vector<std::string> out;

@@ -1,5 +1,6 @@
 // Bézier surfaces: see Surfaces.h. Follows lpfg's surface reader and patch tessellation (facts).
 #include "Surfaces.h"
+#include "TextLines.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,30 +12,9 @@
 namespace lcjit::runtime {
 namespace {
 
-llvm::Error fail(const std::string& file, size_t line, const std::string& msg) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu: error: %s", file.c_str(),
-                                 line, msg.c_str());
-}
-
-std::vector<std::string_view> splitLines(std::string_view text) {
-  std::vector<std::string_view> lines;
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t nl = text.find('\n', start);
-    std::string_view l = text.substr(start, nl == std::string_view::npos ? std::string_view::npos : nl - start);
-    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
-    lines.push_back(l);
-    if (nl == std::string_view::npos) break;
-    start = nl + 1;
-  }
-  return lines;
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace((unsigned char)s.front())) s.remove_prefix(1);
-  while (!s.empty() && std::isspace((unsigned char)s.back())) s.remove_suffix(1);
-  return s;
-}
+using textfile::fail;
+using textfile::splitLines;
+using textfile::trim;
 
 bool isBlank(std::string_view s) { return trim(s).empty(); }
 

@@ -3,6 +3,8 @@
 // against values computed by hand from the manual's §5 and lpfg's placement rules.
 #include <gtest/gtest.h>
 
+#include "test_vectors.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -71,13 +73,7 @@ Geometry draw(const std::string& name, const std::string& axiom, const std::stri
   return g;
 }
 
-#define EXPECT_V3(v, X, Y, Z)                 \
-  do {                                        \
-    auto _v = (v);                            \
-    EXPECT_NEAR(_v.x, (X), 1e-4) << #v;       \
-    EXPECT_NEAR(_v.y, (Y), 1e-4) << #v;       \
-    EXPECT_NEAR(_v.z, (Z), 1e-4) << #v;       \
-  } while (0)
+#define EXPECT_V3(v, X, Y, Z) EXPECT_V3_NEAR((v), (X), (Y), (Z), 1e-4)
 
 TEST(TurtleGeometry, PixelLinesCarryWidthColourAndTurn) {
   Geometry g = draw("pixel", "SetColor(3) SetWidth(4) F(2) Left(90) F(1) IncColor f(1) G(1)");

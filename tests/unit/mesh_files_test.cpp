@@ -2,6 +2,8 @@
 // coordinates, colours and error handling.
 #include <gtest/gtest.h>
 
+#include "test_vectors.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,13 +20,6 @@ namespace {
 
 const std::string kDir = std::string(LCJIT_TEST_DATA) + "/meshes/";
 
-testing::AssertionResult Near3(V3f v, float x, float y, float z, float tol) {
-  if (std::fabs(v.x - x) <= tol && std::fabs(v.y - y) <= tol && std::fabs(v.z - z) <= tol)
-    return testing::AssertionSuccess();
-  return testing::AssertionFailure() << "(" << v.x << ", " << v.y << ", " << v.z << ") is not within " << tol
-                                     << " of (" << x << ", " << y << ", " << z << ")";
-}
-#define EXPECT_V3_NEAR(v, X, Y, Z, tol) EXPECT_TRUE(Near3((v), float(X), float(Y), float(Z), float(tol)))
 
 const float kCube[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
