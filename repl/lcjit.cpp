@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
 
   const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
   if (inputs.empty()) {
-    for (const char* f : {"tree.l", "tree.v"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
+    for (const char* f : {"tree.l", "tree.v", "tree.mat"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
     if (out.empty()) out = "tree.png";
     batch = true;
     if (!quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());

@@ -335,3 +335,79 @@ TEST(TurtleGeometry, CurveFunctionsReadContours) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(TurtleGeometry, ScaledAndBlendedContours) {
+  // ScaleContour(4, 2): half-axes 2 along L and 1 along U. BlendedContour(0, square, 0.5) mixes
+  // the circle and the square sample by sample.
+  fs::path con = scratch() / "square5.con";
+  writeFile(con, "cver 1 3\nname: square5\npoints: 4 12\ntype: cr\nsamples: 5\n"
+                 "0 1 0 3\n-1 0 0 3\n0 -1 0 3\n1 0 0 3\n");
+  Geometry g = draw("blend", "ScaleContour(4, 2) StartGC F(1) EndGC ContourSides(5) SetWidth(2) StartGC "
+                             "BlendedContour(0, square5, 0.5) F(1) EndGC",
+                    "line style: cylinder\ncontour sides: 4\n", {con.string()});
+  ASSERT_EQ(g.vertices.size(), 20u);
+  // Ring point 0 of the circle is on +U (scaled by 2/2 = 1), point 1 on +L (scaled by 4/2 = 2).
+  EXPECT_V3(g.vertices[0].position, 0, 0, 1);
+  EXPECT_V3(g.vertices[2].position, -2, 0, 0);
+  // The blended ring: circle point 0 (0,1) and square5's first sample (0,1) agree → +U.
+  EXPECT_V3(g.vertices[10].position, 0, 1, 1);
+}
+
+TEST(TurtleGeometry, ElasticityAndSimpleTropism) {
+  // SetElasticity(0, 0) switches the view file's tropism off; Elasticity(0.5) with the simple
+  // tropism direction D = (−1,0,0) leans H after each move by s = e·(D·L) = 0.5 towards L.
+  Geometry g = draw("elastic", "SetElasticity(0, 0) F(1) SetTropismDirection3f(V3f(-1,0,0)) Elasticity(0.5) F(1) F(1)",
+                    "tropism: T: 1 0 0 E: 0.5\n");
+  ASSERT_EQ(g.segments.size(), 3u);
+  EXPECT_V3(g.segments[0].to, 0, 1, 0);
+  // Second F moves straight (the simple tropism applies after the move), then H leans towards
+  // L = (−1,0,0) by s = 0.5: H = (c·0 + 0.5·(−1), c·1, 0) with c = sqrt(0.75).
+  EXPECT_V3(g.segments[1].to, 0, 2, 0);
+  EXPECT_V3(g.segments[2].to, -0.5, 2 + std::sqrt(0.75f), 0);
+}
+
+TEST(TurtleGeometry, UserSurfaceAndGetSurface) {
+  fs::path s = scratch() / "leaf2.s";
+  std::string sfile = "0 1 0 1 0 0\nCONTACT POINT X: 0 Y: 0 Z: 0\nEND POINT X: 0 Y: 1 Z: 0\n"
+                      "HEADING X: 0 Y: 1 Z: 0\nUP X: 0 Y: 0 Z: 1\nSIZE: 1\nleaf\nTOP COLOR: 1 DIFFUSE: 1 BOTTOM COLOR: 1 DIFFUSE: 1\n"
+                      "AL: ~ A: ~ AR: ~\nL: ~ R: ~\nBL: ~ B: ~ BR: ~\n";
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) sfile += std::to_string(j / 3.0) + " " + std::to_string(i / 3.0) + " 0\n";
+  writeFile(s, sfile);
+  // DSurface(GetSurface(0)) after f(5): the file's patch in the turtle frame. Then a user patch:
+  // 16 SurfacePoints on a 3×3 grid at z = 7, drawn in world coordinates.
+  std::string points;
+  for (int q = 0; q < 4; ++q)
+    for (int p = 0; p < 4; ++p)
+      points += "MoveTo(" + std::to_string(p) + "," + std::to_string(q) + ",7) SurfacePoint(0," + std::to_string(p) + "," +
+                std::to_string(q) + ") ";
+  Geometry g = draw("usersurface", "SetUPrecision(2) SetVPrecision(2) f(5) DSurface(GetSurface(0)) InitSurface(0) " + points +
+                                       "DrawSurface(0)", "surface: " + s.string() + "\n");
+  ASSERT_EQ(g.vertices.size(), 18u);
+  bool farCorner = false;
+  for (size_t i = 0; i < 9; ++i)
+    if (std::fabs(g.vertices[i].position.x - 1) < 1e-4 && std::fabs(g.vertices[i].position.y - 6) < 1e-4) farCorner = true;
+  EXPECT_TRUE(farCorner) << "GetSurface's (1,1,0) corner at P + (−L) + H = (1, 6, 0)";
+  for (size_t i = 9; i < 18; ++i) EXPECT_NEAR(g.vertices[i].position.z, 7, 1e-4);
+  EXPECT_V3(g.extent.max, 3, 6, 7);
+}
+
+TEST(TurtleGeometry, CircleOutlinesAndColourCycling) {
+  Geometry g = draw("rings", "SetWidth(0.5) ContourSides(4) CircleB(1) CircleFrontB(2) SetColor(255) IncColor "
+                             "Circle0 SetColor(1) DecColor Sphere0");
+  // CircleB(1): a ring of 4 inner (r 0.75) and 4 outer (r 1.25) points, 8 triangles.
+  ASSERT_GE(g.vertices.size(), 8u);
+  EXPECT_V3(g.vertices[0].position, 0, 0.75, 0);
+  EXPECT_V3(g.vertices[1].position, 0, 1.25, 0);
+  ASSERT_EQ(g.discs.size(), 1u);
+  EXPECT_FLOAT_EQ(g.discs[0].inner, 1.75f);
+  EXPECT_FLOAT_EQ(g.discs[0].outer, 2.25f);
+  // IncColor wraps 255 → 1; Circle0's radius is width/2; DecColor wraps 1 → 255.
+  EXPECT_EQ(g.vertices[8].color, 1);
+  EXPECT_V3(g.vertices[9].position, 0, 0.25, 0);
+  EXPECT_EQ(g.vertices.back().color, 255);
+}
+
+}  // namespace
