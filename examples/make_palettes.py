@@ -199,3 +199,10 @@ write_mat("pinecone.mat", (0.95, 0.95, 0.95), [
     material(2, (0.7, 0.52, 0.3), ambient=(0.2, 0.14, 0.08), specular=(0.15, 0.1, 0.05), shininess=15),
     material(3, (0.3, 0.2, 0.1)),
 ])
+
+# birch.mat: 1 bark (light, so the texture's own colours show through GL_MODULATE), 2 leaves;
+# pale sky background.
+write_mat("birch.mat", (0.8, 0.88, 0.95), [
+    material(1, (0.95, 0.95, 0.92), ambient=(0.35, 0.35, 0.33), specular=(0.05, 0.05, 0.05)),
+    material(2, (0.35, 0.7, 0.2), specular=(0.2, 0.2, 0.2), shininess=30),
+])

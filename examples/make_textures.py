@@ -1,0 +1,31 @@
+#!/usr/bin/env python3
+"""Writes the example textures (standard library only): birch.png, a birch-bark pattern — white
+bark with dark horizontal lenticels — 64x128 RGB. Run from examples/; the output is kept here."""
+import math, random, struct, zlib
+
+
+def png(path, width, height, pixel):
+    rows = b"".join(b"\x00" + b"".join(bytes(pixel(x, y)) for x in range(width)) for y in range(height))
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n")
+        f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)))
+        f.write(chunk(b"IDAT", zlib.compress(rows, 9)))
+        f.write(chunk(b"IEND", b""))
+
+
+def birch():
+    rnd = random.Random(7)
+    marks = [(rnd.randrange(128), rnd.randrange(64), rnd.randrange(6, 24), rnd.randrange(1, 3)) for _ in range(40)]
+    def pixel(x, y):
+        v = 232 + int(12 * math.sin(x * 0.7) * math.sin(y * 0.3))
+        for (my, mx, length, thick) in marks:
+            if 0 <= y - my < thick and (x - mx) % 64 < length:
+                v = 40 + (x * 7 + y * 3) % 30
+        return (v, v - 4 if v > 100 else v, v - 12 if v > 100 else v)
+    png("birch.png", 64, 128, pixel)
+
+
+if __name__ == "__main__":
+    birch()
