@@ -409,7 +409,7 @@ void Turtle::execute(char* rec) {
     case __lc_id_PointGC:
       if (t.cylinderOn) t.cylinder = cylinderHere();
       break;
-    case __lc_id_EndGC: t.cylinderOn = t.cylinderInherited = false; break;
+    case __lc_id_EndGC: endCylinder(); break;
     // ---- surfaces (§5.6)
     case __lc_id_SetUPrecision:
     case __lc_id_SetVPrecision: {

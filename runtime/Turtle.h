@@ -88,7 +88,9 @@ class Turtle {
 
   // ---- drawing (TurtleDrawing.cpp)
   void drawSegment(const TurtleState& before, float length);
+  void ringVertices(const CylinderPoint& c, float v, std::vector<MeshVertex>& out);
   void drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float length, bool inCylinder);
+  void drawCap(const CylinderPoint& c);
   void drawCircle(float r, bool front, float inner);
   void drawSphere(float r);
   void drawRhombus(float a, float b);
@@ -101,6 +103,7 @@ class Turtle {
   void drawSurface(int id, V3f scale);
   void drawMesh(int id, V3f scale);
   void startCylinder();
+  void endCylinder();
   CylinderPoint cylinderHere() const;
   const ContourSamples& ring(int contour, int divisions);
   int circleSides() const;

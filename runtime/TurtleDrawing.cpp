@@ -97,25 +97,31 @@ void Turtle::drawSegment(const TurtleState& before, float length) {
 
 // A frustum between two rings; each ring is the (blended) contour scaled by width/2 along L and
 // widthUp/2 along U in its own frame. Texture v runs along the length (TextureVCoeff per unit).
+// The ring of a cylinder point: the (blended) contour scaled by width/2 along L and widthUp/2
+// along U in the point's own frame, texture u = i/(n−1) around and v as given.
+void Turtle::ringVertices(const CylinderPoint& c, float v, std::vector<MeshVertex>& out) {
+  int divisions = cylinderDivisions(c.contour);
+  const ContourSamples* samples = &ring(c.contour, divisions);
+  ContourSamples blended;
+  if (c.blend > 0 && c.contour2 != c.contour) {
+    blended = blendContours(*samples, ring(c.contour2, divisions), c.blend);
+    samples = &blended;
+  }
+  size_t n = samples->points.size();
+  for (size_t i = 0; i < n; ++i) {
+    V3f q = samples->points[i], m = samples->normals[i];
+    V3f p = c.position + c.left * (q.x * c.scaleP / 2) + c.up * (q.y * c.scaleQ / 2) + c.heading * q.z;
+    V3f nn = c.left * m.x + c.up * m.y + c.heading * m.z;
+    if (nn.Length() > 0) nn.Normalize();
+    out.push_back(vertex(p, nn, n > 1 ? (float)i / (float)(n - 1) : 0, v));
+  }
+}
+
+// A frustum between two rings. Texture v runs along the length (TextureVCoeff per unit) and
+// wraps once past 1. `tapered cylinders: on` replaces the contour normals of a generalized
+// cylinder by the faces' own.
 void Turtle::drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float length, bool inCylinder) {
   TurtleState& t = state_;
-  auto ringVertices = [&](const CylinderPoint& c, float v, std::vector<MeshVertex>& out) {
-    int divisions = cylinderDivisions(c.contour);
-    const ContourSamples* samples = &ring(c.contour, divisions);
-    ContourSamples blended;
-    if (c.blend > 0 && c.contour2 != c.contour) {
-      blended = blendContours(*samples, ring(c.contour2, divisions), c.blend);
-      samples = &blended;
-    }
-    size_t n = samples->points.size();
-    for (size_t i = 0; i < n; ++i) {
-      V3f q = samples->points[i], m = samples->normals[i];
-      V3f p = c.position + c.left * (q.x * c.scaleP / 2) + c.up * (q.y * c.scaleQ / 2) + c.heading * q.z;
-      V3f nn = c.left * m.x + c.up * m.y + c.heading * m.z;
-      if (nn.Length() > 0) nn.Normalize();
-      out.push_back(vertex(p, nn, n > 1 ? (float)i / (float)(n - 1) : 0, v));
-    }
-  };
   float v0 = t.textureV;
   float v1 = v0 + (inCylinder && length == 0 ? t.textureVCoeff : length * t.textureVCoeff);
   std::vector<MeshVertex> ra, rb;
@@ -123,6 +129,11 @@ void Turtle::drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float l
   ringVertices(b, v1, rb);
   t.textureV = v1 > 1 ? v1 - 1 : v1;
   size_t n = ra.size() < rb.size() ? ra.size() : rb.size();
+  if (inCylinder && view_->taperedCylinders)
+    for (size_t i = 0; i + 1 < n; ++i) {
+      V3f g = (rb[i].position - ra[i].position) % (ra[i + 1].position - ra[i].position);
+      if (g.Length() > 0) ra[i].normal = rb[i].normal = g.Normalized();
+    }
   out_->useTexture(t.texture);
   uint32_t base = (uint32_t)out_->vertices.size();
   for (size_t i = 0; i < n; ++i) {
@@ -142,6 +153,32 @@ void Turtle::drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float l
   }
 }
 
+// `capped cylinders: on`: a fan from the ring's centroid. lpfg faces both caps back along the
+// ring's heading (−H), the end cap included.
+void Turtle::drawCap(const CylinderPoint& c) {
+  std::vector<MeshVertex> r;
+  ringVertices(c, 0, r);
+  if (r.size() < 4) return;
+  r.pop_back();  // the closing duplicate
+  V3f centre(0, 0, 0);
+  for (const MeshVertex& m : r) centre += m.position;
+  centre /= (float)r.size();
+  V3f n = -c.heading;
+  out_->useTexture(-1);
+  uint32_t mid = out_->addVertex(vertex(centre, n));
+  uint32_t first = (uint32_t)out_->vertices.size();
+  for (MeshVertex m : r) {
+    m.normal = n;
+    out_->addVertex(m);
+  }
+  for (uint32_t i = 0; i < r.size(); ++i) {
+    uint32_t a = first + i, b = first + (i + 1) % (uint32_t)r.size();
+    V3f g = (out_->vertices[a].position - centre) % (out_->vertices[b].position - centre);
+    if (g * n >= 0) out_->addTriangle(mid, a, b);
+    else out_->addTriangle(mid, b, a);
+  }
+}
+
 void Turtle::startCylinder() {
   TurtleState& t = state_;
   if (view_->lineStyle != LineStyle::Cylinder) return;  // lpfg: generalized cylinders need cylinder lines
@@ -149,6 +186,13 @@ void Turtle::startCylinder() {
   t.cylinderOn = true;
   t.cylinderInherited = false;
   t.cylinder = cylinderHere();
+  if (out_ && view_->cappedCylinders) drawCap(t.cylinder);
+}
+
+void Turtle::endCylinder() {
+  TurtleState& t = state_;
+  if (out_ && t.cylinderOn && view_->cappedCylinders) drawCap(t.cylinder);
+  t.cylinderOn = t.cylinderInherited = false;
 }
 
 // Circle(r) & co.: a disc (or ring when inner > 0) in the HL plane facing U; front circles stay

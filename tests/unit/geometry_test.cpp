@@ -411,3 +411,30 @@ TEST(TurtleGeometry, CircleOutlinesAndColourCycling) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(TurtleGeometry, CappedAndTaperedCylinders) {
+  Geometry g = draw("caps", "SetWidth(2) StartGC SetWidth(1) F(2) EndGC",
+                    "line style: cylinder\ncontour sides: 4\ncapped cylinders: on\ntapered cylinders: on\n");
+  // Start cap (centre + 4), frustum (10), end cap (centre + 4).
+  ASSERT_EQ(g.vertices.size(), 5u + 10u + 5u);
+  EXPECT_EQ(g.triangleCount(), 4u + 8u + 4u);
+  // Both caps face back along the heading (lpfg's rule), at y = 0 and y = 2.
+  EXPECT_V3(g.vertices[0].position, 0, 0, 0);
+  EXPECT_V3(g.vertices[0].normal, 0, -1, 0);
+  EXPECT_V3(g.vertices[15].position, 0, 2, 0);
+  EXPECT_V3(g.vertices[15].normal, 0, -1, 0);
+  for (size_t i = 0; i < 4 * 3; i += 3) {
+    auto a = g.vertices[g.indices[i]].position, b = g.vertices[g.indices[i + 1]].position,
+         c = g.vertices[g.indices[i + 2]].position;
+    EXPECT_LT(((b - a) % (c - a)).y, 0) << "cap triangles wind towards -H";
+  }
+  // Tapered: the frustum narrows from radius 1 to 0.5 over length 2; ring points 0 and 1 get the
+  // normal of the face between (0,0,1), (−1,0,0) and (0,2,0.5): (−2, 0.5, 2)/|…|, leaning forward.
+  float len = std::sqrt(8.25f);
+  EXPECT_V3(g.vertices[5].normal, -2 / len, 0.5f / len, 2 / len);
+  EXPECT_V3(g.vertices[6].normal, -2 / len, 0.5f / len, 2 / len);
+}
+
+}  // namespace
