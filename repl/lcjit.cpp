@@ -30,10 +30,9 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
   return out;
 }
 
-std::string withoutExtension(const std::string& p) {
-  std::filesystem::path path(p);
-  return (path.parent_path() / path.stem()).string();
-}
+// -dtf/-dtfes files go to the working folder (lpfg runs in the object's folder, so the same place
+// for its users) rather than beside a model that may live in a read-only tree.
+std::string stemInWorkingFolder(const std::string& p) { return std::filesystem::path(p).stem().string(); }
 
 }  // namespace
 
@@ -55,8 +54,8 @@ int main(int argc, char** argv) {
   app.add_flag("-c", compileOnly, "compile the model only");
   app.add_flag("-d", debug, "debug messages");
   app.add_flag("--ds", dumpSteps, "(-ds) print the string after each derivation step");
-  app.add_flag("--dtf", dumpInterpreted, "(-dtf) write the interpreted final string to <model>.str");
-  app.add_flag("--dtfes", dumpInterpretedEach, "(-dtfes) accepted; per-step interpreted strings need the viewer");
+  app.add_flag("--dtf", dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
+  app.add_flag("--dtfes", dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
   app.add_flag("-q", quiet, "quiet: no messages");
   app.add_flag("-v", verbose, "verbose");
   app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
@@ -132,6 +131,14 @@ int main(int argc, char** argv) {
     hooks.afterDerivation = [&](int step) {
       std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
     };
+  if (dumpInterpretedEach)
+    hooks.afterStep = [&](int step) {
+      std::string text;
+      engine.interpret(nullptr, nullptr, &text);
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, "%08d", step);
+      std::ofstream(stemInWorkingFolder(files->lsystem) + suffix + ".str", std::ios::binary) << text;
+    };
   auto t0 = std::chrono::steady_clock::now();
   if (auto e = engine.run(hooks)) {
     std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
@@ -164,12 +171,9 @@ int main(int argc, char** argv) {
     }
   }
   if (dumpInterpreted) {
-    lcjit::runtime::ModuleBuffer interpreted;
-    engine.interpret([&](const char* rec) {
-      interpreted.append(rec, engine.modules().recordSize(lcjit::runtime::ModuleTable::idAt(rec)));
-    });
-    std::ofstream f(withoutExtension(files->lsystem) + ".str", std::ios::binary);
-    f << engine.text(interpreted);
+    std::string text;
+    engine.interpret(nullptr, nullptr, &text);
+    std::ofstream(stemInWorkingFolder(files->lsystem) + ".str", std::ios::binary) << text;
   }
   if (stats) {
     std::fprintf(stderr,

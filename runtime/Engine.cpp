@@ -559,10 +559,11 @@ void Engine::decompose(int group) {
   string_.swap(out);
 }
 
-void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry) {
+void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript) {
   CurrentScope scope(this);
   Turtle turtle;
   turtle.reset(turtleSetup_, geometry);
+  turtle.setTranscript(transcript);
   // Interpretation rules live in view groups, not derivation groups (manual §4.4, §7.3): the
   // main view (and the query pass) uses vgroup 0.
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle,
@@ -614,6 +615,7 @@ llvm::Error Engine::run(const EngineHooks& hooks) {
     if (hooks.afterDerivation) hooks.afterDerivation(step_);
     decompose(group);
     if (model_.endEach) model_.endEach();
+    if (hooks.afterStep) hooks.afterStep(step_);
     if (stopRequested_) {
       if (model_.end) model_.end();
       ended = true;

@@ -21,6 +21,8 @@ class FunctionStore;
 struct EngineHooks {
   // Called after each derivation step, before decomposition (lpfg's -ds point).
   std::function<void(int step)> afterDerivation;
+  // Called after each whole step (decomposition and EndEach done): where lpfg draws the frame.
+  std::function<void(int step)> afterStep;
   // Model output (Printf).
   std::function<void(const char*)> print;
   // OutputFrame("file.ext") from model code: render or export the current string.
@@ -40,7 +42,9 @@ class Engine {
   // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
   // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
   // receives what the turtle draws.
-  void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr);
+  // `transcript`, when given, receives lpfg's `-dtf` turtle text.
+  void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
+                 std::string* transcript = nullptr);
   void interpret(Geometry& geometry) { interpret(nullptr, &geometry); }
   // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
   // the turtle). The pointed-to data must outlive the engine's runs.

@@ -223,6 +223,13 @@ void Turtle::popBranch() {
 }
 
 void Turtle::execute(char* rec) {
+  if (!transcript_) return executeModule(rec);
+  TurtleState before = state_;
+  executeModule(rec);
+  describeTurtleCommand(*transcript_, rec, before, state_);
+}
+
+void Turtle::executeModule(char* rec) {
   TurtleState& t = state_;
   __lc_ModuleId id = ModuleTable::idAt(rec);
   auto f0 = [&] { return param<float>(rec, p0<__lc_R_F>()); };

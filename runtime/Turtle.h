@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "Geometry.h"
@@ -63,18 +64,24 @@ struct TurtleState {
   float simpleElasticity = 0;
 };
 
+// Appends lpfg's `-dtf` line(s) for one executed module (TurtleText.cpp).
+void describeTurtleCommand(std::string& out, const char* rec, const TurtleState& before, const TurtleState& after);
+
 class Turtle {
  public:
   // Starts a fresh interpretation. `out` may be null (query pass: move only).
   void reset(const TurtleSetup& setup = {}, Geometry* out = nullptr);
   // Executes one module record; query modules (GetPos...) get the state written into `rec`.
   void execute(char* rec);
+  // `-dtf`: every executed command is also written to `text` in lpfg's turtle-text format.
+  void setTranscript(std::string* text) { transcript_ = text; }
   // Ends the interpretation: open polygons are dropped, as in lpfg.
   void finish();
   const TurtleState& state() const { return state_; }
 
  private:
   // ---- motion (Turtle.cpp)
+  void executeModule(char* rec);
   void rotate(V3f& a, V3f& b, float degrees);  // a' = cos·a + sin·b, b' = cos·b − sin·a
   void rotateAbout(V3f axis, float degrees);
   V3f mapPoint(V3f p) const;
@@ -117,6 +124,7 @@ class Turtle {
   ViewSettings defaults_;
   const ViewSettings* view_ = &defaults_;
   Geometry* out_ = nullptr;
+  std::string* transcript_ = nullptr;
   TurtleState state_;
   std::vector<TurtleState> stack_;
 
