@@ -107,6 +107,7 @@ class Turtle {
   // Adds a tessellated grid; positions/normals map through the turtle frame scaled by `scale`
   // (x along −L, y along H, z along U) unless `world` is set.
   void addGrid(const PatchGrid& grid, bool world, V3f scale, int texture);
+  V3f inFrame(V3f p, V3f scale) const;  // P + x·(−L) + y·H + z·U, each coordinate scaled
   void drawSurface(int id, V3f scale);
   void drawMesh(int id, V3f scale);
   void startCylinder();

@@ -266,8 +266,11 @@ void Turtle::drawSphere(float r) {
 
 void Turtle::drawRhombus(float a, float b) {
   TurtleState& t = state_;
-  V3f p[4] = {t.position, t.position + t.heading * (a / 2) - t.left * (b / 2), t.position + t.heading * a,
-              t.position + t.heading * (a / 2) + t.left * (b / 2)};
+  // lpfg's vertex order: clockwise seen from +U although the normal is U, so with two-sided
+  // lighting the side facing U is lit as a back face (dark when the light is behind the viewer);
+  // kept for the same picture.
+  V3f p[4] = {t.position, t.position + t.heading * (a / 2) + t.left * (b / 2), t.position + t.heading * a,
+              t.position + t.heading * (a / 2) - t.left * (b / 2)};
   out_->useTexture(-1);
   uint32_t first = (uint32_t)out_->vertices.size();
   for (V3f q : p) {
@@ -280,7 +283,7 @@ void Turtle::drawRhombus(float a, float b) {
 
 void Turtle::drawTriangle(float a, float b) {
   TurtleState& t = state_;
-  V3f p[3] = {t.position - t.left * (a / 2), t.position + t.heading * b, t.position + t.left * (a / 2)};
+  V3f p[3] = {t.position + t.left * (a / 2), t.position + t.heading * b, t.position - t.left * (a / 2)};  // lpfg's order
   out_->useTexture(-1);
   uint32_t first = (uint32_t)out_->vertices.size();
   for (V3f q : p) {
@@ -375,26 +378,27 @@ void Turtle::endPolygon() {
 
 // ---- surfaces and meshes (manual §5.6, §7.1)
 
+V3f Turtle::inFrame(V3f p, V3f scale) const {
+  const TurtleState& t = state_;
+  return t.position - t.left * (p.x * scale.x) + t.heading * (p.y * scale.y) + t.up * (p.z * scale.z);
+}
+
+// lpfg's box counts a surface's control points (or a mesh's box corners), not its tessellation.
 void Turtle::addGrid(const PatchGrid& grid, bool world, V3f scale, int texture) {
   const TurtleState& t = state_;
-  V3f right = -t.left;
-  auto place = [&](V3f p) {
-    return world ? p : t.position + right * (p.x * scale.x) + t.heading * (p.y * scale.y) + t.up * (p.z * scale.z);
-  };
   auto turn = [&](V3f n) {
     if (world) return n;
     // Normals transform by the inverse scale.
-    V3f m = right * (scale.x != 0 ? n.x / scale.x : 0) + t.heading * (scale.y != 0 ? n.y / scale.y : 0) +
+    V3f m = -t.left * (scale.x != 0 ? n.x / scale.x : 0) + t.heading * (scale.y != 0 ? n.y / scale.y : 0) +
             t.up * (scale.z != 0 ? n.z / scale.z : 0);
     return m.Length() > 0 ? m.Normalized() : m;
   };
   out_->useTexture(texture);
   uint32_t first = (uint32_t)out_->vertices.size();
   for (size_t i = 0; i < grid.positions.size(); ++i) {
-    V3f p = place(grid.positions[i]);
+    V3f p = world ? grid.positions[i] : inFrame(grid.positions[i], scale);
     V2f uv = i < grid.uvs.size() ? grid.uvs[i] : V2f();
     out_->addVertex(vertex(p, turn(grid.normals[i]), uv.x, uv.y));
-    extend(p);
   }
   for (size_t i = 0; i + 2 < grid.indices.size(); i += 3)
     out_->addTriangle(first + grid.indices[i], first + grid.indices[i + 1], first + grid.indices[i + 2]);
@@ -405,7 +409,10 @@ void Turtle::drawSurface(int id, V3f scale) {
   const ShapeLibrary::Surface& s = setup_.shapes->surfaces[id];
   int u = state_.uPrecision ? state_.uPrecision : s.sdiv ? s.sdiv : kDefaultSurfaceDivisions;
   int v = state_.vPrecision ? state_.vPrecision : s.tdiv ? s.tdiv : kDefaultSurfaceDivisions;
-  for (size_t k = 0; k < s.surface.patches.size(); ++k) addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, s.texture);
+  for (size_t k = 0; k < s.surface.patches.size(); ++k) {
+    addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, s.texture);
+    for (const V3f& p : s.surface.patches[k].points) extend(inFrame(p, scale * s.scale));
+  }
 }
 
 void Turtle::drawMesh(int id, V3f scale) {
@@ -417,6 +424,8 @@ void Turtle::drawMesh(int id, V3f scale) {
   grid.uvs = m.data.uvs;
   grid.indices = m.data.indices;
   addGrid(grid, false, scale, m.texture);
+  const V3f lo = m.data.boundsMin, hi = m.data.boundsMax;
+  for (int c = 0; c < 8; ++c) extend(inFrame(V3f(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z), scale));
 }
 
 // DSurface (turtle frame, no scaling) and DrawSurface (control points already in world space).
@@ -426,6 +435,7 @@ void Turtle::drawPatch(const V3f (&points)[16], bool turtleFrame) {
   int u = state_.uPrecision ? state_.uPrecision : kDefaultSurfaceDivisions;
   int v = state_.vPrecision ? state_.vPrecision : kDefaultSurfaceDivisions;
   addGrid(tessellatePatch(patch, u, v), !turtleFrame, V3f(1, 1, 1), -1);
+  for (const V3f& p : points) extend(turtleFrame ? inFrame(p, V3f(1, 1, 1)) : p);
 }
 
 }  // namespace lcjit::runtime

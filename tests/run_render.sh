@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # Rendering test: tests/render/NAME.args holds the lcjit arguments (files relative to examples/);
 # the picture (400×400) must match tests/render/NAME.png (tests/tools/image_diff.cpp).
-# LCJIT_UPDATE_REFERENCES=1 rewrites the reference instead. With "expect-differ" as the 5th
-# argument the picture must NOT match (the test's own sensitivity check).
-# Usage: run_render.sh LCJIT IMAGE_DIFF EXAMPLES_DIR RENDER_DIR NAME [expect-differ]
+# LCJIT_UPDATE_REFERENCES=1 rewrites the reference instead. Modes (6th argument):
+#   expect-differ  mutants/NAME.args must NOT match (the comparison's own sensitivity check);
+#   lpfg           the picture must match lpfg's own, tests/render/lpfg/NAME.png.
+# Usage: run_render.sh LCJIT IMAGE_DIFF EXAMPLES_DIR RENDER_DIR NAME [expect-differ|lpfg]
 set -u
 lcjit=$1 diff=$2 examples=$3 dir=$4 name=$5 mode=${6:-}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 # A mutant names the reference it must differ from in its first line: "# reference: NAME".
-if [ -n "$mode" ]; then
+if [ "$mode" = expect-differ ]; then
   argsfile="$dir/mutants/$name.args"
   reference="$dir/$(sed -n 's/^# reference: *//p' "$argsfile").png"
+elif [ "$mode" = lpfg ]; then
+  argsfile="$dir/$name.args"
+  reference="$dir/lpfg/$name.png"
 else
   argsfile="$dir/$name.args"
   reference="$dir/$name.png"

@@ -207,15 +207,20 @@ TEST(TurtleGeometry, PolygonsRhombusAndTriangle) {
   // Fan: (0,1,2), (0,2,3).
   EXPECT_EQ(g.indices[3], 0u);
   EXPECT_EQ(g.indices[5], 3u);
-  // Rhombus(2,1) at (10,0,0): P, P + H + L/2·(-1)... corners (10,0), (10.5,1), (10,2), (9.5,1).
+  // Rhombus(2,1) at (10,0,0), in lpfg's (clockwise from +U) order: P, P + H + L/2, P + 2H,
+  // P + H − L/2 = (10,0), (9.5,1), (10,2), (10.5,1).
   EXPECT_V3(g.vertices[4].position, 10, 0, 0);
-  EXPECT_V3(g.vertices[5].position, 10.5, 1, 0);
+  EXPECT_V3(g.vertices[5].position, 9.5, 1, 0);
   EXPECT_V3(g.vertices[6].position, 10, 2, 0);
-  EXPECT_V3(g.vertices[7].position, 9.5, 1, 0);
-  // Triangle(2,1): P − L·1 = (11,0), P + H = (10,1), P + L = (9,0).
-  EXPECT_V3(g.vertices[8].position, 11, 0, 0);
+  EXPECT_V3(g.vertices[7].position, 10.5, 1, 0);
+  // Triangle(2,1): P + L = (9,0), P + H = (10,1), P − L = (11,0).
+  EXPECT_V3(g.vertices[8].position, 9, 0, 0);
   EXPECT_V3(g.vertices[9].position, 10, 1, 0);
-  EXPECT_V3(g.vertices[10].position, 9, 0, 0);
+  EXPECT_V3(g.vertices[10].position, 11, 0, 0);
+  // Clockwise seen from +U, as lpfg winds them.
+  auto& v = g.vertices;
+  EXPECT_LT(((v[5].position - v[4].position) % (v[6].position - v[4].position)).z, 0);
+  EXPECT_LT(((v[9].position - v[8].position) % (v[10].position - v[8].position)).z, 0);
   EXPECT_EQ(g.triangleCount(), 2u + 2u + 1u);
 }
 
