@@ -33,6 +33,16 @@ fs::path scratch() {
 
 void writeFile(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
+// A one-patch .s surface: the unit square in the xy plane, control point (i,j) at (j/3, i/3, 0).
+void writeFlatSurface(const fs::path& path) {
+  std::string text = "0 1 0 1 0 0\nCONTACT POINT X: 0 Y: 0 Z: 0\nEND POINT X: 0 Y: 1 Z: 0\n"
+                     "HEADING X: 0 Y: 1 Z: 0\nUP X: 0 Y: 0 Z: 1\nSIZE: 1\nleaf\nTOP COLOR: 1 DIFFUSE: 1 BOTTOM COLOR: 1 DIFFUSE: 1\n"
+                     "AL: ~ A: ~ AR: ~\nL: ~ R: ~\nBL: ~ B: ~ BR: ~\n";
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) text += std::to_string(j / 3.0) + " " + std::to_string(i / 3.0) + " 0\n";
+  writeFile(path, text);
+}
+
 Session& session() {
   static std::unique_ptr<Session> s = [] {
     auto r = Session::create();
@@ -288,12 +298,7 @@ TEST(TurtleGeometry, SurfaceAndMeshFromTheViewFile) {
   fs::path obj = scratch() / "tri.obj";
   writeFile(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   fs::path s = scratch() / "leaf.s";
-  std::string sfile = "0 1 0 1 0 0\nCONTACT POINT X: 0 Y: 0 Z: 0\nEND POINT X: 0 Y: 1 Z: 0\n"
-                      "HEADING X: 0 Y: 1 Z: 0\nUP X: 0 Y: 0 Z: 1\nSIZE: 1\nleaf\nTOP COLOR: 1 DIFFUSE: 1 BOTTOM COLOR: 1 DIFFUSE: 1\n"
-                      "AL: ~ A: ~ AR: ~\nL: ~ R: ~\nBL: ~ B: ~ BR: ~\n";
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) sfile += std::to_string(j / 3.0) + " " + std::to_string(i / 3.0) + " 0\n";
-  writeFile(s, sfile);
+  writeFlatSurface(s);
   Geometry g = draw("shapes", "Left(90) Mesh(0, 2) SetUPrecision(2) SetVPrecision(2) Surface(0, 3)",
                     "mesh: " + obj.string() + "\nsurface: " + s.string() + "\n");
   // After Left(90): H = (-1,0,0), L = (0,-1,0), so −L = (0,1,0). Mesh vertex (1,0,0)·2 → 2·(−L).
@@ -375,12 +380,7 @@ TEST(TurtleGeometry, ElasticityAndSimpleTropism) {
 
 TEST(TurtleGeometry, UserSurfaceAndGetSurface) {
   fs::path s = scratch() / "leaf2.s";
-  std::string sfile = "0 1 0 1 0 0\nCONTACT POINT X: 0 Y: 0 Z: 0\nEND POINT X: 0 Y: 1 Z: 0\n"
-                      "HEADING X: 0 Y: 1 Z: 0\nUP X: 0 Y: 0 Z: 1\nSIZE: 1\nleaf\nTOP COLOR: 1 DIFFUSE: 1 BOTTOM COLOR: 1 DIFFUSE: 1\n"
-                      "AL: ~ A: ~ AR: ~\nL: ~ R: ~\nBL: ~ B: ~ BR: ~\n";
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) sfile += std::to_string(j / 3.0) + " " + std::to_string(i / 3.0) + " 0\n";
-  writeFile(s, sfile);
+  writeFlatSurface(s);
   // DSurface(GetSurface(0)) after f(5): the file's patch in the turtle frame. Then a user patch:
   // 16 SurfacePoints on a 3×3 grid at z = 7, drawn in world coordinates.
   std::string points;
