@@ -138,6 +138,7 @@ class Turtle {
   V3f userPatch_[16] = {};  // InitSurface/SurfacePoint/DrawSurface
 
   std::map<std::pair<int, int>, ContourSamples> rings_;  // by (contour, divisions)
+  std::vector<MeshVertex> ringA_, ringB_;                // drawFrustum's scratch, reused
 };
 
 }  // namespace lcjit::runtime

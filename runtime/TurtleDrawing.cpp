@@ -124,7 +124,10 @@ void Turtle::drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float l
   TurtleState& t = state_;
   float v0 = t.textureV;
   float v1 = v0 + (inCylinder && length == 0 ? t.textureVCoeff : length * t.textureVCoeff);
-  std::vector<MeshVertex> ra, rb;
+  std::vector<MeshVertex>& ra = ringA_;
+  std::vector<MeshVertex>& rb = ringB_;
+  ra.clear();
+  rb.clear();
   ringVertices(a, v0, ra);
   ringVertices(b, v1, rb);
   t.textureV = v1 > 1 ? v1 - 1 : v1;
