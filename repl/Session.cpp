@@ -34,12 +34,16 @@ std::string besideView(const std::string& viewFile, const std::string& name) {
 
 // Loads the graphics inputs. Nothing here is fatal: lpfg reports a bad view file line or an
 // unreadable colormap and goes on drawing with what it has.
-std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files, std::vector<std::string>& warnings) {
-  auto d = std::make_unique<runtime::DrawingFiles>();
+std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files, const ReloadParts& what,
+                                                       const runtime::DrawingFiles* current,
+                                                       std::vector<std::string>& warnings) {
+  // What is not re-read is carried over from the model as it is.
+  auto d = current ? std::make_unique<runtime::DrawingFiles>(*current) : std::make_unique<runtime::DrawingFiles>();
   auto warn = [&](llvm::Error e) {
     if (e) warnings.push_back(llvm::toString(std::move(e)));
   };
-  if (!files.view.empty()) {
+  if (what.view) d->view = runtime::ViewSettings();
+  if (what.view && !files.view.empty()) {
     auto text = frontend::preprocess(files.view, {});
     if (!text) {
       warn(text.takeError());
@@ -49,9 +53,17 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
       for (auto& x : w) warnings.push_back(x.file + ":" + std::to_string(x.line) + ":" + std::to_string(x.column) + ": warning: " + x.message);
     }
   }
+  if (what.parameters) {
+    d->contours = runtime::ContourStore();
+    warn(d->contours.loadFiles(files.contours));
+  }
+  if (!what.rendering) return d;
+  d->palette = runtime::Palette();
   if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap));
   if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));
-  warn(d->contours.loadFiles(files.contours));
+  d->shapes = runtime::ShapeLibrary();
+  d->textures.clear();
+  d->textureFiles.clear();
   for (auto& s : d->view.surfaces) {
     auto surface = runtime::loadSurface(besideView(files.view, s.file));
     if (!surface) {
@@ -145,21 +157,38 @@ Session::~Session() {
   functions_.reset();
 }
 
-llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& times) {
+llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what) {
+  if (!engine_) what = ReloadParts::all();  // nothing to carry over yet
   // Function files first: their names become macros of the model, as in lpfg. lpfg's order:
   // the .fset, the .tset, the .vset, then .func files.
-  auto functions = std::make_unique<runtime::FunctionStore>();
-  if (!files.functionSet.empty())
-    if (auto e = functions->loadFunctionSet(files.functionSet)) return e;
-  if (!files.timeline.empty())
-    if (auto e = functions->loadTimeline(files.timeline)) return e;
-  if (!files.parameters.empty())
-    if (auto e = functions->loadParameters(files.parameters)) return e;
-  for (auto& f : files.functions)
-    if (auto e = functions->loadFunction(f)) return e;
+  auto functions = what.parameters ? std::make_unique<runtime::FunctionStore>()
+                                   : std::make_unique<runtime::FunctionStore>(*functions_);
+  if (what.parameters) {
+    if (!files.functionSet.empty())
+      if (auto e = functions->loadFunctionSet(files.functionSet)) return e;
+    if (!files.timeline.empty())
+      if (auto e = functions->loadTimeline(files.timeline)) return e;
+    if (!files.parameters.empty())
+      if (auto e = functions->loadParameters(files.parameters)) return e;
+    for (auto& f : files.functions)
+      if (auto e = functions->loadFunction(f)) return e;
+  }
 
   std::vector<std::string> warnings;
-  auto drawing = loadDrawingFiles(files, warnings);
+  auto drawing = loadDrawingFiles(files, what, drawing_.get(), warnings);
+  if (!what.lsystem) {
+    // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
+    // the string stays too; only what it is drawn with changes.
+    if (what.parameters) {
+      engine_ = std::make_unique<runtime::Engine>(*model_, functions.get());
+      functions_ = std::move(functions);  // the old engine, which used the old ones, is gone
+    }
+    drawing_ = std::move(drawing);
+    warnings_ = std::move(warnings);
+    engine_->setTurtleSetup(drawing_->turtleSetup());
+    engine_->setCurves(&drawing_->contours);
+    return llvm::Error::success();
+  }
 
   auto t0 = std::chrono::steady_clock::now();
   frontend::PreprocessOptions pp;
@@ -204,6 +233,7 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   engine_.reset();
   code_ = std::move(*code);
   functions_ = std::move(functions);
+  model_ = model;
   engine_ = std::make_unique<runtime::Engine>(*model, functions_.get());
   drawing_ = std::move(drawing);
   warnings_ = std::move(warnings);

@@ -8,6 +8,8 @@
 
 #include "llvm/Support/Error.h"
 
+struct __lc_Model;
+
 namespace lcjit::jit {
 class Compiler;
 class ModelCode;
@@ -38,13 +40,29 @@ struct ModelFiles {
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
 
+// Which input files a load re-reads (manual §1.2.2's table of the New … menu items); the rest is
+// carried over from the loaded model.
+struct ReloadParts {
+  bool lsystem = true;     // re-read and recompile the .l file (and re-run)
+  bool view = true;        // the view file
+  bool rendering = true;   // colormap/materials, surfaces, meshes, textures
+  bool parameters = true;  // functions, contours, timeline, parameters
+  static ReloadParts all() { return {}; }
+  static ReloadParts newLsystem() { return {true, false, true, true}; }
+  static ReloadParts newRun() { return {false, false, true, true}; }
+  static ReloadParts newView() { return {false, true, true, false}; }  // New rendering reads the same
+};
+
 class Session {
  public:
   static llvm::Expected<std::unique_ptr<Session>> create();
   ~Session();
 
   // Reads input files, compiles the model; on error the previous model (if any) stays loaded.
-  llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times);
+  // With `what` less than all, only those files are re-read and the rest carries over: without
+  // `lsystem` the compiled model is kept, and without `parameters` also the engine and its string
+  // (New view / New rendering redraw, they do not re-run).
+  llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what = ReloadParts::all());
   runtime::Engine& engine() { return *engine_; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
@@ -57,6 +75,7 @@ class Session {
   std::unique_ptr<jit::Compiler> compiler_;
   std::unique_ptr<runtime::FunctionStore> functions_;
   std::unique_ptr<jit::ModelCode> code_;
+  const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;
   std::string cpp_;

@@ -1,0 +1,4 @@
+# Session reloads (manual §1.2.2's New … table): which files each reload re-reads.
+add_executable(lcjit_session_test ${CMAKE_CURRENT_LIST_DIR}/session_test.cpp)
+target_link_libraries(lcjit_session_test PRIVATE lcjit_session GTest::gtest_main)
+add_test(NAME session_test COMMAND lcjit_session_test)
