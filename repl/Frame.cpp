@@ -29,6 +29,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+}  // namespace
+
 // Runtime images are stored bottom row first; the renderer takes them as the file shows them.
 std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& d) {
   std::vector<viewer::TextureImage> out;
@@ -44,8 +46,6 @@ std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& d) 
   }
   return out;
 }
-
-}  // namespace
 
 bool isFrameOutput(const std::string& path) { return isImage(path) || runtime::isExportFormat(path); }
 

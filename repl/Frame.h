@@ -5,6 +5,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "llvm/Support/Error.h"
 
@@ -14,11 +15,15 @@ struct DrawingFiles;
 }  // namespace lcjit::runtime
 namespace lcjit::viewer {
 class HeadlessRenderer;
+struct TextureImage;
 }
 
 namespace lcjit {
 
 bool isFrameOutput(const std::string& path);
+
+// The model's textures as the renderer takes them (rows top first).
+std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& drawing);
 
 struct FrameTimes {
   double interpretMs = 0, renderMs = 0;

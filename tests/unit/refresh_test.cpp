@@ -1,0 +1,273 @@
+// Refresh modes (manual §1.1.1 -rmode), the §1.2.2 "New …" table, the §1.3 file-monitoring table,
+// and the inotify watcher on real files.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "FileMonitor.h"
+
+using namespace lcjit;
+namespace fs = std::filesystem;
+using FK = FileKind;
+
+// ---- -rmode, file kinds -------------------------------------------------------------------------
+
+TEST(RefreshMode, Parse) {
+  EXPECT_EQ(parseRefreshMode("expl"), RefreshMode::Explicit);
+  EXPECT_EQ(parseRefreshMode("explicit"), RefreshMode::Explicit);
+  EXPECT_EQ(parseRefreshMode("cont"), RefreshMode::Continuous);
+  EXPECT_EQ(parseRefreshMode("continuous"), RefreshMode::Continuous);
+  EXPECT_EQ(parseRefreshMode("trig"), RefreshMode::Triggered);
+  EXPECT_EQ(parseRefreshMode("triggered"), RefreshMode::Triggered);
+  EXPECT_EQ(parseRefreshMode("Cont"), std::nullopt);
+  EXPECT_EQ(parseRefreshMode(""), std::nullopt);
+}
+
+TEST(FileKinds, ByExtension) {
+  EXPECT_EQ(fileKindOf("dir/plant.l"), FK::LSystem);
+  EXPECT_EQ(fileKindOf("view.v"), FK::View);
+  EXPECT_EQ(fileKindOf("old.dr"), FK::View);
+  EXPECT_EQ(fileKindOf("anim.a"), FK::Animation);
+  EXPECT_EQ(fileKindOf("colors.map"), FK::Colormap);
+  EXPECT_EQ(fileKindOf("m.mat"), FK::Material);
+  EXPECT_EQ(fileKindOf("leaf.s"), FK::Surface);
+  EXPECT_EQ(fileKindOf("bark.rgb"), FK::Texture);
+  EXPECT_EQ(fileKindOf("bark.png"), FK::Texture);
+  EXPECT_EQ(fileKindOf("bark.jpg"), FK::Texture);
+  EXPECT_EQ(fileKindOf("f.func"), FK::Function);
+  EXPECT_EQ(fileKindOf("f.fset"), FK::Function);
+  EXPECT_EQ(fileKindOf("t.tset"), FK::Timeline);
+  EXPECT_EQ(fileKindOf("c.con"), FK::Contour);
+  EXPECT_EQ(fileKindOf("c.cset"), FK::Contour);
+  EXPECT_EQ(fileKindOf("p.vset"), FK::Parameters);
+  EXPECT_EQ(fileKindOf("env.e"), FK::Environment);
+  EXPECT_EQ(fileKindOf("notes.txt"), FK::Other);
+  EXPECT_EQ(fileKindOf("a.dir/noext"), FK::Other);
+  EXPECT_EQ(fileKindOf(".l"), FK::Other);  // a hidden file, not an extension
+  EXPECT_EQ(fileKindOf("plant.L"), FK::Other);
+}
+
+// ---- §1.3: file changed → action (one assertion per row, for each monitoring mode) --------------
+
+class ChangeTable : public ::testing::TestWithParam<RefreshMode> {};
+
+TEST_P(ChangeTable, Rows) {
+  RefreshMode m = GetParam();
+  EXPECT_EQ(actionForChange(FK::LSystem, m), Action::NewLsystem);      // L-system → New L-system
+  EXPECT_EQ(actionForChange(FK::View, m), Action::NewView);            // View → New view
+  EXPECT_EQ(actionForChange(FK::Animation, m), Action::NewAnimate);    // Animate → rereads file only
+  EXPECT_EQ(actionForChange(FK::Colormap, m), Action::NewRendering);   // Colormap → New rendering
+  EXPECT_EQ(actionForChange(FK::Material, m), Action::NewRendering);   // Material → New rendering
+  EXPECT_EQ(actionForChange(FK::Surface, m), Action::NewRendering);    // Surface → New rendering
+  EXPECT_EQ(actionForChange(FK::Texture, m), Action::NewRendering);    // Texture → New rendering
+  EXPECT_EQ(actionForChange(FK::Function, m), Action::NewRun);         // Function → New run
+  EXPECT_EQ(actionForChange(FK::Contour, m), Action::NewRun);          // Contour → New run
+  EXPECT_EQ(actionForChange(FK::Timeline, m), Action::NewRun);         // Timeline → New run
+  EXPECT_EQ(actionForChange(FK::Parameters, m), Action::NewRun);       // Parameters → New run
+  EXPECT_EQ(actionForChange(FK::Environment, m), Action::None);        // not in the table
+  EXPECT_EQ(actionForChange(FK::Other, m), Action::None);
+}
+INSTANTIATE_TEST_SUITE_P(Monitoring, ChangeTable,
+                         ::testing::Values(RefreshMode::Continuous, RefreshMode::Triggered));
+
+TEST(ChangeTable, ExplicitRereadsNothing) {
+  for (FK k : {FK::LSystem, FK::View, FK::Animation, FK::Colormap, FK::Material, FK::Surface, FK::Texture,
+               FK::Function, FK::Contour, FK::Timeline, FK::Parameters, FK::Environment, FK::Other})
+    EXPECT_EQ(actionForChange(k, RefreshMode::Explicit), Action::None) << toString(k);
+}
+
+// ---- §1.2.2 summary table (one assertion per row) ------------------------------------------------
+
+namespace {
+const std::set<FK> kColours = {FK::Colormap, FK::Material, FK::Surface, FK::Texture};
+const std::set<FK> kData = {FK::Function, FK::Contour, FK::Timeline, FK::Parameters};
+std::set<FK> unite(std::initializer_list<std::set<FK>> parts) {
+  std::set<FK> out;
+  for (const auto& p : parts) out.insert(p.begin(), p.end());
+  return out;
+}
+}  // namespace
+
+TEST(MenuTable, FilesReadBy) {
+  // New model: L-system, view, colours/surfaces/textures, functions/contours/timeline/parameters
+  // (+ the animation and environment files: "re-read all input files").
+  EXPECT_EQ(filesReadBy(Action::NewModel),
+            unite({{FK::LSystem, FK::View, FK::Animation, FK::Environment}, kColours, kData}));
+  // New L-system: all but the view and animation files.
+  EXPECT_EQ(filesReadBy(Action::NewLsystem), unite({{FK::LSystem}, kColours, kData}));
+  // New run: colours… and functions…, not the L-system, view or animation files.
+  EXPECT_EQ(filesReadBy(Action::NewRun), unite({kColours, kData}));
+  // New view: view + colours/surfaces/textures.
+  EXPECT_EQ(filesReadBy(Action::NewView), unite({{FK::View}, kColours}));
+  // New rendering: the same files as New view.
+  EXPECT_EQ(filesReadBy(Action::NewRendering), unite({{FK::View}, kColours}));
+  // New animate (§1.2.3): the animation file.
+  EXPECT_EQ(filesReadBy(Action::NewAnimate), std::set<FK>{FK::Animation});
+  EXPECT_TRUE(filesReadBy(Action::None).empty());
+}
+
+TEST(MenuTable, ResetColumns) {
+  // Reset view: New model, New view.      Reset rendering: New model, New view, New rendering.
+  // Re-run: New model, New L-system, New run.
+  struct Row { Action a; bool view, rendering, rerun; };
+  for (Row r : {Row{Action::NewModel, true, true, true}, Row{Action::NewLsystem, false, false, true},
+                Row{Action::NewRun, false, false, true}, Row{Action::NewView, true, true, false},
+                Row{Action::NewRendering, false, true, false}, Row{Action::NewAnimate, false, false, false}}) {
+    EXPECT_EQ(resetsView(r.a), r.view) << toString(r.a);
+    EXPECT_EQ(resetsRendering(r.a), r.rendering) << toString(r.a);
+    EXPECT_EQ(rerunsSimulation(r.a), r.rerun) << toString(r.a);
+  }
+}
+
+TEST(MenuTable, ActionsForABatch) {
+  using V = std::vector<Action>;
+  auto m = RefreshMode::Continuous;
+  EXPECT_EQ(actionsForChanges({"a.l", "b.func", "c.map"}, m), (V{Action::NewLsystem}));
+  EXPECT_EQ(actionsForChanges({"a.l", "v.v"}, m), (V{Action::NewLsystem, Action::NewView}));
+  EXPECT_EQ(actionsForChanges({"b.func", "v.v", "c.map"}, m), (V{Action::NewRun, Action::NewView}));
+  EXPECT_EQ(actionsForChanges({"c.map", "t.png"}, m), (V{Action::NewRendering}));
+  EXPECT_EQ(actionsForChanges({"c.map", "v.v"}, m), (V{Action::NewView}));
+  EXPECT_EQ(actionsForChanges({"c.map", "p.vset"}, m), (V{Action::NewRun}));
+  EXPECT_EQ(actionsForChanges({"x.a", "a.l"}, m), (V{Action::NewAnimate, Action::NewLsystem}));
+  EXPECT_EQ(actionsForChanges({"env.e", "notes.txt"}, m), V{});
+  EXPECT_EQ(actionsForChanges({"a.l"}, RefreshMode::Explicit), V{});
+}
+
+// ---- the watcher ---------------------------------------------------------------------------------
+
+namespace {
+
+class Watcher : public ::testing::Test {
+ protected:
+  fs::path dir;
+  void SetUp() override {
+    std::string tmpl = (fs::temp_directory_path() / "lcjit_refresh_XXXXXX").string();
+    ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
+    dir = tmpl;
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  void write(const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::trunc) << text;
+  }
+  std::string path(const char* name) { return (dir / name).string(); }
+};
+
+}  // namespace
+
+TEST_F(Watcher, WriteIsSeen) {
+  write(dir / "plant.l", "a");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("plant.l"), path("view.v")})) << mon.error();
+  EXPECT_TRUE(mon.poll(0).empty());
+  write(dir / "plant.l", "b");
+  auto t0 = std::chrono::steady_clock::now();
+  auto changed = mon.poll(3000);
+  auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(changed, std::vector<std::string>{path("plant.l")});
+  EXPECT_LT(ms, 1500);
+  EXPECT_GE(ms, 80);  // waited for the quiet period
+  EXPECT_TRUE(mon.poll(200).empty());  // reported once
+}
+
+TEST_F(Watcher, RenameOverIsSeen) {
+  write(dir / "view.v", "scale: 1\n");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("view.v")}));
+  write(dir / ".view.v.swp", "scale: 2\n");
+  fs::rename(dir / ".view.v.swp", dir / "view.v");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("view.v")});
+  // Watching survives the inode change: a second rename-over is seen too.
+  write(dir / "view.v.tmp", "scale: 3\n");
+  fs::rename(dir / "view.v.tmp", dir / "view.v");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("view.v")});
+}
+
+TEST_F(Watcher, FileCreatedLaterIsSeen) {
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("anim.a")}));
+  write(dir / "anim.a", "step: 2\n");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("anim.a")});
+}
+
+TEST_F(Watcher, BurstIsOneChange) {
+  write(dir / "f.func", "0");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("f.func")}));
+  for (int i = 0; i < 5; ++i) {
+    write(dir / "f.func", std::to_string(i));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("f.func")});
+  EXPECT_TRUE(mon.poll(300).empty());
+}
+
+TEST_F(Watcher, NonBlockingPollKeepsPendingChange) {
+  write(dir / "c.map", "x");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("c.map")}));
+  write(dir / "c.map", "y");
+  auto t0 = std::chrono::steady_clock::now();
+  EXPECT_TRUE(mon.poll(0).empty());  // still within the quiet period
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(mon.poll(0), std::vector<std::string>{path("c.map")});
+}
+
+TEST_F(Watcher, UnrelatedFileNotReported) {
+  write(dir / "plant.l", "a");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("plant.l")}));
+  write(dir / "notes.txt", "hello");
+  write(dir / "plant.l.tmp", "x");
+  write(dir / "lsys.ii", "x");
+  fs::create_directory(dir / "sub");
+  EXPECT_TRUE(mon.poll(400).empty());
+}
+
+TEST_F(Watcher, SeveralFilesEachOnceInWatchOrder) {
+  write(dir / "a.l", "1");
+  write(dir / "b.v", "1");
+  fs::create_directory(dir / "sub");
+  write(dir / "sub" / "c.map", "1");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("a.l"), path("b.v"), (dir / "sub" / "c.map").string()}));
+  write(dir / "sub" / "c.map", "2");
+  write(dir / "a.l", "2");
+  write(dir / "a.l", "3");
+  auto changed = mon.poll(3000);
+  EXPECT_EQ(changed, (std::vector<std::string>{path("a.l"), (dir / "sub" / "c.map").string()}));
+}
+
+TEST_F(Watcher, MissingDirectoryIsAnErrorOthersStillWatched) {
+  write(dir / "a.l", "1");
+  FileMonitor mon;
+  EXPECT_FALSE(mon.watch({(dir / "nodir" / "x.v").string(), path("a.l")}));
+  EXPECT_FALSE(mon.error().empty());
+  write(dir / "a.l", "2");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("a.l")});
+}
+
+TEST_F(Watcher, RewatchAndClear) {
+  write(dir / "a.l", "1");
+  write(dir / "b.l", "1");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("a.l")}));
+  ASSERT_TRUE(mon.watch({path("b.l")}));
+  write(dir / "a.l", "2");
+  EXPECT_TRUE(mon.poll(300).empty());
+  write(dir / "b.l", "2");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("b.l")});
+  mon.clear();
+  write(dir / "b.l", "3");
+  EXPECT_TRUE(mon.poll(100).empty());
+  EXPECT_TRUE(mon.poll(-1).empty());  // nothing watched: returns at once
+}
