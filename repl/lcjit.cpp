@@ -14,6 +14,8 @@
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
+#include "Interactive.h"
+#include "Window.h"
 #include "Session.h"
 
 namespace {
@@ -111,11 +113,24 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (emitCpp || compileOnly) return 0;
-  (void)haveDisplay;
   if (!batch && out.empty()) {
-    // No window yet (issue 4): show the model as a picture beside it instead.
+    if (haveDisplay) {
+      lcjit::viewer::WindowOptions w;
+      if (winSize.size() == 2) w.width = (int)winSize[0], w.height = (int)winSize[1];
+      if (winPos.size() == 2) w.position = std::make_pair((int)winPos[0], (int)winPos[1]);
+      if (winSizeRel.size() == 2) w.relW = winSizeRel[0], w.relH = winSizeRel[1];
+      if (winPosRel.size() == 2) w.relX = winPosRel[0], w.relY = winPosRel[1];
+      w.borderless = noBorder;
+      w.title = "lcjit: " + std::filesystem::path(files->lsystem).filename().string();
+      lcjit::InteractiveOptions io;
+      io.optLevel = optLevel;
+      io.quiet = quiet;
+      if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
+      return lcjit::runInteractive(**session, *files, w, io);
+    }
+    // No display: show the model as a picture beside it instead.
     out = std::filesystem::path(files->lsystem).stem().string() + ".png";
-    if (!quiet) std::fprintf(stderr, "lcjit: the interactive viewer is not built yet; writing %s\n", out.c_str());
+    if (!quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", out.c_str());
   }
   lcjit::FrameWriter frames(winSize.size() == 2 ? (int)winSize[0] : 800, winSize.size() == 2 ? (int)winSize[1] : 800);
 

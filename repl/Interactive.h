@@ -1,0 +1,26 @@
+// The interactive mode (manual §1.2): the model's picture in the lcjit window; the main menu's
+// New … items reload through the Session (exactly the files of §1.2.2's table) and a broken edit
+// keeps the last good model on screen.
+#pragma once
+#include <string>
+
+#include "FileMonitor.h"
+#include "Session.h"
+
+namespace lcjit::viewer {
+struct WindowOptions;
+}
+
+namespace lcjit {
+
+struct InteractiveOptions {
+  int optLevel = 1;
+  bool quiet = false;
+  RefreshMode refresh = RefreshMode::Explicit;  // -rmode: continuous/triggered watch the files
+};
+
+// Runs until the window closes; returns the process exit status.
+int runInteractive(Session& session, const ModelFiles& files, const viewer::WindowOptions& window,
+                   const InteractiveOptions& options);
+
+}  // namespace lcjit

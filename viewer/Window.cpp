@@ -1,0 +1,618 @@
+// The interactive window (Window.h): GLFW + the Renderer + Dear ImGui (1.86, Debian's libimgui
+// with its GLFW and OpenGL 3 backends) for the main menu.
+//
+// Input: GLFW's callbacks only call Window::inject*; the window keeps its own mouse state and
+// hands it to ImGui each frame (ImGui's GLFW backend would poll the real pointer, which a test
+// driving the window cannot move). Mouse drags follow lpfg's tasks (viewtask.cpp): the task is
+// chosen when the button goes down, from the button and the modifiers, and each cursor motion
+// applies its delta at once, so a drag gives the same view whatever the frame rate.
+#include "Window.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include <epoxy/gl.h>
+// GLFW after epoxy: no GL header of its own.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "imgui.h"
+#include "backends/imgui_impl_glfw.h"
+#include "backends/imgui_impl_opengl3.h"
+
+namespace lcjit::viewer {
+namespace {
+
+llvm::Error error(const std::string& message) {
+  return llvm::make_error<llvm::StringError>(message, llvm::inconvertibleErrorCode());
+}
+
+std::string& glfwLastError() {
+  static std::string e;
+  return e;
+}
+
+void onGlfwError(int code, const char* text) {
+  glfwLastError() = "GLFW error " + std::to_string(code) + ": " + (text ? text : "");
+}
+
+bool initGlfw() {
+  static bool ok = [] {
+    glfwSetErrorCallback(onGlfwError);
+    return glfwInit() == GLFW_TRUE;
+  }();
+  return ok;
+}
+
+std::string lowerExtension(const std::string& path) {
+  size_t dot = path.rfind('.');
+  size_t slash = path.find_last_of("/\\");
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string e = path.substr(dot);
+  for (char& c : e) c = char(std::tolower((unsigned char)c));
+  return e;
+}
+
+// lpfg's internal scale for view 0 (Camera.cpp's rule): the zoom limits apply to it.
+float baseScale(const runtime::ViewSettings& view) {
+  float scale = std::fabs(view.scale) > 1e-6f ? 1.0f / view.scale : 1.0f / 0.9f;
+  for (const runtime::ViewDefinition& d : view.views)
+    if (d.id == 0 && d.scale && std::fabs(*d.scale) > 1e-6f) scale = 1.0f / *d.scale;
+  return scale;
+}
+
+const char* kMenuId = "lcjit main menu";
+const char* kSaveId = "Save as";
+
+}  // namespace
+
+bool isImageFileName(const std::string& path) {
+  std::string e = lowerExtension(path);
+  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp";
+}
+
+enum class Task { Idle, Rotate, Pan, Zoom, Frustum, Roll };
+
+struct Window::Impl {
+  GLFWwindow* window = nullptr;
+  ImGuiContext* imgui = nullptr;
+  std::unique_ptr<Renderer> renderer;
+
+  // The scene.
+  bool hasScene = false;
+  runtime::ViewSettings view;
+  runtime::Bounds bounds;
+  std::optional<runtime::CameraPose> pose;
+
+  // The user's adjustment of lpfg's framing.
+  runtime::ViewAdjustment adjust;
+  float frustum = 1;  // multiplies the near clipping distance (lpfg FrustumBy)
+  runtime::CameraMatrices camera;
+
+  // Input.
+  double cursorX = 0, cursorY = 0;
+  bool down[3] = {false, false, false}, justPressed[3] = {false, false, false};
+  Task task = Task::Idle;
+  double lastX = 0, lastY = 0;
+
+  // Menu.
+  bool openMenu = false, menuIsOpen = false;
+  bool openSave = false, saveIsOpen = false, focusSaveField = false;
+  bool wantMouse = false;  // ImGui wanted the mouse at the end of the last frame
+  std::array<char, 1024> saveName{};
+  std::map<std::string, std::array<float, 4>> itemRects;
+  std::string saveError;
+
+  // Offscreen target of grabImage().
+  GLuint fbo = 0, colorRb = 0, depthRb = 0;
+  int fboW = 0, fboH = 0;
+
+  ~Impl() {
+    if (!window) return;
+    glfwMakeContextCurrent(window);
+    if (fbo) glDeleteFramebuffers(1, &fbo);
+    if (colorRb) glDeleteRenderbuffers(1, &colorRb);
+    if (depthRb) glDeleteRenderbuffers(1, &depthRb);
+    renderer.reset();
+    if (imgui) {
+      ImGui::SetCurrentContext(imgui);
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+      ImGui::DestroyContext(imgui);
+    }
+    glfwDestroyWindow(window);
+  }
+
+  void makeCurrent() {
+    if (glfwGetCurrentContext() != window) glfwMakeContextCurrent(window);
+    ImGui::SetCurrentContext(imgui);
+  }
+
+  std::pair<int, int> fbSize() const {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window, &w, &h);
+    return {std::max(w, 1), std::max(h, 1)};
+  }
+  // Framebuffer pixels per window coordinate (HiDPI).
+  float pixelRatio() const {
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(window, &ww, &wh);
+    return ww > 0 ? float(fbSize().first) / float(ww) : 1.0f;
+  }
+
+  runtime::CameraMatrices frame(const runtime::ViewAdjustment& a, float frustumFactor) const {
+    auto [w, h] = fbSize();
+    runtime::CameraMatrices cam = runtime::frameView(view, bounds, pose, w, h, 0, a);
+    if (cam.perspective && frustumFactor != 1.0f) {
+      // lpfg Projection::FrustumBy: the near clipping distance scales, the eye follows, the
+      // field of view stays.
+      const float onc = cam.zShift - cam.halfDepth;
+      const float nc = std::max(onc * frustumFactor, 0.001f);
+      const float zShift = nc + cam.halfDepth;
+      const float tanHalf = 1.0f / cam.projection[1][1];
+      const float fovy = 2.0f * std::atan(tanHalf);
+      cam.zShift = zShift;
+      cam.eye = cam.lookAt - zShift * cam.viewDirection;
+      cam.view = glm::lookAt(cam.eye, cam.lookAt, cam.up);
+      cam.projection = glm::perspective(fovy, float(w) / float(h), std::max(zShift - cam.halfDepth, 0.001f),
+                                        zShift + cam.halfDepth);
+      cam.unitsPerPixel = 2.0f * zShift * tanHalf / h;
+    }
+    return cam;
+  }
+  void updateCamera() { camera = frame(adjust, frustum); }
+
+  // --- lpfg's view tasks (projection.cpp), deltas in lpfg's signs --------------------------
+  // RotateBy(0.1·dx, −0.1·dy) on half angles, applied as q⁻¹·v·q: the view turns by −0.2·dx°
+  // about the initial up axis and by +0.2·dy° about the current left (= screen right) axis.
+  void rotateBy(double dx, double dy) {
+    const runtime::CameraMatrices base = frame({}, 1);
+    const glm::vec3 upAxis = base.up;
+    const glm::vec3 left = glm::normalize(glm::cross(camera.viewDirection, camera.up));
+    glm::mat4 step = glm::rotate(glm::mat4(1), glm::radians(float(-0.2 * dx)), upAxis) *
+                     glm::rotate(glm::mat4(1), glm::radians(float(0.2 * dy)), left);
+    adjust.rotation = step * adjust.rotation;
+    updateCamera();
+  }
+  // RollBy(0.5·(lastX − x)): −(lastX − x)° about the view direction.
+  void rollBy(double dxLpfg) {
+    adjust.rotation = glm::rotate(glm::mat4(1), glm::radians(float(-dxLpfg)), camera.viewDirection) * adjust.rotation;
+    updateCamera();
+  }
+  // ZoomBy(dy), dy = y − lastY: lpfg's scale ×1.01^dy, clamped to [min zoom, max zoom].
+  void zoomBy(double dy) {
+    const float base = baseScale(view);
+    const float lo = std::min(view.minZoom, view.maxZoom), hi = std::max(view.minZoom, view.maxZoom);
+    float scale = base / adjust.zoom * std::pow(1.01f, float(dy));
+    scale = std::clamp(scale, lo, hi);
+    adjust.zoom = base / scale;
+    updateCamera();
+  }
+  // FrustumBy(dy): the near distance ×1.01^dy (perspective only).
+  void frustumBy(double dy) {
+    if (!camera.perspective) return;
+    const float onc = camera.zShift - camera.halfDepth;  // with the current factor
+    float f = frustum * std::pow(1.01f, float(dy));
+    const float baseOnc = onc / frustum;
+    if (baseOnc > 0 && baseOnc * f < 0.001f) f = 0.001f / baseOnc;
+    frustum = f;
+    updateCamera();
+  }
+  // PanBy(dx, dy), dy upwards: the look-at point moves against the mouse by a pixel's worth of
+  // model units per pixel, so the model follows the pointer.
+  void panBy(double dx, double dy) {
+    const glm::vec3 left = glm::normalize(glm::cross(camera.viewDirection, camera.up));
+    const float upp = camera.unitsPerPixel * pixelRatio();
+    adjust.pan -= upp * (float(dy) * camera.up + float(dx) * left);
+    updateCamera();
+  }
+
+  bool uiHasMouse() const { return menuIsOpen || saveIsOpen || wantMouse; }
+
+  void onCursor(double x, double y) {
+    const double dx = x - lastX, dyUp = lastY - y, dyDown = y - lastY;
+    cursorX = x;
+    cursorY = y;
+    if (task == Task::Idle || (dx == 0 && dyUp == 0)) return;
+    switch (task) {
+      case Task::Rotate: rotateBy(dx, dyUp); break;
+      case Task::Pan: panBy(dx, dyUp); break;
+      case Task::Zoom: zoomBy(dyDown); break;
+      case Task::Frustum: frustumBy(dyDown); break;
+      case Task::Roll: rollBy(-dx); break;
+      case Task::Idle: break;
+    }
+    lastX = x;
+    lastY = y;
+  }
+
+  void onButton(int button, int action, int mods) {
+    if (button < 0 || button > 2) return;
+    if (action == GLFW_PRESS) {
+      down[button] = true;
+      justPressed[button] = true;
+    } else if (action == GLFW_RELEASE) {
+      down[button] = false;
+    }
+    if (action == GLFW_RELEASE) {
+      task = Task::Idle;
+      return;
+    }
+    if (action != GLFW_PRESS) return;
+    const bool shift = mods & GLFW_MOD_SHIFT;
+    const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
+    const bool alt = mods & GLFW_MOD_ALT;
+    if (button == GLFW_MOUSE_BUTTON_RIGHT) {
+      if (!saveIsOpen) openMenu = true;
+      task = Task::Idle;
+      return;
+    }
+    if (uiHasMouse()) return;  // the menu or the dialog takes the click
+    lastX = cursorX;
+    lastY = cursorY;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+      // lpfg GLWidget::LBDown; Ctrl+Shift, Shift+Alt and Ctrl+Alt are lpfg's mouse insertion
+      // and mouse status (model interaction), not view manipulation.
+      if ((ctrl && shift) || (shift && alt) || (ctrl && alt)) task = Task::Idle;
+      else if (shift) task = Task::Pan;
+      else if (ctrl || alt) task = Task::Zoom;
+      else task = Task::Rotate;
+    } else {  // middle: GLWidget::MBDown
+      if (ctrl) task = camera.perspective ? Task::Frustum : Task::Idle;
+      else if (shift) task = Task::Roll;
+      else task = Task::Zoom;
+    }
+  }
+
+  void onScroll(double, double dy) {
+    if (uiHasMouse()) return;
+    zoomBy(-10.0 * dy);  // a wheel notch up: 10 pixels of upward zoom drag
+  }
+
+  // Draws the scene into the bound framebuffer at the current camera.
+  void drawScene() {
+    if (hasScene) {
+      renderer->draw(view, camera, {});
+    } else {
+      auto [w, h] = fbSize();
+      glViewport(0, 0, w, h);
+      glClearColor(0, 0, 0, 1);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+  }
+
+  void save(const std::string& path, const MenuActions& actions, Window& self) {
+    saveError.clear();
+    if (path.empty()) {
+      saveError = "no file name";
+    } else if (isImageFileName(path)) {
+      if (llvm::Error e = self.saveImage(path)) saveError = llvm::toString(std::move(e));
+    } else if (actions.saveAs) {
+      actions.saveAs(path);
+    } else {
+      saveError = "cannot save " + path + ": not an image (.png .jpg .jpeg .bmp)";
+    }
+    if (!saveError.empty()) std::fprintf(stderr, "lcjit: %s\n", saveError.c_str());
+  }
+
+  void menuItem(const char* label, const std::function<void()>& action, std::function<void()>& chosen) {
+    if (ImGui::MenuItem(label, nullptr, false, bool(action))) chosen = action;
+    ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    itemRects[label] = {a.x, a.y, b.x, b.y};
+  }
+};
+
+Window::Window(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Window::~Window() = default;
+
+llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
+  if (!initGlfw())
+    return error("cannot open a window: " + (glfwLastError().empty() ? std::string("glfwInit failed") : glfwLastError()) +
+                 " (is DISPLAY set?)");
+  int width = o.width, height = o.height;
+  int x = -1, y = -1;
+  if (o.position) std::tie(x, y) = *o.position;
+  if (GLFWmonitor* m = glfwGetPrimaryMonitor()) {
+    if (const GLFWvidmode* mode = glfwGetVideoMode(m)) {
+      if (o.relW > 0) width = int(std::lround(o.relW * mode->width));
+      if (o.relH > 0) height = int(std::lround(o.relH * mode->height));
+      if (o.relX >= 0) x = int(std::lround(o.relX * mode->width));
+      if (o.relY >= 0) y = int(std::lround(o.relY * mode->height));
+    }
+  }
+  width = std::max(width, 1);
+  height = std::max(height, 1);
+
+  glfwDefaultWindowHints();
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+#ifdef __APPLE__
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+#endif
+  glfwWindowHint(GLFW_DEPTH_BITS, 24);
+  glfwWindowHint(GLFW_DECORATED, o.borderless ? GLFW_FALSE : GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, o.visible ? GLFW_TRUE : GLFW_FALSE);
+  glfwLastError().clear();
+  GLFWwindow* win = glfwCreateWindow(width, height, o.title.c_str(), nullptr, nullptr);
+  if (!win) {
+    // Some servers give no core profile: any context ≥ 3.3 will do.
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_ANY_PROFILE);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 1);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 0);
+    win = glfwCreateWindow(width, height, o.title.c_str(), nullptr, nullptr);
+  }
+  if (!win) return error("cannot open a window: " + glfwLastError());
+  auto impl = std::make_unique<Impl>();
+  impl->window = win;
+  glfwMakeContextCurrent(win);
+  if (epoxy_gl_version() < 33) {
+    std::string v = std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10);
+    return error("the window's OpenGL context is " + v + ", 3.3 is needed");
+  }
+  if (x >= 0 && y >= 0) glfwSetWindowPos(win, x, y);
+  glfwSwapInterval(o.vsync ? 1 : 0);
+
+  impl->imgui = ImGui::CreateContext();
+  ImGui::SetCurrentContext(impl->imgui);
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  io.LogFilename = nullptr;
+  ImGui::StyleColorsLight();
+  ImGui_ImplGlfw_InitForOpenGL(win, false);  // our callbacks forward to ImGui
+  ImGui_ImplOpenGL3_Init("#version 330");
+  impl->renderer = std::make_unique<Renderer>();
+
+  std::unique_ptr<Window> w(new Window(std::move(impl)));
+  glfwSetWindowUserPointer(win, w.get());
+  glfwSetCursorPosCallback(win, [](GLFWwindow* gw, double px, double py) {
+    static_cast<Window*>(glfwGetWindowUserPointer(gw))->injectCursor(px, py);
+  });
+  glfwSetMouseButtonCallback(win, [](GLFWwindow* gw, int b, int a, int m) {
+    static_cast<Window*>(glfwGetWindowUserPointer(gw))->injectMouseButton(b, a, m);
+  });
+  glfwSetScrollCallback(win, [](GLFWwindow* gw, double dx, double dy) {
+    static_cast<Window*>(glfwGetWindowUserPointer(gw))->injectScroll(dx, dy);
+  });
+  glfwSetKeyCallback(win, [](GLFWwindow* gw, int k, int, int a, int m) {
+    static_cast<Window*>(glfwGetWindowUserPointer(gw))->injectKey(k, a, m);
+  });
+  glfwSetCharCallback(win, [](GLFWwindow* gw, unsigned c) {
+    static_cast<Window*>(glfwGetWindowUserPointer(gw))->injectChar(c);
+  });
+  glfwSetWindowFocusCallback(win, [](GLFWwindow* gw, int f) {
+    Window* self = static_cast<Window*>(glfwGetWindowUserPointer(gw));
+    ImGui::SetCurrentContext(self->impl_->imgui);
+    ImGui_ImplGlfw_WindowFocusCallback(gw, f);
+  });
+  w->impl_->updateCamera();
+  return std::move(w);
+}
+
+void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
+                      const std::vector<TextureImage>& textures) {
+  Impl& m = *impl_;
+  m.makeCurrent();
+  m.view = view;
+  m.bounds = geometry.framingBounds();
+  m.pose = geometry.camera;
+  m.renderer->setPalette(palette);
+  m.renderer->setTextures(textures);
+  m.renderer->setGeometry(geometry);
+  m.hasScene = true;
+  // A view file with other zoom limits: keep the zoom within them.
+  m.zoomBy(0);
+}
+
+void Window::resetView() {
+  impl_->adjust = {};
+  impl_->frustum = 1;
+  impl_->updateCamera();
+}
+
+bool Window::frame(const MenuActions& actions) {
+  Impl& m = *impl_;
+  glfwPollEvents();
+  if (glfwWindowShouldClose(m.window)) return false;
+  m.makeCurrent();
+  m.updateCamera();  // the framebuffer may have been resized
+
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGuiIO& io = ImGui::GetIO();
+  io.MousePos = ImVec2(float(m.cursorX), float(m.cursorY));
+  for (int i = 0; i < 3; ++i) {
+    io.MouseDown[i] = m.down[i] || m.justPressed[i];
+    m.justPressed[i] = false;
+  }
+  ImGui::NewFrame();
+
+  std::function<void()> chosen;
+  bool exitChosen = false;
+  if (m.openMenu) {
+    ImGui::OpenPopup(kMenuId);
+    m.openMenu = false;
+  }
+  m.menuIsOpen = false;
+  if (ImGui::BeginPopup(kMenuId)) {
+    m.menuIsOpen = true;
+    m.itemRects.clear();
+    // lpfg §1.2.2. String input/output, Animate and Refresh mode are not offered yet.
+    m.menuItem("New model", actions.newModel, chosen);
+    m.menuItem("New L-system", actions.newLsystem, chosen);
+    m.menuItem("New run", actions.newRun, chosen);
+    m.menuItem("New view", actions.newView, chosen);
+    m.menuItem("New rendering", actions.newRendering, chosen);
+    ImGui::Separator();
+    std::function<void()> save, saveAs, exit;
+    const std::string saveName = actions.saveName;
+    if (!saveName.empty() && (isImageFileName(saveName) || actions.saveAs))
+      save = [&m, &actions, saveName, this] { m.save(saveName, actions, *this); };
+    saveAs = [&m, saveName] {
+      std::snprintf(m.saveName.data(), m.saveName.size(), "%s", saveName.c_str());
+      m.openSave = true;
+    };
+    m.menuItem("Save", save, chosen);
+    m.menuItem("Save as...", saveAs, chosen);
+    ImGui::Separator();
+    if (actions.exit) exit = [&exitChosen, &actions] { exitChosen = true; actions.exit(); };
+    m.menuItem("Exit", exit, chosen);
+    ImGui::EndPopup();
+  }
+  m.menuIsOpen = ImGui::IsPopupOpen(kMenuId);
+
+  if (m.openSave) {
+    ImGui::OpenPopup(kSaveId);
+    m.openSave = false;
+    m.focusSaveField = true;
+  }
+  m.saveIsOpen = false;
+  std::string saveTo;
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x * 0.5f, io.DisplaySize.y * 0.5f), ImGuiCond_Appearing,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal(kSaveId, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    m.saveIsOpen = true;
+    ImGui::TextUnformatted("File name (the extension chooses the format):");
+    ImGui::TextDisabled(".png .jpg .bmp: the picture; .obj .ply .stl .gltf .glb .svg .ps .eps .pov .strb: %s",
+                        actions.saveAs ? "the model" : "not available");
+    if (m.focusSaveField) {
+      ImGui::SetKeyboardFocusHere();
+      m.focusSaveField = false;
+    }
+    ImGui::SetNextItemWidth(420);
+    bool enter = ImGui::InputText("##file", m.saveName.data(), m.saveName.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+    ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    m.itemRects["##file"] = {a.x, a.y, b.x, b.y};
+    bool ok = ImGui::Button("Save");
+    a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    m.itemRects["Save##dialog"] = {a.x, a.y, b.x, b.y};
+    ImGui::SameLine();
+    bool cancel = ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape));
+    a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    m.itemRects["Cancel##dialog"] = {a.x, a.y, b.x, b.y};
+    if (enter || ok) saveTo = m.saveName.data();
+    if (enter || ok || cancel) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  m.saveIsOpen = ImGui::IsPopupOpen(kSaveId);
+  ImGui::Render();
+  m.wantMouse = io.WantCaptureMouse;
+
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  m.drawScene();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  glfwSwapBuffers(m.window);
+
+  // Actions run after the frame: they may replace the scene (setScene) or reset the view.
+  if (chosen) chosen();
+  if (!saveTo.empty()) m.save(saveTo, actions, *this);
+  return !exitChosen && !glfwWindowShouldClose(m.window);
+}
+
+llvm::Expected<Image> Window::grabImage() {
+  Impl& m = *impl_;
+  m.makeCurrent();
+  m.updateCamera();
+  auto [w, h] = m.fbSize();
+  if (!m.fbo || m.fboW != w || m.fboH != h) {
+    if (!m.fbo) {
+      glGenFramebuffers(1, &m.fbo);
+      glGenRenderbuffers(1, &m.colorRb);
+      glGenRenderbuffers(1, &m.depthRb);
+    }
+    glBindRenderbuffer(GL_RENDERBUFFER, m.colorRb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, m.depthRb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m.colorRb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.depthRb);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      return error("cannot create the offscreen framebuffer for the picture");
+    }
+    m.fboW = w;
+    m.fboH = h;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+  m.drawScene();
+  if (m.hasScene && !m.renderer->lastError().empty()) {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return error("rendering: " + m.renderer->lastError());
+  }
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.rgba.resize(size_t(w) * h * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, m.fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const size_t row = size_t(w) * 4;  // GL's rows go bottom to top
+  std::vector<uint8_t> tmp(row);
+  for (int yy = 0; yy < h / 2; ++yy) {
+    uint8_t* a = &img.rgba[row * yy];
+    uint8_t* b = &img.rgba[row * (h - 1 - yy)];
+    std::memcpy(tmp.data(), a, row);
+    std::memcpy(a, b, row);
+    std::memcpy(b, tmp.data(), row);
+  }
+  if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
+  return img;
+}
+
+llvm::Error Window::saveImage(const std::string& path) {
+  if (!isImageFileName(path)) return error("cannot save the picture as " + path + ": use .png, .jpg, .jpeg or .bmp");
+  llvm::Expected<Image> img = grabImage();
+  if (!img) return img.takeError();
+  return writeImage(*img, path);
+}
+
+std::pair<int, int> Window::framebufferSize() const { return impl_->fbSize(); }
+std::pair<int, int> Window::windowSize() const {
+  int w = 0, h = 0;
+  glfwGetWindowSize(impl_->window, &w, &h);
+  return {w, h};
+}
+const runtime::CameraMatrices& Window::camera() const { return impl_->camera; }
+const runtime::ViewAdjustment& Window::adjustment() const { return impl_->adjust; }
+float Window::frustumFactor() const { return impl_->frustum; }
+const Renderer& Window::renderer() const { return *impl_->renderer; }
+std::string Window::glRenderer() const {
+  impl_->makeCurrent();
+  const char* s = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return s ? s : "";
+}
+
+void Window::injectCursor(double x, double y) { impl_->onCursor(x, y); }
+void Window::injectMouseButton(int button, int action, int mods) { impl_->onButton(button, action, mods); }
+void Window::injectScroll(double dx, double dy) {
+  ImGui::SetCurrentContext(impl_->imgui);
+  ImGui_ImplGlfw_ScrollCallback(impl_->window, dx, dy);
+  impl_->onScroll(dx, dy);
+}
+void Window::injectKey(int key, int action, int mods) {
+  ImGui::SetCurrentContext(impl_->imgui);
+  ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, action, mods);
+}
+void Window::injectChar(unsigned codepoint) {
+  ImGui::SetCurrentContext(impl_->imgui);
+  ImGui_ImplGlfw_CharCallback(impl_->window, codepoint);
+}
+
+bool Window::menuOpen() const { return impl_->menuIsOpen; }
+bool Window::saveDialogOpen() const { return impl_->saveIsOpen; }
+std::optional<std::array<float, 4>> Window::menuItemRect(const std::string& label) const {
+  auto it = impl_->itemRects.find(label);
+  if (it == impl_->itemRects.end()) return std::nullopt;
+  return it->second;
+}
+const std::string& Window::lastSaveError() const { return impl_->saveError; }
+
+}  // namespace lcjit::viewer

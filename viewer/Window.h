@@ -1,0 +1,119 @@
+// The interactive window: a GLFW window with an OpenGL 3.3 core context, the same Renderer as
+// headless rendering (one renderer, two surfaces), lpfg's view manipulation (manual §1.2.1) and
+// lpfg's main menu (§1.2.2) as a Dear ImGui popup on the right button.
+//
+// Like Dear ImGui's backends, the window consumes data: it knows nothing of the engine or the
+// model session. The caller owns the model, calls setScene() when the picture changes, frame()
+// in its loop, and gets the menu's choices back through MenuActions.
+//
+// View manipulation restates lpfg (vlab lpfg/viewtask.cpp, glwidget.cpp, projection.cpp):
+//   left drag               rotate: 0.2°/pixel about the initial up axis (horizontal motion)
+//                           and the current left axis (vertical motion)
+//   Shift + left drag       pan: the model follows the mouse
+//   Ctrl/Alt + left drag,   zoom: moving up zooms in, ×1.01 per pixel; the scale stays within
+//   middle drag, wheel      the view file's `min zoom:`/`max zoom:` (lpfg's zoom is 1/scale)
+//   Shift + middle drag     roll about the view direction, 1°/pixel
+//   Ctrl + middle drag      frustum (perspective only): moving up brings the eye closer
+//   right button            the main menu
+// Command (macOS) is GLFW's Super key; it counts as Ctrl.
+#pragma once
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "llvm/Support/Error.h"
+
+#include "Camera.h"
+#include "Geometry.h"
+#include "Headless.h"  // Image, writeImage
+#include "Renderer.h"
+#include "files/ViewFile.h"
+
+namespace lcjit::viewer {
+
+// lpfg's window options: -w W H, -wr RW RH (fractions of the screen), -wp X Y, -wpr RX RY,
+// -wnb (no border). Relative values win over absolute ones when set (> 0, resp. >= 0).
+struct WindowOptions {
+  int width = 800, height = 800;
+  std::optional<std::pair<int, int>> position;
+  float relW = 0, relH = 0, relX = -1, relY = -1;
+  bool borderless = false;
+  std::string title = "lcjit";
+  bool vsync = true;    // glfwSwapInterval(1); benchmarks turn it off
+  bool visible = true;  // tests may create a hidden window (it still draws)
+};
+
+// The main menu's actions. An empty function greys its item out.
+struct MenuActions {
+  std::function<void()> newModel, newLsystem, newRun, newView, newRendering, exit;
+  // Save as… with a name whose extension is not an image's (.png .jpg .jpeg .bmp): the caller
+  // writes it (.obj, .ps, .strb, …). Image names are written by the window itself.
+  std::function<void(const std::string& path)> saveAs;
+  // "Save": this file name (lpfg: the L-system's name with .png). Empty: Save is greyed out.
+  // Also the Save as… dialog's initial text.
+  std::string saveName;
+};
+
+// Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
+// GLFW_MOD_SHIFT…): the inject* functions are what the GLFW callbacks call.
+class Window {
+ public:
+  static llvm::Expected<std::unique_ptr<Window>> create(const WindowOptions& options = {});
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  // Uploads a new picture. The user's rotation/zoom/pan are kept unless resetView() is called.
+  void setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
+                const std::vector<TextureImage>& textures);
+  // Back to the view file's framing (New model, New view).
+  void resetView();
+
+  // Polls events, handles the mouse and the menu, draws once and swaps. False when the window
+  // should close (its close button, or Exit).
+  bool frame(const MenuActions& actions);
+
+  // The picture the window shows (without the menu), at the framebuffer's size.
+  llvm::Expected<Image> grabImage();
+  // grabImage() to .png / .jpg / .jpeg / .bmp.
+  llvm::Error saveImage(const std::string& path);
+
+  std::pair<int, int> framebufferSize() const;
+  std::pair<int, int> windowSize() const;
+  // The camera the last frame() (or grabImage()) used.
+  const runtime::CameraMatrices& camera() const;
+  // The current interactive adjustment (rotation, zoom, pan; frustum factor separately).
+  const runtime::ViewAdjustment& adjustment() const;
+  float frustumFactor() const;
+  // Renderer statistics and error of the last draw; GL_RENDERER.
+  const Renderer& renderer() const;
+  std::string glRenderer() const;
+
+  // Input, in window coordinates (pixels from the top left), as GLFW reports it.
+  void injectCursor(double x, double y);
+  void injectMouseButton(int button, int action, int mods);
+  void injectScroll(double dx, double dy);
+  void injectKey(int key, int action, int mods);
+  void injectChar(unsigned codepoint);
+
+  // Menu introspection (tests, scripting): whether the main menu / Save as dialog is open, and
+  // where the last frame drew the menu item with this label (x0, y0, x1, y1 window coordinates).
+  bool menuOpen() const;
+  bool saveDialogOpen() const;
+  std::optional<std::array<float, 4>> menuItemRect(const std::string& label) const;
+  // The last Save/Save as… error (empty if none).
+  const std::string& lastSaveError() const;
+
+  struct Impl;
+
+ private:
+  explicit Window(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+bool isImageFileName(const std::string& path);
+
+}  // namespace lcjit::viewer
