@@ -121,6 +121,8 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   if (watching && !monitor.watch(model.inputFiles()) && !options.quiet)
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   while (!model.exitRequested() && (*window)->frame(actions)) {
+    // Redraw on input, and look at the files a few times a second.
+    (*window)->waitEvents(0.1);
     if (!watching) continue;
     for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
   }

@@ -7,11 +7,12 @@
 set -u
 lcjit=$1 model=$2
 work=$(mktemp -d)
-trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
+# xvfb-run runs lcjit in its own process group (setsid): the trap ends both, pass or fail.
+trap 'kill -- -$pid 2>/dev/null; rm -rf "$work"' EXIT
 cp "$model" "$work/watched.l"
 cd "$work"
 command -v xvfb-run >/dev/null || { echo "xvfb-run is missing"; exit 1; }
-xvfb-run -a -s "-screen 0 1024x768x24" "$lcjit" -rmode cont watched.l > out.txt 2> err.txt &
+setsid xvfb-run -a -s "-screen 0 1024x768x24" "$lcjit" -rmode cont watched.l > out.txt 2> err.txt &
 pid=$!
 segments() { [ -f frame.obj ] && grep -c '^v ' frame.obj || echo 0; }
 wait_for() {  # wait_for N: frame.obj has N vertices (a chain of N-1 segments)

@@ -102,6 +102,7 @@ struct Window::Impl {
 
   // Menu.
   bool openMenu = false, menuIsOpen = false;
+  int shortcut = 0;  // a Ctrl/Cmd+key pressed since the last frame (GLFW key code)
   bool openSave = false, saveIsOpen = false, focusSaveField = false;
   bool wantMouse = false;  // ImGui wanted the mouse at the end of the last frame
   std::array<char, 1024> saveName{};
@@ -300,8 +301,9 @@ struct Window::Impl {
     if (!saveError.empty()) std::fprintf(stderr, "lcjit: %s\n", saveError.c_str());
   }
 
-  void menuItem(const char* label, const std::function<void()>& action, std::function<void()>& chosen) {
-    if (ImGui::MenuItem(label, nullptr, false, bool(action))) chosen = action;
+  void menuItem(const char* label, const std::function<void()>& action, std::function<void()>& chosen,
+                const char* shortcut = nullptr) {
+    if (ImGui::MenuItem(label, shortcut, false, bool(action))) chosen = action;
     ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
     itemRects[label] = {a.x, a.y, b.x, b.y};
   }
@@ -442,7 +444,7 @@ bool Window::frame(const MenuActions& actions) {
   if (ImGui::BeginPopup(kMenuId)) {
     m.menuIsOpen = true;
     m.itemRects.clear();
-    // lpfg §1.2.2. String input/output, Animate and Refresh mode are not offered yet.
+    // lpfg §1.2.2, with the animate menu of §1.2.3 in place of "Animate" while animating.
     m.menuItem("New model", actions.newModel, chosen);
     m.menuItem("New L-system", actions.newLsystem, chosen);
     m.menuItem("New run", actions.newRun, chosen);
@@ -459,12 +461,47 @@ bool Window::frame(const MenuActions& actions) {
     };
     m.menuItem("Save", save, chosen);
     m.menuItem("Save as...", saveAs, chosen);
+    if (ImGui::BeginMenu("String")) {
+      m.menuItem("Input", actions.stringInput, chosen);
+      m.menuItem("Output", actions.stringOutput, chosen);
+      ImGui::EndMenu();
+    }
+    ImGui::Separator();
+    if (actions.animating) {
+      m.menuItem("Step", actions.step, chosen, "Ctrl+F");
+      m.menuItem("Run", actions.run, chosen, "Ctrl+R");
+      m.menuItem("Forever", actions.forever, chosen, "Ctrl+V");
+      m.menuItem("Stop", actions.stop, chosen, "Ctrl+S");
+      m.menuItem("Rewind", actions.rewind, chosen, "Ctrl+W");
+      m.menuItem("Clear", actions.clear, chosen);
+      m.menuItem("New animate", actions.newAnimate, chosen);
+      m.menuItem("Start recording", actions.startRecording, chosen);
+      m.menuItem("Don't animate", actions.dontAnimate, chosen);
+    } else {
+      m.menuItem("Animate", actions.animate, chosen);
+    }
+    if (actions.setRefreshMode && ImGui::BeginMenu("Refresh mode")) {
+      if (ImGui::MenuItem("Explicit", nullptr, !actions.monitoring)) chosen = [&actions] { actions.setRefreshMode(false); };
+      if (ImGui::MenuItem("Triggered/Continuous", nullptr, actions.monitoring))
+        chosen = [&actions] { actions.setRefreshMode(true); };
+      ImGui::EndMenu();
+    }
     ImGui::Separator();
     if (actions.exit) exit = [&exitChosen, &actions] { exitChosen = true; actions.exit(); };
     m.menuItem("Exit", exit, chosen);
     ImGui::EndPopup();
   }
   m.menuIsOpen = ImGui::IsPopupOpen(kMenuId);
+  if (m.shortcut && actions.animating && !m.saveIsOpen) {
+    const std::function<void()>* byKey = m.shortcut == GLFW_KEY_F   ? &actions.step
+                                         : m.shortcut == GLFW_KEY_R ? &actions.run
+                                         : m.shortcut == GLFW_KEY_V ? &actions.forever
+                                         : m.shortcut == GLFW_KEY_S ? &actions.stop
+                                         : m.shortcut == GLFW_KEY_W ? &actions.rewind
+                                                                    : nullptr;
+    if (byKey && *byKey) chosen = *byKey;
+  }
+  m.shortcut = 0;
 
   if (m.openSave) {
     ImGui::OpenPopup(kSaveId);
@@ -600,11 +637,14 @@ void Window::injectScroll(double dx, double dy) {
 void Window::injectKey(int key, int action, int mods) {
   ImGui::SetCurrentContext(impl_->imgui);
   ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, action, mods);
+  if (action == GLFW_PRESS && (mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER))) impl_->shortcut = key;
 }
 void Window::injectChar(unsigned codepoint) {
   ImGui::SetCurrentContext(impl_->imgui);
   ImGui_ImplGlfw_CharCallback(impl_->window, codepoint);
 }
+
+void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
 
 bool Window::menuOpen() const { return impl_->menuIsOpen; }
 bool Window::saveDialogOpen() const { return impl_->saveIsOpen; }

@@ -55,6 +55,16 @@ struct MenuActions {
   // "Save": this file name (lpfg: the L-system's name with .png). Empty: Save is greyed out.
   // Also the Save as… dialog's initial text.
   std::string saveName;
+  // String > Input / Output: the binary string (lpfg: the L-system's name with .strb).
+  std::function<void()> stringInput, stringOutput;
+  // Animate (§1.2.3): `animating` shows the animate menu instead of "Animate"; its shortcuts are
+  // Ctrl+F Step, Ctrl+R Run, Ctrl+V Forever, Ctrl+S Stop, Ctrl+W Rewind (lpfg's Cmd keys).
+  bool animating = false;
+  std::function<void()> animate, step, run, forever, stop, rewind, clear, newAnimate, startRecording, dontAnimate;
+  // Refresh mode: false explicit, true triggered/continuous (lpfg offers the two). Empty
+  // setRefreshMode: not offered.
+  bool monitoring = false;
+  std::function<void(bool)> setRefreshMode;
 };
 
 // Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
@@ -75,6 +85,8 @@ class Window {
   // Polls events, handles the mouse and the menu, draws once and swaps. False when the window
   // should close (its close button, or Exit).
   bool frame(const MenuActions& actions);
+  // Sleeps until an input event arrives or `seconds` pass: an idle window costs no CPU.
+  void waitEvents(double seconds);
 
   // The picture the window shows (without the menu), at the framebuffer's size.
   llvm::Expected<Image> grabImage();
