@@ -581,13 +581,22 @@ void Engine::queryPass() {
 // ---- the whole run
 
 llvm::Error Engine::run(const EngineHooks& hooks) {
+  begin(hooks);
+  while (step()) {
+  }
+  finish();
+  return llvm::Error::success();
+}
+
+void Engine::begin(const EngineHooks& hooks) {
   CurrentScope scope(this);
   hooks_ = &hooks;
   step_ = 0;
+  ended_ = false;
   gillespieTime_ = 0;
   string_.clear();
   if (model_.start) model_.start();
-  int length = model_.derivationLength ? model_.derivationLength() : 0;
+  length_ = model_.derivationLength ? model_.derivationLength() : 0;
   ring_ = model_.ringLsystem && model_.ringLsystem() != 0;
   decompositionDepth_ = model_.decompositionDepth ? model_.decompositionDepth() : 1;
   interpretationDepth_ = model_.interpretationDepth ? model_.interpretationDepth() : 1;
@@ -598,34 +607,43 @@ llvm::Error Engine::run(const EngineHooks& hooks) {
     model_.axiom(&ctx);
   }
   decompose(group_);
-  bool ended = false;
-  while (step_ < length && !stopRequested_) {
-    queryPass();
-    ++step_;
-    if (model_.startEach) model_.startEach();
-    int group = group_;
-    auto kind = groupKinds_.find(group);
-    if (kind != groupKinds_.end() && kind->second == __lc_GillespieGroup) {
-      deriveGillespie(group);
-    } else if (forward_) {
-      deriveForward(group);
-    } else {
-      deriveBackward(group);
-    }
-    if (hooks.afterDerivation) hooks.afterDerivation(step_);
-    decompose(group);
-    if (model_.endEach) model_.endEach();
-    if (hooks.afterStep) hooks.afterStep(step_);
-    if (stopRequested_) {
-      if (model_.end) model_.end();
-      ended = true;
-    }
+}
+
+bool Engine::step() {
+  if (ended_ || step_ >= length_ || stopRequested_) return false;
+  CurrentScope scope(this);
+  queryPass();
+  ++step_;
+  if (model_.startEach) model_.startEach();
+  int group = group_;
+  auto kind = groupKinds_.find(group);
+  if (kind != groupKinds_.end() && kind->second == __lc_GillespieGroup) {
+    deriveGillespie(group);
+  } else if (forward_) {
+    deriveForward(group);
+  } else {
+    deriveBackward(group);
   }
+  if (hooks_->afterDerivation) hooks_->afterDerivation(step_);
+  decompose(group);
+  if (model_.endEach) model_.endEach();
+  if (hooks_->afterStep) hooks_->afterStep(step_);
+  if (stopRequested_) {
+    // Stop(): End runs now, as in lpfg.
+    if (model_.end) model_.end();
+    ended_ = true;
+    return false;
+  }
+  return step_ < length_;
+}
+
+void Engine::finish() {
+  CurrentScope scope(this);
   // The query modules of the final string are filled in too (the brief: after each step).
   queryPass();
-  if (!ended && model_.end) model_.end();
+  if (!ended_ && model_.end) model_.end();
+  ended_ = true;
   hooks_ = nullptr;
-  return llvm::Error::success();
 }
 
 size_t Engine::moduleCount() const {

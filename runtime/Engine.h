@@ -38,6 +38,14 @@ class Engine {
 
   // The whole derivation as `lpfg -b` runs it: Start, axiom, steps, End.
   llvm::Error run(const EngineHooks& hooks = {});
+  // The same in pieces, for animation: begin() runs Start and the axiom (with decomposition);
+  // step() one derivation step, false once the derivation length is reached or Stop() was
+  // called (then End has run); finish() runs End if it has not. `hooks` must outlive them.
+  void begin(const EngineHooks& hooks);
+  bool step();
+  void finish();
+  int derivationLength() const { return length_; }
+  bool ended() const { return ended_; }
 
   // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
   // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
@@ -127,7 +135,8 @@ class Engine {
   int group_ = 0;
   bool forward_ = true;
   bool stopRequested_ = false;
-  int step_ = 0;
+  int step_ = 0, length_ = 0;
+  bool ended_ = false;
   bool ring_ = false;
   int decompositionDepth_ = 1, interpretationDepth_ = 1;
   Rand48 random_, gillespieRandom_;
