@@ -10,7 +10,7 @@ packages=(
   libstdc++-12-dev libc6-dev zlib1g-dev libzstd-dev libedit-dev libffi-dev libxml2-dev libcurl4-openssl-dev
   libfmt-dev libcli11-dev libgtest-dev libbenchmark-dev libglm-dev libstb-dev
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
-  libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb
+  libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
 )
 missing=()
 for p in "${packages[@]}"; do

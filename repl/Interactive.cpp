@@ -1,16 +1,28 @@
-// The interactive mode (see Interactive.h).
+// The interactive mode (see Interactive.h). The derivation and interpretation run on a worker
+// thread, so the window keeps redrawing (and rotating) while a model derives; the window shows
+// each picture the worker finishes. While the worker runs, the model is the worker's: menu items
+// that would touch it wait (they are greyed out).
 #include "Interactive.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <future>
+#include <optional>
+#include <sstream>
+#include <thread>
 
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
 #include "Window.h"
+#include "files/AnimationFile.h"
 
 namespace lcjit {
 namespace {
+
+using Clock = std::chrono::steady_clock;
 
 class InteractiveModel {
  public:
@@ -18,24 +30,79 @@ class InteractiveModel {
       : session_(session), files_(files), window_(window), options_(o) {
     hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
     if (o.quiet) hooks_.print = [](const char*) {};
+    for (const std::string& f : files.other)
+      if (std::filesystem::path(f).extension() == ".a") animationFile_ = f;
+  }
+  ~InteractiveModel() {
+    if (work_.valid()) work_.wait();
   }
 
-  // Derives the loaded model and shows it.
+  bool busy() const { return work_.valid(); }
+
+  // Derives the whole model (not animating) and shows it.
   void run() {
     for (const std::string& w : session_.warnings())
       if (!options_.quiet) std::fprintf(stderr, "%s\n", w.c_str());
-    report(session_.engine().run(hooks_));
-    show();
+    launch([this] {
+      session_.engine().begin(hooks_);
+      while (session_.engine().step()) {
+      }
+      session_.engine().finish();
+    });
   }
 
-  void show() {
-    runtime::Geometry geometry;
-    session_.engine().interpret(geometry);
-    const runtime::DrawingFiles& d = session_.drawing();
-    window_.setScene(geometry, d.view, viewer::RenderPalette::fromPalette(d.palette), textureImages(d));
+  // Called every frame: shows the worker's picture once it is ready, and keeps an animation going.
+  void poll() {
+    if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+      runtime::Geometry geometry = work_.get();
+      const runtime::DrawingFiles& d = session_.drawing();
+      window_.setScene(geometry, d.view, viewer::RenderPalette::fromPalette(d.palette), textureImages(d));
+      if (recording_) record();
+      shownAt_ = Clock::now();
+    }
+    if (running_ && !busy() && Clock::now() - shownAt_ >= std::chrono::milliseconds(animation_.swapIntervalMs()))
+      advance(mode_);
   }
 
-  // One of the New … menu items: re-read `what`, then re-run or only redraw.
+  // ---- animate mode (§1.2.3)
+
+  void enterAnimate() {
+    readAnimationFile();
+    animating_ = true;
+    rewind();
+  }
+  void rewind() {
+    running_ = false;
+    launch([this] {
+      session_.engine().begin(hooks_);
+      schedule_.emplace(animation_, session_.engine().derivationLength());
+      deriveTo(schedule_->rewind());
+    });
+  }
+  void advance(runtime::AnimationSchedule::Mode mode) {
+    if (!schedule_) return;
+    std::optional<int> next = schedule_->next(mode);
+    if (!next) {
+      running_ = false;
+      return;
+    }
+    int target = *next;
+    launch([this, target] {
+      if (target < session_.engine().stepNo()) session_.engine().begin(hooks_);  // Forever wrapped
+      deriveTo(target);
+    });
+  }
+  void startRunning(runtime::AnimationSchedule::Mode mode) {
+    running_ = true;
+    mode_ = mode;
+  }
+  void leaveAnimate() {
+    running_ = recording_ = false;
+    animating_ = false;
+    schedule_.reset();
+  }
+
+  // ---- the New … items (§1.2.2): re-read `what`, then re-run or only redraw.
   void reload(ReloadParts what, bool rerun, bool resetView) {
     PhaseTimes times;
     if (auto e = session_.load(files_, options_.optLevel, times, what)) {
@@ -43,8 +110,9 @@ class InteractiveModel {
       return;
     }
     if (resetView) window_.resetView();
-    if (rerun) run();
-    else show();
+    if (!rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew
+    if (animating_) return rewind();
+    run();
   }
 
   // The files lpfg monitors (§1.3): every input file, and the surfaces and textures the view
@@ -72,25 +140,93 @@ class InteractiveModel {
       case Action::NewRun: reload(ReloadParts::newRun(), true, false); break;
       case Action::NewView: reload(ReloadParts::newView(), false, true); break;
       case Action::NewRendering: reload(ReloadParts::newView(), false, false); break;
-      default: break;  // NewAnimate: the animation file is the animate mode's (not here yet)
+      case Action::NewAnimate: readAnimationFile(); break;
+      default: break;
     }
   }
 
+  // The menu as it stands: items that need the model are greyed out while the worker has it.
   viewer::MenuActions actions() {
+    using Mode = runtime::AnimationSchedule::Mode;
     viewer::MenuActions a;
+    a.saveName = stem() + ".png";
+    a.exit = [this] { exit_ = true; };
+    a.animating = animating_;
+    a.stop = [this] { running_ = false; };
+    a.clear = [this] {
+      if (!busy()) launch([] {});
+    };
+    a.newAnimate = [this] { readAnimationFile(); };
+    a.startRecording = [this] { recording_ = true; };
+    if (busy()) return a;
     a.newModel = [this] { reload(ReloadParts::all(), true, true); };
     a.newLsystem = [this] { reload(ReloadParts::newLsystem(), true, false); };
     a.newRun = [this] { reload(ReloadParts::newRun(), true, false); };
     a.newView = [this] { reload(ReloadParts::newView(), false, true); };
     a.newRendering = [this] { reload(ReloadParts::newView(), false, false); };
     a.saveAs = [this](const std::string& path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
-    a.saveName = std::filesystem::path(files_.lsystem).stem().string() + ".png";
-    a.exit = [this] { exit_ = true; };
+    a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
+    a.stringInput = [this] {
+      if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));
+      launch([] {});
+    };
+    a.animate = [this] { enterAnimate(); };
+    a.step = [this] { advance(Mode::Step); };
+    a.run = [this] { startRunning(Mode::Run); };
+    a.forever = [this] { startRunning(Mode::Forever); };
+    a.rewind = [this] { rewind(); };
+    a.dontAnimate = [this] {
+      leaveAnimate();
+      run();
+    };
     return a;
   }
   bool exitRequested() const { return exit_; }
 
  private:
+  // Runs `work` on the worker thread, then interprets the string there; poll() shows it.
+  void launch(std::function<void()> work) {
+    if (busy()) return;
+    work_ = std::async(std::launch::async, [this, work = std::move(work)] {
+      work();
+      runtime::Geometry geometry;
+      session_.engine().interpret(geometry);
+      return geometry;
+    });
+  }
+
+  void deriveTo(int target) {
+    runtime::Engine& e = session_.engine();
+    while (e.stepNo() < target && e.step()) {
+    }
+  }
+
+  void readAnimationFile() {
+    animation_ = runtime::AnimationSettings();
+    if (animationFile_.empty()) return;
+    std::ifstream in(animationFile_);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::vector<runtime::ViewFileWarning> warnings;
+    animation_ = runtime::parseAnimationFile(text.str(), animationFile_, warnings);
+    for (auto& w : warnings)
+      if (!options_.quiet)
+        std::fprintf(stderr, "%s:%d:%d: warning: %s\n", w.file.c_str(), w.line, w.column, w.message.c_str());
+  }
+
+  // Start recording: every displayed frame to a numbered picture (lpfg's Save format, PNG).
+  void record() {
+    int number = animation_.frameNumbers == runtime::AnimationSettings::FrameNumbers::StepNo ? session_.engine().stepNo()
+                                                                                            : recorded_;
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.png", number);
+    std::filesystem::path dir(animation_.frameDumpPath);  // "" = the working folder
+    report(window_.saveImage((dir / (stem() + name)).string()));
+    ++recorded_;
+  }
+
+  std::string stem() const { return std::filesystem::path(files_.lsystem).stem().string(); }
+
   void report(llvm::Error e) {
     if (e) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
   }
@@ -101,7 +237,16 @@ class InteractiveModel {
   InteractiveOptions options_;
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
+  std::future<runtime::Geometry> work_;
   bool exit_ = false;
+
+  std::string animationFile_;
+  runtime::AnimationSettings animation_;
+  std::optional<runtime::AnimationSchedule> schedule_;
+  bool animating_ = false, running_ = false, recording_ = false;
+  runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
+  Clock::time_point shownAt_;
+  int recorded_ = 0;
 };
 
 }  // namespace
@@ -114,17 +259,20 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     return 1;
   }
   InteractiveModel model(session, files, **window, options);
-  model.run();
-  viewer::MenuActions actions = model.actions();
+  if (options.animate) model.enterAnimate();
+  else model.run();
   FileMonitor monitor;
   bool watching = options.refresh != RefreshMode::Explicit;
   if (watching && !monitor.watch(model.inputFiles()) && !options.quiet)
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
-  while (!model.exitRequested() && (*window)->frame(actions)) {
-    // Redraw on input, and look at the files a few times a second.
-    (*window)->waitEvents(0.1);
-    if (!watching) continue;
-    for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
+  for (;;) {
+    model.poll();
+    viewer::MenuActions actions = model.actions();
+    if (model.exitRequested() || !(*window)->frame(actions)) break;
+    // Redraw on input; while the worker runs, look for its picture often; files a few times a second.
+    (*window)->waitEvents(model.busy() ? 0.01 : 0.1);
+    if (watching && !model.busy())
+      for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
   }
   return 0;
 }

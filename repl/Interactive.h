@@ -17,6 +17,7 @@ struct InteractiveOptions {
   int optLevel = 1;
   bool quiet = false;
   RefreshMode refresh = RefreshMode::Explicit;  // -rmode: continuous/triggered watch the files
+  bool animate = false;                         // -a: start in animate mode at the first frame
 };
 
 // Runs until the window closes; returns the process exit status.

@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out,
                  "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pov geometry");
-  app.add_flag("-a", animate, "animate mode (needs the viewer)");
+  app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly, "compile the model only");
   app.add_flag("-d", debug, "debug messages");
   app.add_flag("--ds", dumpSteps, "(-ds) print the string after each derivation step");
@@ -126,6 +126,7 @@ int main(int argc, char** argv) {
       io.optLevel = optLevel;
       io.quiet = quiet;
       if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
+      io.animate = animate;
       return lcjit::runInteractive(**session, *files, w, io);
     }
     // No display: show the model as a picture beside it instead.
