@@ -16,6 +16,7 @@
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
+#include "UserMenu.h"
 #include "Window.h"
 #include "files/AnimationFile.h"
 
@@ -158,6 +159,8 @@ class InteractiveModel {
     };
     a.newAnimate = [this] { readAnimationFile(); };
     a.startRecording = [this] { recording_ = true; };
+    a.userMenu = runtime::UserMenu::instance().items();
+    a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (busy()) return a;
     a.newModel = [this] { reload(ReloadParts::all(), true, true); };
     a.newLsystem = [this] { reload(ReloadParts::newLsystem(), true, false); };

@@ -9,6 +9,7 @@
 #include "Engine.h"
 #include "Functions.h"
 #include "Shapes.h"
+#include "UserMenu.h"
 
 using lcjit::runtime::Engine;
 
@@ -141,6 +142,12 @@ void lcjit_get_surface_point(int id, int k, float* out) {
   out[2] = v.z;
 }
 
+void lcjit_user_menu_item(const char* label, int code) {
+  lcjit::runtime::UserMenu::instance().add(label ? label : "", code);
+}
+int lcjit_user_menu_choice() { return lcjit::runtime::UserMenu::instance().choice(); }
+void lcjit_user_menu_clear() { lcjit::runtime::UserMenu::instance().clear(); }
+
 void lcjit_load_string(const char* path) {
   Engine* e = engine();
   if (!e || !path) return;
@@ -163,6 +170,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
+      LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
   };
 #undef LCJIT_HOST
 }

@@ -67,6 +67,7 @@ float baseScale(const runtime::ViewSettings& view) {
 }
 
 const char* kMenuId = "lcjit main menu";
+const char* kUserMenuId = "lcjit user menu";
 const char* kSaveId = "Save as";
 
 }  // namespace
@@ -102,6 +103,7 @@ struct Window::Impl {
 
   // Menu.
   bool openMenu = false, menuIsOpen = false;
+  bool openUserMenu = false, userMenuIsOpen = false;
   int shortcut = 0;  // a Ctrl/Cmd+key pressed since the last frame (GLFW key code)
   bool openSave = false, saveIsOpen = false, focusSaveField = false;
   bool wantMouse = false;  // ImGui wanted the mouse at the end of the last frame
@@ -213,7 +215,7 @@ struct Window::Impl {
     updateCamera();
   }
 
-  bool uiHasMouse() const { return menuIsOpen || saveIsOpen || wantMouse; }
+  bool uiHasMouse() const { return menuIsOpen || userMenuIsOpen || saveIsOpen || wantMouse; }
 
   void onCursor(double x, double y) {
     const double dx = x - lastX, dyUp = lastY - y, dyDown = y - lastY;
@@ -249,7 +251,8 @@ struct Window::Impl {
     const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
     const bool alt = mods & GLFW_MOD_ALT;
     if (button == GLFW_MOUSE_BUTTON_RIGHT) {
-      if (!saveIsOpen) openMenu = true;
+      // lpfg: two of Cmd (Ctrl), Shift and Alt with the right button open the user menu.
+      if (!saveIsOpen) (int(shift) + int(ctrl) + int(alt) >= 2 ? openUserMenu : openMenu) = true;
       task = Task::Idle;
       return;
     }
@@ -492,6 +495,21 @@ bool Window::frame(const MenuActions& actions) {
     ImGui::EndPopup();
   }
   m.menuIsOpen = ImGui::IsPopupOpen(kMenuId);
+  if (m.openUserMenu) {
+    ImGui::OpenPopup(kUserMenuId);
+    m.openUserMenu = false;
+  }
+  if (ImGui::BeginPopup(kUserMenuId)) {
+    m.itemRects.clear();
+    if (actions.userMenu.empty()) ImGui::TextDisabled("(no user menu items)");
+    for (const auto& [label, code] : actions.userMenu) {
+      std::function<void()> pick;
+      if (actions.userChoice) pick = [&actions, code = code] { actions.userChoice(code); };
+      m.menuItem(label.c_str(), pick, chosen);
+    }
+    ImGui::EndPopup();
+  }
+  m.userMenuIsOpen = ImGui::IsPopupOpen(kUserMenuId);
   if (m.shortcut && actions.animating && !m.saveIsOpen) {
     const std::function<void()>* byKey = m.shortcut == GLFW_KEY_F   ? &actions.step
                                          : m.shortcut == GLFW_KEY_R ? &actions.run
@@ -647,6 +665,7 @@ void Window::injectChar(unsigned codepoint) {
 void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
 
 bool Window::menuOpen() const { return impl_->menuIsOpen; }
+bool Window::userMenuOpen() const { return impl_->userMenuIsOpen; }
 bool Window::saveDialogOpen() const { return impl_->saveIsOpen; }
 std::optional<std::array<float, 4>> Window::menuItemRect(const std::string& label) const {
   auto it = impl_->itemRects.find(label);

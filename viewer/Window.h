@@ -65,6 +65,10 @@ struct MenuActions {
   // setRefreshMode: not offered.
   bool monitoring = false;
   std::function<void(bool)> setRefreshMode;
+  // The user menu (§6.8: UserMenuItem): shown on a right click with two of Ctrl/Shift/Alt held;
+  // a choice calls userChoice with the item's code.
+  std::vector<std::pair<std::string, int>> userMenu;
+  std::function<void(int code)> userChoice;
 };
 
 // Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
@@ -114,6 +118,7 @@ class Window {
   // Menu introspection (tests, scripting): whether the main menu / Save as dialog is open, and
   // where the last frame drew the menu item with this label (x0, y0, x1, y1 window coordinates).
   bool menuOpen() const;
+  bool userMenuOpen() const;
   bool saveDialogOpen() const;
   std::optional<std::array<float, 4>> menuItemRect(const std::string& label) const;
   // The last Save/Save as… error (empty if none).

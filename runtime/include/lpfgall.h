@@ -134,9 +134,9 @@ inline float vvZmax(int) { return 0; }
 inline float vvScale(int) { return 1; }
 inline CameraPosition GetCameraPosition(int) { return CameraPosition(); }
 inline MouseStatus GetMouseStatus() { return MouseStatus(); }
-inline void UserMenuItem(const char*, int) {}
-inline int UserMenuChoice() { return -1; }
-inline void UserMenuClear() {}
+inline void UserMenuItem(const char* label, int code) { lcjit_user_menu_item(label, code); }
+inline int UserMenuChoice() { return lcjit_user_menu_choice(); }
+inline void UserMenuClear() { lcjit_user_menu_clear(); }
 
 // §6.11 Environment programs are not connected in batch mode.
 inline void Environment() {}

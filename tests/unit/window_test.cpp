@@ -594,3 +594,24 @@ TEST(WindowBenchmark, RotateAMillionSegments) {
 }
 
 }  // namespace
+
+TEST_F(WindowTest, UserMenuOpensWithTwoModifiersAndReportsTheCode) {
+  int chosen = -1, calls = 0;
+  MenuActions a;
+  a.userMenu = {{"Grow", 7}, {"Prune", 9}};
+  a.userChoice = [&](int code) { chosen = code, ++calls; };
+  w->injectCursor(50, 50);
+  w->frame(a);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_RIGHT, GLFW_PRESS, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  w->frame(a);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_RIGHT, GLFW_RELEASE, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  w->frame(a);
+  ASSERT_TRUE(w->userMenuOpen());
+  EXPECT_FALSE(w->menuOpen());  // not the main menu
+  auto r = w->menuItemRect("Prune");
+  ASSERT_TRUE(r.has_value());
+  click(((*r)[0] + (*r)[2]) / 2, ((*r)[1] + (*r)[3]) / 2, a);
+  EXPECT_EQ(chosen, 9);
+  EXPECT_EQ(calls, 1);
+  EXPECT_FALSE(w->userMenuOpen());
+}

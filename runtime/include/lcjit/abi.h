@@ -101,6 +101,9 @@ float lcjit_curve_length(int id);
 void lcjit_curve_op(int op, int id, int p, float x, float y, float z);
 void lcjit_get_surface(int id, float* points48);
 void lcjit_get_surface_point(int id, int k, float* out);
+void lcjit_user_menu_item(const char* label, int code);
+int lcjit_user_menu_choice();
+void lcjit_user_menu_clear();
 }
 
 // Appends one module record to the successor being built.
