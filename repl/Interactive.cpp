@@ -16,7 +16,7 @@
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
-#include "UserMenu.h"
+#include "WindowInput.h"
 #include "Window.h"
 #include "files/AnimationFile.h"
 
@@ -186,6 +186,21 @@ class InteractiveModel {
   }
   bool exitRequested() const { return exit_; }
 
+  // The window's pointer for GetMouseStatus() (§7.4).
+  void feedMouse() {
+    viewer::Window::Pointer p = window_.takePointer();
+    MouseStatus s{};
+    s.viewX = p.x;
+    s.viewY = p.y;
+    s.atFront = V3d(p.front[0], p.front[1], p.front[2]);
+    s.atRear = V3d(p.rear[0], p.rear[1], p.rear[2]);
+    s.atMiddle = V3d(p.middle[0], p.middle[1], p.middle[2]);
+    s.lbDown = p.down;
+    s.lbPushed = p.pushed;
+    s.lbReleased = p.released;
+    runtime::Mouse::instance().update(s);
+  }
+
  private:
   // Runs `work` on the worker thread, then interprets the string there; poll() shows it.
   void launch(std::function<void()> work) {
@@ -270,6 +285,7 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   for (;;) {
     model.poll();
+    model.feedMouse();
     viewer::MenuActions actions = model.actions();
     if (model.exitRequested() || !(*window)->frame(actions)) break;
     // Redraw on input; while the worker runs, look for its picture often; files a few times a second.

@@ -18,6 +18,7 @@ xdotool mousemove 300 300; sleep 0.2
 xdotool keydown ctrl keydown shift click 3 keyup shift keyup ctrl; sleep 0.5
 xdotool mousemove 330 318 click 1; sleep 0.5
 xdotool mousemove 300 300; sleep 0.2
+xdotool keydown shift keydown ctrl click 1 keyup ctrl keyup shift; sleep 0.3
 xdotool key ctrl+f
 for _ in $(seq 1 50); do [ -f step4.obj ] && break; sleep 0.1; done
 sleep 0.5; ls step*.obj > after_step.txt
@@ -36,4 +37,5 @@ expect at_first_frame.txt 1 2
 expect after_step.txt 1 2 3 4
 expect after_run.txt 1 2 3 4 5
 [ -f choice7.txt ] || { echo "the user menu choice did not reach UserMenuChoice()"; cat err.txt; exit 1; }
-echo "ok: first frame 2, Step to 4, Run to 5; user menu choice 7 seen by the model"
+[ -f pushed.txt ] || { echo "GetMouseStatus() did not report the Shift+Ctrl click"; cat err.txt; exit 1; }
+echo "ok: first frame 2, Step to 4, Run to 5; user menu choice 7 and a Shift+Ctrl click seen by the model"

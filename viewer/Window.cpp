@@ -98,6 +98,8 @@ struct Window::Impl {
   // Input.
   double cursorX = 0, cursorY = 0;
   bool down[3] = {false, false, false}, justPressed[3] = {false, false, false};
+  bool digitHeld[3] = {false, false, false};  // the 1/2/3 keys: lpfg's mouse-insertion keys
+  bool comboDown = false, comboPushed = false, comboReleased = false;
   Task task = Task::Idle;
   double lastX = 0, lastY = 0;
 
@@ -236,6 +238,13 @@ struct Window::Impl {
 
   void onButton(int button, int action, int mods) {
     if (button < 0 || button > 2) return;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+      const bool shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
+      const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
+      const bool combo = (shift && ctrl) || (alt && ctrl) || (shift && alt) || digitHeld[0] || digitHeld[1] || digitHeld[2];
+      if (action == GLFW_PRESS && combo) comboDown = comboPushed = true;
+      if (action == GLFW_RELEASE && comboDown) comboDown = false, comboReleased = true;
+    }
     if (action == GLFW_PRESS) {
       down[button] = true;
       justPressed[button] = true;
@@ -655,6 +664,8 @@ void Window::injectScroll(double dx, double dy) {
 void Window::injectKey(int key, int action, int mods) {
   ImGui::SetCurrentContext(impl_->imgui);
   ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, action, mods);
+  if (key >= GLFW_KEY_1 && key <= GLFW_KEY_3 && action != GLFW_REPEAT)
+    impl_->digitHeld[key - GLFW_KEY_1] = action == GLFW_PRESS;
   if (action == GLFW_PRESS && (mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER))) impl_->shortcut = key;
 }
 void Window::injectChar(unsigned codepoint) {
@@ -663,6 +674,32 @@ void Window::injectChar(unsigned codepoint) {
 }
 
 void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
+
+Window::Pointer Window::takePointer() {
+  Impl& m = *impl_;
+  Pointer p;
+  p.x = (int)m.cursorX;
+  p.y = (int)m.cursorY;
+  // Unproject the cursor at the near plane, the far plane and halfway (window y runs down).
+  const runtime::CameraMatrices& c = m.camera;
+  auto [ww, wh] = windowSize();
+  glm::vec4 viewport(0, 0, (float)c.width, (float)c.height);
+  float sx = ww > 0 ? (float)c.width / (float)ww : 1, sy = wh > 0 ? (float)c.height / (float)wh : 1;
+  glm::vec3 win((float)m.cursorX * sx, (float)c.height - (float)m.cursorY * sy, 0);
+  auto at = [&](float depth, double* out) {
+    win.z = depth;
+    glm::vec3 v = glm::unProject(win, c.view, c.projection, viewport);
+    out[0] = v.x, out[1] = v.y, out[2] = v.z;
+  };
+  at(0, p.front);
+  at(1, p.rear);
+  at(0.5f, p.middle);
+  p.down = m.comboDown;
+  p.pushed = m.comboPushed;
+  p.released = m.comboReleased;
+  m.comboPushed = m.comboReleased = false;
+  return p;
+}
 
 bool Window::menuOpen() const { return impl_->menuIsOpen; }
 bool Window::userMenuOpen() const { return impl_->userMenuIsOpen; }

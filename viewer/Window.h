@@ -115,6 +115,17 @@ class Window {
   void injectKey(int key, int action, int mods);
   void injectChar(unsigned codepoint);
 
+  // The pointer as lpfg's GetMouseStatus() reports it (§7.4): pixel position, the cursor ray's
+  // points on the front and back clipping planes and halfway, and the left button — counted only
+  // while one of the mouse-insertion key combinations is held (Shift+Ctrl, Alt+Ctrl, Shift+Alt,
+  // or the 1/2/3 keys). Pushed/released latch until takePointer() returns them.
+  struct Pointer {
+    int x = 0, y = 0;
+    double front[3] = {0, 0, 0}, rear[3] = {0, 0, 0}, middle[3] = {0, 0, 0};
+    bool down = false, pushed = false, released = false;
+  };
+  Pointer takePointer();
+
   // Menu introspection (tests, scripting): whether the main menu / Save as dialog is open, and
   // where the last frame drew the menu item with this label (x0, y0, x1, y1 window coordinates).
   bool menuOpen() const;

@@ -133,7 +133,11 @@ inline float vvYmax(int) { return 0; }
 inline float vvZmax(int) { return 0; }
 inline float vvScale(int) { return 1; }
 inline CameraPosition GetCameraPosition(int) { return CameraPosition(); }
-inline MouseStatus GetMouseStatus() { return MouseStatus(); }
+inline MouseStatus GetMouseStatus() {
+  MouseStatus s{};
+  lcjit_mouse_status(&s);
+  return s;
+}
 inline void UserMenuItem(const char* label, int code) { lcjit_user_menu_item(label, code); }
 inline int UserMenuChoice() { return lcjit_user_menu_choice(); }
 inline void UserMenuClear() { lcjit_user_menu_clear(); }

@@ -615,3 +615,38 @@ TEST_F(WindowTest, UserMenuOpensWithTwoModifiersAndReportsTheCode) {
   EXPECT_EQ(calls, 1);
   EXPECT_FALSE(w->userMenuOpen());
 }
+
+TEST_F(WindowTest, PointerReportsTheMouseInsertionCombinationsOnly) {
+  MenuActions none;
+  w->frame(none);
+  w->injectCursor(kSize / 2.0, kSize / 2.0);
+  w->frame(none);
+  // A plain left click (rotation) is not a GetMouseStatus click.
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  Window::Pointer p = w->takePointer();
+  EXPECT_FALSE(p.pushed);
+  // Shift+Ctrl: pushed and down, then released; latched until taken.
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, GLFW_MOD_SHIFT | GLFW_MOD_CONTROL);
+  p = w->takePointer();
+  EXPECT_TRUE(p.pushed);
+  EXPECT_TRUE(p.down);
+  EXPECT_FALSE(w->takePointer().pushed);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, GLFW_MOD_SHIFT | GLFW_MOD_CONTROL);
+  p = w->takePointer();
+  EXPECT_TRUE(p.released);
+  EXPECT_FALSE(p.down);
+  // The key 2 counts as a combination too.
+  w->injectKey(GLFW_KEY_2, GLFW_PRESS, 0);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  EXPECT_TRUE(w->takePointer().pushed);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  w->injectKey(GLFW_KEY_2, GLFW_RELEASE, 0);
+  // The window centre looks at the framed box's centre: the middle point lies on that axis,
+  // between the front and rear points.
+  runtime::Bounds b = scene().framingBounds();
+  EXPECT_NEAR(p.middle[0], b.center().x, 0.02);
+  EXPECT_NEAR(p.middle[1], b.center().y, 0.02);
+  EXPECT_GT(p.front[2], p.middle[2]);
+  EXPECT_GT(p.middle[2], p.rear[2]);
+}

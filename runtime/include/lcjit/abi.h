@@ -104,6 +104,7 @@ void lcjit_get_surface_point(int id, int k, float* out);
 void lcjit_user_menu_item(const char* label, int code);
 int lcjit_user_menu_choice();
 void lcjit_user_menu_clear();
+void lcjit_mouse_status(struct MouseStatus* out);
 }
 
 // Appends one module record to the successor being built.

@@ -1,5 +1,5 @@
-// The user menu (see UserMenu.h).
-#include "UserMenu.h"
+// The window input model code reads (see WindowInput.h).
+#include "WindowInput.h"
 
 namespace lcjit::runtime {
 
@@ -33,6 +33,26 @@ int UserMenu::choice() {
   int c = choice_;
   choice_ = -1;
   return c;
+}
+
+Mouse& Mouse::instance() {
+  static Mouse mouse;
+  return mouse;
+}
+
+void Mouse::update(const MouseStatus& s) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  bool pushed = status_.lbPushed || s.lbPushed, released = status_.lbReleased || s.lbReleased;
+  status_ = s;
+  status_.lbPushed = pushed;
+  status_.lbReleased = released;
+}
+
+MouseStatus Mouse::take() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  MouseStatus s = status_;
+  status_.lbPushed = status_.lbReleased = false;
+  return s;
 }
 
 }  // namespace lcjit::runtime

@@ -1,0 +1,45 @@
+// What model code reads from the window (manual §6.8, §7.4): the user menu (items added by
+// UserMenuItem, shown on two of Ctrl/Shift/Alt + right click, read back by UserMenuChoice) and the
+// mouse status (GetMouseStatus). Model code runs on the derivation thread and the window on the
+// main thread, hence the locks. In batch mode nothing feeds them: neutral values.
+#pragma once
+#include "lcjit/types.h"
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lcjit::runtime {
+
+class UserMenu {
+ public:
+  static UserMenu& instance();
+
+  void add(const std::string& label, int code);
+  void clear();
+  std::vector<std::pair<std::string, int>> items() const;
+  // The window records a selection; choice() returns the last one since the previous call, or
+  // -1 if there was none.
+  void choose(int code);
+  int choice();
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<std::pair<std::string, int>> items_;
+  int choice_ = -1;
+};
+
+class Mouse {
+ public:
+  static Mouse& instance();
+  // The window's latest pointer; pushed/released accumulate until the model reads them.
+  void update(const MouseStatus& s);
+  // GetMouseStatus(): the latest status; pushed/released since the previous call.
+  MouseStatus take();
+
+ private:
+  std::mutex mutex_;
+  MouseStatus status_{};
+};
+
+}  // namespace lcjit::runtime
