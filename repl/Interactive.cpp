@@ -18,6 +18,8 @@
 #include "Frame.h"
 #include "WindowInput.h"
 #include "Window.h"
+#include "Camera.h"
+#include "lcjit/modules.h"
 #include "files/AnimationFile.h"
 
 namespace lcjit {
@@ -55,9 +57,9 @@ class InteractiveModel {
   // Called every frame: shows the worker's picture once it is ready, and keeps an animation going.
   void poll() {
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-      runtime::Geometry geometry = work_.get();
+      shown_ = work_.get();
       const runtime::DrawingFiles& d = session_.drawing();
-      window_.setScene(geometry, d.view, viewer::RenderPalette::fromPalette(d.palette), textureImages(d));
+      window_.setScene(shown_, d.view, viewer::RenderPalette::fromPalette(d.palette), textureImages(d));
       if (recording_) record();
       shownAt_ = Clock::now();
     }
@@ -199,6 +201,25 @@ class InteractiveModel {
     s.lbPushed = p.pushed;
     s.lbReleased = p.released;
     runtime::Mouse::instance().update(s);
+    if (p.insert && !busy()) insertAtPointer(p.insert, p.fbX, p.fbY, s);
+  }
+
+  // §5.9: MouseIns (1) or MouseInsPos(status) (2) goes into the string before the module whose
+  // drawing is under the pointer; nothing when the click hits the background.
+  void insertAtPointer(int kind, float x, float y, const MouseStatus& status) {
+    std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), x, y);
+    if (!source) return;
+    if (kind == 1) {
+      auto r = __lc_blank<__lc_R_MouseIns>();
+      r.id = r.id2 = __lc_id_MouseIns;
+      session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));
+    } else {
+      auto r = __lc_blank<__lc_R_MouseInsPos>();
+      r.id = r.id2 = __lc_id_MouseInsPos;
+      r.p0 = status;
+      session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));
+    }
+    launch([] {});  // redraw: the geometry's sources now point behind the insertion
   }
 
  private:
@@ -208,6 +229,7 @@ class InteractiveModel {
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
       runtime::Geometry geometry;
+      geometry.trackSources = true;  // for MouseIns picking
       session_.engine().interpret(geometry);
       return geometry;
     });
@@ -256,6 +278,7 @@ class InteractiveModel {
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
   std::future<runtime::Geometry> work_;
+  runtime::Geometry shown_;  // what the window shows, with its source modules
   bool exit_ = false;
 
   std::string animationFile_;

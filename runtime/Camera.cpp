@@ -21,6 +21,8 @@
 //    the first case, the horizontal one in the second.
 #include "Camera.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <cmath>
 
@@ -184,6 +186,50 @@ glm::vec3 projectToWindow(const CameraMatrices& camera, V3f p) {
   if (c.w == 0) c.w = 1e-30f;
   glm::vec3 n = glm::vec3(c) / c.w;
   return {(n.x + 1) * 0.5f * camera.width, (1 - n.y) * 0.5f * camera.height, (n.z + 1) * 0.5f};
+}
+
+}  // namespace lcjit::runtime
+
+namespace lcjit::runtime {
+
+std::optional<uint32_t> pickSource(const Geometry& g, const CameraMatrices& camera, float x, float y) {
+  float best = 2;  // depth of the nearest hit so far (window depth is in [0,1])
+  std::optional<uint32_t> found;
+  auto hit = [&](float depth, uint32_t source) {
+    if (depth < best) best = depth, found = source;
+  };
+  if (g.triangleSources.size() == g.triangleCount())
+    for (size_t t = 0; t < g.triangleCount(); ++t) {
+      glm::vec3 a = projectToWindow(camera, g.vertices[g.indices[3 * t]].position);
+      glm::vec3 b = projectToWindow(camera, g.vertices[g.indices[3 * t + 1]].position);
+      glm::vec3 c = projectToWindow(camera, g.vertices[g.indices[3 * t + 2]].position);
+      float d = (b.y - c.y) * (a.x - c.x) + (c.x - b.x) * (a.y - c.y);
+      if (std::fabs(d) < 1e-12f) continue;
+      float u = ((b.y - c.y) * (x - c.x) + (c.x - b.x) * (y - c.y)) / d;
+      float v = ((c.y - a.y) * (x - c.x) + (a.x - c.x) * (y - c.y)) / d;
+      if (u < 0 || v < 0 || u + v > 1) continue;
+      hit(u * a.z + v * b.z + (1 - u - v) * c.z, g.triangleSources[t]);
+    }
+  if (g.segmentSources.size() == g.segments.size())
+    for (size_t i = 0; i < g.segments.size(); ++i) {
+      glm::vec3 a = projectToWindow(camera, g.segments[i].from), b = projectToWindow(camera, g.segments[i].to);
+      glm::vec2 ab(b.x - a.x, b.y - a.y), ap(x - a.x, y - a.y);
+      float len2 = glm::dot(ab, ab), t = len2 > 0 ? glm::clamp(glm::dot(ap, ab) / len2, 0.f, 1.f) : 0.f;
+      float reach = std::max(g.segments[i].width / 2, 2.f);  // a pixel line is hard to hit exactly
+      if (glm::length(ap - ab * t) <= reach) hit(a.z + (b.z - a.z) * t, g.segmentSources[i]);
+    }
+  if (g.discSources.size() == g.discs.size())
+    for (size_t i = 0; i < g.discs.size(); ++i) {
+      const Disc& disc = g.discs[i];
+      glm::vec3 c = projectToWindow(camera, disc.center);
+      // The radius in pixels, measured along the camera's right vector.
+      glm::vec3 right = glm::vec3(glm::inverse(camera.view)[0]) * disc.outer;
+      glm::vec3 e = projectToWindow(camera, disc.center + V3f(right.x, right.y, right.z));
+      float r = glm::length(glm::vec2(e.x - c.x, e.y - c.y));
+      float dist = glm::length(glm::vec2(x - c.x, y - c.y));
+      if (dist <= r && dist >= r * (disc.outer > 0 ? disc.inner / disc.outer : 0)) hit(c.z, g.discSources[i]);
+    }
+  return found;
 }
 
 }  // namespace lcjit::runtime

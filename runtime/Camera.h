@@ -42,4 +42,8 @@ CameraMatrices frameView(const ViewSettings& view, const Bounds& bounds, const s
 // Window coordinates of a model-space point: x right, y down, in pixels; z = depth in [0,1].
 glm::vec3 projectToWindow(const CameraMatrices& camera, V3f p);
 
+// Picking (MouseIns, manual §5.9): the source module (Geometry::trackSources) of the nearest
+// triangle, segment or disc under window pixel (x, y); none when the pixel shows background.
+std::optional<uint32_t> pickSource(const Geometry& geometry, const CameraMatrices& camera, float x, float y);
+
 }  // namespace lcjit::runtime

@@ -536,7 +536,9 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
     }
   };
   size_t pos = 0;
+  const bool topLevel = src == string_.data() && !target;
   while (pos < n) {
+    if (topLevel && tracking_) tracking_->currentSource = (uint32_t)pos;
     succ.clear();
     Scan newLeft = target ? Scan{target->data(), target->size(), false} : Scan{nullptr, 0, false};
     bool applied = tryRules(kind, group, true, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
@@ -564,11 +566,24 @@ void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* g
   Turtle turtle;
   turtle.reset(turtleSetup_, geometry);
   turtle.setTranscript(transcript);
+  tracking_ = geometry && geometry->trackSources ? geometry : nullptr;
   // Interpretation rules live in view groups, not derivation groups (manual §4.4, §7.3): the
   // main view (and the query pass) uses vgroup 0.
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle,
          sink ? &sink : nullptr);
   turtle.finish();
+  tracking_ = nullptr;
+}
+
+bool Engine::insertBefore(size_t offset, const char* record) {
+  if (offset > string_.size()) return false;
+  size_t size = modules_.recordSize(ModuleTable::idAt(record));
+  ModuleBuffer s;
+  s.append(string_.data(), offset);
+  s.append(record, size);
+  s.append(string_.data() + offset, string_.size() - offset);
+  string_.swap(s);
+  return true;
 }
 
 void Engine::queryPass() {

@@ -54,6 +54,8 @@ class Engine {
   void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
                  std::string* transcript = nullptr);
   void interpret(Geometry& geometry) { interpret(nullptr, &geometry); }
+  // Inserts one module record before the module at string offset `offset` (MouseIns, §5.9).
+  bool insertBefore(size_t offset, const char* record);
   // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
   // the turtle). The pointed-to data must outlive the engine's runs.
   void setTurtleSetup(const TurtleSetup& setup) { turtleSetup_ = setup; }
@@ -144,6 +146,7 @@ class Engine {
   const EngineHooks* hooks_ = nullptr;
   Match* activeMatch_ = nullptr;
   TurtleSetup turtleSetup_;
+  Geometry* tracking_ = nullptr;  // interpret(): the geometry recording its source modules
   ContourStore* curves_ = nullptr;
 };
 

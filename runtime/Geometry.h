@@ -92,6 +92,12 @@ struct Geometry {
   // lpfg's bounding box, which framing uses: built by the turtle with lpfg's rules (f/g moves
   // count, MoveTo does not, labels and pixel widths do not). Empty: use bounds().
   Bounds extent;
+
+  // Picking (MouseIns, manual §5.9): with trackSources set, each triangle, segment and disc
+  // records `currentSource`, the string offset of the module whose interpretation drew it.
+  bool trackSources = false;
+  uint32_t currentSource = 0;
+  std::vector<uint32_t> triangleSources, segmentSources, discSources;
   std::vector<DrawBatch> order;
 
   void clear() { *this = Geometry(); }
@@ -136,14 +142,17 @@ struct Geometry {
     indices.push_back(c);
     runs.back().indexCount += 3;
     noteOrder(DrawBatch::Kind::Triangles, (uint32_t)indices.size() - 3, 3);
+    if (trackSources) triangleSources.push_back(currentSource);
   }
   void addSegment(const Segment& s) {
     segments.push_back(s);
     noteOrder(DrawBatch::Kind::Segments, (uint32_t)segments.size() - 1, 1);
+    if (trackSources) segmentSources.push_back(currentSource);
   }
   void addDisc(const Disc& d) {
     discs.push_back(d);
     noteOrder(DrawBatch::Kind::Discs, (uint32_t)discs.size() - 1, 1);
+    if (trackSources) discSources.push_back(currentSource);
   }
   // Records that [first, first+count) of `kind` comes next in drawing order.
   void noteOrder(DrawBatch::Kind kind, uint32_t first, uint32_t count) {

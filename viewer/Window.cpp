@@ -100,6 +100,7 @@ struct Window::Impl {
   bool down[3] = {false, false, false}, justPressed[3] = {false, false, false};
   bool digitHeld[3] = {false, false, false};  // the 1/2/3 keys: lpfg's mouse-insertion keys
   bool comboDown = false, comboPushed = false, comboReleased = false;
+  int insert = 0;  // the module the last combination push asks for (Pointer::insert)
   Task task = Task::Idle;
   double lastX = 0, lastY = 0;
 
@@ -242,7 +243,10 @@ struct Window::Impl {
       const bool shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
       const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
       const bool combo = (shift && ctrl) || (alt && ctrl) || (shift && alt) || digitHeld[0] || digitHeld[1] || digitHeld[2];
-      if (action == GLFW_PRESS && combo) comboDown = comboPushed = true;
+      if (action == GLFW_PRESS && combo) {
+        comboDown = comboPushed = true;
+        insert = (shift && ctrl) || digitHeld[0] ? 1 : (alt && ctrl) || digitHeld[1] ? 2 : 0;
+      }
       if (action == GLFW_RELEASE && comboDown) comboDown = false, comboReleased = true;
     }
     if (action == GLFW_PRESS) {
@@ -685,7 +689,9 @@ Window::Pointer Window::takePointer() {
   auto [ww, wh] = windowSize();
   glm::vec4 viewport(0, 0, (float)c.width, (float)c.height);
   float sx = ww > 0 ? (float)c.width / (float)ww : 1, sy = wh > 0 ? (float)c.height / (float)wh : 1;
-  glm::vec3 win((float)m.cursorX * sx, (float)c.height - (float)m.cursorY * sy, 0);
+  p.fbX = (float)m.cursorX * sx;
+  p.fbY = (float)m.cursorY * sy;
+  glm::vec3 win(p.fbX, (float)c.height - p.fbY, 0);
   auto at = [&](float depth, double* out) {
     win.z = depth;
     glm::vec3 v = glm::unProject(win, c.view, c.projection, viewport);
@@ -697,6 +703,7 @@ Window::Pointer Window::takePointer() {
   p.down = m.comboDown;
   p.pushed = m.comboPushed;
   p.released = m.comboReleased;
+  p.insert = m.comboPushed ? m.insert : 0;
   m.comboPushed = m.comboReleased = false;
   return p;
 }

@@ -121,8 +121,12 @@ class Window {
   // or the 1/2/3 keys). Pushed/released latch until takePointer() returns them.
   struct Pointer {
     int x = 0, y = 0;
+    float fbX = 0, fbY = 0;  // the same in framebuffer pixels (what CameraMatrices measure)
     double front[3] = {0, 0, 0}, rear[3] = {0, 0, 0}, middle[3] = {0, 0, 0};
     bool down = false, pushed = false, released = false;
+    // The module a push asks to insert (§7.4's table): 1 MouseIns (Shift+Ctrl, Shift+Alt+Ctrl or
+    // the 1 key), 2 MouseInsPos (Alt+Ctrl or 2), 0 none (Shift+Alt or 3).
+    int insert = 0;
   };
   Pointer takePointer();
 

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Drives the lcjit window under Xvfb with xdotool: copies DIR/NAME.* to a scratch folder and runs
+# DIR/NAME.drive there (bash) inside the X server, with helpers: start ARGS… (lcjit in the
+# background), wait_file F (up to 10 s), expect_files GLOB NAMES… (exactly those files), fail MSG.
+# The script passes by reaching its end; a failure prints lcjit's stderr.
+# Usage: run_window_script.sh LCJIT DIR NAME
+set -u
+lcjit=$1 dir=$2 name=$3
+work=$(mktemp -d)
+trap 'kill -- -$pid 2>/dev/null; rm -rf "$work"' EXIT
+cp "$dir/$name".* "$work/"
+cd "$work"
+for tool in xvfb-run xdotool; do command -v $tool >/dev/null || { echo "$tool is missing"; exit 1; }; done
+cat > helpers.sh <<EOS
+start() { "$lcjit" "\$@" 2> err.txt & }
+fail() { echo "FAIL: \$*"; cat err.txt; exit 1; }
+wait_file() { for _ in \$(seq 1 100); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
+expect_files() {  # expect_files GLOB NAMES…
+  local have want; have=\$(ls \$1 2>/dev/null | tr '\n' ' '); shift; want="\$* "
+  [ "\$have" = "\$want" ] || fail "expected files: \$want; have: \$have"
+}
+EOS
+setsid xvfb-run -a -s "-screen 0 1024x768x24" bash -c ". ./helpers.sh; . ./$name.drive && echo ok > passed" > log.txt 2>&1 &
+pid=$!
+wait $pid
+cat log.txt
+[ -f passed ] || exit 1
+echo "ok: $name"
