@@ -84,26 +84,7 @@ class Parser {
 
   // GNU cpp line markers `# N "file" flags…` / `#line N "file"`: the next line is line N.
   // Other directives (#pragma …) are ignored.
-  void lineMarker(const char* p) {
-    ++p;
-    p = skipBlanks(p);
-    if (std::strncmp(p, "line", 4) == 0 && isBlank(p[4])) p = skipBlanks(p + 4);
-    if (*p < '0' || *p > '9') return;
-    errno = 0;
-    char* end = nullptr;
-    long n = std::strtol(p, &end, 10);
-    if (errno == ERANGE) n = INT_MAX;
-    p = skipBlanks(end);
-    if (*p == '"') {
-      std::string name;
-      for (++p; *p && *p != '"'; ++p) {
-        if (*p == '\\' && p[1]) ++p;
-        name += *p;
-      }
-      file_ = name;
-    }
-    line_ = int(std::clamp<long>(n, 1, INT_MAX)) - 1;
-  }
+  void lineMarker(const char* p) { textfile::lineMarker(p, file_, line_); }
 
   void handleLine(std::string_view raw) {
     size_t b = 0;

@@ -35,4 +35,28 @@ inline std::string_view trim(std::string_view s) {
   return s;
 }
 
+// A GNU cpp line marker `# N "file" flags…` or `#line N "file"` (p at the '#'): the next line is
+// line N of `file` (kept when the marker names none). Returns false for other directives.
+inline bool lineMarker(const char* p, std::string& file, int& line) {
+  auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  ++p;
+  while (blank(*p)) ++p;
+  if (std::string_view(p).substr(0, 4) == "line" && blank(p[4]))
+    for (p += 4; blank(*p);) ++p;
+  if (*p < '0' || *p > '9') return false;
+  long n = 0;
+  for (; *p >= '0' && *p <= '9'; ++p) n = n < 100000000 ? n * 10 + (*p - '0') : n;
+  while (blank(*p)) ++p;
+  if (*p == '"') {
+    std::string name;
+    for (++p; *p && *p != '"'; ++p) {
+      if (*p == '\\' && p[1]) ++p;
+      name += *p;
+    }
+    file = name;
+  }
+  line = int(n < 1 ? 1 : n) - 1;
+  return true;
+}
+
 }  // namespace lcjit::runtime::textfile

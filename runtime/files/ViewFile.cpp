@@ -4,6 +4,8 @@
 // read them, a command lpfg rejects is left out with a warning, everything else still applies.
 #include "ViewFile.h"
 
+#include "TextLines.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -215,23 +217,7 @@ class Parser {
   }
 
   // GNU cpp line markers: `# N "file" flags…` and `#line N "file"`. The next line is line N.
-  void lineMarker(const char* p) {
-    ++p;  // '#'
-    p = skipBlanks(p);
-    if (std::strncmp(p, "line", 4) == 0 && isBlank(p[4])) p = skipBlanks(p + 4);
-    if (!std::isdigit((unsigned char)*p)) return;  // #pragma, #ident …: ignored
-    long n = std::strtol(p, nullptr, 10);
-    p = skipBlanks(skipNonBlanks(p));
-    if (*p == '"') {
-      std::string name;
-      for (++p; *p && *p != '"'; ++p) {
-        if (*p == '\\' && p[1]) ++p;
-        name += *p;
-      }
-      file_ = name;
-    }
-    line_ = int(std::clamp<long>(n, 1, INT_MAX)) - 1;
-  }
+  void lineMarker(const char* p) { textfile::lineMarker(p, file_, line_); }
 
   void handleLine(std::string_view raw) {
     size_t b = 0;
