@@ -4,6 +4,7 @@
 // that would touch it wait (they are greyed out).
 #include "Interactive.h"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +64,15 @@ class InteractiveModel {
       if (recording_) record();
       shownAt_ = Clock::now();
     }
+    if (!busy()) {
+      // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
+      // made outside a derivation step (Start, End).
+      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
+      if (r.run) runRequested_ = true;
+      if (r.pause) pauseRequested_ = true;
+      if (runRequested_.exchange(false) && animating_) startRunning(runtime::AnimationSchedule::Mode::Run);
+      if (pauseRequested_.exchange(false)) running_ = false;
+    }
     if (running_ && !busy() && Clock::now() - shownAt_ >= std::chrono::milliseconds(animation_.swapIntervalMs()))
       advance(mode_);
   }
@@ -84,7 +94,16 @@ class InteractiveModel {
   }
   void advance(runtime::AnimationSchedule::Mode mode) {
     if (!schedule_) return;
-    std::optional<int> next = schedule_->next(mode);
+    std::optional<int> next;
+    if (animation_.displayOnRequest) {
+      // The model says which frames to show (DisplayFrame): derive towards the last frame and
+      // stop at the next request (deriveTo); Forever starts over after the last.
+      int at = session_.engine().stepNo();
+      if (at < schedule_->lastFrame()) next = schedule_->lastFrame();
+      else if (mode == runtime::AnimationSchedule::Mode::Forever) next = schedule_->rewind();
+    } else {
+      next = schedule_->next(mode);
+    }
     if (!next) {
       running_ = false;
       return;
@@ -238,6 +257,10 @@ class InteractiveModel {
   void deriveTo(int target) {
     runtime::Engine& e = session_.engine();
     while (e.stepNo() < target && e.step()) {
+      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
+      if (r.run) runRequested_ = true;
+      if (r.pause) pauseRequested_ = true;
+      if (animation_.displayOnRequest && r.display) break;  // DisplayFrame: show this step
     }
   }
 
@@ -285,6 +308,7 @@ class InteractiveModel {
   runtime::AnimationSettings animation_;
   std::optional<runtime::AnimationSchedule> schedule_;
   bool animating_ = false, running_ = false, recording_ = false;
+  std::atomic<bool> runRequested_{false}, pauseRequested_{false};  // set on the worker thread
   runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
   Clock::time_point shownAt_;
   int recorded_ = 0;

@@ -145,6 +145,12 @@ void lcjit_get_surface_point(int id, int k, float* out) {
 void lcjit_user_menu_item(const char* label, int code) {
   lcjit::runtime::UserMenu::instance().add(label ? label : "", code);
 }
+void lcjit_animation_request(int what) {
+  auto& c = lcjit::runtime::AnimationControl::instance();
+  if (what == 0) c.requestDisplay();
+  else if (what == 1) c.requestRun();
+  else c.requestPause();
+}
 void lcjit_mouse_status(MouseStatus* out) { *out = lcjit::runtime::Mouse::instance().take(); }
 int lcjit_user_menu_choice() { return lcjit::runtime::UserMenu::instance().choice(); }
 void lcjit_user_menu_clear() { lcjit::runtime::UserMenu::instance().clear(); }
@@ -172,7 +178,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
-      LCJIT_HOST(lcjit_mouse_status),
+      LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request),
   };
 #undef LCJIT_HOST
 }

@@ -35,6 +35,23 @@ int UserMenu::choice() {
   return c;
 }
 
+AnimationControl& AnimationControl::instance() {
+  static AnimationControl control;
+  return control;
+}
+
+void AnimationControl::set(bool AnimationRequests::*flag) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  requests_.*flag = true;
+}
+
+AnimationRequests AnimationControl::take() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  AnimationRequests r = requests_;
+  requests_ = AnimationRequests();
+  return r;
+}
+
 Mouse& Mouse::instance() {
   static Mouse mouse;
   return mouse;

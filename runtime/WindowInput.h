@@ -29,6 +29,25 @@ class UserMenu {
   int choice_ = -1;
 };
 
+// The animation functions of §6.5 that steer the window: DisplayFrame (with `display on
+// request: on`), RunSimulation, PauseSimulation. Model code sets them, the window takes them.
+struct AnimationRequests {
+  bool display = false, run = false, pause = false;
+};
+class AnimationControl {
+ public:
+  static AnimationControl& instance();
+  void requestDisplay() { set(&AnimationRequests::display); }
+  void requestRun() { set(&AnimationRequests::run); }
+  void requestPause() { set(&AnimationRequests::pause); }
+  AnimationRequests take();
+
+ private:
+  void set(bool AnimationRequests::*flag);
+  std::mutex mutex_;
+  AnimationRequests requests_;
+};
+
 class Mouse {
  public:
   static Mouse& instance();

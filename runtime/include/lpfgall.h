@@ -45,10 +45,10 @@ inline int CurrentGroup() { return lcjit_current_group(); }
 // §6.5 Animation functions: Stop works everywhere; the rest need a window.
 inline void Stop() { lcjit_stop(); }
 inline int StepNo() { return lcjit_step_no(); }
-inline void DisplayFrame() {}
+inline void DisplayFrame() { lcjit_animation_request(0); }
 inline void OutputFrame(const char* path) { lcjit_output_frame(path); }
-inline void RunSimulation() {}
-inline void PauseSimulation() {}
+inline void RunSimulation() { lcjit_animation_request(1); }
+inline void PauseSimulation() { lcjit_animation_request(2); }
 inline void DelayWrite() {}
 inline void Write() {}
 inline void StartPerformance() {}

@@ -105,6 +105,8 @@ void lcjit_user_menu_item(const char* label, int code);
 int lcjit_user_menu_choice();
 void lcjit_user_menu_clear();
 void lcjit_mouse_status(struct MouseStatus* out);
+// §6.5: 0 DisplayFrame, 1 RunSimulation, 2 PauseSimulation (the window acts on them).
+void lcjit_animation_request(int what);
 }
 
 // Appends one module record to the successor being built.
