@@ -4,6 +4,7 @@
 // that would touch it wait (they are greyed out).
 #include "Interactive.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -58,9 +59,12 @@ class InteractiveModel {
   // Called every frame: shows the worker's picture once it is ready, and keeps an animation going.
   void poll() {
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-      shown_ = work_.get();
+      Scene scene = work_.get();
+      shown_ = std::move(scene.main);
       const runtime::DrawingFiles& d = session_.drawing();
-      window_.setScene(shown_, d.view, viewer::RenderPalette::fromPalette(d.palette), textureImages(d));
+      auto palette = viewer::RenderPalette::fromPalette(d.palette);
+      if (scene.panes.empty()) window_.setScene(shown_, d.view, palette, textureImages(d));
+      else window_.setViews(scene.panes, d.view, palette, textureImages(d));
       if (recording_) record();
       shownAt_ = Clock::now();
     }
@@ -247,10 +251,24 @@ class InteractiveModel {
     if (busy()) return;
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
-      runtime::Geometry geometry;
-      geometry.trackSources = true;  // for MouseIns picking
-      session_.engine().interpret(geometry);
-      return geometry;
+      Scene scene;
+      scene.main.trackSources = true;  // for MouseIns picking
+      session_.engine().interpret(scene.main);
+      // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
+      // its `window:` rectangle.
+      const auto& windows = session_.drawing().view.windows;
+      for (int id : session_.engine().views()) {
+        if (id < 0 || id >= (int)windows.size()) continue;
+        viewer::ViewPane pane;
+        session_.engine().interpret(pane.geometry, id);
+        const auto& w = windows[id];
+        pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
+        pane.rect.width = std::clamp(w.width, 0.f, 1 - pane.rect.left);  // lpfg reads a width; keep it inside
+        pane.rect.height = std::clamp(w.height, 0.f, 1 - pane.rect.top);
+        pane.viewId = id;
+        scene.panes.push_back(std::move(pane));
+      }
+      return scene;
     });
   }
 
@@ -300,7 +318,12 @@ class InteractiveModel {
   InteractiveOptions options_;
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
-  std::future<runtime::Geometry> work_;
+  // What the worker hands the window: the main view's geometry and, with UseView, the panes.
+  struct Scene {
+    runtime::Geometry main;
+    std::vector<viewer::ViewPane> panes;
+  };
+  std::future<Scene> work_;
   runtime::Geometry shown_;  // what the window shows, with its source modules
   bool exit_ = false;
 

@@ -204,6 +204,8 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   };
   for (int id = 0; id < drawing->contours.size(); ++id) defineId(drawing->contours.nameOf(id), id);
   for (size_t id = 0; id < drawing->shapes.surfaces.size(); ++id) defineId(drawing->shapes.surfaces[id].surface.name, id);
+  // Multi-view (§7.3): each `window:` name is its view id, for UseView and `vgroup`.
+  for (size_t id = 0; id < drawing->view.windows.size(); ++id) defineId(drawing->view.windows[id].name, id);
   auto text = frontend::preprocess(files.lsystem, pp);
   if (!text) return text.takeError();
   times.preprocessMs = msSince(t0);

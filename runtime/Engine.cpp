@@ -3,6 +3,8 @@
 // context steps out of branches and over whole sibling branches; SB/EB are always considered.
 #include "Engine.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -561,7 +563,13 @@ void Engine::decompose(int group) {
   string_.swap(out);
 }
 
-void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript) {
+void Engine::useView(int id) {
+  if (std::find(views_.begin(), views_.end(), id) == views_.end()) views_.push_back(id);
+}
+void Engine::closeView(int id) { views_.erase(std::remove(views_.begin(), views_.end(), id), views_.end()); }
+
+void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
+                       int vgroup) {
   CurrentScope scope(this);
   Turtle turtle;
   turtle.reset(turtleSetup_, geometry);
@@ -569,7 +577,7 @@ void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* g
   tracking_ = geometry && geometry->trackSources ? geometry : nullptr;
   // Interpretation rules live in view groups, not derivation groups (manual §4.4, §7.3): the
   // main view (and the query pass) uses vgroup 0.
-  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle,
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, vgroup, nullptr, &turtle,
          sink ? &sink : nullptr);
   turtle.finish();
   tracking_ = nullptr;
@@ -608,6 +616,7 @@ void Engine::begin(const EngineHooks& hooks) {
   hooks_ = &hooks;
   step_ = 0;
   ended_ = false;
+  views_.clear();
   gillespieTime_ = 0;
   string_.clear();
   if (model_.start) model_.start();

@@ -51,9 +51,14 @@ class Engine {
   // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
   // receives what the turtle draws.
   // `transcript`, when given, receives lpfg's `-dtf` turtle text.
+  // `vgroup`: the view group whose interpretation rules apply (multi-view, manual §7.3).
   void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
-                 std::string* transcript = nullptr);
-  void interpret(Geometry& geometry) { interpret(nullptr, &geometry); }
+                 std::string* transcript = nullptr, int vgroup = 0);
+  void interpret(Geometry& geometry, int vgroup = 0) { interpret(nullptr, &geometry, nullptr, vgroup); }
+  // UseView/CloseView (§6.4): the views the model has opened, in order.
+  void useView(int id);
+  void closeView(int id);
+  const std::vector<int>& views() const { return views_; }
   // Inserts one module record before the module at string offset `offset` (MouseIns, §5.9).
   bool insertBefore(size_t offset, const char* record);
   // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
@@ -146,6 +151,7 @@ class Engine {
   const EngineHooks* hooks_ = nullptr;
   Match* activeMatch_ = nullptr;
   TurtleSetup turtleSetup_;
+  std::vector<int> views_;
   Geometry* tracking_ = nullptr;  // interpret(): the geometry recording its source modules
   ContourStore* curves_ = nullptr;
 };

@@ -145,6 +145,9 @@ void lcjit_get_surface_point(int id, int k, float* out) {
 void lcjit_user_menu_item(const char* label, int code) {
   lcjit::runtime::UserMenu::instance().add(label ? label : "", code);
 }
+void lcjit_use_view(int id, int open) {
+  if (Engine* e = engine()) open ? e->useView(id) : e->closeView(id);
+}
 void lcjit_animation_request(int what) {
   auto& c = lcjit::runtime::AnimationControl::instance();
   if (what == 0) c.requestDisplay();
@@ -178,7 +181,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
-      LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request),
+      LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
   };
 #undef LCJIT_HOST
 }

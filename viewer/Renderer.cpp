@@ -1268,13 +1268,17 @@ struct Renderer::Impl {
       }
     }
 
-    glViewport(0, 0, cam.width, cam.height);
+    glViewport(options.viewportX, options.viewportY, cam.width, cam.height);
     if (options.clear) {
+      // Only this view's rectangle (multi-view windows share one framebuffer).
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(options.viewportX, options.viewportY, cam.width, cam.height);
       auto bg = palette.background();
       glClearColor(bg[0], bg[1], bg[2], options.backgroundAlpha);
       glClearDepth(1.0);
       glDepthMask(GL_TRUE);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      glDisable(GL_SCISSOR_TEST);
     }
     const bool depthTest = view.zBuffer || shadows;
     depthTestOn = depthTest;

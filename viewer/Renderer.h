@@ -79,6 +79,9 @@ struct RenderOptions {
   std::string fontFile;
   bool clear = true;             // clear to the background colour first
   float backgroundAlpha = 1;     // lpfg clears with alpha 0; 1 gives an opaque image
+  // Where the camera's width × height go in the framebuffer (lower-left corner, GL pixels):
+  // multi-view windows draw each view into its own rectangle.
+  int viewportX = 0, viewportY = 0;
 };
 
 struct RenderStats {

@@ -83,6 +83,16 @@ struct Window::Impl {
   GLFWwindow* window = nullptr;
   ImGuiContext* imgui = nullptr;
   std::unique_ptr<Renderer> renderer;
+  // Multi-view (manual §7.3): one pane per active view, each its own renderer and framing; the
+  // mouse adjustment applies to all. Empty: the single scene of `renderer`.
+  struct Pane {
+    std::unique_ptr<Renderer> renderer;
+    runtime::Bounds bounds;
+    std::optional<runtime::CameraPose> pose;
+    ViewPane::Rect rect;
+    int viewId = 0;
+  };
+  std::vector<Pane> panes;
 
   // The scene.
   bool hasScene = false;
@@ -293,6 +303,7 @@ struct Window::Impl {
 
   // Draws the scene into the bound framebuffer at the current camera.
   void drawScene() {
+    if (!panes.empty()) return drawPanes();
     if (hasScene) {
       renderer->draw(view, camera, {});
     } else {
@@ -300,6 +311,30 @@ struct Window::Impl {
       glViewport(0, 0, w, h);
       glClearColor(0, 0, 0, 1);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+  }
+
+  // Each pane in its window: rect (relative, top-left origin) shrunk by half the border on every
+  // side that meets another pane; the border colour shows between them.
+  void drawPanes() {
+    auto [w, h] = fbSize();
+    glViewport(0, 0, w, h);
+    glClearColor(view.windowBorderColor.r, view.windowBorderColor.g, view.windowBorderColor.b, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const float half = float(view.windowBorderSize) / 2;
+    for (Pane& p : panes) {
+      float x0 = p.rect.left * w, x1 = (p.rect.left + p.rect.width) * w;
+      float y0 = p.rect.top * h, y1 = (p.rect.top + p.rect.height) * h;
+      if (p.rect.left > 0) x0 += half;
+      if (p.rect.left + p.rect.width < 1) x1 -= half;
+      if (p.rect.top > 0) y0 += half;
+      if (p.rect.top + p.rect.height < 1) y1 -= half;
+      int pw = std::max(1, int(std::lround(x1 - x0))), ph = std::max(1, int(std::lround(y1 - y0)));
+      runtime::CameraMatrices cam = runtime::frameView(view, p.bounds, p.pose, pw, ph, p.viewId, adjust);
+      RenderOptions o;
+      o.viewportX = int(std::lround(x0));
+      o.viewportY = h - int(std::lround(y0)) - ph;  // GL counts from the bottom
+      p.renderer->draw(view, cam, o);
     }
   }
 
@@ -422,8 +457,35 @@ void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSett
   m.renderer->setPalette(palette);
   m.renderer->setTextures(textures);
   m.renderer->setGeometry(geometry);
+  m.panes.clear();
   m.hasScene = true;
   // A view file with other zoom limits: keep the zoom within them.
+  m.zoomBy(0);
+}
+
+void Window::setViews(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
+                      const RenderPalette& palette, const std::vector<TextureImage>& textures) {
+  Impl& m = *impl_;
+  m.makeCurrent();
+  m.view = view;
+  m.panes.resize(panes.size());
+  runtime::Bounds all;
+  for (size_t i = 0; i < panes.size(); ++i) {
+    Impl::Pane& p = m.panes[i];
+    if (!p.renderer) p.renderer = std::make_unique<Renderer>();
+    p.renderer->setPalette(palette);
+    p.renderer->setTextures(textures);
+    p.renderer->setGeometry(panes[i].geometry);
+    p.bounds = panes[i].geometry.framingBounds();
+    p.pose = panes[i].geometry.camera;
+    p.rect = panes[i].rect;
+    p.viewId = panes[i].viewId;
+    all.add(p.bounds);
+  }
+  // Rotation and zoom work on the whole picture's framing.
+  m.bounds = all;
+  m.pose.reset();
+  m.hasScene = true;
   m.zoomBy(0);
 }
 

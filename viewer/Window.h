@@ -71,6 +71,16 @@ struct MenuActions {
   std::function<void(int code)> userChoice;
 };
 
+// One view of a multi-view window (manual §7.3): what its view group drew, where it goes (the
+// view file's `window:` rectangle, relative, top-left origin) and its `view:`/`box:` id.
+struct ViewPane {
+  runtime::Geometry geometry;
+  struct Rect {
+    float left = 0, top = 0, width = 1, height = 1;
+  } rect;
+  int viewId = 0;
+};
+
 // Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
 // GLFW_MOD_SHIFT…): the inject* functions are what the GLFW callbacks call.
 class Window {
@@ -82,6 +92,9 @@ class Window {
 
   // Uploads a new picture. The user's rotation/zoom/pan are kept unless resetView() is called.
   void setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
+                const std::vector<TextureImage>& textures);
+  // Several views in one window, separated by the view file's `window border:`.
+  void setViews(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view, const RenderPalette& palette,
                 const std::vector<TextureImage>& textures);
   // Back to the view file's framing (New model, New view).
   void resetView();

@@ -123,8 +123,8 @@ inline V3f GetSurfacePoint(int id, int k) {
 }
 
 // §6.4 View functions and §6.8 mouse and menu: neutral values without a window.
-inline void UseView(int) {}
-inline void CloseView(int) {}
+inline void UseView(int id) { lcjit_use_view(id, 1); }
+inline void CloseView(int id) { lcjit_use_view(id, 0); }
 inline float vvXmin(int) { return 0; }
 inline float vvYmin(int) { return 0; }
 inline float vvZmin(int) { return 0; }

@@ -443,3 +443,27 @@ TEST(TurtleGeometry, CappedAndTaperedCylinders) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(TurtleGeometry, ViewGroupsDrawEachView) {
+  // Multi-view (§7.3): `window:` names are view ids for UseView and `vgroup`; each view's
+  // interpretation uses its own view group's rules.
+  std::string extra = "module A;\nStart: { UseView(right); UseView(left); }\n";
+  Geometry main = draw("multiview", "A", "window: left 0 0 0.5 1\nwindow: right 0.5 0 0.5 1\n", {},
+                       extra + "interpretation:\nvgroup left:\nA : { produce F(1); }\nvgroup right:\n"
+                               "A : { produce F(2) F(3); }\nendgroup\n");
+  const auto& views = session().engine().views();
+  ASSERT_EQ(views.size(), 2u);
+  EXPECT_EQ(views[0], 1);  // right, opened first
+  EXPECT_EQ(views[1], 0);
+  Geometry left, right;
+  session().engine().interpret(left, 0);
+  session().engine().interpret(right, 1);
+  ASSERT_EQ(left.segments.size(), 1u);
+  ASSERT_EQ(right.segments.size(), 2u);
+  EXPECT_V3(right.segments[1].to, 0, 5, 0);
+  (void)main;
+}
+
+}  // namespace

@@ -650,3 +650,39 @@ TEST_F(WindowTest, PointerReportsTheMouseInsertionCombinationsOnly) {
   EXPECT_GT(p.front[2], p.middle[2]);
   EXPECT_GT(p.middle[2], p.rear[2]);
 }
+
+TEST_F(WindowTest, MultiViewPanesFillTheirWindowsWithABorder) {
+  // Two views side by side (window: left 0 0 0.5 1, right 0.5 0 0.5 1), a 4-pixel white border:
+  // the left pane shows a red square, the right one a blue one, each framed in its own half.
+  auto square = [](int color) {
+    Geometry g;
+    quad(g, V3f(-1, -1, 0), V3f(1, -1, 0), V3f(1, 1, 0), V3f(-1, 1, 0), color);
+    return g;
+  };
+  std::vector<ViewPane> panes(2);
+  panes[0].geometry = square(2);
+  panes[0].rect = {0, 0, 0.5f, 1};
+  panes[1].geometry = square(4);
+  panes[1].rect = {0.5f, 0, 0.5f, 1};
+  panes[1].viewId = 1;
+  ViewSettings v;
+  v.windowBorderSize = 4;
+  v.windowBorderColor = {1, 1, 1};
+  w->setViews(panes, v, palette(), {});
+  Image img = grab();
+  Blob red = find(img, kRed), blue = find(img, kBlue), white = find(img, {255, 255, 255});
+  ASSERT_GT(red.count, 0);
+  ASSERT_GT(blue.count, 0);
+  EXPECT_LT(red.x1, kSize / 2);
+  EXPECT_GT(blue.x0, kSize / 2);
+  // Each square fills 90% of its pane's width (a pane of kSize/2 - 2 pixels), centred in it.
+  EXPECT_NEAR(red.width(), (kSize / 2 - 2) * 0.9, 3);
+  EXPECT_NEAR(red.cx, (kSize / 2 - 2) / 2.0, 2);
+  EXPECT_NEAR(blue.cx, kSize / 2 + 2 + (kSize / 2 - 2) / 2.0, 2);
+  // The border: a white column 4 pixels wide down the middle.
+  EXPECT_EQ(white.width(), 4);
+  EXPECT_EQ(white.height(), kSize);
+  // Back to one view.
+  w->setScene(scene(), zview(), palette(), {});
+  EXPECT_EQ(find(grab(), {255, 255, 255}).count, 0);
+}

@@ -107,6 +107,7 @@ void lcjit_user_menu_clear();
 void lcjit_mouse_status(struct MouseStatus* out);
 // §6.5: 0 DisplayFrame, 1 RunSimulation, 2 PauseSimulation (the window acts on them).
 void lcjit_animation_request(int what);
+void lcjit_use_view(int id, int open);  // UseView (open = 1) / CloseView (0)
 }
 
 // Appends one module record to the successor being built.
