@@ -211,6 +211,19 @@ class InteractiveModel {
   }
   bool exitRequested() const { return exit_; }
 
+  // The window's camera for GetCameraPosition() and vvScale() (§6.4), view 0.
+  void feedCamera() {
+    const runtime::CameraMatrices& c = window_.camera();
+    CameraPosition p{};
+    p.position = V3f(c.eye.x, c.eye.y, c.eye.z);
+    p.lookat = V3f(c.lookAt.x, c.lookAt.y, c.lookAt.z);
+    p.head = V3f(c.viewDirection.x, c.viewDirection.y, c.viewDirection.z);
+    p.up = V3f(c.up.x, c.up.y, c.up.z);
+    p.left = p.up % p.head;
+    p.scale = window_.adjustment().zoom;
+    runtime::Views::instance().setCamera(0, p);
+  }
+
   // The window's pointer for GetMouseStatus() (§7.4).
   void feedMouse() {
     viewer::Window::Pointer p = window_.takePointer();
@@ -257,10 +270,16 @@ class InteractiveModel {
       // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
       // its `window:` rectangle.
       const auto& windows = session_.drawing().view.windows;
+      auto box = [](int id, const runtime::Geometry& g) {
+        runtime::Bounds b = g.framingBounds();
+        if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
+      };
+      box(0, scene.main);
       for (int id : session_.engine().views()) {
         if (id < 0 || id >= (int)windows.size()) continue;
         viewer::ViewPane pane;
         session_.engine().interpret(pane.geometry, id);
+        box(id, pane.geometry);
         const auto& w = windows[id];
         pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
         pane.rect.width = std::clamp(w.width, 0.f, 1 - pane.rect.left);  // lpfg reads a width; keep it inside
@@ -356,6 +375,7 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   for (;;) {
     model.poll();
     model.feedMouse();
+    model.feedCamera();
     viewer::MenuActions actions = model.actions();
     if (model.exitRequested() || !(*window)->frame(actions)) break;
     // Redraw on input; while the worker runs, look for its picture often; files a few times a second.

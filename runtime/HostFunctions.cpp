@@ -148,6 +148,9 @@ void lcjit_user_menu_item(const char* label, int code) {
 void lcjit_use_view(int id, int open) {
   if (Engine* e = engine()) open ? e->useView(id) : e->closeView(id);
 }
+float lcjit_view_box(int id, int axis, int max) { return lcjit::runtime::Views::instance().box(id, axis, max != 0); }
+float lcjit_view_scale(int id) { return lcjit::runtime::Views::instance().scale(id); }
+void lcjit_camera_position(int id, CameraPosition* out) { *out = lcjit::runtime::Views::instance().camera(id); }
 void lcjit_animation_request(int what) {
   auto& c = lcjit::runtime::AnimationControl::instance();
   if (what == 0) c.requestDisplay();
@@ -182,6 +185,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
       LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
+      LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
   };
 #undef LCJIT_HOST
 }

@@ -52,6 +52,43 @@ AnimationRequests AnimationControl::take() {
   return r;
 }
 
+Views& Views::instance() {
+  static Views views;
+  return views;
+}
+
+void Views::setBox(int id, V3f min, V3f max) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  views_[id].min = min;
+  views_[id].max = max;
+}
+
+void Views::setCamera(int id, const CameraPosition& camera) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  views_[id].camera = camera;
+  views_[id].hasCamera = true;
+}
+
+float Views::box(int id, int axis, bool max) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = views_.find(id);
+  if (it == views_.end()) return 0;
+  const V3f& v = max ? it->second.max : it->second.min;
+  return axis == 0 ? v.x : axis == 1 ? v.y : v.z;
+}
+
+float Views::scale(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = views_.find(id);
+  return it != views_.end() && it->second.hasCamera ? it->second.camera.scale : 1;
+}
+
+CameraPosition Views::camera(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = views_.find(id);
+  return it != views_.end() ? it->second.camera : CameraPosition{};
+}
+
 Mouse& Mouse::instance() {
   static Mouse mouse;
   return mouse;

@@ -4,6 +4,7 @@
 // main thread, hence the locks. In batch mode nothing feeds them: neutral values.
 #pragma once
 #include "lcjit/types.h"
+#include <map>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -46,6 +47,29 @@ class AnimationControl {
   void set(bool AnimationRequests::*flag);
   std::mutex mutex_;
   AnimationRequests requests_;
+};
+
+// §6.4 view functions: each view's bounding box (vvXmin …, from its last interpretation), its
+// projection scale (vvScale) and the camera (GetCameraPosition), as the window last showed them.
+// Unknown views: a zero box, scale 1.
+class Views {
+ public:
+  static Views& instance();
+  void setBox(int id, V3f min, V3f max);
+  void setCamera(int id, const CameraPosition& camera);
+  // axis 0..2 = x, y, z; max selects the upper corner.
+  float box(int id, int axis, bool max) const;
+  float scale(int id) const;
+  CameraPosition camera(int id) const;
+
+ private:
+  struct View {
+    V3f min, max;
+    CameraPosition camera{};
+    bool hasCamera = false;
+  };
+  mutable std::mutex mutex_;
+  std::map<int, View> views_;
 };
 
 class Mouse {

@@ -122,17 +122,21 @@ inline V3f GetSurfacePoint(int id, int k) {
   return v;
 }
 
-// §6.4 View functions and §6.8 mouse and menu: neutral values without a window.
+// §6.4 View functions and §6.8 mouse and menu: fed by the window; neutral values without one.
 inline void UseView(int id) { lcjit_use_view(id, 1); }
 inline void CloseView(int id) { lcjit_use_view(id, 0); }
-inline float vvXmin(int) { return 0; }
-inline float vvYmin(int) { return 0; }
-inline float vvZmin(int) { return 0; }
-inline float vvXmax(int) { return 0; }
-inline float vvYmax(int) { return 0; }
-inline float vvZmax(int) { return 0; }
-inline float vvScale(int) { return 1; }
-inline CameraPosition GetCameraPosition(int) { return CameraPosition(); }
+inline float vvXmin(int id) { return lcjit_view_box(id, 0, 0); }
+inline float vvYmin(int id) { return lcjit_view_box(id, 1, 0); }
+inline float vvZmin(int id) { return lcjit_view_box(id, 2, 0); }
+inline float vvXmax(int id) { return lcjit_view_box(id, 0, 1); }
+inline float vvYmax(int id) { return lcjit_view_box(id, 1, 1); }
+inline float vvZmax(int id) { return lcjit_view_box(id, 2, 1); }
+inline float vvScale(int id) { return lcjit_view_scale(id); }
+inline CameraPosition GetCameraPosition(int id) {
+  CameraPosition c{};
+  lcjit_camera_position(id, &c);
+  return c;
+}
 inline MouseStatus GetMouseStatus() {
   MouseStatus s{};
   lcjit_mouse_status(&s);

@@ -108,6 +108,9 @@ void lcjit_mouse_status(struct MouseStatus* out);
 // §6.5: 0 DisplayFrame, 1 RunSimulation, 2 PauseSimulation (the window acts on them).
 void lcjit_animation_request(int what);
 void lcjit_use_view(int id, int open);  // UseView (open = 1) / CloseView (0)
+float lcjit_view_box(int id, int axis, int max);
+float lcjit_view_scale(int id);
+void lcjit_camera_position(int id, struct CameraPosition* out);
 }
 
 // Appends one module record to the successor being built.
