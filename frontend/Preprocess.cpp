@@ -33,6 +33,7 @@ bool isHSpace(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; 
 
 // `#include <x>` -> `#pragma  <x>`: "include" and "pragma " have the same length, so sizes,
 // line and column numbers stay exactly as on disk (clang checks file sizes against stat()).
+// `#include "lpfgall.h"` is lpfg's header too and goes the same way.
 void hideAngledIncludes(std::string& text) {
   size_t pos = 0;
   bool continued = false; // previous line ended in a backslash: this line is not a directive
@@ -52,8 +53,14 @@ void hideAngledIncludes(std::string& text) {
           size_t j = i + 7;
           while (j < eol && isHSpace(text[j]))
             ++j;
-          if (j < eol && text[j] == '<')
+          if (j < eol && text[j] == '<') {
             text.replace(i, 7, "pragma ");
+          } else if (text.compare(j, 11, "\"lpfgall.h\"") == 0) {
+            // lpfg's own header, as many models write it: the same as <lpfgall.h> (same length).
+            text.replace(i, 7, "pragma ");
+            text[j] = '<';
+            text[j + 10] = '>';
+          }
         }
       }
     }

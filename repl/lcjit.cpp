@@ -61,10 +61,10 @@ int main(int argc, char** argv) {
   app.add_flag("-q", quiet, "quiet: no messages");
   app.add_flag("-v", verbose, "verbose");
   app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
-  app.add_option("-w", winSize, "window size")->expected(2);
-  app.add_option("--wp", winPos, "(-wp) window position")->expected(2);
-  app.add_option("--wpr", winPosRel, "(-wpr) relative window position")->expected(2);
-  app.add_option("--wr", winSizeRel, "(-wr) relative window size")->expected(2);
+  app.add_option("-w", winSize, "window size")->expected(2)->allow_extra_args(false);
+  app.add_option("--wp", winPos, "(-wp) window position")->expected(2)->allow_extra_args(false);
+  app.add_option("--wpr", winPosRel, "(-wpr) relative window position")->expected(2)->allow_extra_args(false);
+  app.add_option("--wr", winSizeRel, "(-wr) relative window size")->expected(2)->allow_extra_args(false);
   app.add_flag("--wnb", noBorder, "(-wnb) window without borders");
   app.add_flag("--cleanEA20", cleanEA, "(-cleanEA20) accepted");
   app.add_flag("--cn", cn, "(-cn) accepted");
