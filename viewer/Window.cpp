@@ -68,6 +68,29 @@ float baseScale(const runtime::ViewSettings& view) {
 
 const char* kMenuId = "lcjit main menu";
 const char* kUserMenuId = "lcjit user menu";
+// Above this many segments + triangles, dragging draws the decimated preview.
+constexpr size_t kPreviewLimit = 60000;
+
+// Every k-th segment and triangle of a large geometry (k chosen to keep about `limit` of them),
+// everything else as it is: the interaction preview.
+runtime::Geometry decimated(const runtime::Geometry& g, size_t limit) {
+  size_t total = g.segments.size() + g.triangleCount();
+  size_t k = (total + limit - 1) / limit;
+  runtime::Geometry d;
+  d.vertices = g.vertices;
+  d.discs = g.discs;
+  d.labels = g.labels;
+  d.camera = g.camera;
+  d.extent = g.extent;
+  for (size_t i = 0; i < g.segments.size(); i += k) d.addSegment(g.segments[i]);
+  for (const runtime::TriangleRun& run : g.runs) {
+    d.useTexture(run.texture);
+    for (uint32_t t = run.firstIndex; t + 2 < run.firstIndex + run.indexCount; t += uint32_t(3 * k))
+      d.addTriangle(g.indices[t], g.indices[t + 1], g.indices[t + 2]);
+  }
+  return d;
+}
+
 const char* kSaveId = "Save as";
 
 }  // namespace
@@ -83,6 +106,9 @@ struct Window::Impl {
   GLFWwindow* window = nullptr;
   ImGuiContext* imgui = nullptr;
   std::unique_ptr<Renderer> renderer;
+  // While the mouse drags the view of a very large model, a decimated copy is drawn so that
+  // rotating stays fluid on software rendering; the full picture returns on release.
+  std::unique_ptr<Renderer> preview;
   // Multi-view (manual §7.3): one pane per active view, each its own renderer and framing; the
   // mouse adjustment applies to all. Empty: the single scene of `renderer`.
   struct Pane {
@@ -305,7 +331,7 @@ struct Window::Impl {
   void drawScene() {
     if (!panes.empty()) return drawPanes();
     if (hasScene) {
-      renderer->draw(view, camera, {});
+      (preview && task != Task::Idle ? preview : renderer)->draw(view, camera, {});
     } else {
       auto [w, h] = fbSize();
       glViewport(0, 0, w, h);
@@ -457,6 +483,13 @@ void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSett
   m.renderer->setPalette(palette);
   m.renderer->setTextures(textures);
   m.renderer->setGeometry(geometry);
+  m.preview.reset();
+  if (geometry.segments.size() + geometry.triangleCount() > kPreviewLimit) {
+    m.preview = std::make_unique<Renderer>();
+    m.preview->setPalette(palette);
+    m.preview->setTextures(textures);
+    m.preview->setGeometry(decimated(geometry, kPreviewLimit));
+  }
   m.panes.clear();
   m.hasScene = true;
   // A view file with other zoom limits: keep the zoom within them.

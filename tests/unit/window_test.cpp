@@ -686,3 +686,30 @@ TEST_F(WindowTest, MultiViewPanesFillTheirWindowsWithABorder) {
   w->setScene(scene(), zview(), palette(), {});
   EXPECT_EQ(find(grab(), {255, 255, 255}).count, 0);
 }
+
+TEST_F(WindowTest, DraggingAVeryLargeModelDrawsAPreviewAndReleaseTheWholePicture) {
+  // 250 000 dots on a grid: more than the preview limit, so while the left button drags the view
+  // a decimated copy is drawn (fewer lit pixels); on release the whole picture is back.
+  Geometry g;
+  const int n = 500;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      V3f p(-1 + 2.f * i / n, -1 + 2.f * j / n, 0);
+      g.addSegment({p, p + V3f(0.002f, 0, 0), 1, 2});
+    }
+  w->setScene(g, ViewSettings(), palette(), {});
+  auto lit = [](const Image& img) { return find(img, kRed).count; };
+  MenuActions none;
+  int full = lit(grab());
+  w->injectCursor(100, 100);
+  w->frame(none);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  w->frame(none);
+  int dragging = lit(grab());
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  w->frame(none);
+  int released = lit(grab());
+  EXPECT_GT(full, 0);
+  EXPECT_LT(dragging, full * 0.8);
+  EXPECT_EQ(released, full);
+}
