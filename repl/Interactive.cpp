@@ -60,6 +60,7 @@ class InteractiveModel {
   void poll() {
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       Scene scene = work_.get();
+      session_.engine().clearCancel();
       shown_ = std::move(scene.main);
       const runtime::DrawingFiles& d = session_.drawing();
       auto palette = viewer::RenderPalette::fromPalette(d.palette);
@@ -178,7 +179,10 @@ class InteractiveModel {
     a.saveName = stem() + ".png";
     a.exit = [this] { exit_ = true; };
     a.animating = animating_;
-    a.stop = [this] { running_ = false; };
+    a.stop = [this] {
+      running_ = false;
+      if (busy()) session_.engine().cancelStep();  // a long step in progress stops too
+    };
     a.clear = [this] {
       if (!busy()) launch([] {});
     };

@@ -332,7 +332,7 @@ bool Engine::tryRules(int kind, int group, bool fallback, const Scan& old, size_
 
 // ---- derivation steps
 
-void Engine::deriveForward(int group) {
+bool Engine::deriveForward(int group) {
   next_.clear();
   const char* s = string_.data();
   size_t n = string_.size();
@@ -341,6 +341,7 @@ void Engine::deriveForward(int group) {
   m.forward = true;
   size_t pos = 0;
   while (pos < n) {
+    if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
     __lc_ModuleId id = ModuleTable::idAt(s + pos);
     if (id == __lc_id_Cut) {
       // The Cut and the rest of its branch go; the closing EB is processed normally.
@@ -377,9 +378,10 @@ void Engine::deriveForward(int group) {
     }
   }
   string_.swap(next_);
+  return true;
 }
 
-void Engine::deriveBackward(int group) {
+bool Engine::deriveBackward(int group) {
   // The result grows leftwards: `next_` holds it at its end, from `front` on.
   const char* s = string_.data();
   size_t n = string_.size();
@@ -405,6 +407,7 @@ void Engine::deriveBackward(int group) {
   m.forward = false;
   size_t pos = n;
   while (pos > 0) {
+    if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
     size_t q = modules_.prev(s, pos);
     __lc_ModuleId id = ModuleTable::idAt(s + q);
     Scan newRight{next_.data() + front, next_.size() - front, false};
@@ -440,9 +443,10 @@ void Engine::deriveBackward(int group) {
   std::memmove(next_.data(), next_.data() + front, used);
   next_.resize(used);
   string_.swap(next_);
+  return true;
 }
 
-void Engine::deriveGillespie(int group) {
+bool Engine::deriveGillespie(int group) {
   struct Reaction {
     float propensity;
     size_t from, to;          // the strict predecessor's bytes in the string
@@ -457,6 +461,7 @@ void Engine::deriveGillespie(int group) {
   m.forward = true;
   size_t pos = 0;
   while (pos < n) {
+    if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
     __lc_ModuleId id = ModuleTable::idAt(s + pos);
     if (id == __lc_id_Cut) {
       size_t e = findEndOfBranch(old, modules_.next(s, pos));
@@ -500,7 +505,7 @@ void Engine::deriveGillespie(int group) {
   }
   double sum = 0;
   for (auto& r : reactions) sum += r.propensity;
-  if (!(sum > 0)) return;
+  if (!(sum > 0)) return true;  // nothing can happen: the string stays
   double x = sum * gillespieRandom_.next();
   const Reaction* chosen = &reactions.back();
   for (auto& r : reactions) {
@@ -516,6 +521,7 @@ void Engine::deriveGillespie(int group) {
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
   next_.append(s + chosen->to, n - chosen->to);
   string_.swap(next_);
+  return true;
 }
 
 // Decomposition and interpretation: recursive per module, one module at a time (lpfg advances
@@ -641,12 +647,14 @@ bool Engine::step() {
   if (model_.startEach) model_.startEach();
   int group = group_;
   auto kind = groupKinds_.find(group);
-  if (kind != groupKinds_.end() && kind->second == __lc_GillespieGroup) {
-    deriveGillespie(group);
-  } else if (forward_) {
-    deriveForward(group);
-  } else {
-    deriveBackward(group);
+  bool derived = kind != groupKinds_.end() && kind->second == __lc_GillespieGroup ? deriveGillespie(group)
+                 : forward_                                                       ? deriveForward(group)
+                                                                                  : deriveBackward(group);
+  if (!derived) {
+    // cancelStep(): the string stays as it was before this step.
+    cancel_ = false;
+    --step_;
+    return false;
   }
   if (hooks_->afterDerivation) hooks_->afterDerivation(step_);
   decompose(group);

@@ -2,6 +2,7 @@
 // Start, axiom, derivation steps with context matching, groups, Gillespie groups, decomposition,
 // interpretation (turtle queries), End — over contiguous module buffers.
 #pragma once
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -44,6 +45,11 @@ class Engine {
   void begin(const EngineHooks& hooks);
   bool step();
   void finish();
+  // From another thread: abandon the derivation step in progress (the string stays as before
+  // it; model code already run, StartEach included, is not undone). step() then returns false.
+  void cancelStep() { cancel_ = true; }
+  // A cancel that came after the step had finished must not stop the next one.
+  void clearCancel() { cancel_ = false; }
   int derivationLength() const { return length_; }
   bool ended() const { return ended_; }
 
@@ -113,9 +119,10 @@ class Engine {
   bool tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
                 ModuleBuffer& out, Match& m);
 
-  void deriveForward(int group);
-  void deriveBackward(int group);
-  void deriveGillespie(int group);
+  // False when cancelStep() interrupted them (the string is then unchanged).
+  bool deriveForward(int group);
+  bool deriveBackward(int group);
+  bool deriveGillespie(int group);
   void decompose(int group);
   void expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
               const std::function<void(const char*)>* sink);
@@ -144,6 +151,7 @@ class Engine {
   bool stopRequested_ = false;
   int step_ = 0, length_ = 0;
   bool ended_ = false;
+  std::atomic<bool> cancel_{false};
   bool ring_ = false;
   int decompositionDepth_ = 1, interpretationDepth_ = 1;
   Rand48 random_, gillespieRandom_;

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <chrono>
 #include <fstream>
+#include <thread>
 
 #include "Drawing.h"
 #include "Engine.h"
@@ -139,6 +141,47 @@ TEST_F(SessionReload, ABrokenEditKeepsTheLastGoodModel) {
   Picture p = look(*session);
   EXPECT_EQ(p.segments, 2u);  // the last good model, its string and files
   EXPECT_NEAR(p.red, 10 / 255.f, 1e-3);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
+  // Each step rewrites 200 000 modules, each production busy for a while: cancelStep() from
+  // another thread ends the step early, leaving the string (and step number) as before it.
+  fs::path dir = fs::temp_directory_path() / ("lcjit-cancel-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "long.l") << "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\n"
+                                   "axiom: A(0);\n"
+                                   "A(n) : { if (n == 0) { for (int i = 0; i < 200000; ++i) nproduce A(1); produce; }\n"
+                                   "  volatile double x = 0; for (int i = 0; i < 20000; ++i) x += i; produce A(n + 1); }\n";
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  ModelFiles files;
+  files.lsystem = (dir / "long.l").string();
+  PhaseTimes t;
+  ASSERT_FALSE(bool((*session)->load(files, 1, t)));
+  runtime::Engine& e = (*session)->engine();
+  runtime::EngineHooks hooks;
+  e.begin(hooks);
+  ASSERT_TRUE(e.step());  // step 1: 200 000 × A(1), fast
+  size_t before = e.moduleCount();
+  std::thread stopper([&e] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    e.cancelStep();
+  });
+  auto t0 = std::chrono::steady_clock::now();
+  bool more = e.step();  // step 2 would take seconds (200 000 × 20 000 additions)
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stopper.join();
+  EXPECT_FALSE(more);
+  EXPECT_LT(seconds, 1.5);
+  EXPECT_EQ(e.stepNo(), 1);
+  EXPECT_EQ(e.moduleCount(), before);
+  EXPECT_NE(e.text(e.string()).find("A(1)"), std::string::npos);
+  EXPECT_EQ(e.text(e.string()).find("A(2)"), std::string::npos);
+  fs::remove_all(dir);
 }
 
 }  // namespace
