@@ -64,7 +64,14 @@ class InteractiveModel {
       shown_ = std::move(scene.main);
       const runtime::DrawingFiles& d = session_.drawing();
       auto palette = viewer::RenderPalette::fromPalette(d.palette);
-      if (scene.panes.empty()) window_.setScene(shown_, d.view, palette, textureImages(d));
+      // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
+      using Framing = viewer::Window::Framing;
+      Framing framing = !animating_ || refit_ || animation_.scaleBetweenFrames ? Framing::Refit
+                        : animation_.hcenterBetweenFrames                       ? Framing::HCenter
+                                                                                : Framing::Keep;
+      refit_ = false;
+      if (animating_ && animation_.newViewBetweenFrames) window_.resetView();
+      if (scene.panes.empty()) window_.setScene(shown_, d.view, palette, textureImages(d), framing);
       else window_.setViews(scene.panes, d.view, palette, textureImages(d));
       if (recording_) record();
       shownAt_ = Clock::now();
@@ -91,6 +98,7 @@ class InteractiveModel {
   }
   void rewind() {
     running_ = false;
+    refit_ = true;  // the first frame sets the animation's framing
     launch([this] {
       session_.engine().begin(hooks_);
       schedule_.emplace(animation_, session_.engine().derivationLength());
@@ -137,6 +145,7 @@ class InteractiveModel {
       return;
     }
     if (resetView) window_.resetView();
+    refit_ = true;
     if (!rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew
     if (animating_) return rewind();
     run();
@@ -354,6 +363,7 @@ class InteractiveModel {
   runtime::AnimationSettings animation_;
   std::optional<runtime::AnimationSchedule> schedule_;
   bool animating_ = false, running_ = false, recording_ = false;
+  bool refit_ = false;  // the next picture frames itself (first frame, reloads)
   std::atomic<bool> runRequested_{false}, pauseRequested_{false};  // set on the worker thread
   runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
   Clock::time_point shownAt_;

@@ -474,11 +474,18 @@ llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
 }
 
 void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
-                      const std::vector<TextureImage>& textures) {
+                      const std::vector<TextureImage>& textures, Framing framing) {
   Impl& m = *impl_;
   m.makeCurrent();
   m.view = view;
-  m.bounds = geometry.framingBounds();
+  runtime::Bounds fresh = geometry.framingBounds();
+  if (framing == Framing::Refit || !m.hasScene || m.bounds.empty() || fresh.empty()) {
+    m.bounds = fresh;
+  } else if (framing == Framing::HCenter) {
+    float shift = fresh.center().x - m.bounds.center().x;
+    m.bounds.min.x += shift;
+    m.bounds.max.x += shift;
+  }
   m.pose = geometry.camera;
   m.renderer->setPalette(palette);
   m.renderer->setTextures(textures);

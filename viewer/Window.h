@@ -90,9 +90,13 @@ class Window {
   Window(const Window&) = delete;
   Window& operator=(const Window&) = delete;
 
+  // How a new picture is framed: Refit frames its own bounding box (a new model, New view);
+  // Keep keeps the previous framing (animation frames, lpfg's default); HCenter keeps it but
+  // centres the new picture horizontally (`hcenter between frames: on`).
+  enum class Framing { Refit, Keep, HCenter };
   // Uploads a new picture. The user's rotation/zoom/pan are kept unless resetView() is called.
   void setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
-                const std::vector<TextureImage>& textures);
+                const std::vector<TextureImage>& textures, Framing framing = Framing::Refit);
   // Several views in one window, separated by the view file's `window border:`.
   void setViews(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view, const RenderPalette& palette,
                 const std::vector<TextureImage>& textures);

@@ -713,3 +713,23 @@ TEST_F(WindowTest, DraggingAVeryLargeModelDrawsAPreviewAndReleaseTheWholePicture
   EXPECT_LT(dragging, full * 0.8);
   EXPECT_EQ(released, full);
 }
+
+TEST_F(WindowTest, AnimationFramesKeepTheFramingUnlessAskedToRefit) {
+  // A growing model: the second frame is the scene twice as large. Keep (lpfg's animation
+  // default) shows it twice as large; Refit frames it like the first; HCenter keeps the size.
+  auto grown = [] {
+    Geometry g = scene();
+    for (auto& v : g.vertices) v.position = v.position * 2.f;
+    for (auto& s : g.segments) s.from = s.from * 2.f, s.to = s.to * 2.f;
+    return g;
+  };
+  w->setScene(scene(), zview(), palette(), {});
+  int first = find(grab(), kRed).width();
+  w->setScene(grown(), zview(), palette(), {}, Window::Framing::Keep);
+  EXPECT_NEAR(find(grab(), kRed).width(), 2 * first, 3);
+  w->setScene(scene(), zview(), palette(), {});
+  w->setScene(grown(), zview(), palette(), {}, Window::Framing::HCenter);
+  EXPECT_NEAR(find(grab(), kRed).width(), 2 * first, 3);
+  w->setScene(grown(), zview(), palette(), {}, Window::Framing::Refit);
+  EXPECT_NEAR(find(grab(), kRed).width(), first, 2);
+}
