@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
   app.add_option("--out", out,
                  "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
-                 ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pov geometry");
+                 ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly, "compile the model only");
   app.add_flag("-d", debug, "debug messages");

@@ -12,7 +12,8 @@ struct Known {
 };
 constexpr Known kFormats[] = {{"obj", ExportFormat::Obj}, {"ply", ExportFormat::Ply},   {"stl", ExportFormat::Stl},
                               {"gltf", ExportFormat::Gltf}, {"glb", ExportFormat::Glb}, {"svg", ExportFormat::Svg},
-                              {"ps", ExportFormat::Ps},   {"eps", ExportFormat::Eps},   {"pov", ExportFormat::Pov}};
+                              {"ps", ExportFormat::Ps},   {"eps", ExportFormat::Eps},   {"pdf", ExportFormat::Pdf},
+                              {"pov", ExportFormat::Pov}};
 }  // namespace
 
 std::optional<ExportFormat> exportFormatFor(std::string_view pathOrExtension) {
@@ -60,6 +61,7 @@ llvm::Error exportGeometry(const std::string& path, ExportFormat format, const E
     case ExportFormat::Svg: return exporting::writeSvg(cx);
     case ExportFormat::Ps: return exporting::writePostScript(cx, false);
     case ExportFormat::Eps: return exporting::writePostScript(cx, true);
+    case ExportFormat::Pdf: return exporting::writePdf(cx);
     case ExportFormat::Pov: return exporting::writePov(cx);
   }
   return llvm::createStringError(std::errc::invalid_argument, "cannot export '%s': unknown format", path.c_str());

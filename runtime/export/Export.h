@@ -15,6 +15,7 @@
 //                  width, discs as circles, labels as text.
 //   .ps / .eps     the same 2D drawing in PostScript (lpfg's page layout for .ps; .eps has a
 //                  tight %%BoundingBox at 1 pt per pixel).
+//   .pdf           the same 2D drawing as one PDF page (1 pt per pixel, Helvetica labels).
 //   .pov           a POV-Ray scene: camera, lights, background, a mesh2 with a texture list,
 //                  segments as cylinders, discs and labels.
 //
@@ -34,7 +35,7 @@
 
 namespace lcjit::runtime {
 
-enum class ExportFormat { Obj, Ply, Stl, Gltf, Glb, Svg, Ps, Eps, Pov };
+enum class ExportFormat { Obj, Ply, Stl, Gltf, Glb, Svg, Ps, Eps, Pdf, Pov };
 
 struct ExportInput {
   const Geometry* geometry = nullptr;  // required

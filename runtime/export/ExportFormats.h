@@ -10,6 +10,7 @@ llvm::Error writeStl(const Context& cx);
 llvm::Error writeGltf(const Context& cx, bool binary);
 llvm::Error writeSvg(const Context& cx);
 llvm::Error writePostScript(const Context& cx, bool eps);
+llvm::Error writePdf(const Context& cx);
 llvm::Error writePov(const Context& cx);
 
 }  // namespace lcjit::runtime::exporting

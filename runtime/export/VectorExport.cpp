@@ -361,4 +361,88 @@ llvm::Error writePostScript(const Context& cx, bool eps) {
   return w.close();
 }
 
+// PDF 1.4: the same 2D drawing as SVG/PostScript, one page of W × H points (1 pt per pixel), one
+// uncompressed content stream, labels in the standard Helvetica. Built in memory for the xref
+// offsets.
+llvm::Error writePdf(const Context& cx) {
+  Picture pic = draw(cx);
+  const Geometry& g = cx.geometry;
+  const float H = (float)pic.height;
+  auto X = [&](float x) { return num(x); };
+  auto Y = [&](float y) { return num(H - y); };
+  auto rgb = [&](const Rgba& c) { return fmt::format("{} {} {}", num3(c[0]), num3(c[1]), num3(c[2])); };
+  fmt::memory_buffer content;
+  auto out = [&](std::string_view f, const auto&... args) { fmt::format_to(fmt::appender(content), fmt::runtime(f), args...); };
+  out("1 J 1 j {} rg 0 0 {} {} re f\n", rgb(cx.color(0)), pic.width, pic.height);
+  // A circle as four Bézier quarter arcs (k = 0.5523 of the radius for the control points).
+  auto circle = [&](float cx0, float cy0, float r) {
+    const float k = 0.5523f * r;
+    out("{} {} m {} {} {} {} {} {} c {} {} {} {} {} {} c {} {} {} {} {} {} c {} {} {} {} {} {} c h\n", num(cx0 + r), num(cy0),
+        num(cx0 + r), num(cy0 + k), num(cx0 + k), num(cy0 + r), num(cx0), num(cy0 + r), num(cx0 - k), num(cy0 + r),
+        num(cx0 - r), num(cy0 + k), num(cx0 - r), num(cy0), num(cx0 - r), num(cy0 - k), num(cx0 - k), num(cy0 - r),
+        num(cx0), num(cy0 - r), num(cx0 + k), num(cy0 - r), num(cx0 + r), num(cy0 - k), num(cx0 + r), num(cy0));
+  };
+  for (const Item& it : pic.items) {
+    switch (it.kind) {
+      case Item::Triangle: {
+        const uint32_t* i = &g.indices[3 * it.index];
+        const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
+        const std::string col = rgb(pic.triangleColor[it.index]);
+        // Filled and outlined by half a point in its own colour against seams, as in PostScript.
+        out("{} rg {} RG 0.5 w {} {} m {} {} l {} {} l h B\n", col, col, X(a.x), Y(a.y), X(b.x), Y(b.y), X(c.x), Y(c.y));
+        break;
+      }
+      case Item::Line: {
+        const Segment& sg = g.segments[it.index];
+        const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
+        out("{} RG {} w {} {} m {} {} l S\n", rgb(cx.color(sg.color)), num(sg.width), X(a.x), Y(a.y), X(b.x), Y(b.y));
+        break;
+      }
+      case Item::Disc:
+      case Item::Ring: {
+        const Picture::Circle& c = pic.circles[it.index];
+        const std::string col = rgb(cx.color(g.discs[it.index].color));
+        if (it.kind == Item::Disc) {
+          out("{} rg ", col);
+          circle(c.x, H - c.y, c.r);
+          out("f\n");
+        } else {
+          out("{} RG {} w ", col, num(c.w));
+          circle(c.x, H - c.y, c.r);
+          out("S\n");
+        }
+        break;
+      }
+      case Item::Text: {
+        const Label& l = g.labels[it.index];
+        const glm::vec3& p = pic.labelAt[it.index];
+        out("BT /F1 {} Tf {} rg {} {} Td ({}) Tj ET\n", num(cx.view.winFontSize), rgb(cx.palette.textColor(l.color)),
+            X(p.x), Y(p.y), psEscape(l.text));
+        break;
+      }
+    }
+  }
+  std::string pdf = "%PDF-1.4\n";
+  std::vector<size_t> offsets;
+  auto object = [&](const std::string& body) {
+    offsets.push_back(pdf.size());
+    pdf += fmt::format("{} 0 obj\n{}\nendobj\n", offsets.size(), body);
+  };
+  object("<< /Type /Catalog /Pages 2 0 R >>");
+  object("<< /Type /Pages /Kids [3 0 R] /Count 1 >>");
+  object(fmt::format("<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {} {}] /Contents 4 0 R "
+                     "/Resources << /Font << /F1 5 0 R >> >> >>",
+                     pic.width, pic.height));
+  object(fmt::format("<< /Length {} >>\nstream\n{}endstream", content.size(), fmt::to_string(content)));
+  object("<< /Type /Font /Subtype /Type1 /BaseFont /Helvetica >>");
+  size_t xref = pdf.size();
+  pdf += fmt::format("xref\n0 {}\n0000000000 65535 f \n", offsets.size() + 1);
+  for (size_t o : offsets) pdf += fmt::format("{:010d} 00000 n \n", o);
+  pdf += fmt::format("trailer\n<< /Size {} /Root 1 0 R >>\nstartxref\n{}\n%%EOF\n", offsets.size() + 1, xref);
+  FileWriter w;
+  if (auto e = w.open(cx.path, true)) return e;
+  w.text(pdf);
+  return w.close();
+}
+
 }  // namespace lcjit::runtime::exporting

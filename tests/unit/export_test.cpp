@@ -658,6 +658,33 @@ TEST_F(ExportTest, Eps) {
   EXPECT_NE(eps.find(" 100 100 moveto ("), std::string::npos);
 }
 
+TEST_F(ExportTest, Pdf) {
+  std::string pdf = readAll(exportTo("tree.pdf"));
+  EXPECT_EQ(pdf.rfind("%PDF-1.4\n", 0), 0u);
+  EXPECT_NE(pdf.find("/MediaBox [0 0 400 400]"), std::string::npos);
+  // One filled-and-outlined path per triangle, one stroke per segment, the disc, the label.
+  EXPECT_EQ(countOf(pdf, " h B\n"), size_t(kMeshTriangles));
+  EXPECT_EQ(countOf(pdf, " l S\n"), geometry.segments.size());
+  EXPECT_EQ(countOf(pdf, ") Tj ET\n"), 1u);
+  EXPECT_NE(pdf.find("100 100 Td (A<b>&\\(c\\)) Tj"), std::string::npos);
+  // The xref table is where startxref says, with one entry per object at its offset.
+  size_t start = pdf.rfind("startxref\n");
+  ASSERT_NE(start, std::string::npos);
+  size_t xref = std::stoul(pdf.substr(start + 10));
+  ASSERT_EQ(pdf.compare(xref, 4, "xref"), 0);
+  for (int obj = 1; obj <= 5; ++obj) {
+    size_t at = pdf.find(std::to_string(obj) + " 0 obj\n");
+    ASSERT_NE(at, std::string::npos);
+    char entry[32];
+    std::snprintf(entry, sizeof entry, "%010zu 00000 n ", at);
+    EXPECT_NE(pdf.find(entry, xref), std::string::npos) << "object " << obj;
+  }
+  // The content stream's /Length is its byte count.
+  size_t len = pdf.find("/Length ");
+  size_t stream = pdf.find("stream\n", len) + 7, end = pdf.find("endstream", stream);
+  EXPECT_EQ(std::stoul(pdf.substr(len + 8)), end - stream);
+}
+
 TEST_F(ExportTest, Pov) {
   std::string pov = readAll(exportTo("tree.pov"));
   EXPECT_NE(pov.find("#version 3.7;"), std::string::npos);
@@ -819,10 +846,10 @@ TEST_F(ExportTest, PostScriptGradient) {
 TEST_F(ExportTest, DefaultsAndEmpty) {
   in.palette = nullptr;
   in.view = nullptr;
-  for (const char* name : {"d.obj", "d.ply", "d.stl", "d.glb", "d.gltf", "d.svg", "d.ps", "d.eps", "d.pov"}) exportTo(name);
+  for (const char* name : {"d.obj", "d.ply", "d.stl", "d.glb", "d.gltf", "d.svg", "d.ps", "d.eps", "d.pdf", "d.pov"}) exportTo(name);
   Geometry empty;
   in.geometry = &empty;
-  for (const char* name : {"e.obj", "e.ply", "e.stl", "e.glb", "e.gltf", "e.svg", "e.ps", "e.eps", "e.pov"}) exportTo(name);
+  for (const char* name : {"e.obj", "e.ply", "e.stl", "e.glb", "e.gltf", "e.svg", "e.ps", "e.eps", "e.pdf", "e.pov"}) exportTo(name);
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
