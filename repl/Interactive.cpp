@@ -205,7 +205,10 @@ class InteractiveModel {
     a.newRun = [this] { reload(ReloadParts::newRun(), true, false); };
     a.newView = [this] { reload(ReloadParts::newView(), false, true); };
     a.newRendering = [this] { reload(ReloadParts::newView(), false, false); };
-    a.saveAs = [this](const std::string& path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
+    a.saveAs = [this](const std::string& path) {
+      if (std::filesystem::path(path).extension() == ".v") return report(saveViewParameters(path));
+      report(frames_.write(path, session_.engine(), session_.drawing()));
+    };
     a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
     a.stringInput = [this] {
       if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));
@@ -223,6 +226,22 @@ class InteractiveModel {
     return a;
   }
   bool exitRequested() const { return exit_; }
+
+  // Save as… "view parameters" (a .v name): the window's current view as a `view:` line that a
+  // view file reads back (direction, up, pan from the box centre, scale with the zoom).
+  llvm::Error saveViewParameters(const std::string& path) {
+    const runtime::CameraMatrices& c = window_.camera();
+    runtime::ViewDefinition v;
+    v.dir = V3f(c.viewDirection.x, c.viewDirection.y, c.viewDirection.z);
+    v.up = V3f(c.up.x, c.up.y, c.up.z);
+    V3f centre = c.bounds.empty() ? V3f() : c.bounds.center();
+    v.pan = V3f(c.lookAt.x, c.lookAt.y, c.lookAt.z) - centre;
+    v.scale = session_.drawing().view.scale * window_.adjustment().zoom;
+    std::ofstream out(path);
+    out << runtime::viewLine(v);
+    if (!out) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", path.c_str());
+    return llvm::Error::success();
+  }
 
   // The window's camera for GetCameraPosition() and vvScale() (§6.4), view 0.
   void feedCamera() {

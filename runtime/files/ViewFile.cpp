@@ -4,6 +4,8 @@
 // read them, a command lpfg rejects is left out with a warning, everything else still applies.
 #include "ViewFile.h"
 
+#include <cstdio>
+
 #include "TextLines.h"
 
 #include <algorithm>
@@ -910,6 +912,26 @@ ViewSettings parseViewFile(std::string_view text, const std::string& fileName,
   ViewSettings vs;
   Parser(vs, warnings, fileName).run(text);
   return vs;
+}
+
+}  // namespace lcjit::runtime
+
+namespace lcjit::runtime {
+
+std::string viewLine(const ViewDefinition& v) {
+  auto num = [](float x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", (double)x);
+    return std::string(b);
+  };
+  auto vec = [&](const char* key, const std::optional<V3f>& p) {
+    return p ? std::string(" ") + key + " " + num(p->x) + " " + num(p->y) + " " + num(p->z) : std::string();
+  };
+  auto one = [&](const char* key, const std::optional<float>& x) {
+    return x ? std::string(" ") + key + " " + num(*x) : std::string();
+  };
+  return "view: " + std::to_string(v.id) + vec("dir:", v.dir) + vec("up:", v.up) + vec("pan:", v.pan) +
+         one("fov:", v.fov) + one("shift:", v.shift) + one("scale:", v.scale) + "\n";
 }
 
 }  // namespace lcjit::runtime

@@ -146,6 +146,10 @@ struct ViewFileWarning {
   std::string message;
 };
 
+// A `view:` line for `v` (the new form, only the fields it has): what Save as… writes as "view
+// parameters", and what parseViewFile reads back.
+std::string viewLine(const ViewDefinition& v);
+
 // `text` is the preprocessed view file; line markers (`# N "file"`, `#line N "file"`) map lines
 // back to the source. Keywords are case-sensitive and matched at the start of the line (leading
 // blanks are tolerated); a command that lpfg would reject is left out with a warning.

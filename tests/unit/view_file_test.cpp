@@ -602,3 +602,22 @@ TEST(ViewFileSyntax, EveryCommandWithoutArgumentsAndGarbage) {
   parseViewFile(std::string(100000, 'x') + "\nlight: " + std::string(50000, '9'), "long.v", ww);
   EXPECT_EQ(ww.size(), 2u);
 }
+
+TEST(ViewFileWrite, ViewLineReadsBack) {
+  ViewDefinition v;
+  v.id = 0;
+  v.dir = V3f(0, -0.5f, -1);
+  v.up = V3f(0, 1, 0);
+  v.pan = V3f(0.25f, 0, 0);
+  v.scale = 1.5f;
+  std::string line = viewLine(v);
+  EXPECT_EQ(line, "view: 0 dir: 0 -0.5 -1 up: 0 1 0 pan: 0.25 0 0 scale: 1.5\n");
+  std::vector<ViewFileWarning> warnings;
+  ViewSettings s = parseViewFile(line, "saved.v", warnings);
+  EXPECT_TRUE(warnings.empty());
+  ASSERT_EQ(s.views.size(), 1u);
+  EXPECT_FLOAT_EQ(s.views[0].dir->y, -0.5f);
+  EXPECT_FLOAT_EQ(s.views[0].pan->x, 0.25f);
+  EXPECT_FLOAT_EQ(*s.views[0].scale, 1.5f);
+  EXPECT_FALSE(s.views[0].fov.has_value());
+}
