@@ -119,6 +119,25 @@ struct Window::Impl {
     int viewId = 0;
   };
   std::vector<Pane> panes;
+  // Multi-view: the mouse manipulates the pane it presses in (lpfg); `adjust` is that pane's,
+  // the others keep theirs here.
+  std::vector<runtime::ViewAdjustment> paneAdjust;
+  size_t activePane = 0;
+  void selectPaneAt(double x, double y) {
+    if (panes.empty()) return;
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(window, &ww, &wh);
+    float rx = ww > 0 ? float(x) / ww : 0, ry = wh > 0 ? float(y) / wh : 0;
+    for (size_t i = 0; i < panes.size(); ++i) {
+      const auto& r = panes[i].rect;
+      if (rx >= r.left && rx < r.left + r.width && ry >= r.top && ry < r.top + r.height && i != activePane) {
+        paneAdjust[activePane] = adjust;
+        adjust = paneAdjust[i];
+        activePane = i;
+        break;
+      }
+    }
+  }
 
   // The scene.
   bool hasScene = false;
@@ -248,9 +267,11 @@ struct Window::Impl {
   // PanBy(dx, dy), dy upwards: the look-at point moves against the mouse by a pixel's worth of
   // model units per pixel, so the model follows the pointer.
   void panBy(double dx, double dy) {
-    const glm::vec3 left = glm::normalize(glm::cross(camera.viewDirection, camera.up));
-    const float upp = camera.unitsPerPixel * pixelRatio();
-    adjust.pan -= upp * (float(dy) * camera.up + float(dx) * left);
+    // In a multi-view window the pan follows the pointer in the pane being dragged.
+    const runtime::CameraMatrices cam = panes.empty() ? camera : paneCamera(activePane, adjust);
+    const glm::vec3 left = glm::normalize(glm::cross(cam.viewDirection, cam.up));
+    const float upp = cam.unitsPerPixel * pixelRatio();
+    adjust.pan -= upp * (float(dy) * cam.up + float(dx) * left);
     updateCamera();
   }
 
@@ -306,6 +327,7 @@ struct Window::Impl {
       return;
     }
     if (uiHasMouse()) return;  // the menu or the dialog takes the click
+    selectPaneAt(cursorX, cursorY);
     lastX = cursorX;
     lastY = cursorY;
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
@@ -340,27 +362,37 @@ struct Window::Impl {
     }
   }
 
-  // Each pane in its window: rect (relative, top-left origin) shrunk by half the border on every
-  // side that meets another pane; the border colour shows between them.
+  // Pane i's rectangle in framebuffer pixels (x0, top y0, width, height): its `window:` rect
+  // shrunk by half the border on every side that meets another pane.
+  std::array<int, 4> paneRect(size_t i) const {
+    auto [w, h] = fbSize();
+    const auto& r = panes[i].rect;
+    const float half = float(view.windowBorderSize) / 2;
+    float x0 = r.left * w, x1 = (r.left + r.width) * w, y0 = r.top * h, y1 = (r.top + r.height) * h;
+    if (r.left > 0) x0 += half;
+    if (r.left + r.width < 1) x1 -= half;
+    if (r.top > 0) y0 += half;
+    if (r.top + r.height < 1) y1 -= half;
+    return {int(std::lround(x0)), int(std::lround(y0)), std::max(1, int(std::lround(x1 - x0))),
+            std::max(1, int(std::lround(y1 - y0)))};
+  }
+  runtime::CameraMatrices paneCamera(size_t i, const runtime::ViewAdjustment& a) const {
+    auto r = paneRect(i);
+    return runtime::frameView(view, panes[i].bounds, panes[i].pose, r[2], r[3], panes[i].viewId, a);
+  }
+
+  // Each pane in its rectangle; the border colour shows between them.
   void drawPanes() {
     auto [w, h] = fbSize();
     glViewport(0, 0, w, h);
     glClearColor(view.windowBorderColor.r, view.windowBorderColor.g, view.windowBorderColor.b, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    const float half = float(view.windowBorderSize) / 2;
-    for (Pane& p : panes) {
-      float x0 = p.rect.left * w, x1 = (p.rect.left + p.rect.width) * w;
-      float y0 = p.rect.top * h, y1 = (p.rect.top + p.rect.height) * h;
-      if (p.rect.left > 0) x0 += half;
-      if (p.rect.left + p.rect.width < 1) x1 -= half;
-      if (p.rect.top > 0) y0 += half;
-      if (p.rect.top + p.rect.height < 1) y1 -= half;
-      int pw = std::max(1, int(std::lround(x1 - x0))), ph = std::max(1, int(std::lround(y1 - y0)));
-      runtime::CameraMatrices cam = runtime::frameView(view, p.bounds, p.pose, pw, ph, p.viewId, adjust);
+    for (size_t i = 0; i < panes.size(); ++i) {
+      auto r = paneRect(i);
       RenderOptions o;
-      o.viewportX = int(std::lround(x0));
-      o.viewportY = h - int(std::lround(y0)) - ph;  // GL counts from the bottom
-      p.renderer->draw(view, cam, o);
+      o.viewportX = r[0];
+      o.viewportY = h - r[1] - r[3];  // GL counts from the bottom
+      panes[i].renderer->draw(view, paneCamera(i, i == activePane ? adjust : paneAdjust[i]), o);
     }
   }
 
@@ -508,6 +540,12 @@ void Window::setViews(const std::vector<ViewPane>& panes, const runtime::ViewSet
   Impl& m = *impl_;
   m.makeCurrent();
   m.view = view;
+  if (m.panes.size() != panes.size()) {
+    // A new layout: every pane starts from its view file framing.
+    m.paneAdjust.assign(panes.size(), runtime::ViewAdjustment());
+    m.activePane = 0;
+    m.adjust = {};
+  }
   m.panes.resize(panes.size());
   runtime::Bounds all;
   for (size_t i = 0; i < panes.size(); ++i) {
@@ -531,6 +569,7 @@ void Window::setViews(const std::vector<ViewPane>& panes, const runtime::ViewSet
 
 void Window::resetView() {
   impl_->adjust = {};
+  for (auto& a : impl_->paneAdjust) a = {};
   impl_->frustum = 1;
   impl_->updateCamera();
 }

@@ -682,6 +682,18 @@ TEST_F(WindowTest, MultiViewPanesFillTheirWindowsWithABorder) {
   // The border: a white column 4 pixels wide down the middle.
   EXPECT_EQ(white.width(), 4);
   EXPECT_EQ(white.height(), kSize);
+  // The mouse works on the pane it presses in (lpfg): panning in the right pane moves only the
+  // blue square.
+  MenuActions none;
+  drag(GLFW_MOUSE_BUTTON_LEFT, GLFW_MOD_SHIFT, 300, 200, 0, 40, none);
+  Image panned = grab();
+  EXPECT_NEAR(find(panned, kRed).cy, red.cy, 0.5);
+  EXPECT_NEAR(find(panned, kBlue).cy, blue.cy + 40, 2);
+  // …and then in the left one, only the red square; the blue one keeps its pan.
+  drag(GLFW_MOUSE_BUTTON_LEFT, GLFW_MOD_SHIFT, 100, 200, 0, -30, none);
+  Image both = grab();
+  EXPECT_NEAR(find(both, kRed).cy, red.cy - 30, 2);
+  EXPECT_NEAR(find(both, kBlue).cy, blue.cy + 40, 2);
   // Back to one view.
   w->setScene(scene(), zview(), palette(), {});
   EXPECT_EQ(find(grab(), {255, 255, 255}).count, 0);
