@@ -54,12 +54,12 @@ int main(int argc, char** argv) {
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly, "compile the model only");
-  app.add_flag("-d", debug, "debug messages");
+  app.add_flag("-d", debug, "debug: the module count after every step, on stdout");
   app.add_flag("--ds", dumpSteps, "(-ds) print the string after each derivation step");
   app.add_flag("--dtf", dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
   app.add_flag("--dtfes", dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
   app.add_flag("-q", quiet, "quiet: no messages");
-  app.add_flag("-v", verbose, "verbose");
+  app.add_flag("-v", verbose, "verbose: phase timings and sizes on stderr");
   app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
   app.add_option("-w", winSize, "window size")->expected(2)->allow_extra_args(false);
   app.add_option("--wp", winPos, "(-wp) window position")->expected(2)->allow_extra_args(false);
@@ -147,14 +147,20 @@ int main(int argc, char** argv) {
     hooks.afterDerivation = [&](int step) {
       std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
     };
-  if (dumpInterpretedEach)
+  if (dumpInterpretedEach || debug)
     hooks.afterStep = [&](int step) {
+      if (debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
+      if (!dumpInterpretedEach) return;
       std::string text;
       engine.interpret(nullptr, nullptr, &text);
       char suffix[16];
       std::snprintf(suffix, sizeof suffix, "%08d", step);
       std::ofstream(stemInWorkingFolder(files->lsystem) + suffix + ".str", std::ios::binary) << text;
     };
+  if (verbose)
+    std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms (%s)\n",
+                 files->lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs,
+                 times.pchCached ? "cached PCH" : "PCH built");
   auto t0 = std::chrono::steady_clock::now();
   if (auto e = engine.run(hooks)) {
     std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
@@ -191,6 +197,9 @@ int main(int argc, char** argv) {
     engine.interpret(nullptr, nullptr, &text);
     std::ofstream(stemInWorkingFolder(files->lsystem) + ".str", std::ios::binary) << text;
   }
+  if (verbose)
+    std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
+                 engine.moduleCount());
   if (stats) {
     std::fprintf(stderr,
                  "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"derive_ms\": %.3f, "
