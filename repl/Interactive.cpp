@@ -35,6 +35,11 @@ class InteractiveModel {
       : session_(session), files_(files), window_(window), options_(o) {
     hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
     if (o.quiet) hooks_.print = [](const char*) {};
+    if (o.debug)
+      hooks_.afterStep = [this](int step) {
+        std::printf("lcjit: step %d: %zu modules\n", step, session_.engine().moduleCount());
+        std::fflush(stdout);
+      };
     for (const std::string& f : files.other)
       if (std::filesystem::path(f).extension() == ".a") animationFile_ = f;
   }
@@ -144,6 +149,9 @@ class InteractiveModel {
       report(std::move(e));  // the last good model stays on screen
       return;
     }
+    if (options_.verbose)
+      std::fprintf(stderr, "lcjit: reloaded %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms\n",
+                   files_.lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs);
     if (resetView) window_.resetView();
     refit_ = true;
     if (!rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew

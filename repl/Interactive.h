@@ -18,6 +18,8 @@ struct InteractiveOptions {
   bool quiet = false;
   RefreshMode refresh = RefreshMode::Explicit;  // -rmode: continuous/triggered watch the files
   bool animate = false;                         // -a: start in animate mode at the first frame
+  bool verbose = false;                         // -v: reload timings on stderr
+  bool debug = false;                           // -d: module count after every step on stdout
 };
 
 // Runs until the window closes; returns the process exit status.

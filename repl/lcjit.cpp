@@ -127,6 +127,8 @@ int main(int argc, char** argv) {
       io.quiet = quiet;
       if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
       io.animate = animate;
+      io.verbose = verbose;
+      io.debug = debug;
       return lcjit::runInteractive(**session, *files, w, io);
     }
     // No display: show the model as a picture beside it instead.

@@ -12,7 +12,7 @@ cp "$dir/$name".* "$work/"
 cd "$work"
 for tool in xvfb-run xdotool; do command -v $tool >/dev/null || { echo "$tool is missing"; exit 1; }; done
 cat > helpers.sh <<EOS
-start() { "$lcjit" "\$@" 2> err.txt & }
+start() { "$lcjit" "\$@" > out.txt 2> err.txt & }
 fail() { echo "FAIL: \$*"; cat err.txt; exit 1; }
 wait_file() { for _ in \$(seq 1 100); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
 expect_files() {  # expect_files GLOB NAMES…
