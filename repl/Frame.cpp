@@ -31,9 +31,12 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-// Runtime images are stored bottom row first; the renderer takes them as the file shows them.
-std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& d) {
-  std::vector<viewer::TextureImage> out;
+const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
+  if (source_ == &d) return *this;
+  source_ = &d;
+  palette = viewer::RenderPalette::fromPalette(d.palette);
+  textures.clear();
+  // Runtime images are stored bottom row first; the renderer takes them as the file shows them.
   for (const runtime::Image& im : d.textures) {
     viewer::TextureImage t;
     t.width = im.width;
@@ -42,9 +45,9 @@ std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& d) 
     size_t row = (size_t)im.width * 4;
     for (int y = 0; y < im.height; ++y)
       std::copy_n(&im.rgba[(size_t)y * row], row, &t.rgba[(size_t)(im.height - 1 - y) * row]);
-    out.push_back(std::move(t));
+    textures.push_back(std::move(t));
   }
-  return out;
+  return *this;
 }
 
 bool isFrameOutput(const std::string& path) { return isImage(path) || runtime::isExportFormat(path); }
@@ -72,8 +75,8 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
     viewer::HeadlessOptions options;
     options.width = width_;
     options.height = height_;
-    auto image = renderer_->render(geometry, drawing.view, viewer::RenderPalette::fromPalette(drawing.palette),
-                                   textureImages(drawing), options);
+    const RenderLook& look = look_.of(drawing);
+    auto image = renderer_->render(geometry, drawing.view, look.palette, look.textures, options);
     if (!image) return image.takeError();
     if (auto e = viewer::writeImage(*image, path)) return e;
   } else {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "Renderer.h"
 #include "llvm/Support/Error.h"
 
 namespace lcjit::runtime {
@@ -15,15 +16,24 @@ struct DrawingFiles;
 }  // namespace lcjit::runtime
 namespace lcjit::viewer {
 class HeadlessRenderer;
-struct TextureImage;
 }
 
 namespace lcjit {
 
 bool isFrameOutput(const std::string& path);
 
-// The model's textures as the renderer takes them (rows top first).
-std::vector<viewer::TextureImage> textureImages(const runtime::DrawingFiles& drawing);
+// The model's colours and textures as the renderer takes them (textures rows top first),
+// converted once per loaded DrawingFiles rather than for every picture: a reload replaces the
+// DrawingFiles object, which is what `of` notices.
+class RenderLook {
+ public:
+  const RenderLook& of(const runtime::DrawingFiles& drawing);
+  viewer::RenderPalette palette;
+  std::vector<viewer::TextureImage> textures;
+
+ private:
+  const runtime::DrawingFiles* source_ = nullptr;
+};
 
 struct FrameTimes {
   double interpretMs = 0, renderMs = 0;
@@ -41,6 +51,7 @@ class FrameWriter {
  private:
   int width_, height_;
   std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused
+  RenderLook look_;
 };
 
 }  // namespace lcjit

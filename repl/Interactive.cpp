@@ -68,7 +68,7 @@ class InteractiveModel {
       session_.engine().clearCancel();
       shown_ = std::move(scene.main);
       const runtime::DrawingFiles& d = session_.drawing();
-      auto palette = viewer::RenderPalette::fromPalette(d.palette);
+      const RenderLook& look = look_.of(d);
       // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
       using Framing = viewer::Window::Framing;
       Framing framing = !animating_ || refit_ || animation_.scaleBetweenFrames ? Framing::Refit
@@ -76,8 +76,8 @@ class InteractiveModel {
                                                                                 : Framing::Keep;
       refit_ = false;
       if (animating_ && animation_.newViewBetweenFrames) window_.resetView();
-      if (scene.panes.empty()) window_.setScene(shown_, d.view, palette, textureImages(d), framing);
-      else window_.setViews(scene.panes, d.view, palette, textureImages(d));
+      if (scene.panes.empty()) window_.setScene(shown_, d.view, look.palette, look.textures, framing);
+      else window_.setViews(scene.panes, d.view, look.palette, look.textures);
       if (recording_) record();
       shownAt_ = Clock::now();
     }
@@ -159,8 +159,8 @@ class InteractiveModel {
     run();
   }
 
-  // The files lpfg monitors (§1.3): every input file, and the surfaces and textures the view
-  // file names.
+  // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
+  // view file names (as Session resolved them).
   std::vector<std::string> inputFiles() const {
     std::vector<std::string> f{files_.lsystem};
     for (const std::string* one : {&files_.view, &files_.colormap, &files_.materials, &files_.functionSet,
@@ -171,8 +171,7 @@ class InteractiveModel {
     f.insert(f.end(), files_.other.begin(), files_.other.end());
     const runtime::DrawingFiles& d = session_.drawing();
     f.insert(f.end(), d.textureFiles.begin(), d.textureFiles.end());
-    std::filesystem::path dir = std::filesystem::path(files_.view).parent_path();
-    for (const auto& s : d.view.surfaces) f.push_back((dir / s.file).string());
+    f.insert(f.end(), d.shapeFiles.begin(), d.shapeFiles.end());
     return f;
   }
 
@@ -377,6 +376,7 @@ class InteractiveModel {
   InteractiveOptions options_;
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
+  RenderLook look_;
   // What the worker hands the window: the main view's geometry and, with UseView, the panes.
   struct Scene {
     runtime::Geometry main;

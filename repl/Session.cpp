@@ -64,8 +64,10 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   d->shapes = runtime::ShapeLibrary();
   d->textures.clear();
   d->textureFiles.clear();
+  d->shapeFiles.clear();
   for (auto& s : d->view.surfaces) {
-    auto surface = runtime::loadSurface(besideView(files.view, s.file));
+    d->shapeFiles.push_back(besideView(files.view, s.file));
+    auto surface = runtime::loadSurface(d->shapeFiles.back());
     if (!surface) {
       warn(surface.takeError());  // lpfg skips it: later ids shift down
       continue;
@@ -76,7 +78,8 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
     runtime::MeshLoadOptions o;
     o.scale = m.scale;
     o.contact = m.contact;
-    auto mesh = runtime::loadMesh(besideView(files.view, m.file), o);
+    d->shapeFiles.push_back(besideView(files.view, m.file));
+    auto mesh = runtime::loadMesh(d->shapeFiles.back(), o);
     if (!mesh) {
       warn(mesh.takeError());
       continue;
@@ -161,8 +164,10 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   if (!engine_) what = ReloadParts::all();  // nothing to carry over yet
   // Function files first: their names become macros of the model, as in lpfg. lpfg's order:
   // the .fset, the .tset, the .vset, then .func files.
-  auto functions = what.parameters ? std::make_unique<runtime::FunctionStore>()
-                                   : std::make_unique<runtime::FunctionStore>(*functions_);
+  // Not re-read: a recompile still needs the store (its names are macros), nothing else does.
+  std::unique_ptr<runtime::FunctionStore> functions;
+  if (what.parameters) functions = std::make_unique<runtime::FunctionStore>();
+  else if (what.lsystem) functions = std::make_unique<runtime::FunctionStore>(*functions_);
   if (what.parameters) {
     if (!files.functionSet.empty())
       if (auto e = functions->loadFunctionSet(files.functionSet)) return e;

@@ -20,6 +20,7 @@ struct DrawingFiles {
   ShapeLibrary shapes;
   std::vector<Image> textures;
   std::vector<std::string> textureFiles;  // resolved paths, by texture id
+  std::vector<std::string> shapeFiles;    // resolved paths of the surfaces and meshes read
 
   TurtleSetup turtleSetup() const {
     TurtleSetup s;
