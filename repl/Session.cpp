@@ -234,6 +234,9 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   const __lc_Model* model = describe();
   times.compileMs = msSince(t0);
   times.pchCached = stats.pchCached;
+  times.frontendMs = stats.frontendMs;
+  times.optimizeMs = stats.optimizeMs;
+  times.codegenMs = stats.codegenMs;
   if (model->abiVersion != __lc_AbiVersion) return error("internal error: model ABI version mismatch");
 
   // Swap in the new model only now that everything succeeded.

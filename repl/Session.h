@@ -24,6 +24,7 @@ namespace lcjit {
 
 struct PhaseTimes {
   double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0, interpretMs = 0, renderMs = 0;
+  double frontendMs = 0, optimizeMs = 0, codegenMs = 0;  // the parts of compileMs
   bool pchCached = false;
 };
 

@@ -204,9 +204,11 @@ int main(int argc, char** argv) {
                  engine.moduleCount());
   if (stats) {
     std::fprintf(stderr,
-                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"derive_ms\": %.3f, "
+                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"frontend_ms\": %.3f, "
+                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"derive_ms\": %.3f, "
                  "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
-                 times.preprocessMs, times.rewriteMs, times.compileMs, times.deriveMs, times.interpretMs, times.renderMs,
+                 times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs, times.codegenMs,
+                 times.deriveMs, times.interpretMs, times.renderMs,
                  engine.stepsDone(),
                  engine.moduleCount(), times.pchCached ? "true" : "false");
   }
