@@ -29,6 +29,7 @@
 #include <llvm/IR/DiagnosticHandler.h>
 #include <llvm/IR/DiagnosticInfo.h>
 #include <llvm/IR/DiagnosticPrinter.h>
+#include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/LLVMContext.h>
 #include <llvm/IR/Module.h>
 #include <llvm/Passes/OptimizationLevel.h>
@@ -61,6 +62,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <unistd.h>
 
 namespace lcjit::jit {
@@ -73,8 +75,6 @@ static constexpr const char* kClangPath = LCJIT_CLANG_EXECUTABLE;
 static constexpr const char* kResourceDir = LCJIT_CLANG_RESOURCE_DIR;
 // Name given to the driver for the (placeholder) input; the real buffer replaces it per compile.
 static constexpr const char* kPlaceholderInput = "lcjit-input.cpp";
-// Module flag telling the compile function which codegen level to use for this module.
-static constexpr const char* kCodegenLevelFlag = "lcjit.codegen-level";
 
 namespace {
 
@@ -188,35 +188,85 @@ std::string demangleMentions(const std::string& msg) {
   return out;
 }
 
-// The codegen level travels with each module so one LLJIT serves all opt levels.
-class LevelledIRCompiler : public orc::IRCompileLayer::IRCompiler {
-public:
-  explicit LevelledIRCompiler(orc::JITTargetMachineBuilder jtmb)
-      : IRCompiler(orc::irManglingOptionsFromTargetOptions(jtmb.getOptions())), jtmb_(std::move(jtmb)) {}
-
-  llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> operator()(llvm::Module& m) override {
-    unsigned idx = 0; // None: fast instruction selection, fast register allocation
-    if (auto* c = llvm::mdconst::extract_or_null<llvm::ConstantInt>(m.getModuleFlag(kCodegenLevelFlag)))
-      idx = c->getZExtValue() != 0 ? 1 : 0;
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto& tm = tms_[idx];
-    if (!tm) {
-      orc::JITTargetMachineBuilder b = jtmb_;
-      b.setCodeGenOptLevel(idx ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
-      auto t = b.createTargetMachine();
-      if (!t)
-        return t.takeError();
-      tm = std::move(*t);
+// Gives the module's mutable globals names another compile of the same source can refer to:
+// internal ones become external under the same (deterministic) name, discardable ones stay.
+// Returns the names: the model's state, which a better-optimised tier shares (CompileOptions::
+// shareStateWith).
+std::vector<std::string> exportState(llvm::Module& m) {
+  std::vector<std::string> state;
+  for (llvm::GlobalVariable& gv : m.globals()) {
+    if (gv.isDeclaration() || gv.isConstant() || !gv.hasName() || gv.getName().starts_with("llvm."))
+      continue;
+    if (gv.hasLocalLinkage()) {
+      gv.setLinkage(llvm::GlobalValue::ExternalLinkage);
+      gv.setVisibility(llvm::GlobalValue::DefaultVisibility);
+    } else if (gv.hasLinkOnceODRLinkage()) {
+      gv.setLinkage(llvm::GlobalValue::WeakODRLinkage);
+    } else if (gv.hasLinkOnceLinkage()) {
+      gv.setLinkage(llvm::GlobalValue::WeakAnyLinkage);
     }
-    orc::SimpleCompiler compile(*tm);
-    return compile(m);
+    state.push_back(gv.getName().str());
   }
+  return state;
+}
 
-private:
-  orc::JITTargetMachineBuilder jtmb_;
-  std::mutex mutex_;
-  std::array<std::unique_ptr<llvm::TargetMachine>, 2> tms_;
-};
+// The state of another version becomes declarations here (resolved against that version's
+// JITDylib), and nothing is initialised again.
+void useSharedState(llvm::Module& m, const std::vector<std::string>& state) {
+  for (const std::string& name : state)
+    if (llvm::GlobalVariable* gv = m.getGlobalVariable(name, /*AllowInternal=*/true); gv && !gv->isDeclaration()) {
+      gv->setInitializer(nullptr);
+      gv->setComdat(nullptr);
+      gv->setLinkage(llvm::GlobalValue::ExternalLinkage);
+      gv->setVisibility(llvm::GlobalValue::DefaultVisibility);
+    }
+  for (const char* list : {"llvm.global_ctors", "llvm.global_dtors"})
+    if (llvm::GlobalVariable* gv = m.getNamedGlobal(list))
+      gv->eraseFromParent();
+}
+
+// Object files reach ORC without its IR-level constructor scraping, so do it here: one function
+// under the generic IR platform's init prefix (it runs those on JITDylib initialize) calls the
+// constructors in priority order and registers the destructors with the JITDylib's own atexit
+// (run on deinitialize).
+void gatherInitializers(llvm::Module& m) {
+  auto entries = [&](const char* list) {
+    std::vector<std::pair<uint64_t, llvm::Function*>> fns;
+    llvm::GlobalVariable* gv = m.getNamedGlobal(list);
+    if (!gv)
+      return fns;
+    if (auto* array = llvm::dyn_cast_or_null<llvm::ConstantArray>(gv->hasInitializer() ? gv->getInitializer() : nullptr))
+      for (const llvm::Use& u : array->operands()) {
+        auto* entry = llvm::dyn_cast<llvm::ConstantStruct>(u.get());
+        if (!entry || entry->getNumOperands() < 2)
+          continue;
+        auto* prio = llvm::dyn_cast<llvm::ConstantInt>(entry->getOperand(0));
+        auto* fn = llvm::dyn_cast<llvm::Function>(entry->getOperand(1)->stripPointerCasts());
+        if (prio && fn)
+          fns.emplace_back(prio->getZExtValue(), fn);
+      }
+    gv->eraseFromParent();
+    std::stable_sort(fns.begin(), fns.end(), [](auto& a, auto& b) { return a.first < b.first; });
+    return fns;
+  };
+  auto ctors = entries("llvm.global_ctors");
+  auto dtors = entries("llvm.global_dtors");
+  if (ctors.empty() && dtors.empty())
+    return;
+  llvm::LLVMContext& ctx = m.getContext();
+  auto* voidFn = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx), false);
+  auto* init = llvm::Function::Create(voidFn, llvm::GlobalValue::ExternalLinkage, "__orc_init_func.lcjit", m);
+  llvm::IRBuilder<> b(llvm::BasicBlock::Create(ctx, "entry", init));
+  for (auto& [prio, fn] : ctors)
+    b.CreateCall(fn->getFunctionType(), fn);
+  if (!dtors.empty()) {
+    llvm::FunctionCallee atexit = m.getOrInsertFunction(
+        "atexit", llvm::FunctionType::get(b.getInt32Ty(), {llvm::PointerType::getUnqual(ctx)}, false));
+    for (auto it = dtors.rbegin(); it != dtors.rend(); ++it)
+      b.CreateCall(atexit, {it->second});
+  }
+  b.CreateRetVoid();
+}
 
 void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
   // Declared in this order so they are destroyed in the right order (they reference each other).
@@ -355,7 +405,71 @@ struct JitState {
     return std::exchange(sessionErrors, {});
   }
 };
+
+// One loaded model version. A version sharing another's state keeps that one alive (its globals
+// live there), and is destroyed first.
+struct Dylib {
+  std::shared_ptr<JitState> state;
+  orc::JITDylib* jd = nullptr;
+  std::string name;
+  std::vector<std::string> stateNames;  // the mutable globals this version defines
+  std::shared_ptr<Dylib> stateOwner;    // the version whose globals this one uses, or null
+
+  ~Dylib() {
+    std::lock_guard<std::mutex> lock(state->mutex);
+    auto& J = *state->jit;
+    // Static destructors / atexit handlers of this version only, then free its memory.
+    if (llvm::Error err = callCatching([&] { return J.deinitialize(*jd); }, "static destructor"))
+      llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name + ": ");
+    if (auto err = J.getExecutionSession().removeJITDylib(*jd))
+      llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name + ": ");
+    state->takeSessionErrors();
+  }
+};
 } // namespace detail
+
+namespace {
+// What the object cache keeps of a compile: the object file and what loading it needs to know.
+struct CachedObject {
+  std::string object;
+  std::string anchor;                   // a defined symbol: looking it up links the whole object
+  std::vector<std::string> stateNames;  // see exportState
+};
+
+// Cache files: "lcjit-object 1\n", the anchor line, a count line, the state names one per line,
+// then the object bytes.
+std::string serialize(const CachedObject& c) {
+  std::string out = "lcjit-object 1\n" + c.anchor + "\n" + std::to_string(c.stateNames.size()) + "\n";
+  for (const auto& n : c.stateNames)
+    out += n + "\n";
+  return out + c.object;
+}
+
+std::optional<CachedObject> deserialize(llvm::StringRef text) {
+  CachedObject c;
+  auto line = [&]() -> std::optional<llvm::StringRef> {
+    size_t nl = text.find('\n');
+    if (nl == llvm::StringRef::npos)
+      return std::nullopt;
+    llvm::StringRef l = text.substr(0, nl);
+    text = text.substr(nl + 1);
+    return l;
+  };
+  auto magic = line(), anchor = line(), count = line();
+  size_t n = 0;
+  if (!magic || *magic != "lcjit-object 1" || !anchor || !count || count->getAsInteger(10, n))
+    return std::nullopt;
+  c.anchor = anchor->str();
+  for (size_t i = 0; i < n; ++i) {
+    auto name = line();
+    if (!name)
+      return std::nullopt;
+    c.stateNames.push_back(name->str());
+  }
+  c.object = text.str();
+  return c;
+}
+} // namespace
 
 // Per opt level: the driver-derived invocation (built once) and the PCH state.
 struct LevelSetup {
@@ -374,6 +488,22 @@ struct Compiler::Impl {
   orc::JITTargetMachineBuilder jtmb{llvm::Triple()};
   std::shared_ptr<detail::JitState> state;
   std::array<LevelSetup, 3> levels;
+  // Instruction selection per codegen level (fast / default); a TargetMachine is not reentrant.
+  struct Codegen {
+    std::mutex mutex;
+    std::unique_ptr<llvm::TargetMachine> tm;
+  };
+  std::array<Codegen, 2> codegen;
+  // Objects of recent compiles by key, newest last (a reload of unchanged source, a tier swap
+  // back and forth); older ones come from the disk cache.
+  std::mutex objectsMutex;
+  std::vector<std::pair<std::string, std::shared_ptr<const CachedObject>>> objects;
+  static constexpr size_t kObjectsInMemory = 16;
+  static constexpr size_t kObjectsOnDisk = 256;
+
+  llvm::Expected<std::string> emitObject(llvm::Module& m, int level);
+  std::shared_ptr<const CachedObject> findObject(const std::string& key, bool& fromDisk);
+  void keepObject(const std::string& key, std::shared_ptr<const CachedObject> object);
 
   llvm::Error setupLevel(LevelSetup& L, int level);
   std::string pchKey(const LevelSetup& L, int level);
@@ -597,11 +727,14 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   impl->jtmb = *jtmb;
 
   auto state = std::make_shared<detail::JitState>();
+  // Model code arrives as object files (Impl::emitObject); what ORC still compiles from IR is
+  // its own small support modules (__dso_handle, the atexit helpers of each JITDylib).
   auto jit = orc::LLJITBuilder()
                  .setJITTargetMachineBuilder(*jtmb)
                  .setCompileFunctionCreator([](orc::JITTargetMachineBuilder b)
                                                 -> llvm::Expected<std::unique_ptr<orc::IRCompileLayer::IRCompiler>> {
-                   return std::make_unique<LevelledIRCompiler>(std::move(b));
+                   b.setCodeGenOptLevel(llvm::CodeGenOptLevel::None);
+                   return std::make_unique<orc::ConcurrentIRCompiler>(std::move(b));
                  })
                  .create();
   if (!jit)
@@ -632,82 +765,219 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   return std::unique_ptr<Compiler>(new Compiler(std::move(impl)));
 }
 
+llvm::Expected<std::string> Compiler::Impl::emitObject(llvm::Module& m, int level) {
+  Codegen& cg = codegen[level >= 2 ? 1 : 0];
+  std::lock_guard<std::mutex> lock(cg.mutex);
+  if (!cg.tm) {
+    orc::JITTargetMachineBuilder b = jtmb;
+    // Fast instruction selection for the quick tiers: on lightly optimised IR the SelectionDAG
+    // backend was the slowest part of a compile (see the latency study).
+    b.setCodeGenOptLevel(level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
+    auto tm = b.createTargetMachine();
+    if (!tm)
+      return tm.takeError();
+    cg.tm = std::move(*tm);
+  }
+  m.setDataLayout(cg.tm->createDataLayout());
+  auto buffer = orc::SimpleCompiler(*cg.tm)(m);
+  if (!buffer)
+    return buffer.takeError();
+  return (*buffer)->getBuffer().str();
+}
+
+std::shared_ptr<const CachedObject> Compiler::Impl::findObject(const std::string& key, bool& fromDisk) {
+  fromDisk = false;
+  {
+    std::lock_guard<std::mutex> lock(objectsMutex);
+    for (auto& [k, object] : objects)
+      if (k == key)
+        return object;
+  }
+  auto file = llvm::MemoryBuffer::getFile(cacheDir + "/objects/" + key + ".o", /*IsText=*/false,
+                                          /*RequiresNullTerminator=*/false);
+  if (!file)
+    return nullptr;
+  auto object = deserialize((*file)->getBuffer());
+  if (!object)
+    return nullptr;  // a foreign or truncated file: compile again (and overwrite it)
+  fromDisk = true;
+  auto shared = std::make_shared<const CachedObject>(std::move(*object));
+  keepObject(key, shared);
+  return shared;
+}
+
+void Compiler::Impl::keepObject(const std::string& key, std::shared_ptr<const CachedObject> object) {
+  std::lock_guard<std::mutex> lock(objectsMutex);
+  std::erase_if(objects, [&](auto& e) { return e.first == key; });
+  objects.emplace_back(key, std::move(object));
+  if (objects.size() > kObjectsInMemory)
+    objects.erase(objects.begin());
+}
+
+// Writes the object to the disk cache (temporary file + rename, as for the PCH) and keeps the
+// cache to its newest kObjectsOnDisk entries. Failures only cost a later compile.
+static void storeObject(const std::string& dir, const std::string& key, const CachedObject& object, size_t keep) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  llvm::SmallString<256> tmp;
+  int fd = -1;
+  if (llvm::sys::fs::createUniqueFile(dir + "/" + key + ".tmp-%%%%%%%%", fd, tmp))
+    return;
+  {
+    llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
+    out << serialize(object);
+    if (out.has_error()) {
+      out.clear_error();
+      llvm::sys::fs::remove(tmp);
+      return;
+    }
+  }
+  if (llvm::sys::fs::rename(tmp, dir + "/" + key + ".o")) {
+    llvm::sys::fs::remove(tmp);
+    return;
+  }
+  std::vector<std::pair<fs::file_time_type, fs::path>> files;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".o")
+      files.emplace_back(it->last_write_time(ec), it->path());
+  if (files.size() <= keep)
+    return;
+  std::sort(files.begin(), files.end());
+  for (size_t i = 0; i + keep < files.size(); ++i)
+    fs::remove(files[i].second, ec);
+}
+
 llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cppSource,
                                                              const CompileOptions& options,
                                                              CompileStats* statsOut) {
   // Lets clang move deep recursion onto a bigger stack instead of overflowing ours.
   clang::noteBottomOfStack();
   CompileStats st;
+  auto finish = [&] {
+    if (statsOut)
+      *statsOut = st;
+  };
   int level = options.optLevel;
   if (level < 0 || level > 2)
     return makeError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(level));
   std::string bufferName = options.bufferName.empty() ? std::string("model.cpp") : options.bufferName;
   LevelSetup& L = impl_->levels[level];
-
-  // Front end. The level lock only covers setup/PCH decisions; clang runs unlocked so that
-  // compiles on several threads may overlap.
-  auto ctx = std::make_unique<llvm::LLVMContext>();
-  std::unique_ptr<llvm::Module> module;
-  for (int attempt = 0;; ++attempt) {
-    {
-      std::lock_guard<std::mutex> lock(L.mutex);
-      if (auto err = impl_->setupLevel(L, level))
-        return std::move(err);
-      impl_->ensurePch(L, level, attempt > 0, st);
-    }
-    auto t0 = Clock::now();
-    // Snapshot the PCH decision; another thread may rebuild concurrently.
-    LevelSetup snapshot;
-    {
-      std::lock_guard<std::mutex> lock(L.mutex);
-      snapshot.base = L.base;
-      snapshot.pchPath = L.pchPath;
-      snapshot.pchFallback = L.pchFallback;
-    }
-    Impl::FrontendResult fr = impl_->runFrontend(snapshot, cppSource, bufferName, *ctx);
-    st.frontendMs += msSince(t0);
-    if (fr.module) {
-      module = std::move(fr.module);
-      break;
-    }
-    if (fr.pchProblem && attempt == 0 && !snapshot.pchFallback) {
-      // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
-      ctx = std::make_unique<llvm::LLVMContext>();
-      continue;
-    }
-    if (statsOut)
-      *statsOut = st;
-    return makeError(trimTrailingNewlines(fr.diagnostics));
+  std::shared_ptr<detail::Dylib> stateOwner;
+  if (options.shareStateWith) {
+    stateOwner = options.shareStateWith->dylib_;
+    if (stateOwner->stateOwner)
+      stateOwner = stateOwner->stateOwner;  // the globals live in the first version
   }
 
-  // IR optimization.
-  auto t1 = Clock::now();
+  // The object cache's key: everything the object depends on. The PCH's name hashes the
+  // compiler, the cc1 line and the runtime header tree; quoted includes are already expanded
+  // into the source by the preprocessor.
+  std::string key;
   {
-    orc::JITTargetMachineBuilder b = impl_->jtmb;
-    b.setCodeGenOptLevel(level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
-    auto tm = b.createTargetMachine();
-    if (!tm)
-      return tm.takeError();
-    runIRPipeline(*module, level, tm->get());
-  }
-  module->addModuleFlag(llvm::Module::Warning, kCodegenLevelFlag, level >= 2 ? 1u : 0u);
-  st.optimizeMs = msSince(t1);
-
-  // Any external definition will do: materializing one materializes the whole module, so
-  // codegen and link errors surface here instead of at the first call.
-  std::string anchor;
-  for (const llvm::GlobalValue& gv : module->global_values())
-    if (!gv.isDeclaration() && !gv.hasLocalLinkage() && !gv.getName().starts_with("llvm.")) {
-      anchor = gv.getName().str();
-      break;
+    std::lock_guard<std::mutex> lock(L.mutex);
+    if (auto err = impl_->setupLevel(L, level))
+      return std::move(err);
+    impl_->ensurePch(L, level, false, st);
+    llvm::SHA256 h;
+    for (llvm::StringRef part : {llvm::StringRef(L.pchPath), llvm::StringRef(L.pchFallback ? "text" : "pch"),
+                                 llvm::StringRef(bufferName), llvm::StringRef(stateOwner ? "shared" : "own"), cppSource}) {
+      h.update(part);
+      h.update(llvm::StringRef("\0", 1));
     }
+    key = llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 32) + "-O" + std::to_string(level);
+  }
+
+  std::shared_ptr<const CachedObject> object;
+  if (options.useObjectCache) {
+    bool fromDisk = false;
+    object = impl_->findObject(key, fromDisk);
+    if (object)
+      st.object = fromDisk ? CompileStats::ObjectFrom::Disk : CompileStats::ObjectFrom::Memory;
+  }
+
   auto backendErrors = std::make_shared<std::string>();
-  ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+  if (!object) {
+    // Front end. The level lock only covers setup/PCH decisions; clang runs unlocked so that
+    // compiles on several threads may overlap.
+    auto ctx = std::make_unique<llvm::LLVMContext>();
+    ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+    std::unique_ptr<llvm::Module> module;
+    for (int attempt = 0;; ++attempt) {
+      if (attempt > 0) {
+        std::lock_guard<std::mutex> lock(L.mutex);
+        impl_->ensurePch(L, level, true, st);
+      }
+      auto t0 = Clock::now();
+      // Snapshot the PCH decision; another thread may rebuild concurrently.
+      LevelSetup snapshot;
+      {
+        std::lock_guard<std::mutex> lock(L.mutex);
+        snapshot.base = L.base;
+        snapshot.pchPath = L.pchPath;
+        snapshot.pchFallback = L.pchFallback;
+      }
+      Impl::FrontendResult fr = impl_->runFrontend(snapshot, cppSource, bufferName, *ctx);
+      st.frontendMs += msSince(t0);
+      if (fr.module) {
+        module = std::move(fr.module);
+        break;
+      }
+      if (fr.pchProblem && attempt == 0 && !snapshot.pchFallback) {
+        // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
+        ctx = std::make_unique<llvm::LLVMContext>();
+        ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+        continue;
+      }
+      finish();
+      return makeError(trimTrailingNewlines(fr.diagnostics));
+    }
+
+    auto t1 = Clock::now();
+    CachedObject fresh;
+    fresh.stateNames = exportState(*module);
+    if (stateOwner)
+      useSharedState(*module, stateOwner->stateNames);
+    gatherInitializers(*module);
+    {
+      orc::JITTargetMachineBuilder b = impl_->jtmb;
+      b.setCodeGenOptLevel(level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
+      auto tm = b.createTargetMachine();
+      if (!tm)
+        return tm.takeError();
+      runIRPipeline(*module, level, tm->get());
+    }
+    st.optimizeMs = msSince(t1);
+
+    auto t2 = Clock::now();
+    // Any external definition will do: looking it up links the whole object, so link errors
+    // (unresolved symbols) surface in compile() instead of at the first call.
+    for (const llvm::GlobalValue& gv : module->global_values())
+      if (!gv.isDeclaration() && !gv.hasLocalLinkage() && !gv.getName().starts_with("llvm.")) {
+        fresh.anchor = gv.getName().str();
+        break;
+      }
+    auto bytes = impl_->emitObject(*module, level);
+    st.codegenMs = msSince(t2);
+    if (!bytes || !backendErrors->empty()) {
+      std::string msg = bytes ? "" : "error: code generation failed: " + llvm::toString(bytes.takeError());
+      if (!backendErrors->empty())
+        msg = trimTrailingNewlines(*backendErrors);  // the real cause (e.g. bad inline asm)
+      finish();
+      return makeError(msg);
+    }
+    fresh.object = std::move(*bytes);
+    object = std::make_shared<const CachedObject>(std::move(fresh));
+    if (options.useObjectCache) {
+      impl_->keepObject(key, object);
+      storeObject(impl_->cacheDir + "/objects", key, *object, Impl::kObjectsOnDisk);
+    }
+  }
 
   // Load into a fresh JITDylib.
-  auto t2 = Clock::now();
+  auto t3 = Clock::now();
   auto& state = *impl_->state;
-  std::lock_guard<std::mutex> lock(state.mutex);
+  std::unique_lock<std::mutex> lock(state.mutex);
   auto& J = *state.jit;
   auto& ES = J.getExecutionSession();
   std::string name = "lcjit.model." + std::to_string(++state.counter);
@@ -716,7 +986,10 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     return jdOrErr.takeError();
   orc::JITDylib& JD = *jdOrErr;
   orc::JITDylibSearchOrder order;
-  // Host symbols first so explicit definitions win over same-named process symbols.
+  // The shared state first; host symbols before the process's so explicit definitions win
+  // over same-named process symbols.
+  if (stateOwner)
+    order.push_back({stateOwner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   order.push_back({state.hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   if (auto p = J.getPlatformJITDylib())
     order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
@@ -730,9 +1003,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   auto fail = [&](llvm::Error err, llvm::StringRef what) -> llvm::Error {
     std::string msg = llvm::toString(std::move(err));
     std::string cause = trimTrailingNewlines(state.takeSessionErrors());
-    if (!backendErrors->empty())
-      msg = trimTrailingNewlines(*backendErrors);
-    else if (!cause.empty())
+    if (!cause.empty())
       msg = "error: " + what.str() + ": " + cause;
     else
       msg = "error: " + what.str() + ": " + msg;
@@ -744,58 +1015,53 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (auto e = ES.removeJITDylib(JD))
       llvm::consumeError(std::move(e));
     state.takeSessionErrors();
-    if (statsOut)
-      *statsOut = st;
+    st.codegenMs += msSince(t3);
+    finish();
     return makeError(demangleMentions(msg));
   };
 
   state.takeSessionErrors();
-  if (auto err = J.addIRModule(JD, orc::ThreadSafeModule(std::move(module), std::move(ctx))))
+  auto buffer = llvm::MemoryBuffer::getMemBuffer(object->object, name, /*RequiresNullTerminator=*/false);
+  if (auto err = J.addObjectFile(JD, std::move(buffer)))
     return fail(std::move(err), "cannot add module");
-  if (!anchor.empty()) {
+  if (!object->anchor.empty()) {
     auto sym = ES.lookup(orc::makeJITDylibSearchOrder(&JD, orc::JITDylibLookupFlags::MatchAllSymbols),
-                         J.mangleAndIntern(anchor));
+                         J.mangleAndIntern(object->anchor));
     if (!sym)
       return fail(sym.takeError(), "JIT link failed");
   }
-  if (!backendErrors->empty())
-    return fail(makeError("code generation failed"), "code generation failed");
-  st.codegenMs = msSince(t2);
   // Static constructors of the model. One that throws must not escape with the JITDylib half
   // set up (no ORC locks are held while initializers run, so catching here is safe).
   initAttempted = true;
   if (llvm::Error initErr = callCatching([&] { return J.initialize(JD); }, "static initializer"))
     return fail(std::move(initErr), "running static initializers failed");
-  if (!backendErrors->empty())
-    return fail(makeError("code generation failed"), "code generation failed");
-  st.codegenMs = msSince(t2);
-  if (statsOut)
-    *statsOut = st;
-  return std::unique_ptr<ModelCode>(new ModelCode(impl_->state, &JD, std::move(name)));
+  // The JITDylib's atexit runner is compiled from IR on first use: do it now rather than when
+  // the version is dropped (a reload would wait for it, and at process exit LLVM may be gone).
+  if (auto sym = ES.lookup(orc::makeJITDylibSearchOrder(&JD, orc::JITDylibLookupFlags::MatchAllSymbols),
+                           J.mangleAndIntern("__lljit_run_atexits"));
+      !sym)
+    return fail(sym.takeError(), "JIT link failed");
+  st.codegenMs += msSince(t3);
+  finish();
+  auto dylib = std::make_shared<detail::Dylib>();
+  dylib->state = impl_->state;
+  dylib->jd = &JD;
+  dylib->name = std::move(name);
+  dylib->stateNames = object->stateNames;
+  dylib->stateOwner = std::move(stateOwner);
+  lock.unlock();  // ~Dylib takes it
+  return std::unique_ptr<ModelCode>(new ModelCode(std::move(dylib)));
 }
 
-ModelCode::ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name)
-    : state_(std::move(state)), jd_(jitDylib), name_(std::move(name)) {}
-
-ModelCode::~ModelCode() {
-  if (!state_)
-    return;
-  auto& JD = *static_cast<orc::JITDylib*>(jd_);
-  std::lock_guard<std::mutex> lock(state_->mutex);
-  auto& J = *state_->jit;
-  // Static destructors / atexit handlers of this version only, then free its memory.
-  if (llvm::Error err = callCatching([&] { return J.deinitialize(JD); }, "static destructor"))
-    llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name_ + ": ");
-  if (auto err = J.getExecutionSession().removeJITDylib(JD))
-    llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name_ + ": ");
-  state_->takeSessionErrors();
-}
+ModelCode::ModelCode(std::shared_ptr<detail::Dylib> dylib) : dylib_(std::move(dylib)) {}
+ModelCode::~ModelCode() = default;
+const std::string& ModelCode::name() const { return dylib_->name; }
 
 llvm::Expected<void*> ModelCode::lookup(llvm::StringRef cName) {
-  auto& JD = *static_cast<orc::JITDylib*>(jd_);
-  auto addr = state_->jit->lookup(JD, cName);
+  auto& state = *dylib_->state;
+  auto addr = state.jit->lookup(*dylib_->jd, cName);
   if (!addr) {
-    state_->takeSessionErrors();
+    state.takeSessionErrors();
     return addr.takeError();
   }
   return addr->toPtr<void*>();

@@ -29,12 +29,21 @@ struct CompilerConfig {
   std::vector<HostSymbol> hostSymbols;
 };
 
+class ModelCode;
+
 struct CompileOptions {
   // 0: -O0 IR, fast instruction selection. 1: light IR pipeline (SROA, early-CSE, instcombine,
   // simplifycfg, inliner) + fast instruction selection. 2: standard O2 pipeline + default codegen.
   int optLevel = 1;
   // Name the main file gets in diagnostics unless `#line` directives say otherwise.
   std::string bufferName = "model.cpp";
+  // Another compile of the same source whose mutable globals this one uses instead of defining
+  // its own, with no static constructors run again: swapping in a better-optimised tier keeps
+  // the running simulation's state. The other code stays loaded while this one lives.
+  const ModelCode* shareStateWith = nullptr;
+  // Reuse the object code of an identical earlier compile (same source, options, compiler and
+  // runtime header), from memory or from the disk cache, instead of compiling again.
+  bool useObjectCache = true;
 };
 
 struct CompileStats {
@@ -43,14 +52,18 @@ struct CompileStats {
   double codegenMs = 0;   // instruction selection, JIT link, static constructors
   double pchBuildMs = 0;  // building (or validating) the PCH, when this compile had to
   bool pchCached = false; // an existing PCH from the disk cache was reused
+  // The object code came from the cache (no front end, optimisation or instruction selection).
+  enum class ObjectFrom { Compiled, Memory, Disk } object = ObjectFrom::Compiled;
 };
 
 namespace detail {
 struct JitState;
+struct Dylib;
 }
 
 // One compiled model version, living in its own JITDylib. Destroying it runs the model's static
-// destructors and removes its code from the JIT; it may outlive the Compiler that made it.
+// destructors and removes its code from the JIT (unless a version sharing its state still runs);
+// it may outlive the Compiler that made it.
 class ModelCode {
 public:
   ~ModelCode();
@@ -61,15 +74,12 @@ public:
   llvm::Expected<void*> lookup(llvm::StringRef cName);
 
   // Unique name of the JITDylib holding this version (for logs).
-  const std::string& name() const { return name_; }
+  const std::string& name() const;
 
 private:
   friend class Compiler;
-  ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name);
-
-  std::shared_ptr<detail::JitState> state_;
-  void* jd_; // llvm::orc::JITDylib*, kept opaque so this header stays light
-  std::string name_;
+  explicit ModelCode(std::shared_ptr<detail::Dylib> dylib);
+  std::shared_ptr<detail::Dylib> dylib_;
 };
 
 // One per process. compile() may run on a background thread while older ModelCode runs.

@@ -228,15 +228,20 @@ void FileMonitor::drain() {
       return;  // EAGAIN: nothing more
     }
     auto now = Clock::now();
-    auto mark = [&](size_t index) {
+    // A write that closed the file, or a file renamed into place, is a finished save: it need
+    // not wait out the quiet period (that would delay every reload by it). A later write to the
+    // same file starts waiting again; a chmod after the save (IN_ATTRIB) changes nothing.
+    auto mark = [&](size_t index, uint32_t mask) {
       auto [it, fresh] = pending_.try_emplace(index, Pending{now, now});
-      if (!fresh) it->second.last = now;
+      it->second.last = now;
+      if (mask & (IN_CLOSE_WRITE | IN_MOVED_TO)) it->second.saved = true;
+      else if (mask & (IN_MODIFY | IN_CREATE)) it->second.saved = false;
     };
     for (ssize_t off = 0; off < n;) {
       const auto* ev = reinterpret_cast<const struct inotify_event*>(buf + off);
       off += ssize_t(sizeof(struct inotify_event) + ev->len);
       if (ev->mask & IN_Q_OVERFLOW) {  // events lost: assume everything changed
-        for (size_t i = 0; i < paths_.size(); ++i) mark(i);
+        for (size_t i = 0; i < paths_.size(); ++i) mark(i, 0);
         continue;
       }
       if (ev->mask & IN_IGNORED) {  // the directory went away
@@ -248,15 +253,20 @@ void FileMonitor::drain() {
       if (w == byWatch_.end()) continue;
       auto f = w->second.find(ev->name);  // ev->name is NUL-terminated (padded)
       if (f == w->second.end()) continue;
-      for (size_t index : f->second) mark(index);
+      for (size_t index : f->second) mark(index, ev->mask);
     }
   }
+}
+
+FileMonitor::Clock::time_point FileMonitor::settlesAt(const Pending& p) const {
+  if (p.saved) return p.last + kSavedQuiet;
+  return std::min(p.last + quiet_, p.first + maxDelay_);
 }
 
 std::optional<FileMonitor::Clock::time_point> FileMonitor::readyAt() const {
   std::optional<Clock::time_point> best;
   for (const auto& [index, p] : pending_) {
-    auto t = std::min(p.last + quiet_, p.first + maxDelay_);
+    auto t = settlesAt(p);
     if (!best || t < *best) best = t;
   }
   return best;
@@ -266,7 +276,7 @@ std::vector<std::string> FileMonitor::takeReady(Clock::time_point now) {
   std::vector<std::string> out;
   for (auto it = pending_.begin(); it != pending_.end();) {
     const Pending& p = it->second;
-    if (now >= p.last + quiet_ || now >= p.first + maxDelay_) {
+    if (now >= settlesAt(p)) {
       out.push_back(paths_[it->first]);  // pending_ is ordered by index = watch() order
       it = pending_.erase(it);
     } else {

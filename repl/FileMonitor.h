@@ -78,9 +78,10 @@ std::vector<Action> actionsForChanges(const std::vector<std::string>& paths, Ref
 
 // Watches a set of files through inotify on their DIRECTORIES (so a save that writes a temporary
 // file and renames it over the original is seen, as is a file deleted and created again) and
-// reports which watched files changed. Events for one file that come less than `quiet` apart
-// (default 100 ms) are one change, reported once the file has been quiet that long (or after
-// `maxDelay`, 2 s, of continuous events). Not thread-safe; one poller.
+// reports which watched files changed. A finished save (the file closed after writing, or renamed
+// into place) is reported at once (after kSavedQuiet); otherwise events for one file that come
+// less than `quiet` apart (default 100 ms) are one change, reported once the file has been quiet
+// that long (or after `maxDelay`, 2 s, of continuous events). Not thread-safe; one poller.
 class FileMonitor {
  public:
   explicit FileMonitor(std::chrono::milliseconds quiet = std::chrono::milliseconds(100),
@@ -104,7 +105,10 @@ class FileMonitor {
   using Clock = std::chrono::steady_clock;
   struct Pending {
     Clock::time_point first, last;
+    bool saved = false;  // the last event finished a save (closed after writing, renamed into place)
   };
+  // A finished save still waits this long, for the events of the same save that follow it.
+  static constexpr std::chrono::milliseconds kSavedQuiet{3};
   int fd_ = -1;
   std::chrono::milliseconds quiet_, maxDelay_;
   std::vector<std::string> paths_;                // as given
@@ -113,6 +117,7 @@ class FileMonitor {
   std::string error_;
 
   void drain();  // reads all available inotify events into pending_
+  Clock::time_point settlesAt(const Pending& p) const;
   std::optional<Clock::time_point> readyAt() const;  // when the earliest pending change settles
   std::vector<std::string> takeReady(Clock::time_point now);
 };

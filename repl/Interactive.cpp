@@ -159,22 +159,6 @@ class InteractiveModel {
     run();
   }
 
-  // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
-  // view file names (as Session resolved them).
-  std::vector<std::string> inputFiles() const {
-    std::vector<std::string> f{files_.lsystem};
-    for (const std::string* one : {&files_.view, &files_.colormap, &files_.materials, &files_.functionSet,
-                                   &files_.timeline, &files_.parameters})
-      if (!one->empty()) f.push_back(*one);
-    f.insert(f.end(), files_.functions.begin(), files_.functions.end());
-    f.insert(f.end(), files_.contours.begin(), files_.contours.end());
-    f.insert(f.end(), files_.other.begin(), files_.other.end());
-    const runtime::DrawingFiles& d = session_.drawing();
-    f.insert(f.end(), d.textureFiles.begin(), d.textureFiles.end());
-    f.insert(f.end(), d.shapeFiles.begin(), d.shapeFiles.end());
-    return f;
-  }
-
   // A change under -rmode continuous/triggered runs the §1.3 table's action.
   void apply(Action a) {
     switch (a) {
@@ -411,7 +395,7 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   else model.run();
   FileMonitor monitor;
   bool watching = options.refresh != RefreshMode::Explicit;
-  if (watching && !monitor.watch(model.inputFiles()) && !options.quiet)
+  if (watching && !monitor.watch(watchedFiles(files, session.drawing())) && !options.quiet)
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   for (;;) {
     model.poll();

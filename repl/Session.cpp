@@ -141,6 +141,19 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
   return f;
 }
 
+std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing) {
+  std::vector<std::string> f{files.lsystem};
+  for (const std::string* one :
+       {&files.view, &files.colormap, &files.materials, &files.functionSet, &files.timeline, &files.parameters})
+    if (!one->empty()) f.push_back(*one);
+  f.insert(f.end(), files.functions.begin(), files.functions.end());
+  f.insert(f.end(), files.contours.begin(), files.contours.end());
+  f.insert(f.end(), files.other.begin(), files.other.end());
+  f.insert(f.end(), drawing.textureFiles.begin(), drawing.textureFiles.end());
+  f.insert(f.end(), drawing.shapeFiles.begin(), drawing.shapeFiles.end());
+  return f;
+}
+
 llvm::Expected<std::unique_ptr<Session>> Session::create() {
   std::unique_ptr<Session> s(new Session());
   jit::CompilerConfig config;
@@ -234,6 +247,7 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   const __lc_Model* model = describe();
   times.compileMs = msSince(t0);
   times.pchCached = stats.pchCached;
+  times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.frontendMs = stats.frontendMs;
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
@@ -242,6 +256,10 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   // Swap in the new model only now that everything succeeded.
   engine_.reset();
   code_ = std::move(*code);
+  optLevel_ = optLevel;
+  ++generation_;
+  runningCpp_ = cpp_;
+  bufferName_ = co.bufferName;
   functions_ = std::move(functions);
   model_ = model;
   engine_ = std::make_unique<runtime::Engine>(*model, functions_.get());
@@ -250,6 +268,42 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   engine_->setTurtleSetup(drawing_->turtleSetup());
   engine_->setCurves(&drawing_->contours);
   return llvm::Error::success();
+}
+
+std::function<llvm::Expected<BetterTier>()> Session::betterTierJob(int optLevel) const {
+  return [compiler = compiler_.get(), running = code_, cpp = runningCpp_, name = bufferName_, generation = generation_,
+          optLevel]() -> llvm::Expected<BetterTier> {
+    auto t0 = std::chrono::steady_clock::now();
+    jit::CompileOptions co;
+    co.optLevel = optLevel;
+    co.bufferName = name;
+    co.shareStateWith = running.get();  // `running` stays alive until this job ends
+    jit::CompileStats stats;
+    auto code = compiler->compile(cpp, co, &stats);
+    if (!code) return code.takeError();
+    BetterTier t;
+    t.code = std::move(*code);
+    t.generation = generation;
+    t.optLevel = optLevel;
+    t.compileMs = msSince(t0);
+    t.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
+    return t;
+  };
+}
+
+bool Session::installTier(BetterTier tier) {
+  if (!engine_ || tier.generation != generation_) return false;
+  auto entry = tier.code->lookup(frontend::kModelEntry);
+  if (!entry) {
+    llvm::consumeError(entry.takeError());
+    return false;
+  }
+  const __lc_Model* model = reinterpret_cast<const __lc_Model* (*)()>(*entry)();
+  engine_->swapModel(*model);
+  model_ = model;
+  code_ = std::move(tier.code);  // the previous version stays loaded: it holds the state
+  optLevel_ = tier.optLevel;
+  return true;
 }
 
 }  // namespace lcjit

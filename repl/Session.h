@@ -2,6 +2,8 @@
 // §1.1.2), the .l file is preprocessed, rewritten to C++ and compiled in-process, and the
 // derivation engine is set up on the compiled model. Every phase is timed for --stats.
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +28,16 @@ struct PhaseTimes {
   double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0, interpretMs = 0, renderMs = 0;
   double frontendMs = 0, optimizeMs = 0, codegenMs = 0;  // the parts of compileMs
   bool pchCached = false;
+  bool objectCached = false;  // the model's object code came from the cache: nothing compiled
+};
+
+// A better-optimised build of the loaded model (Session::betterTierJob).
+struct BetterTier {
+  std::shared_ptr<jit::ModelCode> code;
+  uint64_t generation = 0;  // which load it belongs to
+  int optLevel = 0;
+  double compileMs = 0;
+  bool objectCached = false;
 };
 
 // The files a model run uses, recognised by extension.
@@ -40,6 +52,10 @@ struct ModelFiles {
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
+
+// The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
+// view file names (as the loaded model resolved them).
+std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing);
 
 // Which input files a load re-reads (manual §1.2.2's table of the New … menu items); the rest is
 // carried over from the loaded model.
@@ -64,7 +80,17 @@ class Session {
   // `lsystem` the compiled model is kept, and without `parameters` also the engine and its string
   // (New view / New rendering redraw, they do not re-run).
   llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what = ReloadParts::all());
+  bool loaded() const { return engine_ != nullptr; }
   runtime::Engine& engine() { return *engine_; }
+  // Optimisation level of the code running now.
+  int optLevel() const { return optLevel_; }
+
+  // Two tiers: after a load at a quick level, the job this returns compiles the same model at
+  // `optLevel`; it may run on any thread (the running model goes on meanwhile). installTier
+  // then swaps the result in, between derivation steps, without re-running: the new code uses
+  // the running version's globals. False (and nothing changes) when another load came between.
+  std::function<llvm::Expected<BetterTier>()> betterTierJob(int optLevel) const;
+  bool installTier(BetterTier tier);
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
@@ -75,11 +101,14 @@ class Session {
   Session() = default;
   std::unique_ptr<jit::Compiler> compiler_;
   std::unique_ptr<runtime::FunctionStore> functions_;
-  std::unique_ptr<jit::ModelCode> code_;
+  std::shared_ptr<jit::ModelCode> code_;  // shared with a tier job compiling against it
+  int optLevel_ = 0;
+  uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;
-  std::string cpp_;
+  std::string cpp_;                       // the last C++ generated, compiled or not
+  std::string runningCpp_, bufferName_;   // what the running code was compiled from
   std::vector<std::string> warnings_;
 };
 

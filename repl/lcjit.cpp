@@ -13,6 +13,7 @@
 #include "CLI/CLI.hpp"
 #include "Drawing.h"
 #include "Engine.h"
+#include "Batch.h"
 #include "Frame.h"
 #include "Interactive.h"
 #include "Window.h"
@@ -32,16 +33,13 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
   return out;
 }
 
-// -dtf/-dtfes files go to the working folder (lpfg runs in the object's folder, so the same place
-// for its users) rather than beside a model that may live in a read-only tree.
-std::string stemInWorkingFolder(const std::string& p) { return std::filesystem::path(p).stem().string(); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
   bool batch = false, animate = false, compileOnly = false, debug = false, quiet = false, verbose = false;
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false, stats = false, emitCpp = false;
+  bool watch = false;
   std::string out, rmode, dll, libPath;
   int optLevel = 1;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
@@ -72,6 +70,8 @@ int main(int argc, char** argv) {
   app.add_option("--lp", libPath, "(-lp) accepted");
   app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
   app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  app.add_flag("--watch", watch,
+               "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
   app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
 
@@ -102,6 +102,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  // --watch without -O: a quick -O0 build first, -O2 compiled in the background (two tiers).
+  int betterTier = -1;
+  if (watch && app.count("-O") == 0) optLevel = 0, betterTier = 2;
   lcjit::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.
@@ -110,7 +113,7 @@ int main(int argc, char** argv) {
   }
   if (auto e = (*session)->load(*files, optLevel, times)) {
     std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-    return 1;
+    if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
   if (!batch && out.empty()) {
@@ -135,82 +138,18 @@ int main(int argc, char** argv) {
     out = std::filesystem::path(files->lsystem).stem().string() + ".png";
     if (!quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", out.c_str());
   }
-  lcjit::FrameWriter frames(winSize.size() == 2 ? (int)winSize[0] : 800, winSize.size() == 2 ? (int)winSize[1] : 800);
-
-  auto& engine = (*session)->engine();
-  lcjit::runtime::EngineHooks hooks;
-  if (quiet) hooks.print = [](const char*) {};
-  hooks.outputFrame = [&](const char* path) {
-    if (auto e = frames.write(path, engine, (*session)->drawing())) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-  };
-  if (!quiet)
-    for (const std::string& w : (*session)->warnings()) std::fprintf(stderr, "%s\n", w.c_str());
-  if (dumpSteps)
-    hooks.afterDerivation = [&](int step) {
-      std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
-    };
-  if (dumpInterpretedEach || debug)
-    hooks.afterStep = [&](int step) {
-      if (debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
-      if (!dumpInterpretedEach) return;
-      std::string text;
-      engine.interpret(nullptr, nullptr, &text);
-      char suffix[16];
-      std::snprintf(suffix, sizeof suffix, "%08d", step);
-      std::ofstream(stemInWorkingFolder(files->lsystem) + suffix + ".str", std::ios::binary) << text;
-    };
-  if (verbose)
-    std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms (%s)\n",
-                 files->lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs,
-                 times.pchCached ? "cached PCH" : "PCH built");
-  auto t0 = std::chrono::steady_clock::now();
-  if (auto e = engine.run(hooks)) {
-    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-    return 1;
-  }
-  times.deriveMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-
-  if (!out.empty()) {
-    std::string ext = std::filesystem::path(out).extension().string();
-    if (lcjit::isFrameOutput(out)) {
-      lcjit::FrameTimes ft;
-      if (auto e = frames.write(out, engine, (*session)->drawing(), &ft)) {
-        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-        return 1;
-      }
-      times.interpretMs = ft.interpretMs;
-      times.renderMs = ft.renderMs;
-    } else if (ext == ".strb" || ext == ".bin") {
-      if (auto e = engine.writeBinary(out)) {
-        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-        return 1;
-      }
-    } else {
-      std::ofstream f(out, std::ios::binary);
-      if (!f) {
-        std::fprintf(stderr, "%s: error: cannot write file\n", out.c_str());
-        return 1;
-      }
-      f << engine.text(engine.string());
-    }
-  }
-  if (dumpInterpreted) {
-    std::string text;
-    engine.interpret(nullptr, nullptr, &text);
-    std::ofstream(stemInWorkingFolder(files->lsystem) + ".str", std::ios::binary) << text;
-  }
-  if (verbose)
-    std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
-                 engine.moduleCount());
-  if (stats) {
-    std::fprintf(stderr,
-                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"frontend_ms\": %.3f, "
-                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"derive_ms\": %.3f, "
-                 "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
-                 times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs, times.codegenMs,
-                 times.deriveMs, times.interpretMs, times.renderMs,
-                 engine.stepsDone(),
-                 engine.moduleCount(), times.pchCached ? "true" : "false");
-  }
-  return 0;
+  lcjit::BatchOptions bo;
+  bo.out = out;
+  if (winSize.size() == 2) bo.width = (int)winSize[0], bo.height = (int)winSize[1];
+  bo.optLevel = optLevel;
+  bo.betterTier = betterTier;
+  bo.quiet = quiet;
+  bo.verbose = verbose;
+  bo.debug = debug;
+  bo.stats = stats;
+  bo.dumpSteps = dumpSteps;
+  bo.dumpInterpreted = dumpInterpreted;
+  bo.dumpInterpretedEach = dumpInterpretedEach;
+  if (watch) return lcjit::watchBatch(**session, *files, bo, times);
+  return lcjit::runBatch(**session, *files, bo, times);
 }

@@ -37,7 +37,23 @@ struct Engine::Match {
 
 Engine* Engine::current() { return gCurrent; }
 
-Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_(model), functions_(functions) {
+Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_(&model), functions_(functions) {
+  index();
+}
+
+void Engine::swapModel(const __lc_Model& model) {
+  model_ = &model;
+  for (auto* tables : {byFirst_, byLast_})
+    for (int k = 0; k < 3; ++k) tables[k].clear();
+  skip_.clear();
+  groupKinds_.clear();
+  maxGroup_ = 0;
+  hasDecomposition_ = hasQueries_ = false;
+  index();
+}
+
+void Engine::index() {
+  const __lc_Model& model = *model_;
   modules_.setUserModules(model.modules, model.nModules);
   noSkip_.assign(modules_.count(), 0);
   for (uint32_t f = 0; f < model.nFilters; ++f) {
@@ -625,16 +641,16 @@ void Engine::begin(const EngineHooks& hooks) {
   views_.clear();
   gillespieTime_ = 0;
   string_.clear();
-  if (model_.start) model_.start();
-  length_ = model_.derivationLength ? model_.derivationLength() : 0;
-  ring_ = model_.ringLsystem && model_.ringLsystem() != 0;
-  decompositionDepth_ = model_.decompositionDepth ? model_.decompositionDepth() : 1;
-  interpretationDepth_ = model_.interpretationDepth ? model_.interpretationDepth() : 1;
+  if (model_->start) model_->start();
+  length_ = model_->derivationLength ? model_->derivationLength() : 0;
+  ring_ = model_->ringLsystem && model_->ringLsystem() != 0;
+  decompositionDepth_ = model_->decompositionDepth ? model_->decompositionDepth() : 1;
+  interpretationDepth_ = model_->interpretationDepth ? model_->interpretationDepth() : 1;
   stopRequested_ = false;
   {
     // Whatever a Start block nproduce'd is not part of the axiom here: the buffer is fresh.
     __lc_Ctx ctx{string_.raw(), 0, this, nullptr};
-    model_.axiom(&ctx);
+    model_->axiom(&ctx);
   }
   decompose(group_);
 }
@@ -644,7 +660,7 @@ bool Engine::step() {
   CurrentScope scope(this);
   queryPass();
   ++step_;
-  if (model_.startEach) model_.startEach();
+  if (model_->startEach) model_->startEach();
   int group = group_;
   auto kind = groupKinds_.find(group);
   bool derived = kind != groupKinds_.end() && kind->second == __lc_GillespieGroup ? deriveGillespie(group)
@@ -658,11 +674,11 @@ bool Engine::step() {
   }
   if (hooks_->afterDerivation) hooks_->afterDerivation(step_);
   decompose(group);
-  if (model_.endEach) model_.endEach();
+  if (model_->endEach) model_->endEach();
   if (hooks_->afterStep) hooks_->afterStep(step_);
   if (stopRequested_) {
     // Stop(): End runs now, as in lpfg.
-    if (model_.end) model_.end();
+    if (model_->end) model_->end();
     ended_ = true;
     return false;
   }
@@ -673,7 +689,7 @@ void Engine::finish() {
   CurrentScope scope(this);
   // The query modules of the final string are filled in too (the brief: after each step).
   queryPass();
-  if (!ended_ && model_.end) model_.end();
+  if (!ended_ && model_->end) model_->end();
   ended_ = true;
   hooks_ = nullptr;
 }

@@ -34,6 +34,9 @@ class Engine {
  public:
   Engine(const __lc_Model& model, const FunctionStore* functions);
   ~Engine();
+  // Between steps: the same model compiled again (another optimisation tier; the same modules
+  // and productions in the same order) takes over; the string and the derivation go on.
+  void swapModel(const __lc_Model& model);
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
@@ -134,7 +137,9 @@ class Engine {
   size_t findStartOfBranch(const Scan& sc, size_t p) const;
   const uint8_t* skipTable(const __lc_Rule& r) const;
 
-  const __lc_Model& model_;
+  void index();  // the rule tables for model_
+
+  const __lc_Model* model_;
   const FunctionStore* functions_;
   ModuleTable modules_;
   std::map<int, RuleTable> byFirst_[3], byLast_[3];

@@ -366,6 +366,86 @@ TEST_F(JitTest, StaticConstructorsAndDestructorsRun) {
   EXPECT_EQ(g_notes, (std::vector<int>{7, -7})); // destructor ran when the version was dropped
 }
 
+// Loading the same source again reuses its object code (no front end, no codegen), but gives a
+// fresh copy of the model: its globals start over and its constructors run again.
+TEST_F(JitTest, IdenticalSourceComesFromTheObjectCache) {
+  const std::string src = R"(
+    struct Note { Note() { lcjit_test_host_note(5); } } note;
+    static int counter = 10;
+    extern "C" int bump() { return ++counter; })";
+  g_notes.clear();
+  CompileStats first, second;
+  auto a = compileOk(src, 0, &first);
+  auto b = compileOk(src, 0, &second);
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(first.object, CompileStats::ObjectFrom::Compiled);
+  EXPECT_EQ(second.object, CompileStats::ObjectFrom::Memory);
+  EXPECT_EQ(second.frontendMs, 0);
+  EXPECT_EQ(g_notes, (std::vector<int>{5, 5}));
+  auto bumpA = lookupFn<int (*)()>(*a, "bump"), bumpB = lookupFn<int (*)()>(*b, "bump");
+  ASSERT_TRUE(bumpA && bumpB);
+  EXPECT_EQ(bumpA(), 11);
+  EXPECT_EQ(bumpA(), 12);
+  EXPECT_EQ(bumpB(), 11);  // its own globals
+
+  // Another process (here: another Compiler on the same cache directory) finds it on disk.
+  auto other = makeCompiler(g_cacheRoot + "/shared");
+  ASSERT_TRUE(other);
+  CompileStats third;
+  CompileOptions o;
+  o.optLevel = 0;
+  auto c = other->compile(src, o, &third);
+  ASSERT_TRUE(bool(c)) << llvm::toString(c.takeError());
+  EXPECT_EQ(third.object, CompileStats::ObjectFrom::Disk);
+  auto bumpC = lookupFn<int (*)()>(**c, "bump");
+  ASSERT_TRUE(bumpC);
+  EXPECT_EQ(bumpC(), 11);
+
+  // A different source or level is compiled.
+  CompileStats changed;
+  auto d = compileOk(src + "\n// edited", 0, &changed);
+  EXPECT_EQ(changed.object, CompileStats::ObjectFrom::Compiled);
+  auto e = compileOk(src, 2, &changed);
+  EXPECT_EQ(changed.object, CompileStats::ObjectFrom::Compiled);
+}
+
+// A better-optimised tier of the same source swapped in mid-run continues with the running
+// version's globals (file statics, static locals, a std::vector, an anonymous namespace) and
+// does not run the constructors again; the first version's destructors run once, when the
+// last version using its state goes.
+TEST_F(JitTest, TierSharesTheRunningVersionsState) {
+  const std::string src = R"(
+    struct Note { Note() { lcjit_test_host_note(1); } ~Note() { lcjit_test_host_note(-1); } } note;
+    static int counter = 0;
+    namespace { std::vector<int> history; }
+    static int nextId() { static int id = 100; return ++id; }
+    extern "C" int step(int tier) { history.push_back(tier); return ++counter * 1000 + nextId(); }
+    extern "C" int historySum() { int s = 0; for (int h : history) s += h; return s + (int)history.size() * 100; })";
+  g_notes.clear();
+  auto quick = compileOk(src, 0);
+  ASSERT_TRUE(quick);
+  auto step0 = lookupFn<int (*)(int)>(*quick, "step");
+  ASSERT_TRUE(step0);
+  EXPECT_EQ(step0(0), 1101);
+  EXPECT_EQ(step0(0), 2102);
+
+  CompileOptions o;
+  o.optLevel = 2;
+  o.shareStateWith = quick.get();
+  auto better = compiler_->compile(src, o);
+  ASSERT_TRUE(bool(better)) << llvm::toString(better.takeError());
+  EXPECT_EQ(g_notes, std::vector<int>{1});  // no second construction
+  quick.reset();                             // the swap: the first version's code is dropped
+  EXPECT_EQ(g_notes, std::vector<int>{1});   // but not its state
+  auto step2 = lookupFn<int (*)(int)>(**better, "step");
+  auto sum2 = lookupFn<int (*)()>(**better, "historySum");
+  ASSERT_TRUE(step2 && sum2);
+  EXPECT_EQ(step2(2), 3103);
+  EXPECT_EQ(sum2(), 2 + 300);
+  better->reset();
+  EXPECT_EQ(g_notes, (std::vector<int>{1, -1}));
+}
+
 TEST_F(JitTest, ExceptionsWorkInsideModelCode) {
   auto code = compileOk(R"(
     #include <stdexcept>
@@ -565,10 +645,10 @@ TEST(JitCacheTest, ConcurrentPchBuildsIntoSameCacheDir) {
   EXPECT_EQ(results[0], 2) << errors[0];
   EXPECT_EQ(results[1], 4) << errors[1];
   int pchFiles = 0, leftovers = 0;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
     if (e.path().extension() == ".pch")
       ++pchFiles;
-    else
+    else if (!(e.path().filename() == "objects" || e.path().extension() == ".o"))  // the object cache
       ++leftovers;
   }
   EXPECT_EQ(pchFiles, 1);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <chrono>
 #include <fstream>
+#include <future>
 #include <thread>
 
 #include "Drawing.h"
@@ -181,6 +182,52 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   EXPECT_EQ(e.moduleCount(), before);
   EXPECT_NE(e.text(e.string()).find("A(1)"), std::string::npos);
   EXPECT_EQ(e.text(e.string()).find("A(2)"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// Two tiers (issue 5): the -O2 build of a running -O0 model is swapped in between steps without
+// re-running: the string and the model's globals go on from where the -O0 code left them.
+TEST(SessionTiers, BetterTierContinuesTheRunningDerivation) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-tiers-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "count.l") << "#include <lpfgall.h>\nderivation length: 6;\nmodule A(int);\n"
+                                    "axiom: A(0);\nint calls = 0;\nstatic std::vector<int> seen;\n"
+                                    "A(n) : { seen.push_back(n); ++calls; produce A(calls * 100 + (int)seen.size()); }\n";
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  ModelFiles files;
+  files.lsystem = (dir / "count.l").string();
+  PhaseTimes t;
+  ASSERT_FALSE(bool((*session)->load(files, 0, t)));
+  EXPECT_EQ((*session)->optLevel(), 0);
+  runtime::Engine& e = (*session)->engine();
+  runtime::EngineHooks hooks;
+  e.begin(hooks);
+  ASSERT_TRUE(e.step());
+  ASSERT_TRUE(e.step());
+  EXPECT_EQ(e.text(e.string()), "A(202)\n");
+
+  auto job = (*session)->betterTierJob(2);
+  llvm::Expected<BetterTier> tier = std::async(std::launch::async, job).get();  // as the watcher does
+  ASSERT_TRUE(bool(tier)) << llvm::toString(tier.takeError());
+  EXPECT_TRUE((*session)->installTier(std::move(*tier)));
+  EXPECT_EQ((*session)->optLevel(), 2);
+  while (e.step()) {
+  }
+  EXPECT_EQ(e.stepNo(), 6);
+  EXPECT_EQ(e.text(e.string()), "A(606)\n");  // calls and seen went on: no restart, no re-init
+
+  // A tier compiled for a model that was reloaded meanwhile is not installed.
+  auto stale = (*session)->betterTierJob(2);
+  ASSERT_FALSE(bool((*session)->load(files, 0, t)));
+  llvm::Expected<BetterTier> late = stale();
+  ASSERT_TRUE(bool(late)) << llvm::toString(late.takeError());
+  EXPECT_FALSE((*session)->installTier(std::move(*late)));
+  EXPECT_EQ((*session)->optLevel(), 0);
   fs::remove_all(dir);
 }
 

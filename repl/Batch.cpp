@@ -1,0 +1,216 @@
+// Batch runs and --watch (see Batch.h).
+#include "Batch.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <optional>
+
+#include "Drawing.h"
+#include "Engine.h"
+#include "FileMonitor.h"
+#include "Frame.h"
+
+namespace lcjit {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// -dtf/-dtfes files go to the working folder (lpfg runs in the object's folder, so the same place
+// for its users) rather than beside a model that may live in a read-only tree.
+std::string stemInWorkingFolder(const std::string& p) { return std::filesystem::path(p).stem().string(); }
+
+template <class... Args>
+std::string fmtMs(const char* format, Args... args) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, format, args...);
+  return buf;
+}
+
+void report(llvm::Error e) {
+  if (e) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+}
+
+llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                        FrameWriter& frames, PhaseTimes& times) {
+  std::string ext = std::filesystem::path(out).extension().string();
+  if (isFrameOutput(out)) {
+    FrameTimes ft;
+    if (auto e = frames.write(out, engine, drawing, &ft)) return e;
+    times.interpretMs = ft.interpretMs;
+    times.renderMs = ft.renderMs;
+    return llvm::Error::success();
+  }
+  if (ext == ".strb" || ext == ".bin") return engine.writeBinary(out);
+  std::ofstream f(out, std::ios::binary);
+  f << engine.text(engine.string());
+  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", out.c_str());
+  return llvm::Error::success();
+}
+
+// What a batch of file changes re-reads (§1.3's actions, merged); nothing for the animation or
+// environment files, which a batch run does not use.
+std::optional<ReloadParts> partsFor(const std::vector<Action>& actions) {
+  std::optional<ReloadParts> parts;
+  auto add = [&](ReloadParts p) {
+    if (!parts) parts = ReloadParts{false, false, false, false};
+    parts->lsystem |= p.lsystem;
+    parts->view |= p.view;
+    parts->rendering |= p.rendering;
+    parts->parameters |= p.parameters;
+  };
+  for (Action a : actions) switch (a) {
+      case Action::NewModel: add(ReloadParts::all()); break;
+      case Action::NewLsystem: add(ReloadParts::newLsystem()); break;
+      case Action::NewRun: add(ReloadParts::newRun()); break;
+      case Action::NewView:
+      case Action::NewRendering: add(ReloadParts::newView()); break;
+      default: break;
+    }
+  return parts;
+}
+
+int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
+            FrameWriter& frames) {
+  auto& engine = session.engine();
+  runtime::EngineHooks hooks;
+  if (options.quiet) hooks.print = [](const char*) {};
+  hooks.outputFrame = [&](const char* path) { report(frames.write(path, engine, session.drawing())); };
+  if (!options.quiet)
+    for (const std::string& w : session.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+  if (options.dumpSteps)
+    hooks.afterDerivation = [&](int step) { std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str()); };
+  if (options.dumpInterpretedEach || options.debug)
+    hooks.afterStep = [&](int step) {
+      if (options.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
+      if (!options.dumpInterpretedEach) return;
+      std::string text;
+      engine.interpret(nullptr, nullptr, &text);
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, "%08d", step);
+      std::ofstream(stemInWorkingFolder(files.lsystem) + suffix + ".str", std::ios::binary) << text;
+    };
+  if (options.verbose)
+    std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms (%s)\n",
+                 files.lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs,
+                 times.pchCached ? "cached PCH" : "PCH built");
+  auto t0 = Clock::now();
+  if (auto e = engine.run(hooks)) {
+    report(std::move(e));
+    return 1;
+  }
+  times.deriveMs = msSince(t0);
+  if (!options.out.empty())
+    if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
+      report(std::move(e));
+      return 1;
+    }
+  if (options.dumpInterpreted) {
+    std::string text;
+    engine.interpret(nullptr, nullptr, &text);
+    std::ofstream(stemInWorkingFolder(files.lsystem) + ".str", std::ios::binary) << text;
+  }
+  if (options.verbose)
+    std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
+                 engine.moduleCount());
+  if (options.stats)
+    std::fprintf(stderr,
+                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"frontend_ms\": %.3f, "
+                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"derive_ms\": %.3f, "
+                 "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
+                 times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs,
+                 times.codegenMs, times.deriveMs, times.interpretMs, times.renderMs, engine.stepsDone(),
+                 engine.moduleCount(), times.pchCached ? "true" : "false");
+  return 0;
+}
+
+}  // namespace
+
+int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times) {
+  FrameWriter frames(options.width, options.height);
+  return runOnce(session, files, options, times, frames);
+}
+
+int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes first) {
+  FrameWriter frames(options.width, options.height);  // one headless renderer for every reload
+  // A model that failed to load or run still gets watched, for the fix.
+  if (session.loaded()) runOnce(session, files, options, first, frames);
+  FileMonitor monitor;
+  auto watchInputs = [&] {
+    const runtime::DrawingFiles none;
+    if (!monitor.watch(watchedFiles(files, session.loaded() ? session.drawing() : none)))
+      std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+  };
+  watchInputs();
+  if (!options.quiet) std::fprintf(stderr, "lcjit: watching %s and its input files\n", files.lsystem.c_str());
+
+  // The second tier compiles on another thread; a job a newer load made useless finishes on its
+  // own (a std::async future would make the next reload wait for it).
+  std::future<llvm::Expected<BetterTier>> tier;
+  std::vector<std::future<llvm::Expected<BetterTier>>> stale;
+  auto startTier = [&] {
+    if (options.betterTier <= session.optLevel() || !session.loaded()) return;
+    if (tier.valid()) stale.push_back(std::move(tier));
+    tier = std::async(std::launch::async, session.betterTierJob(options.betterTier));
+  };
+  auto ready = [](std::future<llvm::Expected<BetterTier>>& f) {
+    return f.valid() && f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  };
+  startTier();
+
+  for (int reload = 0;;) {
+    std::vector<std::string> changed = monitor.poll(tier.valid() || !stale.empty() ? 20 : -1);
+    std::erase_if(stale, [&](auto& f) {
+      if (!ready(f)) return false;
+      if (auto r = f.get(); !r) llvm::consumeError(r.takeError());  // its model is gone anyway
+      return true;
+    });
+    if (ready(tier)) {
+      llvm::Expected<BetterTier> better = tier.get();
+      if (!better) {
+        std::fprintf(stderr, "lcjit: the -O%d build failed; -O%d code goes on running\n%s\n", options.betterTier,
+                     session.optLevel(), llvm::toString(better.takeError()).c_str());
+      } else {
+        double ms = better->compileMs;
+        bool cached = better->objectCached;
+        if (session.installTier(std::move(*better)) && options.verbose)
+          std::fprintf(stderr, "lcjit: -O%d code swapped in (%s in %.1f ms in the background)\n", session.optLevel(),
+                       cached ? "loaded from the cache" : "compiled", ms);
+      }
+    }
+    if (changed.empty()) continue;
+    auto t0 = Clock::now();
+    std::optional<ReloadParts> parts = partsFor(actionsForChanges(changed, RefreshMode::Continuous));
+    if (!parts) continue;
+    if (!session.loaded()) parts = ReloadParts::all();
+    ++reload;
+    std::string names;
+    for (const std::string& c : changed) names += (names.empty() ? "" : ", ") + std::filesystem::path(c).filename().string();
+    PhaseTimes times;
+    if (auto e = session.load(files, options.optLevel, times, *parts)) {
+      report(std::move(e));
+      std::fprintf(stderr, "lcjit: reload %d (%s) failed; the last good model stays\n", reload, names.c_str());
+      continue;
+    }
+    BatchOptions quietRun = options;
+    quietRun.stats = false;
+    int status = runOnce(session, files, quietRun, times, frames);
+    double totalMs = msSince(t0);
+    std::string compiled = !parts->lsystem     ? "re-read"
+                           : times.objectCached ? fmtMs("-O%d code from the cache in %.1f ms", session.optLevel(), times.compileMs)
+                                                : fmtMs("compiled -O%d in %.1f ms", session.optLevel(), times.compileMs) +
+                                                      fmtMs(" (frontend %.1f, optimize %.1f", times.frontendMs, times.optimizeMs) +
+                                                      fmtMs(", codegen %.1f)", times.codegenMs);
+    std::fprintf(stderr, "lcjit: reload %d (%s): %s, derived %d steps in %.1f ms%s%s; %.1f ms in all\n", reload,
+                 names.c_str(), compiled.c_str(), session.engine().stepsDone(), times.deriveMs,
+                 options.out.empty() ? "" : ", wrote ", options.out.c_str(), totalMs);
+    if (status != 0) std::fprintf(stderr, "lcjit: reload %d: the run failed\n", reload);
+    if (parts->lsystem) startTier();
+    watchInputs();  // the view file may name new surfaces, meshes or textures
+  }
+}
+
+}  // namespace lcjit

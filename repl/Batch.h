@@ -1,0 +1,32 @@
+// Batch mode (`-b`, or no display): derive the loaded model and write what the command line asks
+// for (-out, -dtf, -ds, --stats…); with --watch, keep doing it after every change of an input
+// file, in one process, logging one line per reload.
+#pragma once
+#include <string>
+
+#include "Session.h"
+
+namespace lcjit {
+
+struct BatchOptions {
+  std::string out;  // -out: string (.str/.txt), binary string (.strb) or a picture/geometry file
+  int width = 800, height = 800;  // pictures (-w)
+  int optLevel = 1;
+  // --watch: after each load at optLevel, compile the model again at this level in the
+  // background and swap it in when ready (no second tier when not above optLevel).
+  int betterTier = -1;
+  bool quiet = false, verbose = false, debug = false, stats = false;
+  bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;
+};
+
+// One run of the loaded model: derive from the axiom, then write the outputs. `times` carries the
+// load's phase times in and gets the run's added. Returns the process exit status.
+int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times);
+
+// --watch: runBatch, then wait for changes of the model's input files; each change re-reads what
+// §1.3's table says (a changed .l recompiles), re-runs and rewrites the outputs, and prints one
+// line with the timings. A failed reload prints its diagnostics and keeps the last good model.
+// `first`: the first load's phase times. Runs until the process is stopped.
+int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes first);
+
+}  // namespace lcjit

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# --watch in batch mode (issue 5): one process; every save of the model rewrites -out and logs a
+# "reload N" line; a broken save keeps the last good model and its output; -v reports the -O2
+# tier swapped in; saving an earlier version again comes from the object cache.
+# Usage: run_watch.sh LCJIT DIR
+set -u
+lcjit=$1 dir=$2
+work=$(mktemp -d)
+trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
+cp "$dir/grow.l" "$work/"
+cd "$work"
+export LCJIT_CACHE_DIR="$work/cache"
+fail() { echo "FAIL: $*"; echo "--- stderr:"; cat err.txt; exit 1; }
+wait_for() {  # wait_for PATTERN FILE: up to 60 s (the first run builds PCHs)
+  for _ in $(seq 1 600); do grep -q "$1" "$2" 2>/dev/null && return 0; sleep 0.1; done
+  fail "no '$1' in $2"
+}
+"$lcjit" --watch -b -v -out out.str grow.l 2> err.txt > /dev/null &
+pid=$!
+wait_for 'watching' err.txt
+wait_for 'A(8)' out.str
+wait_for 'swapped in' err.txt
+
+sed -i 's/x \* 2/x * 3/' grow.l
+wait_for 'reload 1 ' err.txt
+grep -q 'reload 1 (grow.l): compiled -O0' err.txt || fail "reload 1 did not compile"
+grep -q 'A(27)' out.str || fail "reload 1 did not rewrite the output: $(cat out.str)"
+
+echo 'this is not C++' >> grow.l
+wait_for 'reload 2 (grow.l) failed; the last good model stays' err.txt
+grep -q 'grow.l:16:1: error' err.txt || fail "no file:line:col diagnostic for the broken save"
+grep -q 'A(27)' out.str || fail "the broken save changed the output"
+
+sed -i '$d' grow.l                      # back to the x * 3 version: from the object cache
+wait_for 'reload 3 ' err.txt
+grep -q 'reload 3 (grow.l): -O0 code from the cache' err.txt || fail "reload 3 was compiled again"
+grep -q 'A(27)' out.str || fail "reload 3 output: $(cat out.str)"
+kill -0 $pid || fail "lcjit --watch exited"
+echo ok
