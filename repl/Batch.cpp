@@ -8,6 +8,7 @@
 #include <future>
 #include <optional>
 
+#include "Background.h"
 #include "Drawing.h"
 #include "Engine.h"
 #include "FileMonitor.h"
@@ -147,32 +148,19 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
   watchInputs();
   if (!options.quiet) std::fprintf(stderr, "lcjit: watching %s and its input files\n", files.lsystem.c_str());
 
-  // The second tier compiles on another thread; a job a newer load made useless finishes on its
-  // own (a std::async future would make the next reload wait for it).
-  std::future<llvm::Expected<BetterTier>> tier;
-  std::vector<std::future<llvm::Expected<BetterTier>>> stale;
+  // The second tier compiles on another thread while the -O0 code serves the runs.
+  Background<BetterTier> tier;
   auto startTier = [&] {
-    if (options.betterTier <= session.optLevel() || !session.loaded()) return;
-    if (tier.valid()) stale.push_back(std::move(tier));
-    tier = std::async(std::launch::async, session.betterTierJob(options.betterTier));
-  };
-  auto ready = [](std::future<llvm::Expected<BetterTier>>& f) {
-    return f.valid() && f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    if (options.betterTier > session.optLevel() && session.loaded()) tier.start(session.betterTierJob(options.betterTier));
   };
   startTier();
 
   for (int reload = 0;;) {
-    std::vector<std::string> changed = monitor.poll(tier.valid() || !stale.empty() ? 20 : -1);
-    std::erase_if(stale, [&](auto& f) {
-      if (!ready(f)) return false;
-      if (auto r = f.get(); !r) llvm::consumeError(r.takeError());  // its model is gone anyway
-      return true;
-    });
-    if (ready(tier)) {
-      llvm::Expected<BetterTier> better = tier.get();
-      if (!better) {
+    std::vector<std::string> changed = monitor.poll(tier.running() ? 20 : -1);
+    if (std::optional<BetterTier> better = tier.take()) {
+      if (better->error.size()) {
         std::fprintf(stderr, "lcjit: the -O%d build failed; -O%d code goes on running\n%s\n", options.betterTier,
-                     session.optLevel(), llvm::toString(better.takeError()).c_str());
+                     session.optLevel(), better->error.c_str());
       } else {
         double ms = better->compileMs;
         bool cached = better->objectCached;

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "Background.h"
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
@@ -81,6 +82,7 @@ class InteractiveModel {
       if (recording_) record();
       shownAt_ = Clock::now();
     }
+    swapInWhenReady();
     if (!busy()) {
       // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
       // made outside a derivation step (Start, End).
@@ -143,18 +145,71 @@ class InteractiveModel {
   }
 
   // ---- the New … items (§1.2.2): re-read `what`, then re-run or only redraw.
+  // A recompile (New model, New L-system, an edited .l file) runs on another thread while the
+  // running model goes on deriving and drawing; poll() swaps the new one in when it is ready.
   void reload(ReloadParts what, bool rerun, bool resetView) {
+    auto job = [this, what, rerun, resetView] {
+      Prepared r;
+      r.rerun = rerun;
+      r.resetView = resetView;
+      auto t0 = Clock::now();
+      auto p = session_.prepare(files_, options_.optLevel, r.times, what);
+      if (p) r.model = std::move(*p);
+      else r.error = llvm::toString(p.takeError());
+      r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      return r;
+    };
+    if (what.lsystem) return compile_.start(job);
+    if (busy()) return;  // the worker has the model (the menu greys these items meanwhile)
+    installPrepared(job());
+  }
+
+  void startBetterTier() {
+    if (options_.betterTier > session_.optLevel()) tier_.start(session_.betterTierJob(options_.betterTier));
+  }
+
+  // poll(): a finished recompile or better tier replaces the running model between pictures.
+  void swapInWhenReady() {
+    if (busy()) return;
+    if (std::optional<Prepared> p = compile_.take()) installPrepared(std::move(*p));
+    if (std::optional<BetterTier> t = tier_.take()) {
+      if (!t->error.empty()) {
+        report(t->error);  // the quick tier goes on running
+      } else {
+        double ms = t->compileMs;
+        if (session_.installTier(std::move(*t)) && options_.verbose)
+          std::fprintf(stderr, "lcjit: -O%d code swapped in (%.1f ms in the background)\n", session_.optLevel(), ms);
+      }
+    }
+  }
+
+  struct Prepared {
+    std::optional<PreparedModel> model;
+    std::string error;
     PhaseTimes times;
-    if (auto e = session_.load(files_, options_.optLevel, times, what)) {
-      report(std::move(e));  // the last good model stays on screen
+    double ms = 0;
+    bool rerun = false, resetView = false;
+  };
+
+  void installPrepared(Prepared p) {
+    if (!p.model) {
+      // The last good model stays on screen, with the diagnostics over it.
+      std::string shown = withSourceLines(p.error);
+      report(shown);
+      window_.setMessage(shown + "\n(the last good model is shown; save a fix to reload)");
       return;
     }
-    if (options_.verbose)
-      std::fprintf(stderr, "lcjit: reloaded %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms\n",
-                   files_.lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs);
-    if (resetView) window_.resetView();
+    bool recompiled = p.model->what.lsystem;
+    session_.install(std::move(*p.model));
+    window_.setMessage("");
+    if (options_.verbose && recompiled)
+      std::fprintf(stderr, "lcjit: reloaded %s in %.1f ms: preprocessed in %.1f ms, rewritten in %.1f ms, %s in %.1f ms\n",
+                   files_.lsystem.c_str(), p.ms, p.times.preprocessMs, p.times.rewriteMs,
+                   p.times.objectCached ? "code from the cache" : "compiled", p.times.compileMs);
+    if (recompiled) startBetterTier();
+    if (p.resetView) window_.resetView();
     refit_ = true;
-    if (!rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew
+    if (!p.rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew
     if (animating_) return rewind();
     run();
   }
@@ -351,8 +406,9 @@ class InteractiveModel {
   std::string stem() const { return std::filesystem::path(files_.lsystem).stem().string(); }
 
   void report(llvm::Error e) {
-    if (e) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    if (e) report(llvm::toString(std::move(e)));
   }
+  void report(const std::string& message) { std::fprintf(stderr, "%s\n", message.c_str()); }
 
   Session& session_;
   const ModelFiles& files_;
@@ -379,6 +435,9 @@ class InteractiveModel {
   runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
   Clock::time_point shownAt_;
   int recorded_ = 0;
+  // Declared last: destroyed first, they wait for their jobs, which use the members above.
+  Background<Prepared> compile_;
+  Background<BetterTier> tier_;
 };
 
 }  // namespace
@@ -393,9 +452,11 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   InteractiveModel model(session, files, **window, options);
   if (options.animate) model.enterAnimate();
   else model.run();
+  model.startBetterTier();
   FileMonitor monitor;
   bool watching = options.refresh != RefreshMode::Explicit;
-  if (watching && !monitor.watch(watchedFiles(files, session.drawing())) && !options.quiet)
+  std::vector<std::string> watched = watchedFiles(files, session.drawing());
+  if (watching && !monitor.watch(watched) && !options.quiet)
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   for (;;) {
     model.poll();
@@ -405,8 +466,15 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     if (model.exitRequested() || !(*window)->frame(actions)) break;
     // Redraw on input; while the worker runs, look for its picture often; files a few times a second.
     (*window)->waitEvents(model.busy() ? 0.01 : 0.1);
-    if (watching && !model.busy())
+    if (watching && !model.busy()) {
       for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
+      // A reload may have named other files (the view file's surfaces, meshes, textures).
+      if (std::vector<std::string> now = watchedFiles(files, session.drawing()); now != watched) {
+        watched = std::move(now);
+        if (!monitor.watch(watched) && !options.quiet)
+          std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+      }
+    }
   }
   return 0;
 }

@@ -15,6 +15,9 @@ namespace lcjit {
 
 struct InteractiveOptions {
   int optLevel = 1;
+  // After a recompile at optLevel, compile again at this level in the background and swap it
+  // in without re-running (no second tier when not above optLevel).
+  int betterTier = -1;
   bool quiet = false;
   RefreshMode refresh = RefreshMode::Explicit;  // -rmode: continuous/triggered watch the files
   bool animate = false;                         // -a: start in animate mode at the first frame

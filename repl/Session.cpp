@@ -5,6 +5,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <mutex>
 
 #include "Drawing.h"
 #include "Engine.h"
@@ -141,6 +145,37 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
   return f;
 }
 
+std::string withSourceLines(const std::string& diagnostics) {
+  std::string out;
+  std::map<std::string, std::vector<std::string>> files;  // read once each
+  std::istringstream in(diagnostics);
+  for (std::string line; std::getline(in, line);) {
+    out += line + "\n";
+    // FILE:LINE:COL: error: — the file name itself may contain ':'; the numbers come last.
+    size_t at = line.find(": error: ");
+    if (at == std::string::npos) continue;
+    size_t c = line.rfind(':', at - 1), l = c == std::string::npos || c == 0 ? std::string::npos : line.rfind(':', c - 1);
+    if (l == std::string::npos) continue;
+    std::string file = line.substr(0, l);
+    int row = std::atoi(line.c_str() + l + 1), column = std::atoi(line.c_str() + c + 1);
+    if (row <= 0 || column <= 0 || file.empty() || file[0] == '<') continue;  // <lcjit: generated ...>
+    auto [it, fresh] = files.try_emplace(file);
+    if (fresh) {
+      std::ifstream f(file);
+      for (std::string s; std::getline(f, s);) it->second.push_back(s);
+    }
+    if (row > (int)it->second.size()) continue;
+    std::string source = it->second[row - 1];
+    std::string caret;
+    for (int i = 0; i + 1 < column && i < (int)source.size(); ++i) caret += source[i] == '\t' ? '\t' : ' ';
+    char number[16];
+    std::snprintf(number, sizeof number, "%5d | ", row);
+    out += number + source + "\n      | " + caret + "^\n";
+  }
+  if (!out.empty() && diagnostics.back() != '\n') out.pop_back();
+  return out;
+}
+
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing) {
   std::vector<std::string> f{files.lsystem};
   for (const std::string* one :
@@ -165,6 +200,12 @@ llvm::Expected<std::unique_ptr<Session>> Session::create() {
   return s;
 }
 
+// Out of line: the header only forward-declares what these members are.
+PreparedModel::PreparedModel() = default;
+PreparedModel::PreparedModel(PreparedModel&&) = default;
+PreparedModel& PreparedModel::operator=(PreparedModel&&) = default;
+PreparedModel::~PreparedModel() = default;
+
 Session::~Session() {
   // The engine refers to the model's tables; the model's code must go after it.
   engine_.reset();
@@ -173,14 +214,18 @@ Session::~Session() {
   functions_.reset();
 }
 
-llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what) {
+llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optLevel, PhaseTimes& times,
+                                               ReloadParts what) {
   if (!engine_) what = ReloadParts::all();  // nothing to carry over yet
+  PreparedModel p;
+  p.what = what;
+  p.optLevel = optLevel;
   // Function files first: their names become macros of the model, as in lpfg. lpfg's order:
   // the .fset, the .tset, the .vset, then .func files.
   // Not re-read: a recompile still needs the store (its names are macros), nothing else does.
-  std::unique_ptr<runtime::FunctionStore> functions;
-  if (what.parameters) functions = std::make_unique<runtime::FunctionStore>();
-  else if (what.lsystem) functions = std::make_unique<runtime::FunctionStore>(*functions_);
+  if (what.parameters) p.functions = std::make_unique<runtime::FunctionStore>();
+  else if (what.lsystem) p.functions = std::make_unique<runtime::FunctionStore>(*functions_);
+  runtime::FunctionStore* functions = p.functions.get();
   if (what.parameters) {
     if (!files.functionSet.empty())
       if (auto e = functions->loadFunctionSet(files.functionSet)) return e;
@@ -192,22 +237,12 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
       if (auto e = functions->loadFunction(f)) return e;
   }
 
-  std::vector<std::string> warnings;
-  auto drawing = loadDrawingFiles(files, what, drawing_.get(), warnings);
-  if (!what.lsystem) {
-    // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
-    // the string stays too; only what it is drawn with changes.
-    if (what.parameters) {
-      engine_ = std::make_unique<runtime::Engine>(*model_, functions.get());
-      functions_ = std::move(functions);  // the old engine, which used the old ones, is gone
-    }
-    drawing_ = std::move(drawing);
-    warnings_ = std::move(warnings);
-    engine_->setTurtleSetup(drawing_->turtleSetup());
-    engine_->setCurves(&drawing_->contours);
-    return llvm::Error::success();
-  }
+  p.drawing = loadDrawingFiles(files, what, drawing_.get(), p.warnings);
+  // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
+  // the string stays too; only what it is drawn with changes.
+  if (!what.lsystem) return p;
 
+  const runtime::DrawingFiles* drawing = p.drawing.get();
   auto t0 = std::chrono::steady_clock::now();
   frontend::PreprocessOptions pp;
   for (int id = 1; id <= functions->size(); ++id) {
@@ -232,7 +267,10 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   auto cpp = frontend::rewrite(*text, files.lsystem);
   if (!cpp) return cpp.takeError();
   times.rewriteMs = msSince(t0);
-  cpp_ = cpp->cpp;
+  {
+    std::lock_guard<std::mutex> lock(cppMutex_);
+    cpp_ = cpp->cpp;
+  }
 
   t0 = std::chrono::steady_clock::now();
   jit::CompileOptions co;
@@ -244,35 +282,50 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   auto entry = (*code)->lookup(frontend::kModelEntry);
   if (!entry) return entry.takeError();
   auto describe = reinterpret_cast<const __lc_Model* (*)()>(*entry);
-  const __lc_Model* model = describe();
+  p.model = describe();
   times.compileMs = msSince(t0);
   times.pchCached = stats.pchCached;
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.frontendMs = stats.frontendMs;
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
-  if (model->abiVersion != __lc_AbiVersion) return error("internal error: model ABI version mismatch");
+  if (p.model->abiVersion != __lc_AbiVersion) return error("internal error: model ABI version mismatch");
+  p.code = std::move(*code);
+  p.cpp = std::move(cpp->cpp);
+  p.bufferName = co.bufferName;
+  return p;
+}
 
-  // Swap in the new model only now that everything succeeded.
-  engine_.reset();
-  code_ = std::move(*code);
-  optLevel_ = optLevel;
-  ++generation_;
-  runningCpp_ = cpp_;
-  bufferName_ = co.bufferName;
-  functions_ = std::move(functions);
-  model_ = model;
-  engine_ = std::make_unique<runtime::Engine>(*model, functions_.get());
-  drawing_ = std::move(drawing);
-  warnings_ = std::move(warnings);
+void Session::install(PreparedModel p) {
+  if (p.what.lsystem) {
+    engine_.reset();  // it refers to the old model's tables
+    code_ = std::move(p.code);
+    model_ = p.model;
+    optLevel_ = p.optLevel;
+    ++generation_;
+    runningCpp_ = std::move(p.cpp);
+    bufferName_ = std::move(p.bufferName);
+  }
+  if (p.what.lsystem || p.what.parameters) {
+    engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
+    functions_ = std::move(p.functions);  // the old engine, which used the old ones, is gone
+  }
+  drawing_ = std::move(p.drawing);
+  warnings_ = std::move(p.warnings);
   engine_->setTurtleSetup(drawing_->turtleSetup());
   engine_->setCurves(&drawing_->contours);
+}
+
+llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what) {
+  auto p = prepare(files, optLevel, times, what);
+  if (!p) return p.takeError();
+  install(std::move(*p));
   return llvm::Error::success();
 }
 
-std::function<llvm::Expected<BetterTier>()> Session::betterTierJob(int optLevel) const {
+std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
   return [compiler = compiler_.get(), running = code_, cpp = runningCpp_, name = bufferName_, generation = generation_,
-          optLevel]() -> llvm::Expected<BetterTier> {
+          optLevel]() -> BetterTier {
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
@@ -280,8 +333,11 @@ std::function<llvm::Expected<BetterTier>()> Session::betterTierJob(int optLevel)
     co.shareStateWith = running.get();  // `running` stays alive until this job ends
     jit::CompileStats stats;
     auto code = compiler->compile(cpp, co, &stats);
-    if (!code) return code.takeError();
     BetterTier t;
+    if (!code) {
+      t.error = llvm::toString(code.takeError());
+      return t;
+    }
     t.code = std::move(*code);
     t.generation = generation;
     t.optLevel = optLevel;
@@ -292,7 +348,7 @@ std::function<llvm::Expected<BetterTier>()> Session::betterTierJob(int optLevel)
 }
 
 bool Session::installTier(BetterTier tier) {
-  if (!engine_ || tier.generation != generation_) return false;
+  if (!engine_ || !tier.code || tier.generation != generation_) return false;
   auto entry = tier.code->lookup(frontend::kModelEntry);
   if (!entry) {
     llvm::consumeError(entry.takeError());

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,8 @@ struct PhaseTimes {
 
 // A better-optimised build of the loaded model (Session::betterTierJob).
 struct BetterTier {
-  std::shared_ptr<jit::ModelCode> code;
+  std::shared_ptr<jit::ModelCode> code;  // null when it failed
+  std::string error;                     // why
   uint64_t generation = 0;  // which load it belongs to
   int optLevel = 0;
   double compileMs = 0;
@@ -53,6 +55,11 @@ struct ModelFiles {
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
 
+// Compile diagnostics (`FILE:LINE:COL: error: …` lines) with, under each error, the source line
+// it names and a caret under the column, as clang prints them: for the viewer's overlay and the
+// watcher's log, where the user is looking at the picture rather than the editor.
+std::string withSourceLines(const std::string& diagnostics);
+
 // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
 // view file names (as the loaded model resolved them).
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing);
@@ -70,6 +77,22 @@ struct ReloadParts {
   static ReloadParts newView() { return {false, true, true, false}; }  // New rendering reads the same
 };
 
+// A load's result before it replaces the running model (Session::prepare).
+struct PreparedModel {
+  ReloadParts what;
+  int optLevel = 0;
+  std::unique_ptr<runtime::FunctionStore> functions;  // null: the running model's stay
+  std::unique_ptr<runtime::DrawingFiles> drawing;
+  std::vector<std::string> warnings;
+  std::shared_ptr<jit::ModelCode> code;  // null without `what.lsystem`
+  const __lc_Model* model = nullptr;     // owned by code
+  std::string cpp, bufferName;
+  PreparedModel();
+  PreparedModel(PreparedModel&&);
+  PreparedModel& operator=(PreparedModel&&);
+  ~PreparedModel();
+};
+
 class Session {
  public:
   static llvm::Expected<std::unique_ptr<Session>> create();
@@ -80,6 +103,13 @@ class Session {
   // `lsystem` the compiled model is kept, and without `parameters` also the engine and its string
   // (New view / New rendering redraw, they do not re-run).
   llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what = ReloadParts::all());
+  // load() in two halves, for a hot swap: prepare() reads the files and compiles, on any
+  // thread, while the running model goes on deriving and drawing (it only reads the running
+  // model's files and settings); install() replaces the running model with the result, on the
+  // thread that owns the engine, when the engine is idle. One prepare() at a time.
+  llvm::Expected<PreparedModel> prepare(const ModelFiles& files, int optLevel, PhaseTimes& times,
+                                        ReloadParts what = ReloadParts::all());
+  void install(PreparedModel prepared);
   bool loaded() const { return engine_ != nullptr; }
   runtime::Engine& engine() { return *engine_; }
   // Optimisation level of the code running now.
@@ -89,13 +119,16 @@ class Session {
   // `optLevel`; it may run on any thread (the running model goes on meanwhile). installTier
   // then swaps the result in, between derivation steps, without re-running: the new code uses
   // the running version's globals. False (and nothing changes) when another load came between.
-  std::function<llvm::Expected<BetterTier>()> betterTierJob(int optLevel) const;
+  std::function<BetterTier()> betterTierJob(int optLevel) const;
   bool installTier(BetterTier tier);
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
   const std::vector<std::string>& warnings() const { return warnings_; }
-  const std::string& generatedCpp() const { return cpp_; }
+  std::string generatedCpp() const {
+    std::lock_guard<std::mutex> lock(cppMutex_);
+    return cpp_;
+  }
 
  private:
   Session() = default;
@@ -107,7 +140,8 @@ class Session {
   const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;
-  std::string cpp_;                       // the last C++ generated, compiled or not
+  mutable std::mutex cppMutex_;
+  std::string cpp_;                       // the last C++ generated, compiled or not (prepare's thread)
   std::string runningCpp_, bufferName_;   // what the running code was compiled from
   std::vector<std::string> warnings_;
 };

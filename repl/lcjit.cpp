@@ -102,9 +102,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
-  // --watch without -O: a quick -O0 build first, -O2 compiled in the background (two tiers).
+  // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in
+  // the background and swapped in (two tiers).
+  const bool window = !batch && out.empty() && haveDisplay && !emitCpp && !compileOnly;
   int betterTier = -1;
-  if (watch && app.count("-O") == 0) optLevel = 0, betterTier = 2;
+  if ((watch || window) && app.count("-O") == 0) optLevel = 0, betterTier = 2;
   lcjit::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.
@@ -127,6 +129,7 @@ int main(int argc, char** argv) {
       w.title = "lcjit: " + std::filesystem::path(files->lsystem).filename().string();
       lcjit::InteractiveOptions io;
       io.optLevel = optLevel;
+      io.betterTier = betterTier;
       io.quiet = quiet;
       if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
       io.animate = animate;

@@ -104,6 +104,8 @@ enum class Task { Idle, Rotate, Pan, Zoom, Frustum, Roll };
 
 struct Window::Impl {
   GLFWwindow* window = nullptr;
+  std::string message;  // setMessage()
+  std::optional<std::array<float, 4>> messageRect;  // where the last frame drew it
   ImGuiContext* imgui = nullptr;
   std::unique_ptr<Renderer> renderer;
   // While the mouse drags the view of a very large model, a decimated copy is drawn so that
@@ -574,6 +576,10 @@ void Window::resetView() {
   impl_->updateCamera();
 }
 
+void Window::setMessage(std::string text) { impl_->message = std::move(text); }
+const std::string& Window::message() const { return impl_->message; }
+std::optional<std::array<float, 4>> Window::messageRect() const { return impl_->messageRect; }
+
 bool Window::frame(const MenuActions& actions) {
   Impl& m = *impl_;
   glfwPollEvents();
@@ -709,6 +715,26 @@ bool Window::frame(const MenuActions& actions) {
     ImGui::EndPopup();
   }
   m.saveIsOpen = ImGui::IsPopupOpen(kSaveId);
+  if (!m.message.empty()) {
+    // Over the picture's top left corner, which stays the last good model's: the problem with
+    // the edit (compile diagnostics with their source lines, a fault in model code).
+    ImGui::SetNextWindowPos(ImVec2(8, 8));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(io.DisplaySize.x - 16, io.DisplaySize.y - 16));
+    constexpr ImGuiWindowFlags kFlags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                        ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                        ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs;
+    if (ImGui::Begin("##lcjit-message", nullptr, kFlags)) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.55f, 0.45f, 1.0f));
+      ImGui::TextUnformatted(m.message.c_str());
+      ImGui::PopStyleColor();
+      ImVec2 a = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+      m.messageRect = {a.x, a.y, a.x + size.x, a.y + size.y};
+    }
+    ImGui::End();
+  } else {
+    m.messageRect.reset();
+  }
   ImGui::Render();
   m.wantMouse = io.WantCaptureMouse;
 

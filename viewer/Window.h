@@ -102,6 +102,10 @@ class Window {
                 const std::vector<TextureImage>& textures);
   // Back to the view file's framing (New model, New view).
   void resetView();
+  // Text shown over the picture until replaced; "" removes it. For problems the user must see
+  // while the last good model stays on screen: a broken edit's diagnostics, a fault.
+  void setMessage(std::string text);
+  const std::string& message() const;
 
   // Polls events, handles the mouse and the menu, draws once and swaps. False when the window
   // should close (its close button, or Exit).
@@ -153,6 +157,8 @@ class Window {
   bool userMenuOpen() const;
   bool saveDialogOpen() const;
   std::optional<std::array<float, 4>> menuItemRect(const std::string& label) const;
+  // Where the last frame drew setMessage()'s text; nothing when there is none.
+  std::optional<std::array<float, 4>> messageRect() const;
   // The last Save/Save as… error (empty if none).
   const std::string& lastSaveError() const;
 

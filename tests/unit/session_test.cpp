@@ -212,9 +212,9 @@ TEST(SessionTiers, BetterTierContinuesTheRunningDerivation) {
   EXPECT_EQ(e.text(e.string()), "A(202)\n");
 
   auto job = (*session)->betterTierJob(2);
-  llvm::Expected<BetterTier> tier = std::async(std::launch::async, job).get();  // as the watcher does
-  ASSERT_TRUE(bool(tier)) << llvm::toString(tier.takeError());
-  EXPECT_TRUE((*session)->installTier(std::move(*tier)));
+  BetterTier tier = std::async(std::launch::async, job).get();  // as the watcher does
+  ASSERT_TRUE(tier.code) << tier.error;
+  EXPECT_TRUE((*session)->installTier(std::move(tier)));
   EXPECT_EQ((*session)->optLevel(), 2);
   while (e.step()) {
   }
@@ -224,10 +224,30 @@ TEST(SessionTiers, BetterTierContinuesTheRunningDerivation) {
   // A tier compiled for a model that was reloaded meanwhile is not installed.
   auto stale = (*session)->betterTierJob(2);
   ASSERT_FALSE(bool((*session)->load(files, 0, t)));
-  llvm::Expected<BetterTier> late = stale();
-  ASSERT_TRUE(bool(late)) << llvm::toString(late.takeError());
-  EXPECT_FALSE((*session)->installTier(std::move(*late)));
+  BetterTier late = stale();
+  ASSERT_TRUE(late.code) << late.error;
+  EXPECT_FALSE((*session)->installTier(std::move(late)));
   EXPECT_EQ((*session)->optLevel(), 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Diagnostics, ErrorsShowTheirSourceLineAndColumn) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-diag-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string file = (dir / "m.l").string();
+  std::ofstream(file) << "axiom: A;\n\tX(1) : { produce Oops; }\n";
+  std::string shown = withSourceLines(file + ":2:19: error: unknown module 'Oops'\n"
+                                      "<lcjit: generated model tables>:1:5: error: cascade\n" +
+                                      file + ":9:1: error: past the end\n");
+  EXPECT_EQ(shown, file + ":2:19: error: unknown module 'Oops'\n"
+                          "    2 | \tX(1) : { produce Oops; }\n"
+                          "      | \t                 ^\n"
+                          "<lcjit: generated model tables>:1:5: error: cascade\n" +
+                       file + ":9:1: error: past the end\n");
   fs::remove_all(dir);
 }
 

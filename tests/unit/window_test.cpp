@@ -616,6 +616,48 @@ TEST_F(WindowTest, UserMenuOpensWithTwoModifiersAndReportsTheCode) {
   EXPECT_FALSE(w->userMenuOpen());
 }
 
+// A broken edit's diagnostics stay over the picture (top left) until a good reload clears them,
+// and do not take the mouse: a drag that starts on them still rotates the view.
+TEST_F(WindowTest, MessageOverlayShowsUntilClearedAndLetsTheMouseThrough) {
+  MenuActions none;
+  w->frame(none);
+  EXPECT_FALSE(w->messageRect().has_value());
+  w->setMessage("model.l:3:1: error: unknown module 'Oops'\n    3 | axiom: Oops;\n      |        ^");
+  w->frame(none);
+  w->frame(none);  // ImGui sizes an auto-resizing window from the frame before
+  auto r = w->messageRect();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_NEAR((*r)[0], 8, 1);
+  EXPECT_NEAR((*r)[1], 8, 1);
+  EXPECT_GT((*r)[3] - (*r)[1], 3 * 12);  // three lines of text
+  EXPECT_GT((*r)[2] - (*r)[0], 200);
+  float before = w->adjustment().rotation[0][0];
+  w->injectCursor(20, 20);
+  w->frame(none);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  w->frame(none);
+  w->injectCursor(120, 20);
+  w->frame(none);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  w->frame(none);
+  EXPECT_NE(w->adjustment().rotation[0][0], before);
+  w->setMessage("");
+  w->frame(none);
+  EXPECT_FALSE(w->messageRect().has_value());
+}
+
+// Animate menu (§1.2.3): Start recording reaches the model's side, which then saves every frame.
+TEST_F(WindowTest, StartRecordingIsInTheAnimateMenu) {
+  int recordings = 0;
+  MenuActions a;
+  a.animating = true;
+  a.startRecording = [&] { ++recordings; };
+  w->frame(a);
+  chooseMenuItem("Start recording", a);
+  EXPECT_EQ(recordings, 1);
+  EXPECT_FALSE(w->menuOpen());
+}
+
 TEST_F(WindowTest, PointerReportsTheMouseInsertionCombinationsOnly) {
   MenuActions none;
   w->frame(none);
