@@ -10,6 +10,7 @@
 #include <clang/Frontend/FrontendAction.h>
 #include <clang/Frontend/Utils.h>
 #include <clang/Lex/Preprocessor.h>
+#include <clang/Lex/PreprocessorOptions.h>
 
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/MemoryBuffer.h>
@@ -273,7 +274,7 @@ std::string postProcess(const std::string& printed, const HidingFS& fs) {
 } // namespace
 
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options) {
-  {
+  if (!options.mainText) {
     auto probe = llvm::MemoryBuffer::getFile(lsystemPath, /*IsText=*/true);
     if (!probe)
       return makeError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
@@ -315,6 +316,9 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   }
   inv->getFrontendOpts().DisableFree = false;
   inv->getDiagnosticOpts().ShowCarets = false;
+  if (options.mainText)  // the SourceManager takes ownership of the buffer
+    inv->getPreprocessorOpts().addRemappedFile(lsystemPath,
+                                               llvm::MemoryBuffer::getMemBufferCopy(*options.mainText, lsystemPath).release());
 
   clang::CompilerInstance ci;
   ci.setInvocation(inv);

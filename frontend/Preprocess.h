@@ -4,6 +4,7 @@
 
 #include <llvm/Support/Error.h>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,9 @@ struct PreprocessOptions {
   std::vector<std::string> includeDirs;
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
+  // When set, the text of the main file instead of what is on disk (the file need not exist;
+  // its directory is still where quoted includes are looked up first): C++ typed at the REPL.
+  std::optional<std::string> mainText;
 };
 
 // Returns the preprocessed text: comments removed, macros/conditionals/quoted includes applied,

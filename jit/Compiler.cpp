@@ -63,6 +63,7 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <unistd.h>
 
 namespace lcjit::jit {
@@ -210,19 +211,59 @@ std::vector<std::string> exportState(llvm::Module& m) {
   return state;
 }
 
-// The state of another version becomes declarations here (resolved against that version's
-// JITDylib), and nothing is initialised again.
-void useSharedState(llvm::Module& m, const std::vector<std::string>& state) {
-  for (const std::string& name : state)
+// Whether `fn` (an initializer clang emitted) touches one of `globals`.
+bool touches(const llvm::Function& fn, const std::set<const llvm::GlobalVariable*>& globals) {
+  std::vector<const llvm::Value*> work;
+  std::set<const llvm::Value*> seen;
+  for (const llvm::BasicBlock& bb : fn)
+    for (const llvm::Instruction& inst : bb)
+      for (const llvm::Value* op : inst.operands())
+        work.push_back(op);
+  while (!work.empty()) {
+    const llvm::Value* v = work.back();
+    work.pop_back();
+    if (!seen.insert(v).second)
+      continue;
+    if (auto* gv = llvm::dyn_cast<llvm::GlobalVariable>(v); gv && globals.count(gv))
+      return true;
+    if (auto* ce = llvm::dyn_cast<llvm::ConstantExpr>(v))
+      for (const llvm::Value* op : ce->operands())
+        work.push_back(op);
+  }
+  return false;
+}
+
+// The globals other loaded code owns become declarations here (resolved against that code's
+// JITDylib), and their dynamic initializers are not run again: clang calls one function per
+// initialized global from the TU's constructor; the calls for shared globals are dropped.
+void useSharedState(llvm::Module& m, const std::set<std::string>& shared) {
+  std::set<const llvm::GlobalVariable*> declared;
+  for (const std::string& name : shared)
     if (llvm::GlobalVariable* gv = m.getGlobalVariable(name, /*AllowInternal=*/true); gv && !gv->isDeclaration()) {
       gv->setInitializer(nullptr);
       gv->setComdat(nullptr);
       gv->setLinkage(llvm::GlobalValue::ExternalLinkage);
       gv->setVisibility(llvm::GlobalValue::DefaultVisibility);
+      declared.insert(gv);
     }
-  for (const char* list : {"llvm.global_ctors", "llvm.global_dtors"})
-    if (llvm::GlobalVariable* gv = m.getNamedGlobal(list))
-      gv->eraseFromParent();
+  llvm::GlobalVariable* ctors = m.getNamedGlobal("llvm.global_ctors");
+  auto* array = ctors && ctors->hasInitializer() ? llvm::dyn_cast<llvm::ConstantArray>(ctors->getInitializer()) : nullptr;
+  if (!array)
+    return;
+  for (const llvm::Use& u : array->operands()) {
+    auto* entry = llvm::dyn_cast<llvm::ConstantStruct>(u.get());
+    auto* ctor = entry ? llvm::dyn_cast<llvm::Function>(entry->getOperand(1)->stripPointerCasts()) : nullptr;
+    if (!ctor || ctor->isDeclaration())
+      continue;
+    std::vector<llvm::CallInst*> drop;
+    for (llvm::BasicBlock& bb : *ctor)
+      for (llvm::Instruction& inst : bb)
+        if (auto* call = llvm::dyn_cast<llvm::CallInst>(&inst))
+          if (llvm::Function* f = call->getCalledFunction(); f && !f->isDeclaration() && touches(*f, declared))
+            drop.push_back(call);
+    for (llvm::CallInst* call : drop)
+      call->eraseFromParent();
+  }
 }
 
 // Object files reach ORC without its IR-level constructor scraping, so do it here: one function
@@ -412,8 +453,8 @@ struct Dylib {
   std::shared_ptr<JitState> state;
   orc::JITDylib* jd = nullptr;
   std::string name;
-  std::vector<std::string> stateNames;  // the mutable globals this version defines
-  std::shared_ptr<Dylib> stateOwner;    // the version whose globals this one uses, or null
+  std::vector<std::string> stateNames;              // the mutable globals this version defines
+  std::vector<std::shared_ptr<Dylib>> stateOwners;  // the versions whose globals this one uses
 
   ~Dylib() {
     std::lock_guard<std::mutex> lock(state->mutex);
@@ -863,11 +904,11 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     return makeError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(level));
   std::string bufferName = options.bufferName.empty() ? std::string("model.cpp") : options.bufferName;
   LevelSetup& L = impl_->levels[level];
-  std::shared_ptr<detail::Dylib> stateOwner;
-  if (options.shareStateWith) {
-    stateOwner = options.shareStateWith->dylib_;
-    if (stateOwner->stateOwner)
-      stateOwner = stateOwner->stateOwner;  // the globals live in the first version
+  std::vector<std::shared_ptr<detail::Dylib>> stateOwners;
+  std::set<std::string> shared;
+  for (const ModelCode* code : options.shareStateWith) {
+    stateOwners.push_back(code->dylib_);
+    shared.insert(code->dylib_->stateNames.begin(), code->dylib_->stateNames.end());
   }
 
   // The object cache's key: everything the object depends on. The PCH's name hashes the
@@ -881,8 +922,12 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     impl_->ensurePch(L, level, false, st);
     llvm::SHA256 h;
     for (llvm::StringRef part : {llvm::StringRef(L.pchPath), llvm::StringRef(L.pchFallback ? "text" : "pch"),
-                                 llvm::StringRef(bufferName), llvm::StringRef(stateOwner ? "shared" : "own"), cppSource}) {
+                                 llvm::StringRef(bufferName), cppSource}) {
       h.update(part);
+      h.update(llvm::StringRef("\0", 1));
+    }
+    for (const std::string& name : shared) {  // which globals are declarations
+      h.update(name);
       h.update(llvm::StringRef("\0", 1));
     }
     key = llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 32) + "-O" + std::to_string(level);
@@ -935,9 +980,11 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
 
     auto t1 = Clock::now();
     CachedObject fresh;
-    fresh.stateNames = exportState(*module);
-    if (stateOwner)
-      useSharedState(*module, stateOwner->stateNames);
+    for (std::string& name : exportState(*module))
+      if (!shared.count(name))
+        fresh.stateNames.push_back(std::move(name));
+    if (!shared.empty())
+      useSharedState(*module, shared);
     gatherInitializers(*module);
     {
       orc::JITTargetMachineBuilder b = impl_->jtmb;
@@ -988,8 +1035,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   orc::JITDylibSearchOrder order;
   // The shared state first; host symbols before the process's so explicit definitions win
   // over same-named process symbols.
-  if (stateOwner)
-    order.push_back({stateOwner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  for (const auto& owner : stateOwners)
+    order.push_back({owner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   order.push_back({state.hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   if (auto p = J.getPlatformJITDylib())
     order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
@@ -1048,7 +1095,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   dylib->jd = &JD;
   dylib->name = std::move(name);
   dylib->stateNames = object->stateNames;
-  dylib->stateOwner = std::move(stateOwner);
+  dylib->stateOwners = std::move(stateOwners);
   lock.unlock();  // ~Dylib takes it
   return std::unique_ptr<ModelCode>(new ModelCode(std::move(dylib)));
 }

@@ -37,10 +37,11 @@ struct CompileOptions {
   int optLevel = 1;
   // Name the main file gets in diagnostics unless `#line` directives say otherwise.
   std::string bufferName = "model.cpp";
-  // Another compile of the same source whose mutable globals this one uses instead of defining
-  // its own, with no static constructors run again: swapping in a better-optimised tier keeps
-  // the running simulation's state. The other code stays loaded while this one lives.
-  const ModelCode* shareStateWith = nullptr;
+  // Loaded code whose mutable globals this compile uses instead of defining its own (by name),
+  // without running their constructors again: a better-optimised tier of the same source keeps
+  // the running simulation's state, and C++ typed at the REPL sees the model's. Globals none of
+  // them defines are this compile's own. The other code stays loaded while this one lives.
+  std::vector<const ModelCode*> shareStateWith;
   // Reuse the object code of an identical earlier compile (same source, options, compiler and
   // runtime header), from memory or from the disk cache, instead of compiling again.
   bool useObjectCache = true;

@@ -261,6 +261,8 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   for (size_t id = 0; id < drawing->view.windows.size(); ++id) defineId(drawing->view.windows[id].name, id);
   auto text = frontend::preprocess(files.lsystem, pp);
   if (!text) return text.takeError();
+  p.preprocess = pp;
+  p.lsystem = files.lsystem;
   times.preprocessMs = msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -305,6 +307,10 @@ void Session::install(PreparedModel p) {
     ++generation_;
     runningCpp_ = std::move(p.cpp);
     bufferName_ = std::move(p.bufferName);
+    stateOwners_ = {code_};
+    preprocess_ = std::move(p.preprocess);
+    lsystem_ = std::move(p.lsystem);
+    replDeclarations_.clear();  // a reload replaces them
   }
   if (p.what.lsystem || p.what.parameters) {
     engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
@@ -324,13 +330,13 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
 }
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
-  return [compiler = compiler_.get(), running = code_, cpp = runningCpp_, name = bufferName_, generation = generation_,
+  return [compiler = compiler_.get(), owners = stateOwners_, cpp = runningCpp_, name = bufferName_, generation = generation_,
           optLevel]() -> BetterTier {
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
     co.bufferName = name;
-    co.shareStateWith = running.get();  // `running` stays alive until this job ends
+    for (const auto& owner : owners) co.shareStateWith.push_back(owner.get());  // alive until the job ends
     jit::CompileStats stats;
     auto code = compiler->compile(cpp, co, &stats);
     BetterTier t;
@@ -360,6 +366,93 @@ bool Session::installTier(BetterTier tier) {
   code_ = std::move(tier.code);  // the previous version stays loaded: it holds the state
   optLevel_ = tier.optLevel;
   return true;
+}
+
+// C++ at the REPL. The input is compiled as the last part of the model: the .l file (included,
+// so its macros, modules and functions are there), the declarations typed so far, then the input
+// as a declaration (file scope), as statements, or as an expression whose value is printed (in a
+// function run once). That unit shares every global with the running code, so statements change
+// the model's state. A declaration's unit becomes the running code: new productions take part in
+// the next step and new globals live there.
+llvm::Expected<std::string> Session::evaluate(const std::string& input) {
+  if (!engine_) return error("error: no model is loaded");
+  std::string text = input;
+  while (!text.empty() && std::isspace((unsigned char)text.back())) text.pop_back();
+  size_t start = text.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos) return std::string();
+  enum class Form { Expression, Statements, Declarations };
+  char last = text.back();
+  std::vector<Form> tries = last == ';' || last == '}' ? std::vector{Form::Declarations, Form::Statements}
+                                                       : std::vector{Form::Expression, Form::Statements};
+  std::vector<std::string> errors;
+  for (Form form : tries) {
+    int n = ++replInputs_;
+    std::string entry = "__lc_repl_input_" + std::to_string(n);
+    std::string typed = "#line 1 \"<repl>\"\n" + text + "\n";
+    std::string wrapped;
+    switch (form) {
+      case Form::Declarations: wrapped = typed; break;
+      case Form::Statements: wrapped = "extern \"C\" void " + entry + "() {\n" + typed + ";}\n"; break;
+      case Form::Expression:
+        // The closing on the input's line: "expected expression" then points just after it.
+        wrapped = "extern \"C\" void " + entry + "() { __lc_repl::print([&]() -> decltype(auto) { return (\n" +
+                  typed.substr(0, typed.size() - 1) + " ); }); }\n";
+        break;
+    }
+    std::string source = "#include \"" + lsystem_ + "\"\n";
+    for (const std::string& d : replDeclarations_) source += "#line 1 \"<repl>\"\n" + d + "\n";
+    source += wrapped;
+
+    frontend::PreprocessOptions pp = preprocess_;
+    pp.mainText = source;
+    std::string unitName = (std::filesystem::path(lsystem_).parent_path() / "<repl>").string();
+    auto preprocessed = frontend::preprocess(unitName, pp);
+    if (!preprocessed) {
+      errors.push_back(llvm::toString(preprocessed.takeError()));
+      continue;
+    }
+    auto cpp = frontend::rewrite(*preprocessed, unitName);
+    if (!cpp) {
+      errors.push_back(llvm::toString(cpp.takeError()));
+      continue;
+    }
+    jit::CompileOptions co;
+    co.optLevel = 0;
+    co.bufferName = "<repl>";
+    for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
+    auto code = compiler_->compile(cpp->cpp, co);
+    if (!code) {
+      errors.push_back(llvm::toString(code.takeError()));
+      continue;
+    }
+    std::shared_ptr<jit::ModelCode> unit = std::move(*code);
+    if (form == Form::Declarations) {
+      auto entryPoint = unit->lookup(frontend::kModelEntry);
+      if (!entryPoint) return entryPoint.takeError();
+      const __lc_Model* model = reinterpret_cast<const __lc_Model* (*)()>(*entryPoint)();
+      engine_->swapModel(*model);
+      model_ = model;
+      code_ = unit;
+      stateOwners_.push_back(unit);
+      replDeclarations_.push_back(text);
+      runningCpp_ = cpp->cpp;  // a better tier now compiles the model with them
+      bufferName_ = co.bufferName;
+      ++generation_;
+      return std::string();
+    }
+    auto fn = unit->lookup(entry);
+    if (!fn) return fn.takeError();
+    runtime::takeReplOutput();
+    reinterpret_cast<void (*)()>(*fn)();
+    return runtime::takeReplOutput();
+  }
+  // The form the input looks most like decides which diagnostics are shown: a definition that
+  // is no statement (a function, a production) gets the declaration's.
+  const std::string& shown = tries[0] == Form::Declarations && errors.size() == 2 &&
+                                     errors[1].find("not allowed here") == std::string::npos
+                                 ? errors[1]
+                                 : errors[0];
+  return error(shown);
 }
 
 }  // namespace lcjit

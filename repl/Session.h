@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "frontend/Preprocess.h"
 #include "llvm/Support/Error.h"
 
 struct __lc_Model;
@@ -87,6 +88,8 @@ struct PreparedModel {
   std::shared_ptr<jit::ModelCode> code;  // null without `what.lsystem`
   const __lc_Model* model = nullptr;     // owned by code
   std::string cpp, bufferName;
+  std::string lsystem;                     // the .l file
+  frontend::PreprocessOptions preprocess;  // what it was preprocessed with
   PreparedModel();
   PreparedModel(PreparedModel&&);
   PreparedModel& operator=(PreparedModel&&);
@@ -121,6 +124,9 @@ class Session {
   // the running version's globals. False (and nothing changes) when another load came between.
   std::function<BetterTier()> betterTierJob(int optLevel) const;
   bool installTier(BetterTier tier);
+
+  // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
+  llvm::Expected<std::string> evaluate(const std::string& input);
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
@@ -135,6 +141,13 @@ class Session {
   std::unique_ptr<jit::Compiler> compiler_;
   std::unique_ptr<runtime::FunctionStore> functions_;
   std::shared_ptr<jit::ModelCode> code_;  // shared with a tier job compiling against it
+  // The loaded code that owns the model's globals: the first build, then the declarations typed
+  // at the REPL (each in its own unit). Later compiles share them.
+  std::vector<std::shared_ptr<jit::ModelCode>> stateOwners_;
+  std::string lsystem_;                       // the running model's .l file
+  frontend::PreprocessOptions preprocess_;    // and how it was preprocessed
+  std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load
+  int replInputs_ = 0;
   int optLevel_ = 0;
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_

@@ -1,6 +1,7 @@
 // Host functions for model code: each forwards to the engine that is running the model.
 #include "HostFunctions.h"
 
+#include <utility>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -27,6 +28,12 @@ const lcjit::runtime::ShapeLibrary* shapes() {
   Engine* e = engine();
   return e ? e->turtleSetup().shapes : nullptr;
 }
+// What C++ typed at the REPL printed (lcjit/repl.h), on the REPL's thread.
+std::string& replOutput() {
+  static std::string text;
+  return text;
+}
+
 // Random streams outlive engines: lpfg keeps one per process.
 lcjit::runtime::Rand48& fallbackRandom() {
   static lcjit::runtime::Rand48 r;
@@ -35,6 +42,8 @@ lcjit::runtime::Rand48& fallbackRandom() {
 }  // namespace
 
 extern "C" {
+
+void lcjit_repl_output(const char* text) { replOutput() += text; }
 
 void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra) {
   if (b->cap - b->size >= extra) return;
@@ -170,10 +179,12 @@ void lcjit_load_string(const char* path) {
 
 namespace lcjit::runtime {
 
+std::string takeReplOutput() { return std::exchange(replOutput(), {}); }
+
 std::vector<std::pair<std::string, void*>> hostFunctions() {
 #define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
   return {
-      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group),
+      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
       LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie),

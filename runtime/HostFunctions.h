@@ -9,4 +9,7 @@ namespace lcjit::runtime {
 
 std::vector<std::pair<std::string, void*>> hostFunctions();
 
+// What C++ evaluated at the REPL printed (lcjit_repl_output) since the last call.
+std::string takeReplOutput();
+
 }  // namespace lcjit::runtime

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "lcjit/abi.h"
+#include "lcjit/repl.h"
 
 // Successor writers of the predefined modules: produce F(x) calls __lc_emit_F(ctx, x).
 #define __LC_EMIT_ARGS_0()

@@ -431,7 +431,7 @@ TEST_F(JitTest, TierSharesTheRunningVersionsState) {
 
   CompileOptions o;
   o.optLevel = 2;
-  o.shareStateWith = quick.get();
+  o.shareStateWith = {quick.get()};
   auto better = compiler_->compile(src, o);
   ASSERT_TRUE(bool(better)) << llvm::toString(better.takeError());
   EXPECT_EQ(g_notes, std::vector<int>{1});  // no second construction

@@ -252,3 +252,56 @@ TEST(Diagnostics, ErrorsShowTheirSourceLineAndColumn) {
 }
 
 }  // namespace
+
+namespace {
+
+// C++ typed at the REPL (issue 5) runs in the model's context: expressions print, statements
+// change the model's globals, declarations (functions, productions) stay until the next load.
+TEST(SessionRepl, EvaluatesInTheModelsContext) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-repl-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "r.l") << "#include <lpfgall.h>\n#define START 3\nderivation length: 2;\n"
+                                "module A(int);\nmodule B(float);\naxiom: A(START) B(0.5);\n"
+                                "float total = 0;\nstatic std::vector<int> seen;\n"
+                                "A(n) : { total += n; seen.push_back(n); produce A(n + 1); }\n";
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  Session& s = **session;
+  ModelFiles files;
+  files.lsystem = (dir / "r.l").string();
+  PhaseTimes t;
+  ASSERT_FALSE(bool(s.load(files, 0, t)));
+  auto eval = [&](const std::string& in) {
+    auto r = s.evaluate(in);
+    return r ? *r : "ERROR: " + llvm::toString(r.takeError());
+  };
+  EXPECT_EQ(eval("total"), "0");
+  ASSERT_FALSE(bool(s.engine().run()));
+  EXPECT_EQ(eval("total"), "7");                       // 3 + 4: the running model's global
+  EXPECT_EQ(eval("seen.size()"), "2");                 // a static one too
+  EXPECT_EQ(eval("START * 2"), "6");                   // the model's macros
+  EXPECT_EQ(eval("total = 100;"), "");                 // a statement
+  EXPECT_EQ(eval("total"), "100");
+  EXPECT_EQ(eval("float twice(float v) { return 2 * v; }"), "");  // a declaration stays
+  EXPECT_EQ(eval("twice(total) + 1"), "201");
+  EXPECT_EQ(eval("V3f(1, 2, 3)"), "(1, 2, 3)");
+  EXPECT_EQ(eval("Printf(\"hello\\n\")"), "");         // void: run, nothing printed here
+
+  std::string bad = eval("total +");
+  EXPECT_NE(bad.find("<repl>:1:"), std::string::npos) << bad;
+  EXPECT_EQ(eval("total"), "100");  // nothing broke
+
+  // A production for B, which the model leaves alone, takes part in the next steps.
+  EXPECT_EQ(eval("B(x) : { produce B(x * 2); }"), "");
+  ASSERT_FALSE(bool(s.engine().run()));
+  EXPECT_EQ(s.engine().text(s.engine().string()), "A(5)\nB(2)\n");
+  EXPECT_EQ(eval("total"), "107");  // Start did not reset it; the new code kept the state
+
+  // A reload replaces what was typed.
+  ASSERT_FALSE(bool(s.load(files, 0, t)));
+  EXPECT_NE(eval("twice(1)").find("ERROR"), std::string::npos);
+  EXPECT_EQ(eval("total"), "0");
+  fs::remove_all(dir);
+}
+
+}  // namespace
