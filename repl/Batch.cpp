@@ -13,6 +13,7 @@
 #include "Engine.h"
 #include "FileMonitor.h"
 #include "Frame.h"
+#include "PlainErrors.h"
 
 namespace lcjit {
 namespace {
@@ -179,7 +180,8 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     for (const std::string& c : changed) names += (names.empty() ? "" : ", ") + std::filesystem::path(c).filename().string();
     PhaseTimes times;
     if (auto e = session.load(files, options.optLevel, times, *parts)) {
-      report(std::move(e));
+      std::string shown = withSourceLines(llvm::toString(std::move(e)));
+      std::fprintf(stderr, "%s\n", options.plainErrors ? inPlainLanguage(shown).c_str() : shown.c_str());
       std::fprintf(stderr, "lcjit: reload %d (%s) failed; the last good model stays\n", reload, names.c_str());
       continue;
     }

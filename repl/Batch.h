@@ -16,6 +16,7 @@ struct BatchOptions {
   // background and swap it in when ready (no second tier when not above optLevel).
   int betterTier = -1;
   bool quiet = false, verbose = false, debug = false, stats = false;
+  bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;
 };
 

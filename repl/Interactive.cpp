@@ -19,6 +19,7 @@
 #include "Drawing.h"
 #include "Engine.h"
 #include "Frame.h"
+#include "PlainErrors.h"
 #include "WindowInput.h"
 #include "Window.h"
 #include "Camera.h"
@@ -195,6 +196,7 @@ class InteractiveModel {
     if (!p.model) {
       // The last good model stays on screen, with the diagnostics over it.
       std::string shown = withSourceLines(p.error);
+      if (options_.plainErrors) shown = inPlainLanguage(shown);
       report(shown);
       window_.setMessage(shown + "\n(the last good model is shown; save a fix to reload)");
       return;

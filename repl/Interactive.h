@@ -19,6 +19,7 @@ struct InteractiveOptions {
   // in without re-running (no second tier when not above optLevel).
   int betterTier = -1;
   bool quiet = false;
+  bool plainErrors = false;  // --lab: compile errors in plain language first
   RefreshMode refresh = RefreshMode::Explicit;  // -rmode: continuous/triggered watch the files
   bool animate = false;                         // -a: start in animate mode at the first frame
   bool verbose = false;                         // -v: reload timings on stderr

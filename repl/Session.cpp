@@ -189,10 +189,11 @@ std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::Dr
   return f;
 }
 
-llvm::Expected<std::unique_ptr<Session>> Session::create() {
+llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cacheDir) {
   std::unique_ptr<Session> s(new Session());
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
+  config.cacheDir = cacheDir;
   for (auto& [name, addr] : runtime::hostFunctions()) config.hostSymbols.push_back({name, addr});
   auto compiler = jit::Compiler::create(std::move(config));
   if (!compiler) return compiler.takeError();

@@ -98,7 +98,8 @@ struct PreparedModel {
 
 class Session {
  public:
-  static llvm::Expected<std::unique_ptr<Session>> create();
+  // `cacheDir`: where compiled headers and object code are kept ("": the user's cache folder).
+  static llvm::Expected<std::unique_ptr<Session>> create(const std::string& cacheDir = "");
   ~Session();
 
   // Reads input files, compiles the model; on error the previous model (if any) stays loaded.

@@ -16,6 +16,7 @@
 #include "Batch.h"
 #include "Frame.h"
 #include "Interactive.h"
+#include "PlainErrors.h"
 #include "Window.h"
 #include "Session.h"
 
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
   CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
   bool batch = false, animate = false, compileOnly = false, debug = false, quiet = false, verbose = false;
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false, stats = false, emitCpp = false;
-  bool watch = false;
+  bool watch = false, lab = false;
   std::string out, rmode, dll, libPath;
   int optLevel = 1;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
@@ -70,6 +71,9 @@ int main(int argc, char** argv) {
   app.add_option("--lp", libPath, "(-lp) accepted");
   app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
   app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  app.add_flag("--lab", lab,
+               "classroom mode: the window with file monitoring on; nothing written outside the model's folder "
+               "(caches in .lcjit-cache there); compile errors in plain language first");
   app.add_flag("--watch", watch,
                "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
@@ -92,12 +96,30 @@ int main(int argc, char** argv) {
     if (!quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
   }
 
+  std::string cacheDir;
+  if (lab) {
+    // Everything the session writes goes to the model's folder: work there, cache there.
+    std::string model;
+    for (auto& in : inputs) {
+      in = std::filesystem::absolute(in).lexically_normal().string();
+      if (std::filesystem::path(in).extension() == ".l") model = in;
+    }
+    if (!model.empty()) {
+      std::filesystem::current_path(std::filesystem::path(model).parent_path());
+      cacheDir = (std::filesystem::path(model).parent_path() / ".lcjit-cache").string();
+    }
+    if (rmode.empty()) rmode = "cont";
+    if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
+      watch = batch = true;
+      if (out.empty() && !model.empty()) out = std::filesystem::path(model).stem().string() + ".png";
+    }
+  }
   auto files = lcjit::classifyInputs(inputs);
   if (!files) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
     return 1;
   }
-  auto session = lcjit::Session::create();
+  auto session = lcjit::Session::create(cacheDir);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
@@ -114,7 +136,8 @@ int main(int argc, char** argv) {
     std::fputs((*session)->generatedCpp().c_str(), stdout);
   }
   if (auto e = (*session)->load(*files, optLevel, times)) {
-    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    std::string text = llvm::toString(std::move(e));
+    std::fprintf(stderr, "%s\n", lab ? lcjit::inPlainLanguage(lcjit::withSourceLines(text)).c_str() : text.c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
@@ -130,6 +153,7 @@ int main(int argc, char** argv) {
       lcjit::InteractiveOptions io;
       io.optLevel = optLevel;
       io.betterTier = betterTier;
+      io.plainErrors = lab;
       io.quiet = quiet;
       if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
       io.animate = animate;
@@ -146,6 +170,7 @@ int main(int argc, char** argv) {
   if (winSize.size() == 2) bo.width = (int)winSize[0], bo.height = (int)winSize[1];
   bo.optLevel = optLevel;
   bo.betterTier = betterTier;
+  bo.plainErrors = lab;
   bo.quiet = quiet;
   bo.verbose = verbose;
   bo.debug = debug;

@@ -12,6 +12,7 @@
 
 #include "Drawing.h"
 #include "Engine.h"
+#include "PlainErrors.h"
 #include "Session.h"
 
 using namespace lcjit;
@@ -302,6 +303,25 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   EXPECT_NE(eval("twice(1)").find("ERROR"), std::string::npos);
   EXPECT_EQ(eval("total"), "0");
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Diagnostics, PlainLanguageComesFirstForUserFiles) {
+  std::string compiler = "/home/s/plant.l:12:9: error: use of undeclared identifier 'Apx'\n"
+                         "<lcjit: generated model tables>:3:1: error: cascade\n"
+                         "/home/s/plant.l:20:3: error: expected ';' after expression\n"
+                         "/home/s/plant.l:12:9: error: use of undeclared identifier 'Apx'\n";
+  std::string shown = inPlainLanguage(compiler);
+  EXPECT_EQ(shown.find("plant.l, line 12: 'Apx' is not defined."), 0u) << shown;
+  EXPECT_NE(shown.find("module Apx(...);"), std::string::npos);
+  EXPECT_NE(shown.find("plant.l, line 20: A ';' is missing"), std::string::npos);
+  EXPECT_EQ(shown.find("cascade"), shown.rfind("cascade"));  // only in the compiler's text
+  EXPECT_EQ(shown.find("line 12"), shown.rfind("line 12"));  // said once
+  EXPECT_NE(shown.find("(what the compiler said:)\n" + compiler), std::string::npos);
+  EXPECT_EQ(inPlainLanguage("warning: nothing\n"), "warning: nothing\n");
 }
 
 }  // namespace
