@@ -420,6 +420,27 @@ std::string defaultCacheDir() {
 } // namespace
 
 namespace detail {
+// Instruction selection at one level, with one TargetMachine kept for it (creating one costs
+// about a millisecond; one is not reentrant, hence the lock).
+struct Codegen {
+  std::mutex mutex;
+  std::unique_ptr<llvm::TargetMachine> tm;
+
+  llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> compile(llvm::Module& m, orc::JITTargetMachineBuilder b,
+                                                              llvm::CodeGenOptLevel level) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!tm) {
+      b.setCodeGenOptLevel(level);
+      auto t = b.createTargetMachine();
+      if (!t)
+        return t.takeError();
+      tm = std::move(*t);
+    }
+    m.setDataLayout(tm->createDataLayout());
+    return orc::SimpleCompiler(*tm)(m);
+  }
+};
+
 // Everything ModelCode needs after the Compiler is gone: the LLJIT is destroyed only after the
 // last ModelCode released its JITDylib (the reverse order is a use-after-free).
 struct JitState {
@@ -435,6 +456,8 @@ struct JitState {
   // tables by JITDylib address and only clears them on a full initialize/deinitialize, so a
   // reused address could inherit stale entries.
   std::vector<orc::JITDylibSP> failedDylibs;
+  // [0] fast instruction selection (the quick tiers, and ORC's own small IR modules), [1] default.
+  std::array<Codegen, 2> codegen;
 
   ~JitState() {
     failedDylibs.clear();
@@ -529,12 +552,6 @@ struct Compiler::Impl {
   orc::JITTargetMachineBuilder jtmb{llvm::Triple()};
   std::shared_ptr<detail::JitState> state;
   std::array<LevelSetup, 3> levels;
-  // Instruction selection per codegen level (fast / default); a TargetMachine is not reentrant.
-  struct Codegen {
-    std::mutex mutex;
-    std::unique_ptr<llvm::TargetMachine> tm;
-  };
-  std::array<Codegen, 2> codegen;
   // Objects of recent compiles by key, newest last (a reload of unchanged source, a tier swap
   // back and forth); older ones come from the disk cache.
   std::mutex objectsMutex;
@@ -769,13 +786,23 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
 
   auto state = std::make_shared<detail::JitState>();
   // Model code arrives as object files (Impl::emitObject); what ORC still compiles from IR is
-  // its own small support modules (__dso_handle, the atexit helpers of each JITDylib).
+  // its own small support modules (__dso_handle, the atexit helpers of each JITDylib), with the
+  // quick tiers' TargetMachine.
+  struct SupportCompiler : orc::IRCompileLayer::IRCompiler {
+    SupportCompiler(orc::JITTargetMachineBuilder b, detail::Codegen& cg)
+        : IRCompiler(orc::irManglingOptionsFromTargetOptions(b.getOptions())), jtmb(std::move(b)), cg(cg) {}
+    llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> operator()(llvm::Module& m) override {
+      return cg.compile(m, jtmb, llvm::CodeGenOptLevel::None);
+    }
+    orc::JITTargetMachineBuilder jtmb;
+    detail::Codegen& cg;
+  };
+  detail::Codegen& fast = state->codegen[0];
   auto jit = orc::LLJITBuilder()
                  .setJITTargetMachineBuilder(*jtmb)
-                 .setCompileFunctionCreator([](orc::JITTargetMachineBuilder b)
+                 .setCompileFunctionCreator([&fast](orc::JITTargetMachineBuilder b)
                                                 -> llvm::Expected<std::unique_ptr<orc::IRCompileLayer::IRCompiler>> {
-                   b.setCodeGenOptLevel(llvm::CodeGenOptLevel::None);
-                   return std::make_unique<orc::ConcurrentIRCompiler>(std::move(b));
+                   return std::make_unique<SupportCompiler>(std::move(b), fast);
                  })
                  .create();
   if (!jit)
@@ -807,20 +834,10 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
 }
 
 llvm::Expected<std::string> Compiler::Impl::emitObject(llvm::Module& m, int level) {
-  Codegen& cg = codegen[level >= 2 ? 1 : 0];
-  std::lock_guard<std::mutex> lock(cg.mutex);
-  if (!cg.tm) {
-    orc::JITTargetMachineBuilder b = jtmb;
-    // Fast instruction selection for the quick tiers: on lightly optimised IR the SelectionDAG
-    // backend was the slowest part of a compile (see the latency study).
-    b.setCodeGenOptLevel(level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
-    auto tm = b.createTargetMachine();
-    if (!tm)
-      return tm.takeError();
-    cg.tm = std::move(*tm);
-  }
-  m.setDataLayout(cg.tm->createDataLayout());
-  auto buffer = orc::SimpleCompiler(*cg.tm)(m);
+  // Fast instruction selection for the quick tiers: on lightly optimised IR the SelectionDAG
+  // backend was the slowest part of a compile (see the latency study).
+  auto buffer = state->codegen[level >= 2 ? 1 : 0].compile(
+      m, jtmb, level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
   if (!buffer)
     return buffer.takeError();
   return (*buffer)->getBuffer().str();
