@@ -252,4 +252,13 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   return llvm::Error::success();
 }
 
+llvm::Error Session::setParameter(const std::string& name, float value) {
+  if (!functions_ || !functions_->setParameter(name, value)) return error("error: no .vset parameter '" + name + "'");
+  return llvm::Error::success();
+}
+
+llvm::Expected<std::string> Session::evaluate(const std::string&) {
+  return error("error: C++ at the prompt is not available yet");
+}
+
 }  // namespace lcjit

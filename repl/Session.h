@@ -64,7 +64,16 @@ class Session {
   // `lsystem` the compiled model is kept, and without `parameters` also the engine and its string
   // (New view / New rendering redraw, they do not re-run).
   llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what = ReloadParts::all());
+  bool loaded() const { return engine_ != nullptr; }
   runtime::Engine& engine() { return *engine_; }
+  // The loaded model's tables (modules, rules with their lines and groups); null before a load.
+  const __lc_Model* model() const { return model_; }
+  const runtime::FunctionStore& functions() const { return *functions_; }
+  // Gives the loaded model's .vset parameter `name` a new value (val(NAME) reads it at run time,
+  // so a re-run uses it without a recompile). Kept until the parameters are re-read by a load.
+  llvm::Error setParameter(const std::string& name, float value);
+  // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
+  llvm::Expected<std::string> evaluate(const std::string& input);
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().

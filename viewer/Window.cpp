@@ -820,6 +820,8 @@ void Window::injectChar(unsigned codepoint) {
 
 void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
 
+void Window::wake() { glfwPostEmptyEvent(); }
+
 Window::Pointer Window::takePointer() {
   Impl& m = *impl_;
   Pointer p;
