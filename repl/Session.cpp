@@ -456,4 +456,9 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   return error(shown);
 }
 
+llvm::Error Session::setParameter(const std::string& name, float value) {
+  if (!functions_ || !functions_->setParameter(name, value)) return error("error: no .vset parameter '" + name + "'");
+  return llvm::Error::success();
+}
+
 }  // namespace lcjit

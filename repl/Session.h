@@ -125,7 +125,12 @@ class Session {
   // the running version's globals. False (and nothing changes) when another load came between.
   std::function<BetterTier()> betterTierJob(int optLevel) const;
   bool installTier(BetterTier tier);
-
+  // The loaded model's tables (modules, rules with their lines and groups); null before a load.
+  const __lc_Model* model() const { return model_; }
+  const runtime::FunctionStore& functions() const { return *functions_; }
+  // Gives the loaded model's .vset parameter `name` a new value (val(NAME) reads it at run time,
+  // so a re-run uses it without a recompile). Kept until the parameters are re-read by a load.
+  llvm::Error setParameter(const std::string& name, float value);
   // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
   llvm::Expected<std::string> evaluate(const std::string& input);
   const runtime::DrawingFiles& drawing() const { return *drawing_; }

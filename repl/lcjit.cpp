@@ -1,5 +1,6 @@
 // lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
-// (--stats, -O, --emit-cpp). Thin: parsing here, the work in Session and the runtime.
+// (--stats, -O, --emit-cpp), and `lcjit repl [files] model.l`, the REPL (Repl.h). Thin: parsing
+// here, the work in Session, the REPL and the runtime.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "Frame.h"
 #include "Interactive.h"
 #include "PlainErrors.h"
+#include "Repl.h"
 #include "Window.h"
 #include "Session.h"
 
@@ -79,6 +81,15 @@ int main(int argc, char** argv) {
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
   app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
 
+  // A subcommand, so that lpfg's own command line stays as it is without it.
+  CLI::App* repl = app.add_subcommand("repl", "a prompt for commands and C++ run in the loaded model (docs/repl.md)");
+  lcjit::ReplOptions replOptions;
+  std::vector<int> replSize;
+  std::vector<std::string> replInputs;
+  repl->add_option("-O", replOptions.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  repl->add_option("-w", replSize, "size of :save pictures and of the :view window")->expected(2)->allow_extra_args(false);
+  repl->add_option("files", replInputs, "input files: [view.v color.map ...] model.l; none: :load them at the prompt");
+
   std::vector<std::string> args = normaliseArgs(argc, argv);
   std::reverse(args.begin(), args.end());
   try {
@@ -86,6 +97,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help exits 0; every usage error exits 1, like every other lcjit error.
     return app.exit(e) == 0 ? 0 : 1;
+  }
+
+  if (*repl) {
+    if (replSize.size() == 2) replOptions.width = replSize[0], replOptions.height = replSize[1];
+    return lcjit::runRepl(replInputs, replOptions);
   }
 
   const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");

@@ -587,4 +587,13 @@ float FunctionStore::val(int id) const {
 
 float FunctionStore::val(std::string_view name) const { return val(idOf(name)); }
 
+bool FunctionStore::isParameter(int id) const { return id >= 1 && id <= size() && entries_[id - 1].isParameter; }
+
+bool FunctionStore::setParameter(std::string_view name, float value) {
+  int id = idOf(name);
+  if (!isParameter(id)) return false;
+  entries_[id - 1].value = value;
+  return true;
+}
+
 }  // namespace lcjit::runtime

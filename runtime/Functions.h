@@ -42,6 +42,10 @@ public:
 
   float val(std::string_view name) const;  // unknown → 0
   float val(int id) const;                 // unknown or not a parameter → 0
+  bool isParameter(int id) const;          // a .vset entry
+  // Gives a .vset parameter a new value (the REPL's :set); false if `name` is not one. Not while
+  // a derivation reads the store.
+  bool setParameter(std::string_view name, float value);
 
   // Name resolution as lpfg's preprocessor does it: the exact name, else the
   // all-caps form of a name; a later definition of a name wins. 0 if unknown.

@@ -97,6 +97,8 @@ void field(std::string& out, const __lc_Field& f, const char* p) {
 
 }  // namespace
 
+void ModuleTable::formatField(const __lc_Field& f, const char* rec, std::string& out) { field(out, f, rec + f.offset); }
+
 void ModuleTable::format(const char* rec, std::string& out) const {
   const __lc_ModuleInfo& m = infos_[idAt(rec)];
   out += m.name;

@@ -66,6 +66,8 @@ class ModuleTable {
 
   // Appends `Name` or `Name(p1,p2,...)` (floats %.9g, doubles %.17g).
   void format(const char* rec, std::string& out) const;
+  // Appends one parameter the same way; `rec` is the module's record.
+  static void formatField(const __lc_Field& f, const char* rec, std::string& out);
 
  private:
   std::vector<__lc_ModuleInfo> infos_;

@@ -846,6 +846,8 @@ void Window::injectChar(unsigned codepoint) {
 
 void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
 
+void Window::wake() { glfwPostEmptyEvent(); }
+
 Window::Pointer Window::takePointer() {
   Impl& m = *impl_;
   Pointer p;

@@ -112,6 +112,8 @@ class Window {
   bool frame(const MenuActions& actions);
   // Sleeps until an input event arrives or `seconds` pass: an idle window costs no CPU.
   void waitEvents(double seconds);
+  // From any thread: makes a waitEvents() in progress return now (the REPL's input arrived).
+  static void wake();
 
   // The picture the window shows (without the menu), at the framebuffer's size.
   llvm::Expected<Image> grabImage();

@@ -157,6 +157,22 @@ TEST(Functions, Parameters) {
   EXPECT_EQ(s.func("BR_END", 0.5f), 0.0f);
 }
 
+TEST(Functions, SetParameter) {
+  // The REPL's :set: a new value for a .vset entry, by name; curves and unknown names are refused.
+  FunctionStore s;
+  mustLoad(s.loadFunction(data("linear.func")));
+  mustLoad(s.loadParameters(data("params.vset")));
+  EXPECT_FALSE(s.isParameter(1));
+  EXPECT_TRUE(s.isParameter(s.idOf("COUNT")));
+  EXPECT_TRUE(s.setParameter("COUNT", 9.5f));
+  EXPECT_FLOAT_EQ(s.val("COUNT"), 9.5f);
+  EXPECT_FLOAT_EQ(s.val("BR_END"), 15.4362f);
+  EXPECT_FALSE(s.setParameter("linear", 1.0f));
+  EXPECT_NEAR(s.func("linear", 0.5f), 3.5f, 3e-4);
+  EXPECT_FALSE(s.setParameter("MISSING", 1.0f));
+  EXPECT_EQ(s.idOf("MISSING"), 0);
+}
+
 TEST(Functions, IdsFollowLoadOrderAcrossFiles) {
   FunctionStore s;
   // lpfg's own order: .fset, .tset, .vset, then .func files.

@@ -1,0 +1,751 @@
+// The REPL (see Repl.h).
+//
+// One thread does the work: the line reader hands over whole lines, and between keys the loop
+// polls the watched files and draws the :view window. So the model (Session, Engine) is only
+// touched from this thread and needs no lock, and every GLFW call is on the main thread, where
+// GLFW wants them. While the window is open a helper thread watches stdin, only to wake the
+// window's event wait when a key arrives. The price: while a command runs (a long :run), the
+// window does not redraw.
+#include "Repl.h"
+
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <climits>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "Drawing.h"
+#include "Engine.h"
+#include "FileMonitor.h"
+#include "Frame.h"
+#include "Functions.h"
+#include "LineReader.h"
+#include "ReplText.h"
+#include "Session.h"
+#include "Window.h"
+
+namespace lcjit {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Args = std::vector<std::string>;
+
+constexpr const char* kPrompt = "lcjit> ";
+constexpr const char* kMorePrompt = "...> ";  // C++ whose brackets are still open
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+llvm::Error error(const std::string& message) {
+  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", message.c_str());
+}
+
+std::string plural(size_t n, const std::string& word) { return std::to_string(n) + " " + word + (n == 1 ? "" : "s"); }
+
+std::optional<long> parseInt(const std::string& s) {
+  char* end = nullptr;
+  errno = 0;
+  long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end || errno) return std::nullopt;
+  return v;
+}
+
+std::optional<float> parseFloat(const std::string& s) {
+  char* end = nullptr;
+  float v = std::strtof(s.c_str(), &end);
+  if (s.empty() || *end || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// Wakes the window's event wait (Window::waitEvents) when stdin has input, so that the window
+// sleeps while nothing happens and a typed key is still handled at once.
+class InputWaker {
+ public:
+  InputWaker() : thread_([this] { loop(); }) {}
+  ~InputWaker() {
+    {
+      std::lock_guard<std::mutex> l(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  // The main thread has read the input there was: watch for more.
+  void consumed() {
+    {
+      std::lock_guard<std::mutex> l(mutex_);
+      waiting_ = false;
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  void loop() {
+    sigset_t all;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, nullptr);  // Ctrl-C is the main thread's
+    std::unique_lock<std::mutex> l(mutex_);
+    while (!stop_) {
+      l.unlock();
+      pollfd p{STDIN_FILENO, POLLIN, 0};
+      int n = ::poll(&p, 1, 100);
+      l.lock();
+      if (n <= 0 || stop_) continue;
+      waiting_ = true;
+      viewer::Window::wake();
+      // stdin stays readable until the main thread reads it; an end of input stays readable for
+      // good, hence the time limit.
+      cv_.wait_for(l, std::chrono::milliseconds(100), [this] { return !waiting_ || stop_; });
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false, waiting_ = false;
+  std::thread thread_;
+};
+
+class Repl {
+ public:
+  Repl(std::unique_ptr<Session> session, const ReplOptions& options)
+      : session_(std::move(session)),
+        options_(options),
+        reader_([this](const std::string& line) { onLine(line); },
+                [this](std::string_view line, size_t cursor) { return complete(line, cursor); }),
+        frames_(options.width, options.height) {
+    hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, engine(), session_->drawing())); };
+  }
+
+  int run(const Args& inputs) {
+    reader_.setPrompt(kPrompt);
+    if (reader_.interactive())
+      std::printf("lcjit repl: :help lists the commands; C++ typed here runs in the model; Ctrl-D leaves\n");
+    if (!inputs.empty()) {
+      auto files = classifyInputs(inputs);
+      if (!files) {
+        report(files.takeError());
+      } else {
+        files_ = *files;
+        report(load(ReloadParts::all(), 0, "loaded"));
+      }
+    }
+    while (!quit_) {
+      std::fflush(stdout);  // all of it shows before the wait: a script may wait for it
+      // A shown window is drawn between keys; watched files are looked at ten times a second.
+      auto status = reader_.poll(window_ ? 0 : watching_ ? 100 : -1);
+      if (status == repl::LineReader::Status::End) {
+        if (!pendingCpp_.empty()) report(error("error: the input ended inside C++ with unclosed brackets"));
+        break;
+      }
+      if (status == repl::LineReader::Status::Interrupted) {
+        pendingCpp_.clear();
+        reader_.setPrompt(kPrompt);
+      }
+      if (waker_) waker_->consumed();
+      if (quit_) break;
+      pollWatch();
+      pumpView();
+    }
+    closeView();
+    return failed_ && !reader_.interactive() ? 1 : 0;
+  }
+
+ private:
+  struct Command {
+    const char* name;
+    const char* args;
+    const char* help;
+    llvm::Error (Repl::*run)(const Args&);
+    bool needsModel;
+  };
+
+  static const std::vector<Command>& commands() {
+    static const std::vector<Command> list = {
+        {":load", "[files] model.l",
+         "load a model with lpfg's input files (.v .map .mat .vset .func …); a failed load keeps the model loaded",
+         &Repl::cmdLoad, false},
+        {":reload", "", "re-read the model's files, recompile, and re-run to the current step", &Repl::cmdReload, false},
+        {":step", "[N]", "derive N more steps (1)", &Repl::cmdStep, true},
+        {":run", "", "derive to the end", &Repl::cmdRun, true},
+        {":rewind", "", "back to the axiom (step 0)", &Repl::cmdRewind, true},
+        {":string", "[--module NAME…] [--from I] [--count N]",
+         "the string, one module a line with its index; a screenful at a time on a terminal", &Repl::cmdString, true},
+        {":module", "I", "the parameters of the string's module I", &Repl::cmdModule, true},
+        {":set", "[NAME VALUE]", "give a .vset parameter a value and re-run to the current step; alone: list them",
+         &Repl::cmdSet, true},
+        {":time", "", "time a whole derivation, and the interpretation of its string", &Repl::cmdTime, true},
+        {":save", "FILE",
+         "write the string (.str .strb), a picture (.png .jpg .bmp) or geometry (.obj .ply .stl .gltf .glb .svg .ps .eps .pov)",
+         &Repl::cmdSave, true},
+        {":group", "[N]", "derive with production group N from the next step; alone: list the groups", &Repl::cmdGroup,
+         true},
+        {":productions", "", "the model's rules: line, kind, group, predecessor", &Repl::cmdProductions, true},
+        {":watch", "[on|off]", "reload when one of the model's files changes", &Repl::cmdWatch, false},
+        {":view", "[close]", "show the model in a window that follows the commands; the prompt stays", &Repl::cmdView,
+         true},
+        {":help", "[COMMAND]", "this list", &Repl::cmdHelp, false},
+        {":quit", "", "leave (Ctrl-D too)", &Repl::cmdQuit, false},
+    };
+    return list;
+  }
+
+  // ---- input
+
+  void onLine(const std::string& line) {
+    if (!pendingCpp_.empty()) {
+      pendingCpp_ += '\n';
+      pendingCpp_ += line;
+      if (!repl::isCompleteCpp(pendingCpp_)) return;
+      std::string cpp = std::move(pendingCpp_);
+      pendingCpp_.clear();
+      reader_.setPrompt(kPrompt);
+      evaluate(cpp);
+    } else {
+      size_t first = line.find_first_not_of(" \t");
+      if (first == std::string::npos) return;
+      if (line[first] == ':') {
+        command(line.substr(first));
+      } else if (!repl::isCompleteCpp(line)) {
+        pendingCpp_ = line;
+        reader_.setPrompt(kMorePrompt);
+      } else {
+        evaluate(line);
+      }
+    }
+    std::fflush(stdout);
+  }
+
+  void command(const std::string& line) {
+    auto words = repl::splitWords(line);
+    if (!words) return report(words.takeError());
+    const std::string& name = words->front();
+    auto it = std::find_if(commands().begin(), commands().end(), [&](const Command& c) { return name == c.name; });
+    if (it == commands().end()) return report(error("error: unknown command '" + name + "' (:help lists them)"));
+    if (it->needsModel && !session_->loaded()) return report(error("error: no model is loaded (:load [files] model.l)"));
+    report((this->*(it->run))(Args(words->begin() + 1, words->end())));
+  }
+
+  void evaluate(const std::string& cpp) {
+    if (!session_->loaded())
+      return report(error("error: no model is loaded: C++ typed here is compiled against one (:load [files] model.l)"));
+    auto value = session_->evaluate(cpp);
+    if (!value) return report(value.takeError());
+    if (!value->empty()) std::printf("%s\n", value->c_str());
+    viewDirty_ = true;  // a statement may have changed what the model draws
+  }
+
+  repl::Completion complete(std::string_view line, size_t cursor) const {
+    static const runtime::ModuleTable builtins;
+    repl::CompletionSources s;
+    for (const Command& c : commands()) s.commands.push_back(c.name);
+    const runtime::ModuleTable& table = session_->loaded() ? session_->engine().modules() : builtins;
+    for (size_t id = 0; id < table.count(); ++id) s.modules.push_back(table.info((__lc_ModuleId)id).name);
+    if (session_->loaded())
+      for (int id = 1; id <= session_->functions().size(); ++id)
+        if (session_->functions().isParameter(id)) s.parameters.emplace_back(session_->functions().nameOf(id));
+    return repl::complete(line, cursor, s);
+  }
+
+  void report(llvm::Error e) {
+    if (!e) return;
+    std::fflush(stdout);  // in order with what was printed before, also when both go to one file
+    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    std::fflush(stderr);
+    failed_ = true;
+  }
+
+  void warn(const std::string& text) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s\n", text.c_str());
+  }
+
+  // ---- the model
+
+  runtime::Engine& engine() { return session_->engine(); }
+
+  // Loads files_ (`parts` of them: see ReloadParts) and, unless `rerunTo` is negative, starts a
+  // derivation and derives to step `rerunTo`.
+  llvm::Error load(ReloadParts parts, int rerunTo, const char* verb) {
+    if (!loadedCurrent_) {
+      // The model in memory came from other files (a :load failed): nothing of it carries over.
+      parts = ReloadParts::all();
+      rerunTo = std::max(rerunTo, 0);
+    }
+    PhaseTimes times;
+    if (auto e = session_->load(files_, options_.optLevel, times, parts)) {
+      std::string message = llvm::toString(std::move(e));
+      if (session_->loaded()) message += "\nlcjit: keeping the model loaded before (" + loadedFiles_.lsystem + ")";
+      return error(message);
+    }
+    loadedFiles_ = files_;
+    loadedCurrent_ = true;
+    std::printf("%s %s\n", verb, files_.lsystem.c_str());
+    for (const std::string& w : session_->warnings()) warn(w);
+    if (rerunTo >= 0) {
+      begin();
+      deriveTo(rerunTo);
+    }
+    viewDirty_ = true;
+    printStatus();
+    return llvm::Error::success();
+  }
+
+  void begin() {
+    engine().begin(hooks_);
+    viewDirty_ = true;
+  }
+
+  // Derives until step `target` or the end of the derivation (then End runs); Ctrl-C stops it.
+  void deriveTo(int target) {
+    runtime::Engine& e = engine();
+    repl::LineReader::setInterruptible(&e);
+    while (!e.ended() && e.stepNo() < target) {
+      bool more = e.step();
+      if (repl::LineReader::takeInterrupt()) {
+        std::printf("interrupted\n");
+        break;
+      }
+      if (!more) {
+        if (!e.ended()) e.finish();
+        break;
+      }
+    }
+    repl::LineReader::setInterruptible(nullptr);
+    e.clearCancel();
+    viewDirty_ = true;
+  }
+
+  void printStatus() {
+    runtime::Engine& e = engine();
+    bool stopped = e.ended() && e.stepNo() < e.derivationLength();  // Stop() in the model
+    std::printf("step %d of %d%s: %s\n", e.stepNo(), e.derivationLength(), stopped ? " (stopped)" : "",
+                plural(e.moduleCount(), "module").c_str());
+  }
+
+  // ---- commands
+
+  llvm::Error cmdLoad(const Args& args) {
+    if (args.empty()) return error("error: usage: :load [files] model.l");
+    auto files = classifyInputs(args);
+    if (!files) return files.takeError();
+    files_ = *files;
+    loadedCurrent_ = false;
+    auto e = load(ReloadParts::all(), 0, "loaded");
+    if (watching_) watchFiles();  // the new files, also when they did not load: fixing them reloads
+    return e;
+  }
+
+  llvm::Error cmdReload(const Args& args) {
+    if (!args.empty()) return error("error: usage: :reload");
+    if (files_.lsystem.empty()) return error("error: nothing to reload (:load [files] model.l)");
+    return load(ReloadParts::all(), session_->loaded() ? engine().stepNo() : 0, "reloaded");
+  }
+
+  llvm::Error cmdStep(const Args& args) {
+    std::optional<long> n = 1;
+    if (args.size() == 1) n = parseInt(args[0]);
+    if (args.size() > 1 || !n || *n < 1) return error("error: usage: :step [N], N > 0");
+    if (engine().ended())
+      return error("error: the derivation is over (step " + std::to_string(engine().stepNo()) + "); :rewind starts again");
+    deriveTo((int)std::min<long>(engine().stepNo() + *n, INT_MAX));
+    printStatus();
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdRun(const Args& args) {
+    if (!args.empty()) return error("error: usage: :run");
+    deriveTo(INT_MAX);
+    printStatus();
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdRewind(const Args& args) {
+    if (!args.empty()) return error("error: usage: :rewind");
+    begin();
+    printStatus();
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdString(const Args& args) {
+    const runtime::ModuleTable& table = engine().modules();
+    std::set<__lc_ModuleId> only;
+    long from = 0, count = -1;
+    for (size_t i = 0; i < args.size(); ++i) {
+      if (args[i] == "--module") {
+        size_t j = i + 1;
+        for (; j < args.size() && args[j].rfind("--", 0) != 0; ++j) {
+          int id = table.find(args[j]);
+          if (id < 0) return error("error: no module named '" + args[j] + "'");
+          only.insert((__lc_ModuleId)id);
+        }
+        if (j == i + 1) return error("error: --module needs module names");
+        i = j - 1;
+      } else if ((args[i] == "--from" || args[i] == "--count") && i + 1 < args.size()) {
+        auto n = parseInt(args[i + 1]);
+        if (!n || *n < 0) return error("error: " + args[i] + " needs a number, not '" + args[i + 1] + "'");
+        (args[i] == "--from" ? from : count) = *n;
+        ++i;
+      } else {
+        return error("error: usage: :string [--module NAME…] [--from I] [--count N]");
+      }
+    }
+    const runtime::ModuleBuffer& s = engine().string();
+    size_t total = engine().moduleCount();
+    int width = (int)std::to_string(total ? total - 1 : 0).size();
+    // On a terminal, without --count, a screenful at a time (less one line for the question).
+    bool page = reader_.interactive() && count < 0;
+    int pageLines = reader_.screenRows() - 1, onPage = 0;
+    long shown = 0, more = 0;
+    std::string text;
+    size_t index = 0;
+    for (size_t p = 0; p < s.size(); p = table.next(s.data(), p), ++index) {
+      if ((long)index < from || (!only.empty() && !only.count(runtime::ModuleTable::idAt(s.data() + p)))) continue;
+      if (count >= 0 && shown == count) {
+        ++more;
+        continue;
+      }
+      if (page && onPage == pageLines) {
+        if (!reader_.more()) return llvm::Error::success();
+        onPage = 0;
+      }
+      text.clear();
+      table.format(s.data() + p, text);
+      std::printf("%*zu  %s\n", width, index, text.c_str());
+      ++shown, ++onPage;
+    }
+    if (shown == 0 && more == 0) std::printf("(no modules)\n");
+    if (more) std::printf("(and %ld more)\n", more);
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdModule(const Args& args) {
+    auto index = args.size() == 1 ? parseInt(args[0]) : std::nullopt;
+    if (!index) return error("error: usage: :module I");
+    const runtime::ModuleTable& table = engine().modules();
+    const runtime::ModuleBuffer& s = engine().string();
+    size_t p = 0;
+    for (long i = 0; p < s.size() && i < *index; ++i) p = table.next(s.data(), p);
+    if (*index < 0 || p >= s.size())
+      return error("error: the string has " + plural(engine().moduleCount(), "module") + ", from 0");
+    const char* rec = s.data() + p;
+    const __lc_ModuleInfo& m = table.info(runtime::ModuleTable::idAt(rec));
+    std::string text;
+    table.format(rec, text);
+    std::printf("%ld: %s\n", *index, text.c_str());
+    if (m.nFields == 0) std::printf("  no parameters\n");
+    for (uint32_t k = 0; k < m.nFields; ++k) {
+      text.clear();
+      runtime::ModuleTable::formatField(m.fields[k], rec, text);
+      std::printf("  p%u: %s = %s\n", k, m.fields[k].typeName, text.c_str());
+    }
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdSet(const Args& args) {
+    const runtime::FunctionStore& f = session_->functions();
+    if (args.empty()) {
+      bool any = false;
+      for (int id = 1; id <= f.size(); ++id)
+        if (f.isParameter(id)) {
+          std::printf("%s = %g\n", std::string(f.nameOf(id)).c_str(), f.val(id));
+          any = true;
+        }
+      if (!any) std::printf("(no .vset parameters)\n");
+      return llvm::Error::success();
+    }
+    if (args.size() != 2) return error("error: usage: :set NAME VALUE");
+    auto value = parseFloat(args[1]);
+    if (!value) return error("error: '" + args[1] + "' is not a number");
+    if (auto e = session_->setParameter(args[0], *value)) return e;
+    std::printf("%s = %g\n", args[0].c_str(), *value);
+    int at = engine().stepNo();
+    begin();
+    deriveTo(at);
+    printStatus();
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdTime(const Args& args) {
+    if (!args.empty()) return error("error: usage: :time");
+    auto t0 = Clock::now();
+    begin();
+    deriveTo(INT_MAX);
+    double deriveMs = msSince(t0);
+    t0 = Clock::now();
+    runtime::Geometry geometry;
+    engine().interpret(geometry);
+    double interpretMs = msSince(t0);
+    std::printf("derived %s in %.2f ms, interpreted in %.2f ms: %s\n", plural(engine().stepNo(), "step").c_str(),
+                deriveMs, interpretMs, plural(engine().moduleCount(), "module").c_str());
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdSave(const Args& args) {
+    if (args.size() != 1) return error("error: usage: :save FILE");
+    const std::string& path = args[0];
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
+    if (isFrameOutput(path)) {
+      if (auto e = frames_.write(path, engine(), session_->drawing())) return e;
+    } else if (ext == ".strb" || ext == ".bin") {
+      if (auto e = engine().writeBinary(path)) return e;
+    } else if (ext == ".str" || ext == ".txt") {
+      std::ofstream out(path, std::ios::binary);
+      out << engine().text(engine().string());
+      if (!out) return error(path + ": error: cannot write file");
+    } else {
+      return error("error: " + path +
+                   ": unknown kind of file (.str .strb, .png .jpg .bmp, .obj .ply .stl .gltf .glb .svg .ps .eps .pov)");
+    }
+    std::printf("wrote %s\n", path.c_str());
+    return llvm::Error::success();
+  }
+
+  // The model's production groups and their kinds (view groups are the interpretation's).
+  std::map<int, uint8_t> productionGroups() const {
+    std::map<int, uint8_t> groups{{0, __lc_NormalGroup}};
+    const __lc_Model& m = *session_->model();
+    for (uint32_t i = 0; i < m.nRules; ++i)
+      if (m.rules[i].groupKind != __lc_ViewGroup) groups[m.rules[i].group] = m.rules[i].groupKind;
+    return groups;
+  }
+
+  llvm::Error cmdGroup(const Args& args) {
+    std::map<int, uint8_t> groups = productionGroups();
+    std::string list;
+    for (auto [g, kind] : groups)
+      list += (list.empty() ? "" : ", ") + std::to_string(g) + (kind == __lc_GillespieGroup ? " (Gillespie)" : "");
+    if (args.empty()) {
+      std::printf("group %d; the model's groups: %s\n", engine().currentGroup(), list.c_str());
+      return llvm::Error::success();
+    }
+    auto g = args.size() == 1 ? parseInt(args[0]) : std::nullopt;
+    if (!g) return error("error: usage: :group [N]");
+    if (!groups.count((int)*g))
+      return error("error: the model has no production group " + args[0] + " (its groups: " + list + ")");
+    engine().useGroup((int)*g);
+    std::printf("group %ld from the next step\n", *g);
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdProductions(const Args& args) {
+    if (!args.empty()) return error("error: usage: :productions");
+    const __lc_Model& m = *session_->model();
+    const runtime::ModuleTable& table = engine().modules();
+    if (m.nRules == 0) std::printf("(no rules)\n");
+    for (uint32_t i = 0; i < m.nRules; ++i) {
+      const __lc_Rule& r = m.rules[i];
+      const char* kind = r.kind == __lc_Production      ? "production"
+                         : r.kind == __lc_Decomposition ? "decomposition"
+                                                        : "interpretation";
+      std::string group = (r.groupKind == __lc_ViewGroup       ? "vgroup "
+                           : r.groupKind == __lc_GillespieGroup ? "ggroup "
+                                                                : "group ") +
+                          std::to_string(r.group);
+      // The predecessor as written: new left << left < strict > right >> new right.
+      const __lc_ModuleId* id = r.pattern;
+      auto names = [&](int n) {
+        std::string out;
+        for (int k = 0; k < n; ++k) out += std::string(table.info(*id++).name) + " ";
+        return out;
+      };
+      std::string pattern;
+      if (r.nNewLeft) pattern += names(r.nNewLeft) + "<< ";
+      if (r.nLeft) pattern += names(r.nLeft) + "< ";
+      pattern += names(r.nStrict);
+      if (r.nRight) pattern += "> " + names(r.nRight);
+      if (r.nNewRight) pattern += ">> " + names(r.nNewRight);
+      if (!pattern.empty()) pattern.pop_back();
+      std::printf("line %-4d %-14s %-8s %s\n", r.line, kind, group.c_str(), pattern.c_str());
+    }
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdWatch(const Args& args) {
+    if (args.size() > 1 || (args.size() == 1 && args[0] != "on" && args[0] != "off"))
+      return error("error: usage: :watch [on|off]");
+    if (args.size() == 1) {
+      watching_ = args[0] == "on";
+      if (watching_) watchFiles();
+      else monitor_.clear();
+    }
+    if (watching_) std::printf("watching %s: a change reloads the model\n", plural(watched_, "file").c_str());
+    else std::printf("not watching files\n");
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdView(const Args& args) {
+    if (args.size() == 1 && args[0] == "close") {
+      if (!window_) return error("error: no window is open");
+      closeView();
+      std::printf("window closed\n");
+      return llvm::Error::success();
+    }
+    if (!args.empty()) return error("error: usage: :view [close]");
+    if (window_) {
+      std::printf("the window is open\n");
+      return llvm::Error::success();
+    }
+    viewer::WindowOptions w;
+    w.width = options_.width;
+    w.height = options_.height;
+    w.title = "lcjit repl: " + std::filesystem::path(loadedFiles_.lsystem).filename().string();
+    auto window = viewer::Window::create(w);
+    if (!window) return error("error: " + llvm::toString(window.takeError()));
+    window_ = std::move(*window);
+    waker_ = std::make_unique<InputWaker>();
+    refreshView();
+    std::printf("window open: it shows the string after every command (:view close closes it)\n");
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdHelp(const Args& args) {
+    if (args.size() > 1) return error("error: usage: :help [COMMAND]");
+    bool found = false;
+    for (const Command& c : commands()) {
+      if (!args.empty() && args[0] != c.name && ":" + args[0] != c.name) continue;
+      std::printf("%s%s%s\n      %s\n", c.name, *c.args ? " " : "", c.args, c.help);
+      found = true;
+    }
+    if (!found) return error("error: unknown command '" + args[0] + "'");
+    if (args.empty())
+      std::printf("Any other line is C++, compiled against the loaded model and run: an expression prints its value.\n");
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdQuit(const Args& args) {
+    if (!args.empty()) return error("error: usage: :quit");
+    quit_ = true;
+    return llvm::Error::success();
+  }
+
+  // ---- :watch
+
+  // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
+  // view file names.
+  std::vector<std::string> inputFiles() const {
+    std::vector<std::string> f{files_.lsystem};
+    for (const std::string* one : {&files_.view, &files_.colormap, &files_.materials, &files_.functionSet,
+                                   &files_.timeline, &files_.parameters})
+      if (!one->empty()) f.push_back(*one);
+    f.insert(f.end(), files_.functions.begin(), files_.functions.end());
+    f.insert(f.end(), files_.contours.begin(), files_.contours.end());
+    if (session_->loaded()) {
+      const runtime::DrawingFiles& d = session_->drawing();
+      f.insert(f.end(), d.textureFiles.begin(), d.textureFiles.end());
+      f.insert(f.end(), d.shapeFiles.begin(), d.shapeFiles.end());
+    }
+    return f;
+  }
+
+  void watchFiles() {
+    std::vector<std::string> files = inputFiles();
+    watched_ = files.size();
+    if (!monitor_.watch(files)) warn("lcjit: file monitoring: " + monitor_.error());
+  }
+
+  // A change runs the §1.3 table's action, as `-rmode cont` does in the window.
+  void pollWatch() {
+    if (!watching_) return;
+    std::vector<std::string> changed = monitor_.poll(0);
+    if (changed.empty()) return;
+    std::string names;
+    for (const std::string& c : changed) names += (names.empty() ? "" : ", ") + c;
+    reader_.interject([&] {
+      for (Action a : actionsForChanges(changed, RefreshMode::Continuous)) {
+        ReloadParts parts;
+        bool rerun = true;
+        switch (a) {
+          case Action::NewModel: parts = ReloadParts::all(); break;
+          case Action::NewLsystem: parts = ReloadParts::newLsystem(); break;
+          case Action::NewRun: parts = ReloadParts::newRun(); break;
+          case Action::NewView:
+          case Action::NewRendering: parts = ReloadParts::newView(), rerun = false; break;
+          default: continue;  // the REPL does not animate
+        }
+        std::printf("watch: %s changed: %s\n", names.c_str(), toString(a));
+        report(load(parts, rerun && session_->loaded() ? engine().stepNo() : -1, "reloaded"));
+      }
+    });
+  }
+
+  // ---- :view
+
+  void closeView() {
+    waker_.reset();  // before the window: it wakes the window's event loop
+    window_.reset();
+  }
+
+  void refreshView() {
+    const runtime::DrawingFiles& d = session_->drawing();
+    runtime::Geometry geometry;
+    engine().interpret(geometry);
+    const RenderLook& look = look_.of(d);
+    window_->setScene(geometry, d.view, look.palette, look.textures, viewer::Window::Framing::Refit);
+    viewDirty_ = false;
+  }
+
+  // Draws a frame of the window and sleeps until a window event or a key (at most 0.1 s).
+  void pumpView() {
+    if (!window_) return;
+    if (viewDirty_) refreshView();
+    viewer::MenuActions actions;
+    bool close = false;
+    actions.exit = [&] { close = true; };
+    actions.saveName = std::filesystem::path(loadedFiles_.lsystem).stem().string() + ".png";
+    actions.saveAs = [this](const std::string& path) {
+      reader_.interject([&] { report(frames_.write(path, engine(), session_->drawing())); });
+    };
+    if (!window_->frame(actions) || close) {
+      closeView();
+      reader_.interject([] { std::printf("window closed\n"); });
+      return;
+    }
+    window_->waitEvents(0.1);
+  }
+
+  std::unique_ptr<Session> session_;
+  ReplOptions options_;
+  repl::LineReader reader_;
+  FrameWriter frames_;
+  runtime::EngineHooks hooks_;
+  ModelFiles files_;             // of the last :load, what :reload and :watch read
+  ModelFiles loadedFiles_;       // of the model in memory
+  bool loadedCurrent_ = false;   // the model in memory came from files_ (no :load failed since)
+  std::string pendingCpp_;       // C++ lines read until their brackets close
+  bool quit_ = false, failed_ = false;
+  FileMonitor monitor_;
+  bool watching_ = false;
+  size_t watched_ = 0;
+  std::unique_ptr<viewer::Window> window_;
+  std::unique_ptr<InputWaker> waker_;
+  RenderLook look_;
+  bool viewDirty_ = false;  // the string or the model changed since the window last drew it
+};
+
+}  // namespace
+
+int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options) {
+  auto session = Session::create();
+  if (!session) {
+    std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
+    return 1;
+  }
+  Repl repl(std::move(*session), options);
+  return repl.run(inputs);
+}
+
+}  // namespace lcjit

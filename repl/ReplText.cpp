@@ -1,0 +1,149 @@
+// The REPL's text handling (see ReplText.h).
+#include "ReplText.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <system_error>
+
+namespace lcjit::repl {
+namespace {
+
+std::vector<std::string> withPrefix(const std::vector<std::string>& words, std::string_view prefix) {
+  std::vector<std::string> out;
+  for (const std::string& w : words)
+    if (w.compare(0, prefix.size(), prefix) == 0) out.push_back(w);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// The words before the one being completed, split on blanks only (quotes do not matter here).
+std::vector<std::string> wordsBefore(std::string_view text) {
+  std::vector<std::string> words;
+  size_t i = 0;
+  while (i < text.size()) {
+    while (i < text.size() && std::isspace((unsigned char)text[i])) ++i;
+    size_t b = i;
+    while (i < text.size() && !std::isspace((unsigned char)text[i])) ++i;
+    if (i > b) words.emplace_back(text.substr(b, i - b));
+  }
+  return words;
+}
+
+}  // namespace
+
+llvm::Expected<std::vector<std::string>> splitWords(std::string_view line) {
+  std::vector<std::string> words;
+  size_t i = 0;
+  while (i < line.size()) {
+    if (std::isspace((unsigned char)line[i])) {
+      ++i;
+      continue;
+    }
+    std::string w;
+    while (i < line.size() && !std::isspace((unsigned char)line[i])) {
+      if (line[i] != '"') {
+        w += line[i++];
+        continue;
+      }
+      size_t close = line.find('"', i + 1);
+      if (close == std::string_view::npos)
+        return llvm::createStringError(llvm::inconvertibleErrorCode(), "error: missing closing quote");
+      w.append(line.substr(i + 1, close - i - 1));
+      i = close + 1;
+    }
+    words.push_back(std::move(w));
+  }
+  return words;
+}
+
+bool isCompleteCpp(std::string_view text) {
+  int depth = 0;
+  enum { Code, LineComment, BlockComment, String, Char } state = Code;
+  for (size_t i = 0; i < text.size(); ++i) {
+    char c = text[i], next = i + 1 < text.size() ? text[i + 1] : '\0';
+    switch (state) {
+      case Code:
+        if (c == '/' && next == '/') state = LineComment, ++i;
+        else if (c == '/' && next == '*') state = BlockComment, ++i;
+        else if (c == '"') state = String;
+        else if (c == '\'') state = Char;
+        else if (c == '(' || c == '[' || c == '{') ++depth;
+        else if (c == ')' || c == ']' || c == '}') --depth;
+        break;
+      case LineComment:
+        if (c == '\n') state = Code;
+        break;
+      case BlockComment:
+        if (c == '*' && next == '/') state = Code, ++i;
+        break;
+      case String:
+      case Char:
+        if (c == '\\') ++i;
+        else if (c == (state == String ? '"' : '\'') || c == '\n') state = Code;  // no literal spans lines
+        break;
+    }
+  }
+  size_t end = text.find_last_not_of(" \t\r\n");
+  bool continued = end != std::string_view::npos && text[end] == '\\' && state != LineComment;
+  return depth <= 0 && state != BlockComment && !continued;
+}
+
+std::vector<std::string> completeFileName(std::string_view prefix) {
+  namespace fs = std::filesystem;
+  size_t slash = prefix.rfind('/');
+  std::string dir = slash == std::string_view::npos ? "" : std::string(prefix.substr(0, slash + 1));
+  std::string_view base = slash == std::string_view::npos ? prefix : prefix.substr(slash + 1);
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? "." : dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (name.compare(0, base.size(), base) != 0) continue;
+    if (name[0] == '.' && (base.empty() || base[0] != '.')) continue;
+    std::error_code dirEc;
+    out.push_back(dir + name + (it->is_directory(dirEc) ? "/" : ""));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Completion complete(std::string_view line, size_t cursor, const CompletionSources& sources) {
+  cursor = std::min(cursor, line.size());
+  Completion c;
+  size_t breakAt = line.substr(0, cursor).find_last_of(kWordBreaks);
+  c.start = breakAt == std::string_view::npos ? 0 : breakAt + 1;
+  std::string_view word = line.substr(c.start, cursor - c.start);
+  std::vector<std::string> before = wordsBefore(line.substr(0, c.start));
+
+  size_t first = line.find_first_not_of(" \t");
+  bool command = first != std::string_view::npos && first < cursor && line[first] == ':';
+  if (!command) {
+    c.candidates = withPrefix(sources.modules, word);
+    return c;
+  }
+  if (before.empty()) {
+    c.candidates = withPrefix(sources.commands, word);
+    return c;
+  }
+  const std::string& name = before[0];
+  if (name == ":load" || name == ":save") {
+    c.candidates = completeFileName(word);
+  } else if (name == ":string") {
+    // Module names follow --module up to the next option.
+    auto option = std::find_if(before.rbegin(), before.rend(), [](const std::string& w) { return w.rfind("--", 0) == 0; });
+    if (!word.empty() && word[0] == '-') c.candidates = withPrefix({"--count", "--from", "--module"}, word);
+    else if (option != before.rend() && *option == "--module") c.candidates = withPrefix(sources.modules, word);
+  } else if (name == ":set" && before.size() == 1) {
+    c.candidates = withPrefix(sources.parameters, word);
+  } else if (name == ":watch" && before.size() == 1) {
+    c.candidates = withPrefix({"off", "on"}, word);
+  } else if (name == ":view" && before.size() == 1) {
+    c.candidates = withPrefix({"close"}, word);
+  } else if (name == ":help" && before.size() == 1) {
+    c.candidates = withPrefix(sources.commands, word);
+  }
+  return c;
+}
+
+}  // namespace lcjit::repl
