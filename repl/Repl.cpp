@@ -34,6 +34,7 @@
 #include "Frame.h"
 #include "Functions.h"
 #include "LineReader.h"
+#include "PlainErrors.h"
 #include "ReplText.h"
 #include "Session.h"
 #include "Window.h"
@@ -141,6 +142,10 @@ class Repl {
         files_ = *files;
         report(load(ReloadParts::all(), 0, "loaded"));
       }
+    }
+    if (options_.lab) {  // the model on screen, and every save of its files reloads it
+      report(cmdWatch({"on"}));
+      if (session_->loaded()) report(cmdView({}));
     }
     while (!quit_) {
       std::fflush(stdout);  // all of it shows before the wait: a script may wait for it
@@ -262,7 +267,9 @@ class Repl {
   void report(llvm::Error e) {
     if (!e) return;
     std::fflush(stdout);  // in order with what was printed before, also when both go to one file
-    std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+    std::string text = llvm::toString(std::move(e));
+    if (options_.lab) text = inPlainLanguage(withSourceLines(text));
+    std::fprintf(stderr, "%s\n", text.c_str());
     std::fflush(stderr);
     failed_ = true;
   }
@@ -634,25 +641,9 @@ class Repl {
 
   // ---- :watch
 
-  // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
-  // view file names.
-  std::vector<std::string> inputFiles() const {
-    std::vector<std::string> f{files_.lsystem};
-    for (const std::string* one : {&files_.view, &files_.colormap, &files_.materials, &files_.functionSet,
-                                   &files_.timeline, &files_.parameters})
-      if (!one->empty()) f.push_back(*one);
-    f.insert(f.end(), files_.functions.begin(), files_.functions.end());
-    f.insert(f.end(), files_.contours.begin(), files_.contours.end());
-    if (session_->loaded()) {
-      const runtime::DrawingFiles& d = session_->drawing();
-      f.insert(f.end(), d.textureFiles.begin(), d.textureFiles.end());
-      f.insert(f.end(), d.shapeFiles.begin(), d.shapeFiles.end());
-    }
-    return f;
-  }
-
   void watchFiles() {
-    std::vector<std::string> files = inputFiles();
+    const runtime::DrawingFiles none;
+    std::vector<std::string> files = watchedFiles(files_, session_->loaded() ? session_->drawing() : none);
     watched_ = files.size();
     if (!monitor_.watch(files)) warn("lcjit: file monitoring: " + monitor_.error());
   }
@@ -739,7 +730,8 @@ class Repl {
 }  // namespace
 
 int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options) {
-  auto session = Session::create();
+  if (options.lab) setenv("XDG_STATE_HOME", options.labFolder.c_str(), 1);  // the history: see LineReader
+  auto session = Session::create(options.lab ? options.labFolder + "/.lcjit-cache" : "");
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;

@@ -11,6 +11,10 @@ namespace lcjit {
 struct ReplOptions {
   int optLevel = 1;
   int width = 800, height = 800;  // pictures written by :save, and the :view window
+  // --lab (a classroom): the window and the watcher start with the model, compile errors come in
+  // plain language first, and the caches and the history live in `labFolder` (the model's).
+  bool lab = false;
+  std::string labFolder;
 };
 
 // Runs until :quit or the end of the input, having loaded `inputs` (lpfg's input files, a .l

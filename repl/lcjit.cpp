@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
   app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
   app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--lab", lab,
-               "classroom mode: the window with file monitoring on; nothing written outside the model's folder "
-               "(caches in .lcjit-cache there); compile errors in plain language first");
+               "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
+               "model's folder (caches in .lcjit-cache there); compile errors in plain language first");
   app.add_flag("--watch", watch,
                "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
@@ -125,6 +125,14 @@ int main(int argc, char** argv) {
       cacheDir = (std::filesystem::path(model).parent_path() / ".lcjit-cache").string();
     }
     if (rmode.empty()) rmode = "cont";
+    if (!batch && haveDisplay && !model.empty()) {  // the window, the watcher and the REPL
+      lcjit::ReplOptions lab;
+      lab.lab = true;
+      lab.labFolder = std::filesystem::path(model).parent_path().string();
+      if (winSize.size() == 2) lab.width = (int)winSize[0], lab.height = (int)winSize[1];
+      if (app.count("-O")) lab.optLevel = optLevel;
+      return lcjit::runRepl(inputs, lab);
+    }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
       if (out.empty() && !model.empty()) out = std::filesystem::path(model).stem().string() + ".png";

@@ -10,7 +10,7 @@ file(GLOB LCJIT_REPL_SCRIPTS CONFIGURE_DEPENDS ${LCJIT_REPL_DIR}/*.in ${LCJIT_RE
 foreach(script ${LCJIT_REPL_SCRIPTS})
   get_filename_component(name ${script} NAME_WE)
   set(command ${CMAKE_CURRENT_LIST_DIR}/../run_repl.sh $<TARGET_FILE:lcjit> ${LCJIT_REPL_DIR} ${name})
-  if(name STREQUAL "view")
+  if(name STREQUAL "view" OR name STREQUAL "lab")
     # The window needs an X server.
     set(command xvfb-run -a -s "-screen 0 1024x768x24" ${command})
   endif()
