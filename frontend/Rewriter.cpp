@@ -85,6 +85,7 @@ class Emitter {
     col_ = 1;
   }
   std::string take() { return std::move(out_); }
+  size_t size() const { return out_.size(); }
 
  private:
   void newline() {
@@ -157,11 +158,14 @@ class Rewriter {
     while (!at(Token::End)) topLevelItem();
     if (!haveAxiom_) throw RewriteError{cur(), "the model has no 'axiom:' statement"};
     if (!haveDerivationLength_) throw RewriteError{cur(), "the model has no 'derivation length:' statement"};
+    size_t tablesAt = out_.size();
     emitTables();
     Rewritten r;
     r.cpp = out_.take();
     r.userModules = userModules_;
     r.ruleCount = (int)rules_.size();
+    r.ruleSpans = ruleSpans_;
+    r.tablesAt = tablesAt;
     return r;
   }
 
@@ -493,6 +497,7 @@ class Rewriter {
     r.line = first.line;
     std::string fn = "__lc_rule_" + std::to_string(rules_.size());
     r.body = fn;
+    size_t begin = out_.size();
     out_.glueAt(first, "static void " + fn + "(__lc_Ctx* __lc_ctx, const char* const* __lc_m) {");
     int k = 0;
     for (int p = 0; p < 5; ++p) {
@@ -515,6 +520,7 @@ class Rewriter {
     ruleGroupKind_ = groupKind_;
     block(/*rule=*/true);
     out_.glue("}");
+    ruleSpans_.emplace_back(begin, out_.size());
     if (atText(";")) next();
     rules_.push_back(std::move(r));
   }
@@ -727,6 +733,7 @@ class Rewriter {
   int filter_ = -1;
   std::vector<FilterEntry> filters_;
   std::vector<RuleEntry> rules_;
+  std::vector<std::pair<size_t, size_t>> ruleSpans_;  // rules_[i]'s function in the output
   std::set<std::string> controls_;
   bool haveAxiom_ = false, haveDerivationLength_ = false, haveRing_ = false, haveDecompDepth_ = false,
        haveInterpDepth_ = false;

@@ -20,6 +20,11 @@ struct Rewritten {
   std::string cpp;
   std::vector<ModuleDecl> userModules;  // in declaration order, ids from 103
   int ruleCount = 0;
+  // Where each rule's function (`static void __lc_rule_N(...) {...}`, N = index) is in `cpp`, as
+  // [begin, end) offsets, and where the generated tables start: what an incremental recompile
+  // compares and replaces.
+  std::vector<std::pair<size_t, size_t>> ruleSpans;
+  size_t tablesAt = 0;
 };
 
 // `preprocessed` is preprocessor output with GNU line markers; `mainFile` is the .l path.

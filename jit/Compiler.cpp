@@ -60,6 +60,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -196,7 +197,9 @@ std::string demangleMentions(const std::string& msg) {
 std::vector<std::string> exportState(llvm::Module& m) {
   std::vector<std::string> state;
   for (llvm::GlobalVariable& gv : m.globals()) {
-    if (gv.isDeclaration() || gv.isConstant() || !gv.hasName() || gv.getName().starts_with("llvm."))
+    // thread_local ones stay each version's own: ORC reaches them through emulated TLS.
+    if (gv.isDeclaration() || gv.isConstant() || gv.isThreadLocal() || !gv.hasName() ||
+        gv.getName().starts_with("llvm."))
       continue;
     if (gv.hasLocalLinkage()) {
       gv.setLinkage(llvm::GlobalValue::ExternalLinkage);
@@ -208,6 +211,13 @@ std::vector<std::string> exportState(llvm::Module& m) {
     }
     state.push_back(gv.getName().str());
   }
+  // The productions' functions too (static in the generated C++): an incremental recompile
+  // declares the unchanged ones and links against these.
+  for (llvm::Function& f : m.functions())
+    if (!f.isDeclaration() && f.hasLocalLinkage() && f.getName().contains("__lc_rule_")) {
+      f.setLinkage(llvm::GlobalValue::ExternalLinkage);
+      f.setVisibility(llvm::GlobalValue::DefaultVisibility);
+    }
   return state;
 }
 
@@ -419,6 +429,23 @@ std::string defaultCacheDir() {
 
 } // namespace
 
+// Runs the destructors this JITDylib's own code registered (its atexit list), and only those:
+// LLJIT::deinitialize would also run those of every JITDylib in its link order, which for a
+// version sharing another's globals destroys them while the other still runs.
+llvm::Error runOwnAtExits(orc::LLJIT& J, orc::JITDylib& JD) {
+  auto& ES = J.getExecutionSession();
+  auto run = ES.lookup(orc::makeJITDylibSearchOrder(&JD, orc::JITDylibLookupFlags::MatchAllSymbols),
+                       J.mangleAndIntern("__lljit_run_atexits"));
+  if (!run)
+    return run.takeError();
+  return callCatching(
+      [&] {
+        run->getAddress().toPtr<void (*)()>()();
+        return llvm::Error::success();
+      },
+      "static destructor");
+}
+
 namespace detail {
 // Instruction selection at one level, with one TargetMachine kept for it (creating one costs
 // about a millisecond; one is not reentrant, hence the lock).
@@ -478,12 +505,15 @@ struct Dylib {
   std::string name;
   std::vector<std::string> stateNames;              // the mutable globals this version defines
   std::vector<std::shared_ptr<Dylib>> stateOwners;  // the versions whose globals this one uses
+  std::vector<std::shared_ptr<Dylib>> linked;       // the versions whose functions it calls
+  // Each owned global's address and its bytes as loaded, before the constructors ran.
+  std::vector<std::pair<void*, std::string>> initialState;
 
   ~Dylib() {
     std::lock_guard<std::mutex> lock(state->mutex);
     auto& J = *state->jit;
     // Static destructors / atexit handlers of this version only, then free its memory.
-    if (llvm::Error err = callCatching([&] { return J.deinitialize(*jd); }, "static destructor"))
+    if (llvm::Error err = runOwnAtExits(J, *jd))
       llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name + ": ");
     if (auto err = J.getExecutionSession().removeJITDylib(*jd))
       llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name + ": ");
@@ -498,14 +528,15 @@ struct CachedObject {
   std::string object;
   std::string anchor;                   // a defined symbol: looking it up links the whole object
   std::vector<std::string> stateNames;  // see exportState
+  std::vector<uint64_t> stateSizes;     // their sizes in bytes
 };
 
-// Cache files: "lcjit-object 1\n", the anchor line, a count line, the state names one per line,
+// Cache files: "lcjit-object 2\n", the anchor line, a count line, "SIZE NAME" per state global,
 // then the object bytes.
 std::string serialize(const CachedObject& c) {
-  std::string out = "lcjit-object 1\n" + c.anchor + "\n" + std::to_string(c.stateNames.size()) + "\n";
-  for (const auto& n : c.stateNames)
-    out += n + "\n";
+  std::string out = "lcjit-object 2\n" + c.anchor + "\n" + std::to_string(c.stateNames.size()) + "\n";
+  for (size_t i = 0; i < c.stateNames.size(); ++i)
+    out += std::to_string(c.stateSizes[i]) + " " + c.stateNames[i] + "\n";
   return out + c.object;
 }
 
@@ -521,14 +552,19 @@ std::optional<CachedObject> deserialize(llvm::StringRef text) {
   };
   auto magic = line(), anchor = line(), count = line();
   size_t n = 0;
-  if (!magic || *magic != "lcjit-object 1" || !anchor || !count || count->getAsInteger(10, n))
+  if (!magic || *magic != "lcjit-object 2" || !anchor || !count || count->getAsInteger(10, n))
     return std::nullopt;
   c.anchor = anchor->str();
   for (size_t i = 0; i < n; ++i) {
-    auto name = line();
-    if (!name)
+    auto entry = line();
+    uint64_t size = 0;
+    if (!entry)
       return std::nullopt;
-    c.stateNames.push_back(name->str());
+    auto [number, name] = entry->split(' ');
+    if (number.getAsInteger(10, size) || name.empty())
+      return std::nullopt;
+    c.stateSizes.push_back(size);
+    c.stateNames.push_back(name.str());
   }
   c.object = text.str();
   return c;
@@ -921,12 +957,14 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     return makeError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(level));
   std::string bufferName = options.bufferName.empty() ? std::string("model.cpp") : options.bufferName;
   LevelSetup& L = impl_->levels[level];
-  std::vector<std::shared_ptr<detail::Dylib>> stateOwners;
+  std::vector<std::shared_ptr<detail::Dylib>> stateOwners, linked;
   std::set<std::string> shared;
   for (const ModelCode* code : options.shareStateWith) {
     stateOwners.push_back(code->dylib_);
     shared.insert(code->dylib_->stateNames.begin(), code->dylib_->stateNames.end());
   }
+  for (const ModelCode* code : options.linkAgainst)
+    linked.push_back(code->dylib_);
 
   // The object cache's key: everything the object depends on. The PCH's name hashes the
   // compiler, the cc1 line and the runtime header tree; quoted includes are already expanded
@@ -998,8 +1036,11 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     auto t1 = Clock::now();
     CachedObject fresh;
     for (std::string& name : exportState(*module))
-      if (!shared.count(name))
+      if (!shared.count(name)) {
+        const llvm::GlobalVariable* gv = module->getGlobalVariable(name, true);
+        fresh.stateSizes.push_back(module->getDataLayout().getTypeAllocSize(gv->getValueType()));
         fresh.stateNames.push_back(std::move(name));
+      }
     if (!shared.empty())
       useSharedState(*module, shared);
     gatherInitializers(*module);
@@ -1052,6 +1093,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   orc::JITDylibSearchOrder order;
   // The shared state first; host symbols before the process's so explicit definitions win
   // over same-named process symbols.
+  for (const auto& code : linked)
+    order.push_back({code->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   for (const auto& owner : stateOwners)
     order.push_back({owner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   order.push_back({state.hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
@@ -1073,7 +1116,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       msg = "error: " + what.str() + ": " + msg;
     if (initAttempted) {
       // Destroy what the initializers managed to construct (registered atexit handlers).
-      llvm::consumeError(callCatching([&] { return J.deinitialize(JD); }, "static destructor"));
+      llvm::consumeError(runOwnAtExits(J, JD));
     }
     state.failedDylibs.push_back(&JD);
     if (auto e = ES.removeJITDylib(JD))
@@ -1094,6 +1137,20 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (!sym)
       return fail(sym.takeError(), "JIT link failed");
   }
+  // The owned globals' bytes before any constructor ran: what resetState() puts back.
+  std::vector<std::pair<void*, std::string>> initialState;
+  if (!object->stateNames.empty()) {
+    orc::SymbolLookupSet names;
+    for (const std::string& n : object->stateNames)
+      names.add(J.mangleAndIntern(n));
+    auto found = ES.lookup(orc::makeJITDylibSearchOrder(&JD, orc::JITDylibLookupFlags::MatchAllSymbols), names);
+    if (!found)
+      return fail(found.takeError(), "JIT link failed");
+    for (size_t i = 0; i < object->stateNames.size(); ++i) {
+      char* at = (*found)[J.mangleAndIntern(object->stateNames[i])].getAddress().toPtr<char*>();
+      initialState.emplace_back(at, std::string(at, object->stateSizes[i]));
+    }
+  }
   // Static constructors of the model. One that throws must not escape with the JITDylib half
   // set up (no ORC locks are held while initializers run, so catching here is safe).
   initAttempted = true;
@@ -1113,6 +1170,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   dylib->name = std::move(name);
   dylib->stateNames = object->stateNames;
   dylib->stateOwners = std::move(stateOwners);
+  dylib->linked = std::move(linked);
+  dylib->initialState = std::move(initialState);
   lock.unlock();  // ~Dylib takes it
   return std::unique_ptr<ModelCode>(new ModelCode(std::move(dylib)));
 }
@@ -1120,6 +1179,30 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
 ModelCode::ModelCode(std::shared_ptr<detail::Dylib> dylib) : dylib_(std::move(dylib)) {}
 ModelCode::~ModelCode() = default;
 const std::string& ModelCode::name() const { return dylib_->name; }
+
+llvm::Error ModelCode::resetState() {
+  detail::Dylib& d = *dylib_;
+  auto& state = *d.state;
+  std::lock_guard<std::mutex> lock(state.mutex);
+  auto& J = *state.jit;
+  if (auto err = runOwnAtExits(J, *d.jd))
+    return err;
+  for (auto& [at, bytes] : d.initialState)
+    std::memcpy(at, bytes.data(), bytes.size());
+  // Its initializers again (ORC runs them once per JITDylib; this is the same function).
+  auto init = state.jit->lookup(*d.jd, "__orc_init_func.lcjit");
+  if (!init) {
+    llvm::consumeError(init.takeError());  // no constructors
+    state.takeSessionErrors();
+    return llvm::Error::success();
+  }
+  return callCatching(
+      [&] {
+        init->toPtr<void (*)()>()();
+        return llvm::Error::success();
+      },
+      "static initializer");
+}
 
 llvm::Expected<void*> ModelCode::lookup(llvm::StringRef cName) {
   auto& state = *dylib_->state;

@@ -42,6 +42,9 @@ struct CompileOptions {
   // the running simulation's state, and C++ typed at the REPL sees the model's. Globals none of
   // them defines are this compile's own. The other code stays loaded while this one lives.
   std::vector<const ModelCode*> shareStateWith;
+  // Loaded code whose functions this compile may call without defining them (an incremental
+  // recompile declares the productions it did not change; their code is there), newest first.
+  std::vector<const ModelCode*> linkAgainst;
   // Reuse the object code of an identical earlier compile (same source, options, compiler and
   // runtime header), from memory or from the disk cache, instead of compiling again.
   bool useObjectCache = true;
@@ -76,6 +79,12 @@ public:
 
   // Unique name of the JITDylib holding this version (for logs).
   const std::string& name() const;
+
+  // Puts the globals this version owns back as they were when it was loaded: runs their
+  // destructors, restores their initial bytes, runs their constructors again. Code that shares
+  // them (later tiers, incremental recompiles) then starts from a fresh model, as a new load
+  // would. The caller makes sure no model code runs meanwhile.
+  llvm::Error resetState();
 
 private:
   friend class Compiler;

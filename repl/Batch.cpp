@@ -192,6 +192,10 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     std::string compiled = !parts->lsystem     ? "re-read"
                            : times.objectCached ? fmtMs("-O%d code from the cache in %.1f ms", session.optLevel(), times.compileMs)
                                                 : fmtMs("compiled -O%d in %.1f ms", session.optLevel(), times.compileMs) +
+                                                      (times.productionsCompiled < 0
+                                                           ? std::string()
+                                                           : fmtMs(" (only the %d changed production%s)", times.productionsCompiled,
+                                                                   times.productionsCompiled == 1 ? "" : "s")) +
                                                       fmtMs(" (frontend %.1f, optimize %.1f", times.frontendMs, times.optimizeMs) +
                                                       fmtMs(", codegen %.1f)", times.codegenMs);
     std::fprintf(stderr, "lcjit: reload %d (%s): %s, derived %d steps in %.1f ms%s%s; %.1f ms in all\n", reload,

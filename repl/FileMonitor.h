@@ -108,7 +108,7 @@ class FileMonitor {
     bool saved = false;  // the last event finished a save (closed after writing, renamed into place)
   };
   // A finished save still waits this long, for the events of the same save that follow it.
-  static constexpr std::chrono::milliseconds kSavedQuiet{3};
+  static constexpr std::chrono::milliseconds kSavedQuiet{1};
   int fd_ = -1;
   std::chrono::milliseconds quiet_, maxDelay_;
   std::vector<std::string> paths_;                // as given

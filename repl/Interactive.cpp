@@ -202,7 +202,7 @@ class InteractiveModel {
       return;
     }
     bool recompiled = p.model->what.lsystem;
-    session_.install(std::move(*p.model));
+    if (auto e = session_.install(std::move(*p.model))) report(std::move(e));  // the model's constructors threw
     window_.setMessage("");
     if (options_.verbose && recompiled)
       std::fprintf(stderr, "lcjit: reloaded %s in %.1f ms: preprocessed in %.1f ms, rewritten in %.1f ms, %s in %.1f ms\n",

@@ -280,7 +280,29 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
   jit::CompileStats stats;
-  auto code = compiler_->compile(cpp->cpp, co, &stats);
+  splitRules(*cpp, p.rules, p.rest);
+  llvm::Expected<std::unique_ptr<jit::ModelCode>> code = nullptr;
+  if (std::optional<std::string> unit = incrementalUnit(*cpp, p)) {
+    jit::CompileOptions uo = co;
+    {
+      std::lock_guard<std::mutex> lock(cppMutex_);
+      uo.shareStateWith = {stateOwners_[0].get()};
+      p.ruleCode = ruleCode_;
+    }
+    for (const auto& c : p.ruleCode) uo.linkAgainst.push_back(c.get());
+    code = compiler_->compile(*unit, uo, &stats);
+    if (code) {
+      p.incremental = true;
+    } else {
+      // A compile error is the user's, and a full compile would say the same; anything else
+      // (the old code not there to link with) is lcjit's problem: compile it all instead.
+      std::string message = llvm::toString(code.takeError());
+      if (message.find("JIT link failed") == std::string::npos) return error(message);
+      p.changedRules = 0;
+      p.ruleCode.clear();
+    }
+  }
+  if (!p.incremental) code = compiler_->compile(cpp->cpp, co, &stats);
   if (!code) return code.takeError();
   auto entry = (*code)->lookup(frontend::kModelEntry);
   if (!entry) return entry.takeError();
@@ -289,6 +311,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   times.compileMs = msSince(t0);
   times.pchCached = stats.pchCached;
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
+  times.productionsCompiled = p.incremental ? p.changedRules : -1;
   times.frontendMs = stats.frontendMs;
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
@@ -299,16 +322,28 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   return p;
 }
 
-void Session::install(PreparedModel p) {
+llvm::Error Session::install(PreparedModel p) {
+  llvm::Error reset = llvm::Error::success();
   if (p.what.lsystem) {
     engine_.reset();  // it refers to the old model's tables
+    std::lock_guard<std::mutex> lock(cppMutex_);
     code_ = std::move(p.code);
     model_ = p.model;
     optLevel_ = p.optLevel;
     ++generation_;
     runningCpp_ = std::move(p.cpp);
     bufferName_ = std::move(p.bufferName);
-    stateOwners_ = {code_};
+    runningRules_ = std::move(p.rules);
+    runningRest_ = std::move(p.rest);
+    if (p.incremental) {
+      // The globals are the first build's, used by all the productions' code: as after a load.
+      ruleCode_ = std::move(p.ruleCode);
+      ruleCode_.insert(ruleCode_.begin(), code_);
+      reset = stateOwners_[0]->resetState();
+    } else {
+      stateOwners_ = {code_};
+      ruleCode_ = {code_};
+    }
     preprocess_ = std::move(p.preprocess);
     lsystem_ = std::move(p.lsystem);
     replDeclarations_.clear();  // a reload replaces them
@@ -321,13 +356,88 @@ void Session::install(PreparedModel p) {
   warnings_ = std::move(p.warnings);
   engine_->setTurtleSetup(drawing_->turtleSetup());
   engine_->setCurves(&drawing_->contours);
+  return reset;
 }
 
 llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what) {
   auto p = prepare(files, optLevel, times, what);
   if (!p) return p.takeError();
-  install(std::move(*p));
-  return llvm::Error::success();
+  return install(std::move(*p));
+}
+
+namespace {
+// C++ as an incremental recompile compares it: without #line directives and with every run of
+// white space one space (a production that grew by a line moves the ones after it).
+std::string normalized(std::string_view text) {
+  std::string out;
+  bool space = false, lineStart = true;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (lineStart && text.substr(i, 5) == "#line") {
+      i = std::min(text.find('\n', i), text.size()) - 1;
+      continue;
+    }
+    char c = text[i];
+    lineStart = c == '\n';
+    if (std::isspace((unsigned char)c)) {
+      space = true;
+      continue;
+    }
+    if (space && !out.empty()) out += ' ';
+    space = false;
+    out += c;
+  }
+  return out;
+}
+}  // namespace
+
+void Session::splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest) {
+  std::string_view all(cpp.cpp);
+  size_t at = 0;
+  std::string outside;
+  for (auto [begin, end] : cpp.ruleSpans) {
+    outside += all.substr(at, begin - at);
+    outside += '\n';
+    rules.push_back(normalized(all.substr(begin, end - begin)));
+    at = end;
+  }
+  outside += all.substr(at, cpp.tablesAt - at);  // the tables are always compiled anew
+  rest = normalized(outside);
+}
+
+// The C++ to compile when only some productions changed: the model's C++ with the unchanged
+// productions' functions reduced to declarations (their #line directives and line breaks kept,
+// so that diagnostics in the changed ones point where they should). Nothing when a full compile
+// is due: the first load, another text outside the productions, other productions, REPL
+// declarations in the running code, or more than half of the productions changed.
+std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p) {
+  std::lock_guard<std::mutex> lock(cppMutex_);
+  if (!engine_ || !replDeclarations_.empty() || ruleCode_.empty() || p.rest != runningRest_ ||
+      p.rules.size() != runningRules_.size())
+    return std::nullopt;
+  std::vector<bool> changed(p.rules.size());
+  for (size_t i = 0; i < p.rules.size(); ++i) changed[i] = p.rules[i] != runningRules_[i];
+  p.changedRules = (int)std::count(changed.begin(), changed.end(), true);
+  if (p.changedRules == 0 || p.changedRules * 2 > (int)p.rules.size()) return std::nullopt;
+  std::string unit;
+  size_t at = 0;
+  for (size_t i = 0; i < cpp.ruleSpans.size(); ++i) {
+    auto [begin, end] = cpp.ruleSpans[i];
+    if (changed[i]) continue;
+    unit.append(cpp.cpp, at, begin - at);
+    std::string declaration = "static void __lc_rule_" + std::to_string(i) + "(__lc_Ctx*, const char* const*);";
+    std::string_view body(cpp.cpp.data() + begin, end - begin);
+    for (size_t line = 0; line < body.size();) {
+      size_t next = std::min(body.find('\n', line), body.size());
+      std::string_view text = body.substr(line, next - line);
+      if (text.substr(0, 5) == "#line") unit += text;
+      else if (!declaration.empty() && !text.empty()) unit += std::exchange(declaration, std::string());
+      if (next < body.size()) unit += '\n';
+      line = next + 1;
+    }
+    at = end;
+  }
+  unit.append(cpp.cpp, at, std::string::npos);
+  return unit;
 }
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
@@ -366,6 +476,8 @@ bool Session::installTier(BetterTier tier) {
   model_ = model;
   code_ = std::move(tier.code);  // the previous version stays loaded: it holds the state
   optLevel_ = tier.optLevel;
+  std::lock_guard<std::mutex> lock(cppMutex_);
+  ruleCode_ = {code_};  // all the productions are in it
   return true;
 }
 

@@ -6,10 +6,12 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "frontend/Preprocess.h"
+#include "frontend/Rewriter.h"
 #include "llvm/Support/Error.h"
 
 struct __lc_Model;
@@ -31,6 +33,7 @@ struct PhaseTimes {
   double frontendMs = 0, optimizeMs = 0, codegenMs = 0;  // the parts of compileMs
   bool pchCached = false;
   bool objectCached = false;  // the model's object code came from the cache: nothing compiled
+  int productionsCompiled = -1;  // an incremental recompile compiled this many; -1: all of them
 };
 
 // A better-optimised build of the loaded model (Session::betterTierJob).
@@ -90,6 +93,15 @@ struct PreparedModel {
   std::string cpp, bufferName;
   std::string lsystem;                     // the .l file
   frontend::PreprocessOptions preprocess;  // what it was preprocessed with
+  // The model's productions, and the rest of its C++, as an incremental recompile compares them
+  // (see Session::prepare).
+  std::vector<std::string> rules;
+  std::string rest;
+  // Only the productions whose code changed were compiled (`changedRules` of them): the others
+  // are the running code's, and the running model's globals are reset when it is installed.
+  bool incremental = false;
+  int changedRules = 0;
+  std::vector<std::shared_ptr<jit::ModelCode>> ruleCode;  // where the unchanged ones are, newest first
   PreparedModel();
   PreparedModel(PreparedModel&&);
   PreparedModel& operator=(PreparedModel&&);
@@ -110,10 +122,14 @@ class Session {
   // load() in two halves, for a hot swap: prepare() reads the files and compiles, on any
   // thread, while the running model goes on deriving and drawing (it only reads the running
   // model's files and settings); install() replaces the running model with the result, on the
-  // thread that owns the engine, when the engine is idle. One prepare() at a time.
+  // thread that owns the engine, when the engine is idle.
+  // A recompile whose C++ differs from the running model's only inside some productions' bodies
+  // compiles just those (the rest of the model still parsed, as their context) and links them
+  // with the running code's other productions; install() then resets the model's globals, so
+  // that the run starts as fresh as after a full load.
   llvm::Expected<PreparedModel> prepare(const ModelFiles& files, int optLevel, PhaseTimes& times,
                                         ReloadParts what = ReloadParts::all());
-  void install(PreparedModel prepared);
+  llvm::Error install(PreparedModel prepared);
   bool loaded() const { return engine_ != nullptr; }
   runtime::Engine& engine() { return *engine_; }
   // Optimisation level of the code running now.
@@ -144,6 +160,8 @@ class Session {
 
  private:
   Session() = default;
+  static void splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest);
+  std::optional<std::string> incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p);
   std::unique_ptr<jit::Compiler> compiler_;
   std::unique_ptr<runtime::FunctionStore> functions_;
   std::shared_ptr<jit::ModelCode> code_;  // shared with a tier job compiling against it
@@ -162,6 +180,11 @@ class Session {
   mutable std::mutex cppMutex_;
   std::string cpp_;                       // the last C++ generated, compiled or not (prepare's thread)
   std::string runningCpp_, bufferName_;   // what the running code was compiled from
+  // The running model's productions and the rest of its C++ (PreparedModel::rules/rest), and
+  // the loaded code that has its productions, newest first (for incremental recompiles).
+  std::vector<std::string> runningRules_;
+  std::string runningRest_;
+  std::vector<std::shared_ptr<jit::ModelCode>> ruleCode_;
   std::vector<std::string> warnings_;
 };
 
