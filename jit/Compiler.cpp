@@ -727,6 +727,9 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // ORC's lookup error only says which symbols failed to materialize; the cause (e.g. "Symbols
   // not found: [ foo ]") went to the session's error reporter.
   bool initAttempted = false;
+  auto runModelCode = [&](const std::function<llvm::Error()>& f) -> llvm::Error {
+    return options.runModelCode ? options.runModelCode(f) : f();
+  };
   auto fail = [&](llvm::Error err, llvm::StringRef what) -> llvm::Error {
     std::string msg = llvm::toString(std::move(err));
     std::string cause = trimTrailingNewlines(state.takeSessionErrors());
@@ -738,7 +741,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       msg = "error: " + what.str() + ": " + msg;
     if (initAttempted) {
       // Destroy what the initializers managed to construct (registered atexit handlers).
-      llvm::consumeError(callCatching([&] { return J.deinitialize(JD); }, "static destructor"));
+      llvm::consumeError(runModelCode([&] { return callCatching([&] { return J.deinitialize(JD); }, "static destructor"); }));
     }
     state.failedDylibs.push_back(&JD);
     if (auto e = ES.removeJITDylib(JD))
@@ -764,18 +767,19 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // Static constructors of the model. One that throws must not escape with the JITDylib half
   // set up (no ORC locks are held while initializers run, so catching here is safe).
   initAttempted = true;
-  if (llvm::Error initErr = callCatching([&] { return J.initialize(JD); }, "static initializer"))
+  if (llvm::Error initErr = runModelCode([&] { return callCatching([&] { return J.initialize(JD); }, "static initializer"); }))
     return fail(std::move(initErr), "running static initializers failed");
   if (!backendErrors->empty())
     return fail(makeError("code generation failed"), "code generation failed");
   st.codegenMs = msSince(t2);
   if (statsOut)
     *statsOut = st;
-  return std::unique_ptr<ModelCode>(new ModelCode(impl_->state, &JD, std::move(name)));
+  return std::unique_ptr<ModelCode>(new ModelCode(impl_->state, &JD, std::move(name), options.runModelCode));
 }
 
-ModelCode::ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name)
-    : state_(std::move(state)), jd_(jitDylib), name_(std::move(name)) {}
+ModelCode::ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name,
+                     std::function<llvm::Error(const std::function<llvm::Error()>&)> runModelCode)
+    : state_(std::move(state)), jd_(jitDylib), name_(std::move(name)), runModelCode_(std::move(runModelCode)) {}
 
 ModelCode::~ModelCode() {
   if (!state_)
@@ -784,7 +788,8 @@ ModelCode::~ModelCode() {
   std::lock_guard<std::mutex> lock(state_->mutex);
   auto& J = *state_->jit;
   // Static destructors / atexit handlers of this version only, then free its memory.
-  if (llvm::Error err = callCatching([&] { return J.deinitialize(JD); }, "static destructor"))
+  auto deinitialize = [&]() -> llvm::Error { return callCatching([&] { return J.deinitialize(JD); }, "static destructor"); };
+  if (llvm::Error err = runModelCode_ ? runModelCode_(deinitialize) : deinitialize())
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name_ + ": ");
   if (auto err = J.getExecutionSession().removeJITDylib(JD))
     llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name_ + ": ");

@@ -5,6 +5,7 @@
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,10 @@ struct CompileOptions {
   int optLevel = 1;
   // Name the main file gets in diagnostics unless `#line` directives say otherwise.
   std::string bufferName = "model.cpp";
+  // Calls the model's static constructors (at load) and destructors (when the ModelCode goes):
+  // they are model code, so lcjit runs them behind its fault guard, and one that crashes fails
+  // the compile (or is reported) instead of ending the process. Empty: called directly.
+  std::function<llvm::Error(const std::function<llvm::Error()>& run)> runModelCode;
 };
 
 struct CompileStats {
@@ -65,9 +70,11 @@ public:
 
 private:
   friend class Compiler;
-  ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name);
+  ModelCode(std::shared_ptr<detail::JitState> state, void* jitDylib, std::string name,
+            std::function<llvm::Error(const std::function<llvm::Error()>&)> runModelCode);
 
   std::shared_ptr<detail::JitState> state_;
+  std::function<llvm::Error(const std::function<llvm::Error()>&)> runModelCode_;
   void* jd_; // llvm::orc::JITDylib*, kept opaque so this header stays light
   std::string name_;
 };

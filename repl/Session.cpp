@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
 #include "Drawing.h"
 #include "Engine.h"
@@ -152,6 +153,12 @@ llvm::Expected<std::unique_ptr<Session>> Session::create() {
   return s;
 }
 
+void Session::setLimits(const runtime::EngineLimits& limits) {
+  limits_ = limits;
+  staticGuard_.setLimits({limits.timeLimit, limits.maxMemory});
+  if (engine_) engine_->setLimits(limits);
+}
+
 Session::~Session() {
   // The engine refers to the model's tables; the model's code must go after it.
   engine_.reset();
@@ -186,6 +193,7 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
     // the string stays too; only what it is drawn with changes.
     if (what.parameters) {
       engine_ = std::make_unique<runtime::Engine>(*model_, functions.get());
+      engine_->setLimits(limits_);
       functions_ = std::move(functions);  // the old engine, which used the old ones, is gone
     }
     drawing_ = std::move(drawing);
@@ -225,6 +233,17 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   jit::CompileOptions co;
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
+  co.runModelCode = [this, file = files.lsystem](const std::function<llvm::Error()>& run) -> llvm::Error {
+    std::optional<llvm::Error> result;
+    runtime::Fault fault = staticGuard_.run([&] { result.emplace(run()); });
+    if (!fault) return std::move(*result);
+    if (result) llvm::consumeError(std::move(*result));
+    const char* verb = fault.kind == runtime::FaultKind::Exception ? "threw an exception"
+                       : fault.kind == runtime::FaultKind::Crash || fault.kind == runtime::FaultKind::Abort
+                           ? "crashed"
+                           : "was stopped";
+    return error(file + ": a static constructor or destructor " + verb + ": " + fault.what);
+  };
   jit::CompileStats stats;
   auto code = compiler_->compile(cpp->cpp, co, &stats);
   if (!code) return code.takeError();
@@ -245,6 +264,7 @@ llvm::Error Session::load(const ModelFiles& files, int optLevel, PhaseTimes& tim
   functions_ = std::move(functions);
   model_ = model;
   engine_ = std::make_unique<runtime::Engine>(*model, functions_.get());
+  engine_->setLimits(limits_);
   drawing_ = std::move(drawing);
   warnings_ = std::move(warnings);
   engine_->setTurtleSetup(drawing_->turtleSetup());

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "Engine.h"
+#include "ModelGuard.h"
 #include "llvm/Support/Error.h"
 
 struct __lc_Model;
@@ -65,6 +67,10 @@ class Session {
   // (New view / New rendering redraw, they do not re-run).
   llvm::Error load(const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what = ReloadParts::all());
   runtime::Engine& engine() { return *engine_; }
+  // The limits of every derivation (docs/faults.md): this model's and the next ones'. Static
+  // constructors and destructors of the model run behind the same guard and time limit.
+  void setLimits(const runtime::EngineLimits& limits);
+  const runtime::EngineLimits& limits() const { return limits_; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
@@ -81,6 +87,8 @@ class Session {
   std::unique_ptr<runtime::DrawingFiles> drawing_;
   std::string cpp_;
   std::vector<std::string> warnings_;
+  runtime::EngineLimits limits_;
+  runtime::ModelGuard staticGuard_;  // the model's static constructors and destructors
 };
 
 // Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,

@@ -1,5 +1,6 @@
 // lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
-// (--stats, -O, --emit-cpp). Thin: parsing here, the work in Session and the runtime.
+// (--stats, -O, --emit-cpp, the limits of docs/faults.md). Thin: parsing here, the work in
+// Session and the runtime.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "Engine.h"
 #include "Frame.h"
 #include "Interactive.h"
+#include "ModelGuard.h"
 #include "Window.h"
 #include "Session.h"
 
@@ -44,6 +46,8 @@ int main(int argc, char** argv) {
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false, stats = false, emitCpp = false;
   std::string out, rmode, dll, libPath;
   int optLevel = 1;
+  lcjit::runtime::EngineLimits limits;
+  uint64_t maxModules = limits.maxModules, maxMemory = limits.maxMemory;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
   bool noBorder = false, cleanEA = false, cn = false;
   std::vector<std::string> inputs;
@@ -73,6 +77,15 @@ int main(int argc, char** argv) {
   app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
   app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
+  app.add_option("--max-modules", maxModules, "stop the derivation when the string has more modules")
+      ->capture_default_str();
+  app.add_option("--max-memory", maxMemory,
+                 "stop the derivation when lcjit (or its string) needs more memory (default: half the physical memory)")
+      ->transform(CLI::AsSizeValue(false));
+  app.add_option("--time-limit", limits.timeLimit,
+                 "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
+                 "none; Ctrl-C interrupts)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
 
   std::vector<std::string> args = normaliseArgs(argc, argv);
@@ -102,6 +115,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  limits.maxModules = maxModules;
+  limits.maxMemory = maxMemory;
+  (*session)->setLimits(limits);
+  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit.
+  lcjit::runtime::interruptModelCodeOnSigint();
   lcjit::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.
@@ -149,12 +167,17 @@ int main(int argc, char** argv) {
     hooks.afterDerivation = [&](int step) {
       std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str());
     };
+  bool interpretFailed = false;  // -dtfes: an interpretation rule's fault, reported once
   if (dumpInterpretedEach || debug)
     hooks.afterStep = [&](int step) {
       if (debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
-      if (!dumpInterpretedEach) return;
+      if (!dumpInterpretedEach || interpretFailed) return;
       std::string text;
-      engine.interpret(nullptr, nullptr, &text);
+      if (auto e = engine.interpret(nullptr, nullptr, &text)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        interpretFailed = true;
+        return;
+      }
       char suffix[16];
       std::snprintf(suffix, sizeof suffix, "%08d", step);
       std::ofstream(stemInWorkingFolder(files->lsystem) + suffix + ".str", std::ios::binary) << text;
@@ -196,7 +219,10 @@ int main(int argc, char** argv) {
   }
   if (dumpInterpreted) {
     std::string text;
-    engine.interpret(nullptr, nullptr, &text);
+    if (auto e = engine.interpret(nullptr, nullptr, &text)) {
+      std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+      return 1;
+    }
     std::ofstream(stemInWorkingFolder(files->lsystem) + ".str", std::ios::binary) << text;
   }
   if (verbose)
@@ -212,5 +238,5 @@ int main(int argc, char** argv) {
                  engine.stepsDone(),
                  engine.moduleCount(), times.pchCached ? "true" : "false");
   }
-  return 0;
+  return interpretFailed ? 1 : 0;
 }

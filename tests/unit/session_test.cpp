@@ -60,7 +60,7 @@ struct Picture {
 
 Picture look(Session& s) {
   runtime::Geometry g;
-  s.engine().interpret(g);
+  if (auto e = s.engine().interpret(g)) ADD_FAILURE() << llvm::toString(std::move(e));
   Picture p;
   p.segments = g.segments.size();
   p.triangles = g.triangleCount();
