@@ -791,6 +791,7 @@ std::optional<std::string> Engine::guarded(Phase phase, llvm::function_ref<void(
 }
 
 void Engine::fail(std::string message) {
+  cancel_ = false;  // a cancelStep() that forced model code out is spent, as a quiet cancel is
   faulted_ = true;
   ended_ = true;
   fault_ = std::move(message);

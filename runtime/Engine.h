@@ -66,13 +66,15 @@ class Engine {
   bool faulted() const { return faulted_; }
   void setLimits(const EngineLimits& limits);
   const EngineLimits& limits() const { return limits_; }
-  // From any thread: the model code running now (a step, an interpretation, Start…) stops, with
-  // an "interrupted" fault; a model stuck in a loop is made to jump out (ModelGuard.h).
+  // From any thread (or a signal handler): the model code running now (a step, an
+  // interpretation, Start…) stops, with an "interrupted" fault; a model stuck in a loop is made to
+  // jump out (ModelGuard.h).
   void interrupt() { guard_.interrupt(FaultKind::Interrupted); }
 
-  // From another thread: abandon the derivation step in progress (the string stays as before
-  // it; model code already run, StartEach included, is not undone). step() then returns false.
-  // Model code that does not return is interrupted (a fault) after a short grace period.
+  // From another thread (or a signal handler): abandon the derivation step in progress (the
+  // string stays as before it; model code already run, StartEach included, is not undone).
+  // step() then returns false. Model code that does not return is interrupted (a fault) after a
+  // short grace period.
   void cancelStep() {
     cancel_ = true;
     guard_.interrupt(FaultKind::Interrupted);

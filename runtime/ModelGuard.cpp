@@ -36,7 +36,8 @@ struct GuardInternals {
   static int& depth(ModelGuard& g) { return g.depth_; }
   static uint64_t& thread(ModelGuard& g) { return g.thread_; }
   static int64_t& deadline(ModelGuard& g) { return g.deadlineNs_; }
-  static int64_t& stopSince(ModelGuard& g) { return g.stopSinceNs_; }
+  static std::atomic<int64_t>& stopSince(ModelGuard& g) { return g.stopSinceNs_; }
+  static std::atomic<bool>& running(ModelGuard& g) { return g.running_; }
   static int64_t& forceSince(ModelGuard& g) { return g.forceSinceNs_; }
   static std::atomic<size_t>& observed(ModelGuard& g) { return g.observedBytes_; }
   static const GuardLimits& limits(const ModelGuard& g) { return g.limits_; }
@@ -274,6 +275,7 @@ class Watchdog {
       GI::force(g).store(false);
       GI::stopSince(g) = 0;
       GI::observed(g) = 0;
+      GI::running(g).store(true);
       double t = GI::limits(g).timeSeconds;
       GI::deadline(g) = t > 0 ? now + int64_t(t * 1e9) : 0;
       guards_.push_back(&g);
@@ -290,16 +292,16 @@ class Watchdog {
     guards_.erase(std::find(guards_.begin(), guards_.end(), &g));
     active_.fetch_sub(1);
     lastActiveNs_ = nowNs();
+    GI::running(g).store(false);
     GI::force(g).store(false);
     GI::stop(g).store(0);
   }
 
+  // Lock-free, so that a signal handler may call it (the REPL's SIGINT handler cancels a step).
+  // An interrupt that comes as one run ends and the next begins may stop the next one.
   void interrupt(ModelGuard& g, FaultKind why) {
-    {
-      std::lock_guard<std::mutex> lock(m_);
-      if (GI::depth(g) == 0) return;
-      requestStop(g, why, nowNs());
-    }
+    if (!GI::running(g).load()) return;
+    requestStop(g, why, nowNs());
     wake();
   }
 
@@ -326,7 +328,7 @@ class Watchdog {
 
   static void requestStop(ModelGuard& g, FaultKind why, int64_t now) {
     int none = 0;
-    if (GI::stop(g).compare_exchange_strong(none, int(why))) GI::stopSince(g) = now;
+    if (GI::stop(g).compare_exchange_strong(none, int(why))) GI::stopSince(g).store(now);
   }
 
   void loop() {
@@ -353,7 +355,9 @@ class Watchdog {
               requestStop(*g, FaultKind::MemoryLimit, now);
             }
           }
-          if (GI::stop(*g).load() && now >= GI::stopSince(*g) + kGraceNs) {
+          // stopSince may lag stop_ by a moment (interrupt() sets them one after the other).
+          int64_t since = GI::stopSince(*g).load();
+          if (GI::stop(*g).load() && since && now >= since + kGraceNs) {
             if (!GI::force(*g).load()) {
               refreshHostCode();
               GI::forceSince(*g) = now;

@@ -72,7 +72,8 @@ class ModelGuard {
   void setLimits(const GuardLimits& limits) { limits_ = limits; }
   const GuardLimits& limits() const { return limits_; }
 
-  // From any thread: the run in progress, if any, stops with `why`. Cheap when nothing runs.
+  // From any thread, and from a signal handler (it only stores atomics and writes to a pipe):
+  // the run in progress, if any, stops with `why`.
   void interrupt(FaultKind why = FaultKind::Interrupted);
   // Whether the run in progress has been asked to stop (relaxed load: for per-module checks).
   bool stopRequested() const { return stop_.load(std::memory_order_relaxed) != 0; }
@@ -87,10 +88,12 @@ class ModelGuard {
   GuardLimits limits_;
   std::atomic<int> stop_{0};       // FaultKind asked for, 0 = none
   std::atomic<bool> force_{false};  // the watchdog asks the SIGUSR2 handler to jump
+  std::atomic<bool> running_{false};       // inside run() (the outermost)
+  std::atomic<int64_t> stopSinceNs_{0};   // when stop_ was set
   // Set under the watchdog's lock.
   int depth_ = 0;  // nesting of run() on its thread
   uint64_t thread_ = 0;  // pthread_t of the running thread
-  int64_t deadlineNs_ = 0, stopSinceNs_ = 0, forceSinceNs_ = 0;
+  int64_t deadlineNs_ = 0, forceSinceNs_ = 0;
   std::atomic<size_t> observedBytes_{0};  // the resident memory that tripped the memory limit
 };
 

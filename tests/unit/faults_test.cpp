@@ -6,6 +6,7 @@
 // the step and the kind; the string is left as it was before the failed step; resident memory
 // stays flat; and a good model loaded afterwards into the same Session runs correctly.
 #include <gtest/gtest.h>
+#include <pthread.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -179,6 +180,34 @@ TEST_F(Faults, EndlessLoopInterruptedFromAnotherThread) {
   runsFail({at() + "was interrupted in step 2"}, hooks);
   done = true;
   interrupter.join();
+  goodModelRuns();
+}
+
+// The REPL's Ctrl-C handler cancels the step in progress: interrupt() and cancelStep() only
+// store atomics and write to a pipe, so a signal handler may call them. Here the handler runs on
+// the looping thread itself.
+runtime::Engine* signalled = nullptr;
+TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
+  load("f", faulty("", "Printf(\"looping\\n\"); for (volatile int k = 0; k == 0;) {}"));
+  signalled = &engine();
+  struct sigaction sa {}, previous;
+  sa.sa_handler = [](int) { signalled->cancelStep(); };
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGUSR1, &sa, &previous);
+  std::atomic<bool> looping{false}, done{false};
+  runtime::EngineHooks hooks;
+  hooks.print = [&](const char*) { looping = true; };
+  pthread_t runner = pthread_self();
+  std::thread sender([&] {
+    while (!done) {
+      if (looping.exchange(false)) pthread_kill(runner, SIGUSR1);
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  runsFail({at() + "was interrupted in step 2"}, hooks);
+  done = true;
+  sender.join();
+  sigaction(SIGUSR1, &previous, nullptr);
   goodModelRuns();
 }
 
