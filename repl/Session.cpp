@@ -150,6 +150,7 @@ llvm::Expected<std::unique_ptr<Session>> Session::create() {
   auto compiler = jit::Compiler::create(std::move(config));
   if (!compiler) return compiler.takeError();
   s->compiler_ = std::move(*compiler);
+  s->setLimits(runtime::EngineLimits());  // the default limits guard static constructors too
   return s;
 }
 
