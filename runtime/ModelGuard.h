@@ -66,6 +66,7 @@ class ModelGuard {
   ModelGuard& operator=(const ModelGuard&) = delete;
 
   // Runs `fn` on the calling thread; returns a Fault (kind None when `fn` returned normally).
+  // Host code inside may throw a Fault to end the run with it (the engine's string limits).
   // Runs nest (a guarded call inside a guarded call, on the same thread): a fault ends the
   // innermost one; an interrupt or a limit of the outer run stops the outer run too.
   Fault run(llvm::function_ref<void()> fn);
