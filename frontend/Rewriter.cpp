@@ -143,6 +143,8 @@ struct RuleEntry {
   std::vector<int> ids;
   std::string body;
   int line;
+  std::string predecessor;  // as written, e.g. "A(x) < B": names the rule in fault messages
+  std::string file;         // the file of the predecessor (an #include'd one, or the model)
 };
 
 struct FilterEntry {
@@ -456,15 +458,22 @@ class Rewriter {
     const Token& first = cur();
     std::vector<std::vector<PatternModule>> segs(1);
     std::vector<std::string> ops;
+    std::string predecessor;
     while (!atText(":")) {
       if (at(Token::End) || atText(";") || atText("{"))
         fail(cur(), "expected ':' after the predecessor of " + ruleKindName());
+      if (!predecessor.empty()) predecessor += ' ';
       if (atText("<<") || atText("<") || atText(">") || atText(">>")) {
         ops.push_back(next().text);
+        predecessor += ops.back();
         segs.emplace_back();
         continue;
       }
       segs.back().push_back(patternModule());
+      const PatternModule& pm = segs.back().back();
+      predecessor += pm.name.text;
+      for (size_t i = 0; i < pm.params.size(); ++i) predecessor += (i ? "," : "(") + pm.params[i].text;
+      if (!pm.params.empty()) predecessor += ')';
     }
     next();
     // Assign the segments: newLeft << left < strict > right >> newRight.
@@ -495,6 +504,8 @@ class Rewriter {
     r.group = group_;
     r.filter = filter_;
     r.line = first.line;
+    r.predecessor = predecessor;
+    r.file = first.file < (int)lx_.files.size() ? lx_.files[first.file] : "";
     std::string fn = "__lc_rule_" + std::to_string(rules_.size());
     r.body = fn;
     size_t begin = out_.size();
@@ -665,6 +676,15 @@ class Rewriter {
   }
 
   // ---- the model description
+  static std::string cString(const std::string& text) {
+    std::string q = "\"";
+    for (char c : text) {
+      if (c == '\\' || c == '"') q += '\\';
+      q += c;
+    }
+    return q + '"';
+  }
+
   void emitTables() {
     std::string s = "#line 1 \"<lcjit: generated model tables>\"\n";
     s += "static const __lc_ModuleInfo __lc_user_modules[] = {";
@@ -695,25 +715,21 @@ class Rewriter {
       auto& r = rules_[i];
       s += "{" + std::to_string(r.kind) + ", " + std::to_string(r.groupKind) + ", (int16_t)(" + r.group + ")";
       for (int c : r.counts) s += ", " + std::to_string(c);
-      s += ", " + std::to_string(r.filter) + ", __lc_pattern_" + std::to_string(i) + ", " + r.body + ", " + std::to_string(r.line) + "},\n";
+      s += ", " + std::to_string(r.filter) + ", __lc_pattern_" + std::to_string(i) + ", " + r.body + ", " + std::to_string(r.line) +
+           ", " + cString(r.predecessor) + ", " + cString(r.file) + "},\n";
     }
     if (rules_.empty()) s += "{}";
     s += "};\n";
     auto fnOrNull = [&](bool have, const char* name) { return have ? std::string(name) : std::string("nullptr"); };
     std::string main = lx_.files.empty() ? "" : lx_.files[0];
-    std::string mainQuoted;
-    for (char c : main) {
-      if (c == '\\' || c == '"') mainQuoted += '\\';
-      mainQuoted += c;
-    }
-    s += "static const __lc_Model __lc_the_model = {" + std::to_string(1) + ", " + std::to_string(userModules_.size()) +
+    s += "static const __lc_Model __lc_the_model = {" + std::to_string(2) + ", " + std::to_string(userModules_.size()) +
          ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
          ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
          fnOrNull(haveDecompDepth_, "__lc_decomposition_depth") + ", " + fnOrNull(haveInterpDepth_, "__lc_interpretation_depth") +
          ", " + fnOrNull(controls_.count("__lc_start"), "__lc_start") + ", " +
          fnOrNull(controls_.count("__lc_start_each"), "__lc_start_each") + ", " +
          fnOrNull(controls_.count("__lc_end_each"), "__lc_end_each") + ", " + fnOrNull(controls_.count("__lc_end"), "__lc_end") +
-         ", \"" + mainQuoted + "\"};\n";
+         ", " + cString(main) + "};\n";
     s += "extern \"C\" const __lc_Model* __lc_model() { return &__lc_the_model; }\n";
     out_.generated(s);
   }

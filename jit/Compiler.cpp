@@ -508,12 +508,15 @@ struct Dylib {
   std::vector<std::shared_ptr<Dylib>> linked;       // the versions whose functions it calls
   // Each owned global's address and its bytes as loaded, before the constructors ran.
   std::vector<std::pair<void*, std::string>> initialState;
+  std::function<llvm::Error(const std::function<llvm::Error()>&)> runModelCode;  // CompileOptions'
+
+  llvm::Error asModelCode(const std::function<llvm::Error()>& f) const { return runModelCode ? runModelCode(f) : f(); }
 
   ~Dylib() {
     std::lock_guard<std::mutex> lock(state->mutex);
     auto& J = *state->jit;
     // Static destructors / atexit handlers of this version only, then free its memory.
-    if (llvm::Error err = runOwnAtExits(J, *jd))
+    if (llvm::Error err = asModelCode([&] { return runOwnAtExits(J, *jd); }))
       llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: deinitializing " + name + ": ");
     if (auto err = J.getExecutionSession().removeJITDylib(*jd))
       llvm::logAllUnhandledErrors(std::move(err), llvm::errs(), "lcjit: removing " + name + ": ");
@@ -1107,6 +1110,9 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // ORC's lookup error only says which symbols failed to materialize; the cause (e.g. "Symbols
   // not found: [ foo ]") went to the session's error reporter.
   bool initAttempted = false;
+  auto runModelCode = [&](const std::function<llvm::Error()>& f) -> llvm::Error {
+    return options.runModelCode ? options.runModelCode(f) : f();
+  };
   auto fail = [&](llvm::Error err, llvm::StringRef what) -> llvm::Error {
     std::string msg = llvm::toString(std::move(err));
     std::string cause = trimTrailingNewlines(state.takeSessionErrors());
@@ -1116,7 +1122,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       msg = "error: " + what.str() + ": " + msg;
     if (initAttempted) {
       // Destroy what the initializers managed to construct (registered atexit handlers).
-      llvm::consumeError(runOwnAtExits(J, JD));
+      llvm::consumeError(runModelCode([&] { return runOwnAtExits(J, JD); }));
     }
     state.failedDylibs.push_back(&JD);
     if (auto e = ES.removeJITDylib(JD))
@@ -1154,7 +1160,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // Static constructors of the model. One that throws must not escape with the JITDylib half
   // set up (no ORC locks are held while initializers run, so catching here is safe).
   initAttempted = true;
-  if (llvm::Error initErr = callCatching([&] { return J.initialize(JD); }, "static initializer"))
+  if (llvm::Error initErr =
+          runModelCode([&] { return callCatching([&] { return J.initialize(JD); }, "static initializer"); }))
     return fail(std::move(initErr), "running static initializers failed");
   // The JITDylib's atexit runner is compiled from IR on first use: do it now rather than when
   // the version is dropped (a reload would wait for it, and at process exit LLVM may be gone).
@@ -1172,6 +1179,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   dylib->stateOwners = std::move(stateOwners);
   dylib->linked = std::move(linked);
   dylib->initialState = std::move(initialState);
+  dylib->runModelCode = options.runModelCode;
   lock.unlock();  // ~Dylib takes it
   return std::unique_ptr<ModelCode>(new ModelCode(std::move(dylib)));
 }
@@ -1185,7 +1193,7 @@ llvm::Error ModelCode::resetState() {
   auto& state = *d.state;
   std::lock_guard<std::mutex> lock(state.mutex);
   auto& J = *state.jit;
-  if (auto err = runOwnAtExits(J, *d.jd))
+  if (auto err = d.asModelCode([&] { return runOwnAtExits(J, *d.jd); }))
     return err;
   for (auto& [at, bytes] : d.initialState)
     std::memcpy(at, bytes.data(), bytes.size());
@@ -1196,12 +1204,14 @@ llvm::Error ModelCode::resetState() {
     state.takeSessionErrors();
     return llvm::Error::success();
   }
-  return callCatching(
-      [&] {
-        init->toPtr<void (*)()>()();
-        return llvm::Error::success();
-      },
-      "static initializer");
+  return d.asModelCode([&] {
+    return callCatching(
+        [&] {
+          init->toPtr<void (*)()>()();
+          return llvm::Error::success();
+        },
+        "static initializer");
+  });
 }
 
 llvm::Expected<void*> ModelCode::lookup(llvm::StringRef cName) {

@@ -5,6 +5,7 @@
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +49,11 @@ struct CompileOptions {
   // Reuse the object code of an identical earlier compile (same source, options, compiler and
   // runtime header), from memory or from the disk cache, instead of compiling again.
   bool useObjectCache = true;
+  // Calls the model's static constructors (at load, and by resetState()) and destructors (when
+  // the ModelCode goes): they are model code, so lcjit runs them behind its fault guard, and one
+  // that crashes fails the compile (or is reported) instead of ending the process. Empty:
+  // called directly.
+  std::function<llvm::Error(const std::function<llvm::Error()>& run)> runModelCode;
 };
 
 struct CompileStats {

@@ -85,12 +85,17 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     for (const std::string& w : session.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
   if (options.dumpSteps)
     hooks.afterDerivation = [&](int step) { std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str()); };
+  bool interpretFailed = false;  // -dtfes: an interpretation rule's fault, reported once
   if (options.dumpInterpretedEach || options.debug)
     hooks.afterStep = [&](int step) {
       if (options.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
-      if (!options.dumpInterpretedEach) return;
+      if (!options.dumpInterpretedEach || interpretFailed) return;
       std::string text;
-      engine.interpret(nullptr, nullptr, &text);
+      if (auto e = engine.interpret(nullptr, nullptr, &text)) {
+        report(std::move(e));
+        interpretFailed = true;
+        return;
+      }
       char suffix[16];
       std::snprintf(suffix, sizeof suffix, "%08d", step);
       std::ofstream(stemInWorkingFolder(files.lsystem) + suffix + ".str", std::ios::binary) << text;
@@ -112,7 +117,10 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     }
   if (options.dumpInterpreted) {
     std::string text;
-    engine.interpret(nullptr, nullptr, &text);
+    if (auto e = engine.interpret(nullptr, nullptr, &text)) {
+      report(std::move(e));
+      return 1;
+    }
     std::ofstream(stemInWorkingFolder(files.lsystem) + ".str", std::ios::binary) << text;
   }
   if (options.verbose)
@@ -126,7 +134,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
                  times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs,
                  times.codegenMs, times.deriveMs, times.interpretMs, times.renderMs, engine.stepsDone(),
                  engine.moduleCount(), times.pchCached ? "true" : "false");
-  return 0;
+  return interpretFailed ? 1 : 0;
 }
 
 }  // namespace

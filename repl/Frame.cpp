@@ -59,7 +59,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
                                FrameTimes* times) {
   auto t0 = std::chrono::steady_clock::now();
   runtime::Geometry geometry;
-  engine.interpret(geometry);
+  if (auto e = engine.interpret(geometry)) return e;
   if (times) {
     times->interpretMs = msSince(t0);
     times->triangles = geometry.triangleCount();

@@ -68,6 +68,12 @@ class InteractiveModel {
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       Scene scene = work_.get();
       session_.engine().clearCancel();
+      if (!scene.error.empty()) {
+        // A fault in model code (docs/faults.md): said on stderr; the last picture stays.
+        std::fprintf(stderr, "%s\n", scene.error.c_str());
+        running_ = false;
+        return;
+      }
       shown_ = std::move(scene.main);
       const runtime::DrawingFiles& d = session_.drawing();
       const RenderLook& look = look_.of(d);
@@ -240,6 +246,10 @@ class InteractiveModel {
       running_ = false;
       if (busy()) session_.engine().cancelStep();  // a long step in progress stops too
     };
+    a.interrupt = [this] {
+      running_ = false;
+      if (busy()) session_.engine().interrupt();  // Esc: model code stuck in a loop too
+    };
     a.clear = [this] {
       if (!busy()) launch([] {});
     };
@@ -345,8 +355,15 @@ class InteractiveModel {
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
       Scene scene;
+      if (auto e = session_.engine().takeFault()) {
+        scene.error = llvm::toString(std::move(e));
+        return scene;
+      }
       scene.main.trackSources = true;  // for MouseIns picking
-      session_.engine().interpret(scene.main);
+      if (auto e = session_.engine().interpret(scene.main)) {
+        scene.error = llvm::toString(std::move(e));
+        return scene;
+      }
       // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
       // its `window:` rectangle.
       const auto& windows = session_.drawing().view.windows;
@@ -358,7 +375,10 @@ class InteractiveModel {
       for (int id : session_.engine().views()) {
         if (id < 0 || id >= (int)windows.size()) continue;
         viewer::ViewPane pane;
-        session_.engine().interpret(pane.geometry, id);
+        if (auto e = session_.engine().interpret(pane.geometry, id)) {
+          scene.error = llvm::toString(std::move(e));
+          return scene;
+        }
         box(id, pane.geometry);
         const auto& w = windows[id];
         pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
@@ -423,6 +443,7 @@ class InteractiveModel {
   struct Scene {
     runtime::Geometry main;
     std::vector<viewer::ViewPane> panes;
+    std::string error;  // a fault: nothing to show
   };
   std::future<Scene> work_;
   runtime::Geometry shown_;  // what the window shows, with its source modules

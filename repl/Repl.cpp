@@ -312,6 +312,7 @@ class Repl {
 
   void begin() {
     engine().begin(hooks_);
+    if (engine().faulted()) report(engine().takeFault());  // Start or the axiom: model code
     viewDirty_ = true;
   }
 
@@ -326,7 +327,10 @@ class Repl {
         break;
       }
       if (!more) {
-        if (!e.ended()) e.finish();
+        // A fault in model code stops the run (the string stays as before the step); the REPL
+        // says so and goes on.
+        if (!e.faulted() && !e.ended()) e.finish();
+        if (e.faulted()) report(e.takeFault());
         break;
       }
     }
@@ -493,7 +497,7 @@ class Repl {
     double deriveMs = msSince(t0);
     t0 = Clock::now();
     runtime::Geometry geometry;
-    engine().interpret(geometry);
+    if (auto e = engine().interpret(geometry)) return e;
     double interpretMs = msSince(t0);
     std::printf("derived %s in %.2f ms, interpreted in %.2f ms: %s\n", plural(engine().stepNo(), "step").c_str(),
                 deriveMs, interpretMs, plural(engine().moduleCount(), "module").c_str());
@@ -683,7 +687,7 @@ class Repl {
   void refreshView() {
     const runtime::DrawingFiles& d = session_->drawing();
     runtime::Geometry geometry;
-    engine().interpret(geometry);
+    report(engine().interpret(geometry));  // what was drawn before the fault still shows
     const RenderLook& look = look_.of(d);
     window_->setScene(geometry, d.view, look.palette, look.textures, viewer::Window::Framing::Refit);
     viewDirty_ = false;

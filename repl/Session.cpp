@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -198,7 +199,32 @@ llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cach
   auto compiler = jit::Compiler::create(std::move(config));
   if (!compiler) return compiler.takeError();
   s->compiler_ = std::move(*compiler);
+  s->setLimits(runtime::EngineLimits());  // the default limits guard static constructors too
   return s;
+}
+
+void Session::setLimits(const runtime::EngineLimits& limits) {
+  limits_ = limits;
+  if (engine_) engine_->setLimits(limits);
+}
+
+// The model's static constructors and destructors are model code: behind a guard (one per call:
+// they run on the thread that compiles or drops a version, possibly beside another's).
+std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guardedStatics(const std::string& file) const {
+  return [limits = runtime::GuardLimits{limits_.timeLimit, limits_.maxMemory},
+          file](const std::function<llvm::Error()>& run) -> llvm::Error {
+    runtime::ModelGuard guard;
+    guard.setLimits(limits);
+    std::optional<llvm::Error> result;
+    runtime::Fault fault = guard.run([&] { result.emplace(run()); });
+    if (!fault) return std::move(*result);
+    if (result) llvm::consumeError(std::move(*result));
+    const char* verb = fault.kind == runtime::FaultKind::Exception ? "threw an exception"
+                       : fault.kind == runtime::FaultKind::Crash || fault.kind == runtime::FaultKind::Abort
+                           ? "crashed"
+                           : "was stopped";
+    return error(file + ": a static constructor or destructor " + verb + ": " + fault.what);
+  };
 }
 
 // Out of line: the header only forward-declares what these members are.
@@ -279,6 +305,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   jit::CompileOptions co;
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
+  co.runModelCode = guardedStatics(files.lsystem);
   jit::CompileStats stats;
   splitRules(*cpp, p.rules, p.rest);
   llvm::Expected<std::unique_ptr<jit::ModelCode>> code = nullptr;
@@ -350,6 +377,7 @@ llvm::Error Session::install(PreparedModel p) {
   }
   if (p.what.lsystem || p.what.parameters) {
     engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
+    engine_->setLimits(limits_);
     functions_ = std::move(p.functions);  // the old engine, which used the old ones, is gone
   }
   drawing_ = std::move(p.drawing);
@@ -442,11 +470,12 @@ std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& c
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
   return [compiler = compiler_.get(), owners = stateOwners_, cpp = runningCpp_, name = bufferName_, generation = generation_,
-          optLevel]() -> BetterTier {
+          optLevel, statics = guardedStatics(lsystem_)]() -> BetterTier {
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
     co.bufferName = name;
+    co.runModelCode = statics;
     for (const auto& owner : owners) co.shareStateWith.push_back(owner.get());  // alive until the job ends
     jit::CompileStats stats;
     auto code = compiler->compile(cpp, co, &stats);
@@ -532,6 +561,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     jit::CompileOptions co;
     co.optLevel = 0;
     co.bufferName = "<repl>";
+    co.runModelCode = guardedStatics("<repl>");
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     auto code = compiler_->compile(cpp->cpp, co);
     if (!code) {
@@ -556,8 +586,13 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     auto fn = unit->lookup(entry);
     if (!fn) return fn.takeError();
     runtime::takeReplOutput();
-    reinterpret_cast<void (*)()>(*fn)();
-    return runtime::takeReplOutput();
+    runtime::ModelGuard guard;  // what is typed is model code too
+    guard.setLimits({limits_.timeLimit, limits_.maxMemory});
+    auto run = reinterpret_cast<void (*)()>(*fn);
+    runtime::Fault fault = guard.run([&] { run(); });
+    std::string printed = runtime::takeReplOutput();
+    if (fault) return error("<repl>: error: " + fault.what);
+    return printed;
   }
   // The form the input looks most like decides which diagnostics are shown: a definition that
   // is no statement (a function, a production) gets the declaration's.

@@ -12,6 +12,8 @@
 
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
+#include "Engine.h"
+#include "ModelGuard.h"
 #include "llvm/Support/Error.h"
 
 struct __lc_Model;
@@ -149,6 +151,10 @@ class Session {
   llvm::Error setParameter(const std::string& name, float value);
   // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
   llvm::Expected<std::string> evaluate(const std::string& input);
+  // The limits of every derivation (docs/faults.md): this model's and the next ones'. Static
+  // constructors and destructors of the model run behind the same guard and time limit.
+  void setLimits(const runtime::EngineLimits& limits);
+  const runtime::EngineLimits& limits() const { return limits_; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
@@ -160,6 +166,7 @@ class Session {
 
  private:
   Session() = default;
+  std::function<llvm::Error(const std::function<llvm::Error()>&)> guardedStatics(const std::string& file) const;
   static void splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest);
   std::optional<std::string> incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p);
   std::unique_ptr<jit::Compiler> compiler_;
@@ -186,6 +193,7 @@ class Session {
   std::string runningRest_;
   std::vector<std::shared_ptr<jit::ModelCode>> ruleCode_;
   std::vector<std::string> warnings_;
+  runtime::EngineLimits limits_;
 };
 
 // Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,

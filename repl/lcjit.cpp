@@ -1,6 +1,6 @@
 // lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
-// (--stats, -O, --emit-cpp), and `lcjit repl [files] model.l`, the REPL (Repl.h). Thin: parsing
-// here, the work in Session, the REPL and the runtime.
+// (--stats, -O, --emit-cpp, --watch, --lab, the limits of docs/faults.md), and `lcjit repl [files]
+// model.l`, the REPL (Repl.h). Thin: parsing here, the work in Session, Batch, the REPL and the runtime.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,6 +19,7 @@
 #include "Interactive.h"
 #include "PlainErrors.h"
 #include "Repl.h"
+#include "ModelGuard.h"
 #include "Window.h"
 #include "Session.h"
 
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
   bool watch = false, lab = false;
   std::string out, rmode, dll, libPath;
   int optLevel = 1;
+  lcjit::runtime::EngineLimits limits;
+  uint64_t maxModules = limits.maxModules, maxMemory = limits.maxMemory;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
   bool noBorder = false, cleanEA = false, cn = false;
   std::vector<std::string> inputs;
@@ -79,6 +82,15 @@ int main(int argc, char** argv) {
   app.add_flag("--watch", watch,
                "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
+  app.add_option("--max-modules", maxModules, "stop the derivation when the string has more modules")
+      ->capture_default_str();
+  app.add_option("--max-memory", maxMemory,
+                 "stop the derivation when lcjit (or its string) needs more memory (default: half the physical memory)")
+      ->transform(CLI::AsSizeValue(false));
+  app.add_option("--time-limit", limits.timeLimit,
+                 "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
+                 "none; Ctrl-C interrupts)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
 
   // A subcommand, so that lpfg's own command line stays as it is without it.
@@ -148,6 +160,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  limits.maxModules = maxModules;
+  limits.maxMemory = maxMemory;
+  (*session)->setLimits(limits);
+  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit.
+  lcjit::runtime::interruptModelCodeOnSigint();
   // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in
   // the background and swapped in (two tiers).
   const bool window = !batch && out.empty() && haveDisplay && !emitCpp && !compileOnly;

@@ -38,6 +38,7 @@ struct Engine::Match {
 Engine* Engine::current() { return gCurrent; }
 
 Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_(&model), functions_(functions) {
+  setLimits(limits_);
   index();
 }
 
@@ -323,8 +324,11 @@ bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
   size_t mark = out.size();
   __lc_Ctx ctx{out.raw(), 0, this, &m};
   Match* saved = activeMatch_;
+  const __lc_Rule* savedRule = runningRule_;  // a rule runs inside another through OutputFrame
   activeMatch_ = &m;
+  runningRule_ = &r;
   r.body(&ctx, m.params);
+  runningRule_ = savedRule;
   activeMatch_ = saved;
   if (!ctx.produced) out.resize(mark);
   return ctx.produced != 0;
@@ -358,6 +362,7 @@ bool Engine::deriveForward(int group) {
   size_t pos = 0;
   while (pos < n) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
+    checkStop(n + next_.size());
     __lc_ModuleId id = ModuleTable::idAt(s + pos);
     if (id == __lc_id_Cut) {
       // The Cut and the rest of its branch go; the closing EB is processed normally.
@@ -394,6 +399,7 @@ bool Engine::deriveForward(int group) {
     }
   }
   string_.swap(next_);
+  derived_ = true;
   return true;
 }
 
@@ -424,6 +430,7 @@ bool Engine::deriveBackward(int group) {
   size_t pos = n;
   while (pos > 0) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
+    checkStop(n + next_.size());
     size_t q = modules_.prev(s, pos);
     __lc_ModuleId id = ModuleTable::idAt(s + q);
     Scan newRight{next_.data() + front, next_.size() - front, false};
@@ -459,17 +466,15 @@ bool Engine::deriveBackward(int group) {
   std::memmove(next_.data(), next_.data() + front, used);
   next_.resize(used);
   string_.swap(next_);
+  derived_ = true;
   return true;
 }
 
 bool Engine::deriveGillespie(int group) {
-  struct Reaction {
-    float propensity;
-    size_t from, to;          // the strict predecessor's bytes in the string
-    size_t succFrom, succTo;  // the successor's bytes in `pieces`
-  };
-  std::vector<Reaction> reactions;
-  ModuleBuffer pieces;
+  std::vector<Reaction>& reactions = reactions_;
+  ModuleBuffer& pieces = pieces_;
+  reactions.clear();
+  pieces.clear();
   const char* s = string_.data();
   size_t n = string_.size();
   Scan old{s, n, false};
@@ -478,6 +483,7 @@ bool Engine::deriveGillespie(int group) {
   size_t pos = 0;
   while (pos < n) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
+    checkStop(n + pieces.size());
     __lc_ModuleId id = ModuleTable::idAt(s + pos);
     if (id == __lc_id_Cut) {
       size_t e = findEndOfBranch(old, modules_.next(s, pos));
@@ -490,7 +496,9 @@ bool Engine::deriveGillespie(int group) {
         if (!matchRule(*r, old, pos, Scan{nullptr, 0, false}, Scan{nullptr, 0, false}, m)) continue;
         scratch_.clear();
         __lc_Ctx ctx{scratch_.raw(), 0, this, &m};
+        runningRule_ = r;
         r->body(&ctx, m.params);
+        runningRule_ = nullptr;
         if (scratch_.size() == 0) break;
         if (ModuleTable::idAt(scratch_.data()) != __lc_id_Propensity) {
           print("Invalid successor for Gillespie production: it must start with a propensity\n");
@@ -537,6 +545,7 @@ bool Engine::deriveGillespie(int group) {
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
   next_.append(s + chosen->to, n - chosen->to);
   string_.swap(next_);
+  derived_ = true;
   return true;
 }
 
@@ -562,15 +571,19 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
   size_t pos = 0;
   const bool topLevel = src == string_.data() && !target;
   while (pos < n) {
+    checkStop(target ? string_.size() + target->size() : 0);
     if (topLevel && tracking_) tracking_->currentSource = (uint32_t)pos;
     succ.clear();
     Scan newLeft = target ? Scan{target->data(), target->size(), false} : Scan{nullptr, 0, false};
     bool applied = tryRules(kind, group, true, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
     if (applied && depth > 0) {
       // The successor buffer of this level is reused by deeper levels: work on a copy.
-      ModuleBuffer local;
+      if (copies_.size() <= copiesInUse_) copies_.push_back(std::make_unique<ModuleBuffer>());
+      ModuleBuffer& local = *copies_[copiesInUse_++];
+      local.clear();
       local.append(succ.data(), succ.size());
       expand(kind, local.data(), local.size(), depth - 1, group, target, turtle, sink);
+      --copiesInUse_;
     } else {
       emit(src + pos);
     }
@@ -580,9 +593,9 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
 
 void Engine::decompose(int group) {
   if (!hasDecomposition_) return;
-  ModuleBuffer out;
-  expand(__lc_Decomposition, string_.data(), string_.size(), decompositionDepth_, group, &out, nullptr, nullptr);
-  string_.swap(out);
+  decomposed_.clear();
+  expand(__lc_Decomposition, string_.data(), string_.size(), decompositionDepth_, group, &decomposed_, nullptr, nullptr);
+  string_.swap(decomposed_);
 }
 
 void Engine::useView(int id) {
@@ -590,10 +603,17 @@ void Engine::useView(int id) {
 }
 void Engine::closeView(int id) { views_.erase(std::remove(views_.begin(), views_.end(), id), views_.end()); }
 
-void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
-                       int vgroup) {
+llvm::Error Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
+                              int vgroup) {
   CurrentScope scope(this);
-  Turtle turtle;
+  if (auto message = guarded(Phase::Interpret, [&] { interpretGuarded(sink, geometry, transcript, vgroup); }))
+    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", message->c_str());
+  return llvm::Error::success();
+}
+
+void Engine::interpretGuarded(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
+                              int vgroup) {
+  Turtle& turtle = acquireTurtle();
   turtle.reset(turtleSetup_, geometry);
   turtle.setTranscript(transcript);
   tracking_ = geometry && geometry->trackSources ? geometry : nullptr;
@@ -603,6 +623,12 @@ void Engine::interpret(const std::function<void(const char*)>& sink, Geometry* g
          sink ? &sink : nullptr);
   turtle.finish();
   tracking_ = nullptr;
+  --turtlesInUse_;
+}
+
+Turtle& Engine::acquireTurtle() {
+  if (turtles_.size() <= turtlesInUse_) turtles_.push_back(std::make_unique<Turtle>());
+  return *turtles_[turtlesInUse_++];
 }
 
 bool Engine::insertBefore(size_t offset, const char* record) {
@@ -618,9 +644,10 @@ bool Engine::insertBefore(size_t offset, const char* record) {
 
 void Engine::queryPass() {
   if (!hasQueries_) return;
-  Turtle turtle;
+  Turtle& turtle = acquireTurtle();
   turtle.reset(turtleSetup_);
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle, nullptr);
+  --turtlesInUse_;
 }
 
 // ---- the whole run
@@ -630,7 +657,7 @@ llvm::Error Engine::run(const EngineHooks& hooks) {
   while (step()) {
   }
   finish();
-  return llvm::Error::success();
+  return takeFault();
 }
 
 void Engine::begin(const EngineHooks& hooks) {
@@ -638,29 +665,63 @@ void Engine::begin(const EngineHooks& hooks) {
   hooks_ = &hooks;
   step_ = 0;
   ended_ = false;
+  faulted_ = false;
+  fault_.reset();
   views_.clear();
   gillespieTime_ = 0;
   string_.clear();
-  if (model_->start) model_->start();
+  if (auto message = guarded(Phase::Begin, [&] { beginGuarded(); })) fail(std::move(*message));
+}
+
+void Engine::beginGuarded() {
+  if (model_->start) {
+    calling("Start");
+    model_->start();
+  }
+  calling("the derivation length");
   length_ = model_->derivationLength ? model_->derivationLength() : 0;
+  calling("the ring L-system statement");
   ring_ = model_->ringLsystem && model_->ringLsystem() != 0;
+  calling("the decomposition depth");
   decompositionDepth_ = model_->decompositionDepth ? model_->decompositionDepth() : 1;
+  calling("the interpretation depth");
   interpretationDepth_ = model_->interpretationDepth ? model_->interpretationDepth() : 1;
   stopRequested_ = false;
   {
     // Whatever a Start block nproduce'd is not part of the axiom here: the buffer is fresh.
+    calling("the axiom");
     __lc_Ctx ctx{string_.raw(), 0, this, nullptr};
     model_->axiom(&ctx);
+    calling(nullptr);
   }
   decompose(group_);
+  checkModules();
 }
 
 bool Engine::step() {
   if (ended_ || step_ >= length_ || stopRequested_) return false;
   CurrentScope scope(this);
+  const int before = step_;
+  derived_ = false;
+  bool more = false;
+  if (auto message = guarded(Phase::Step, [&] { more = stepGuarded(); })) {
+    // As after cancelStep(): the string and the step count stay as they were before this step.
+    if (derived_) string_.swap(next_);
+    step_ = before;
+    fail(std::move(*message));
+    return false;
+  }
+  return more;
+}
+
+bool Engine::stepGuarded() {
   queryPass();
   ++step_;
-  if (model_->startEach) model_->startEach();
+  if (model_->startEach) {
+    calling("StartEach");
+    model_->startEach();
+    calling(nullptr);
+  }
   int group = group_;
   auto kind = groupKinds_.find(group);
   bool derived = kind != groupKinds_.end() && kind->second == __lc_GillespieGroup ? deriveGillespie(group)
@@ -672,13 +733,23 @@ bool Engine::step() {
     --step_;
     return false;
   }
+  checkModules();
   if (hooks_->afterDerivation) hooks_->afterDerivation(step_);
   decompose(group);
-  if (model_->endEach) model_->endEach();
+  checkModules();
+  if (model_->endEach) {
+    calling("EndEach");
+    model_->endEach();
+    calling(nullptr);
+  }
   if (hooks_->afterStep) hooks_->afterStep(step_);
   if (stopRequested_) {
     // Stop(): End runs now, as in lpfg.
-    if (model_->end) model_->end();
+    if (model_->end) {
+      calling("End");
+      model_->end();
+      calling(nullptr);
+    }
     ended_ = true;
     return false;
   }
@@ -686,12 +757,127 @@ bool Engine::step() {
 }
 
 void Engine::finish() {
+  if (faulted_) {
+    hooks_ = nullptr;
+    return;
+  }
   CurrentScope scope(this);
-  // The query modules of the final string are filled in too (the brief: after each step).
-  queryPass();
-  if (!ended_ && model_->end) model_->end();
+  auto message = guarded(Phase::Finish, [&] {
+    // The query modules of the final string are filled in too (the brief: after each step).
+    queryPass();
+    if (!ended_ && model_->end) {
+      calling("End");
+      model_->end();
+      calling(nullptr);
+    }
+  });
+  if (message) fail(std::move(*message));
   ended_ = true;
   hooks_ = nullptr;
+}
+
+// ---- faults
+
+void Engine::setLimits(const EngineLimits& limits) {
+  limits_ = limits;
+  guard_.setLimits({limits.timeLimit, limits.maxMemory});
+}
+
+std::optional<std::string> Engine::guarded(Phase phase, llvm::function_ref<void()> fn) {
+  // What a jump out of model code leaves behind is put back as it was (guarded calls nest: an
+  // interpretation for OutputFrame runs inside a step).
+  const Phase savedPhase = phase_;
+  const __lc_Rule* savedRule = runningRule_;
+  const char* savedCall = runningCall_;
+  Match* savedMatch = activeMatch_;
+  Geometry* savedTracking = tracking_;
+  const size_t copies = copiesInUse_, turtles = turtlesInUse_;
+  phase_ = phase;
+  Fault fault = guard_.run(fn);
+  std::optional<std::string> message;
+  if (fault) message = describe(fault);
+  phase_ = savedPhase;
+  runningRule_ = savedRule;
+  runningCall_ = savedCall;
+  activeMatch_ = savedMatch;
+  tracking_ = savedTracking;
+  copiesInUse_ = copies;
+  turtlesInUse_ = turtles;
+  return message;
+}
+
+void Engine::fail(std::string message) {
+  cancel_ = false;  // a cancelStep() that forced model code out is spent, as a quiet cancel is
+  faulted_ = true;
+  ended_ = true;
+  fault_ = std::move(message);
+}
+
+llvm::Error Engine::takeFault() {
+  if (!fault_) return llvm::Error::success();
+  auto e = llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", fault_->c_str());
+  fault_.reset();
+  return e;
+}
+
+// `m.l:12: error: production A(x) crashed in step 3: segmentation fault (null pointer dereference)`
+std::string Engine::describe(const Fault& f) const {
+  std::string where = model_->sourceFile && *model_->sourceFile ? model_->sourceFile : "model";
+  std::string who;
+  if (runningRule_) {
+    const __lc_Rule& r = *runningRule_;
+    where = (r.file && *r.file ? std::string(r.file) : where) + ":" + std::to_string(r.line);
+    who = r.kind == __lc_Production      ? "production "
+          : r.kind == __lc_Decomposition ? "decomposition rule "
+                                         : "interpretation rule ";
+    who += r.predecessor ? r.predecessor : "";
+  } else if (runningCall_) {
+    who = runningCall_;
+  } else {
+    who = phase_ == Phase::Interpret ? "the interpretation" : "the derivation";
+  }
+  std::string when;
+  switch (phase_) {
+    case Phase::Begin: when = "before the first step"; break;
+    case Phase::Step: when = "in step " + std::to_string(step_); break;
+    case Phase::Finish: when = "after step " + std::to_string(step_); break;
+    case Phase::Interpret:
+      when = step_ ? "while interpreting the string of step " + std::to_string(step_) : "while interpreting the axiom";
+      break;
+  }
+  std::string text;
+  switch (f.kind) {
+    case FaultKind::Crash:
+    case FaultKind::Abort: text = who + " crashed " + when + ": " + f.what; break;
+    case FaultKind::Exception: text = who + " threw an exception " + when + ": " + f.what; break;
+    case FaultKind::Interrupted: text = who + " was interrupted " + when; break;
+    default: text = who + " was stopped " + when + ": " + f.what; break;
+  }
+  return where + ": error: " + text;
+}
+
+namespace {
+std::string megabytes(size_t n) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f MB", double(n) / double(1 << 20));
+  return buf;
+}
+}  // namespace
+
+void Engine::checkGrowth(size_t bytes) const {
+  ModelGuard::checkpoint();
+  if (bytes <= limits_.maxMemory) return;
+  throw Fault{FaultKind::MemoryLimit,
+              "the string needs " + megabytes(bytes) + " (limit --max-memory " + megabytes(limits_.maxMemory) + ")"};
+}
+
+void Engine::checkModules() const {
+  constexpr size_t kSmallestRecord = 4;  // a module without parameters: its id, twice
+  if (string_.size() / kSmallestRecord <= limits_.maxModules) return;  // it cannot have more
+  size_t n = moduleCount();
+  if (n <= limits_.maxModules) return;
+  throw Fault{FaultKind::StringLimit, "the string reached " + std::to_string(n) + " modules (limit --max-modules " +
+                                          std::to_string(limits_.maxModules) + ")"};
 }
 
 size_t Engine::moduleCount() const {

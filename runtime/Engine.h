@@ -6,9 +6,11 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ModelGuard.h"
 #include "ModuleString.h"
 #include "Random.h"
 #include "Turtle.h"
@@ -30,6 +32,13 @@ struct EngineHooks {
   std::function<void(const char* path)> outputFrame;
 };
 
+// Runaway growth and runaway code stop the derivation (docs/faults.md).
+struct EngineLimits {
+  size_t maxModules = 100'000'000;              // modules in the string
+  size_t maxMemory = defaultMemoryLimit();      // bytes: the process, and the string's buffers
+  double timeLimit = 0;                         // seconds per step (interpretation, Start, End); 0: none
+};
+
 class Engine {
  public:
   Engine(const __lc_Model& model, const FunctionStore* functions);
@@ -40,7 +49,8 @@ class Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
-  // The whole derivation as `lpfg -b` runs it: Start, axiom, steps, End.
+  // The whole derivation as `lpfg -b` runs it: Start, axiom, steps, End. A fault (below) is
+  // the error.
   llvm::Error run(const EngineHooks& hooks = {});
   // The same in pieces, for animation: begin() runs Start and the axiom (with decomposition);
   // step() one derivation step, false once the derivation length is reached or Stop() was
@@ -48,9 +58,30 @@ class Engine {
   void begin(const EngineHooks& hooks);
   bool step();
   void finish();
-  // From another thread: abandon the derivation step in progress (the string stays as before
-  // it; model code already run, StartEach included, is not undone). step() then returns false.
-  void cancelStep() { cancel_ = true; }
+
+  // Faults. Model code runs behind a ModelGuard, one guarded call per begin(), step(), finish()
+  // and interpret(): a crash, an uncaught exception, an interrupt or a limit ends that call.
+  // In begin/step/finish it ends the derivation: step() returns false, finish() runs no End,
+  // the string is left as it was before the failed step (stepsDone() too), and takeFault()
+  // returns the message — `file:line: error: production A(x) crashed in step 3: …` — until the
+  // next begin(), which starts afresh. interpret() returns it.
+  llvm::Error takeFault();
+  bool faulted() const { return faulted_; }
+  void setLimits(const EngineLimits& limits);
+  const EngineLimits& limits() const { return limits_; }
+  // From any thread (or a signal handler): the model code running now (a step, an
+  // interpretation, Start…) stops, with an "interrupted" fault; a model stuck in a loop is made to
+  // jump out (ModelGuard.h).
+  void interrupt() { guard_.interrupt(FaultKind::Interrupted); }
+
+  // From another thread (or a signal handler): abandon the derivation step in progress (the
+  // string stays as before it; model code already run, StartEach included, is not undone).
+  // step() then returns false. Model code that does not return is interrupted (a fault) after a
+  // short grace period.
+  void cancelStep() {
+    cancel_ = true;
+    guard_.interrupt(FaultKind::Interrupted);
+  }
   // A cancel that came after the step had finished must not stop the next one.
   void clearCancel() { cancel_ = false; }
   int derivationLength() const { return length_; }
@@ -61,9 +92,10 @@ class Engine {
   // receives what the turtle draws.
   // `transcript`, when given, receives lpfg's `-dtf` turtle text.
   // `vgroup`: the view group whose interpretation rules apply (multi-view, manual §7.3).
-  void interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
-                 std::string* transcript = nullptr, int vgroup = 0);
-  void interpret(Geometry& geometry, int vgroup = 0) { interpret(nullptr, &geometry, nullptr, vgroup); }
+  // A fault in an interpretation rule is the error (the string is unchanged).
+  llvm::Error interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
+                        std::string* transcript = nullptr, int vgroup = 0);
+  llvm::Error interpret(Geometry& geometry, int vgroup = 0) { return interpret(nullptr, &geometry, nullptr, vgroup); }
   // UseView/CloseView (§6.4): the views the model has opened, in order.
   void useView(int id);
   void closeView(int id);
@@ -105,6 +137,9 @@ class Engine {
   void print(const char* s);
   void outputFrame(const char* path);
   bool inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
+  // lcjit_buffer_reserve: a successor growing to `bytes` (while the string has its own) must stay
+  // within the memory limit; throws the fault otherwise.
+  void checkGrowth(size_t bytes) const;
 
  private:
   struct Match;
@@ -121,6 +156,30 @@ class Engine {
   bool applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out);
   bool tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
                 ModuleBuffer& out, Match& m);
+
+  // What a fault message says the engine was doing.
+  enum class Phase { Begin, Step, Finish, Interpret };
+  // Runs `fn` behind the guard; on a fault returns the message (and restores the engine's
+  // bookkeeping the jump skipped).
+  std::optional<std::string> guarded(Phase phase, llvm::function_ref<void()> fn);
+  std::string describe(const Fault& f) const;
+  void fail(std::string message);
+  bool stepGuarded();
+  void beginGuarded();
+  void interpretGuarded(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
+                        int vgroup);
+  // Called before each model function that is not a rule ("Start", "StartEach"…).
+  void calling(const char* what) {
+    runningRule_ = nullptr;
+    runningCall_ = what;
+  }
+  // The per-module checks of the derivation loops: an interrupt or a limit.
+  void checkStop(size_t bytesInUse) const {
+    if (guard_.stopRequested()) throw ModelStop{};
+    if (bytesInUse > limits_.maxMemory) checkGrowth(bytesInUse);
+  }
+  void checkModules() const;
+  Turtle& acquireTurtle();
 
   // False when cancelStep() interrupted them (the string is then unchanged).
   bool deriveForward(int group);
@@ -149,8 +208,20 @@ class Engine {
   std::map<int, int> groupKinds_;
   int maxGroup_ = 0;
 
-  ModuleBuffer string_, next_, scratch_;
+  // A jump out of model code skips the destructors of the engine's frames, so whatever a step
+  // allocates lives here, reused, rather than in locals.
+  ModuleBuffer string_, next_, scratch_, decomposed_, pieces_;
   std::vector<std::unique_ptr<ModuleBuffer>> levels_;  // successor buffers per decomposition level
+  std::vector<std::unique_ptr<ModuleBuffer>> copies_;   // expand()'s working copies, by nesting
+  size_t copiesInUse_ = 0;
+  std::vector<std::unique_ptr<Turtle>> turtles_;        // interpret()/queryPass(), by nesting
+  size_t turtlesInUse_ = 0;
+  struct Reaction {
+    float propensity;
+    size_t from, to;          // the strict predecessor's bytes in the string
+    size_t succFrom, succTo;  // the successor's bytes in `pieces_`
+  };
+  std::vector<Reaction> reactions_;
   int group_ = 0;
   bool forward_ = true;
   bool stopRequested_ = false;
@@ -167,6 +238,16 @@ class Engine {
   std::vector<int> views_;
   Geometry* tracking_ = nullptr;  // interpret(): the geometry recording its source modules
   ContourStore* curves_ = nullptr;
+
+  ModelGuard guard_;
+  EngineLimits limits_;
+  // What model code is running, for fault messages: a rule, else a named function (Start…).
+  const __lc_Rule* runningRule_ = nullptr;
+  const char* runningCall_ = nullptr;
+  Phase phase_ = Phase::Begin;
+  bool derived_ = false;  // this step's string has replaced the old one (which is in next_)
+  bool faulted_ = false;
+  std::optional<std::string> fault_;
 };
 
 }  // namespace lcjit::runtime

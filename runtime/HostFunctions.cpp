@@ -47,6 +47,8 @@ void lcjit_repl_output(const char* text) { replOutput() += text; }
 
 void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra) {
   if (b->cap - b->size >= extra) return;
+  // A successor growing without end (nproduce in a loop) stops at the memory limit.
+  if (Engine* e = Engine::current()) e->checkGrowth(e->string().size() + b->size + extra);
   size_t cap = b->cap * 2;
   if (cap < b->size + extra) cap = b->size + extra;
   if (cap < 4096) cap = 4096;
@@ -183,7 +185,7 @@ std::string takeReplOutput() { return std::exchange(replOutput(), {}); }
 
 std::vector<std::pair<std::string, void*>> hostFunctions() {
 #define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
-  return {
+  std::vector<std::pair<std::string, void*>> functions = {
       LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
@@ -199,6 +201,9 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
   };
 #undef LCJIT_HOST
+  // operator new and malloc & co. of model code: stoppable (ModelGuard.h).
+  addAllocationHooks(functions);
+  return functions;
 }
 
 }  // namespace lcjit::runtime

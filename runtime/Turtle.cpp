@@ -56,6 +56,10 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out) {
   stack_.clear();
   polygonOn_ = false;
   polygon_.clear();
+  // The engine reuses its turtles: nothing may carry over (contours change between runs).
+  transcript_ = nullptr;
+  for (V3f& p : userPatch_) p = V3f();
+  rings_.clear();
 }
 
 void Turtle::finish() {

@@ -165,6 +165,7 @@ struct Window::Impl {
   bool openMenu = false, menuIsOpen = false;
   bool openUserMenu = false, userMenuIsOpen = false;
   int shortcut = 0;  // a Ctrl/Cmd+key pressed since the last frame (GLFW key code)
+  bool escape = false;  // Esc pressed since the last frame
   bool openSave = false, saveIsOpen = false, focusSaveField = false;
   bool wantMouse = false;  // ImGui wanted the mouse at the end of the last frame
   std::array<char, 1024> saveName{};
@@ -680,6 +681,8 @@ bool Window::frame(const MenuActions& actions) {
     if (byKey && *byKey) chosen = *byKey;
   }
   m.shortcut = 0;
+  if (m.escape && !m.saveIsOpen && !chosen && actions.interrupt) chosen = actions.interrupt;
+  m.escape = false;
 
   if (m.openSave) {
     ImGui::OpenPopup(kSaveId);
@@ -838,6 +841,7 @@ void Window::injectKey(int key, int action, int mods) {
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_3 && action != GLFW_REPEAT)
     impl_->digitHeld[key - GLFW_KEY_1] = action == GLFW_PRESS;
   if (action == GLFW_PRESS && (mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER))) impl_->shortcut = key;
+  if (action == GLFW_PRESS && key == GLFW_KEY_ESCAPE) impl_->escape = true;
 }
 void Window::injectChar(unsigned codepoint) {
   ImGui::SetCurrentContext(impl_->imgui);

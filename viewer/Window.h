@@ -69,6 +69,8 @@ struct MenuActions {
   // a choice calls userChoice with the item's code.
   std::vector<std::pair<std::string, int>> userMenu;
   std::function<void(int code)> userChoice;
+  // Esc (outside the Save as… dialog): interrupt the model code running now (docs/faults.md).
+  std::function<void()> interrupt;
 };
 
 // One view of a multi-view window (manual §7.3): what its view group drew, where it goes (the

@@ -79,7 +79,7 @@ Geometry draw(const std::string& name, const std::string& axiom, const std::stri
     ADD_FAILURE() << llvm::toString(std::move(e));
     return g;
   }
-  session().engine().interpret(g);
+  if (auto e = session().engine().interpret(g)) ADD_FAILURE() << llvm::toString(std::move(e));
   return g;
 }
 
@@ -458,8 +458,8 @@ TEST(TurtleGeometry, ViewGroupsDrawEachView) {
   EXPECT_EQ(views[0], 1);  // right, opened first
   EXPECT_EQ(views[1], 0);
   Geometry left, right;
-  session().engine().interpret(left, 0);
-  session().engine().interpret(right, 1);
+  ASSERT_FALSE(bool(session().engine().interpret(left, 0)));
+  ASSERT_FALSE(bool(session().engine().interpret(right, 1)));
   ASSERT_EQ(left.segments.size(), 1u);
   ASSERT_EQ(right.segments.size(), 2u);
   EXPECT_V3(right.segments[1].to, 0, 5, 0);

@@ -88,15 +88,26 @@ std::string sourcePosition(const std::string& cpp, const std::string& text) {
 }
 
 // The entry of rule `index` in __lc_rules, squashed: {kind,groupKind,(int16_t)(group),
-// nNewLeft,nLeft,nStrict,nRight,nNewRight,filter,__lc_pattern_i,__lc_rule_i,line}.
+// nNewLeft,nLeft,nStrict,nRight,nNewRight,filter,__lc_pattern_i,__lc_rule_i,line} (without the
+// predecessor text and file that follow: ruleNames() has those).
 std::string ruleEntry(const std::string& cpp, int index) {
   std::string s = squash(cpp);
   std::string tail = ",__lc_pattern_" + std::to_string(index) + ",__lc_rule_" + std::to_string(index) + ",";
   size_t p = s.find(tail);
   if (p == std::string::npos) return "<no rule " + std::to_string(index) + ">";
   size_t b = s.rfind('{', p);
-  size_t e = s.find('}', p);
-  return s.substr(b, e - b + 1);
+  size_t e = s.find(",\"", p);
+  return s.substr(b, e - b) + "}";
+}
+
+// The predecessor text and file of rule `index` (not squashed: the text has its spaces).
+std::string ruleNames(const std::string& cpp, int index) {
+  std::string tail = ", __lc_pattern_" + std::to_string(index) + ", __lc_rule_" + std::to_string(index) + ", ";
+  size_t p = cpp.find(tail);
+  if (p == std::string::npos) return "<no rule " + std::to_string(index) + ">";
+  size_t b = cpp.find(", \"", p);
+  size_t e = cpp.find('}', b);
+  return cpp.substr(b + 2, e - b - 2);
 }
 
 // ---- modules
@@ -222,6 +233,13 @@ TEST(RewriterRules, PredefinedModuleIds) {
   EXPECT_HAS(s, "__lc_emit_f(__lc_ctx,l);__lc_emit_Left(__lc_ctx,1);__lc_emit_Right(__lc_ctx,2);");
   // F's parameter comes from the pattern's second record (index 2 in pattern order).
   EXPECT_HAS(s, "auto__lc_r2=__lc_load<__lc_R_F>(__lc_m[2]);autol=__lc_r2.p0;");
+}
+
+// Fault messages name a rule by its predecessor as written, and its file.
+TEST(RewriterRules, PredecessorTextAndFile) {
+  auto r = ok(std::string(kMinimal) + "A(x) > SB() F(l) EB(): { produce A(x); }\nF(l) < A(x) : { produce; }\n");
+  EXPECT_EQ(ruleNames(r.cpp, 0), "\"A(x) > SB F(l) EB\", \"m.l\"");
+  EXPECT_EQ(ruleNames(r.cpp, 1), "\"F(l) < A(x)\", \"m.l\"");
 }
 
 TEST(RewriterRules, MultiModuleStrictPredecessor) {

@@ -62,7 +62,7 @@ struct Picture {
 
 Picture look(Session& s) {
   runtime::Geometry g;
-  s.engine().interpret(g);
+  if (auto e = s.engine().interpret(g)) ADD_FAILURE() << llvm::toString(std::move(e));
   Picture p;
   p.segments = g.segments.size();
   p.triangles = g.triangleCount();
@@ -287,6 +287,11 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   EXPECT_EQ(eval("twice(total) + 1"), "201");
   EXPECT_EQ(eval("V3f(1, 2, 3)"), "(1, 2, 3)");
   EXPECT_EQ(eval("Printf(\"hello\\n\")"), "");         // void: run, nothing printed here
+
+  // Model code typed at the prompt that crashes is stopped and reported; the session goes on.
+  std::string crashed = eval("*(volatile int*)nullptr = 1;");
+  EXPECT_NE(crashed.find("segmentation fault"), std::string::npos) << crashed;
+  EXPECT_EQ(eval("total"), "100");
 
   std::string bad = eval("total +");
   EXPECT_NE(bad.find("<repl>:1:"), std::string::npos) << bad;

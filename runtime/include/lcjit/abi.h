@@ -4,7 +4,7 @@
 #pragma once
 #include "modules.h"
 
-enum { __lc_AbiVersion = 1 };
+enum { __lc_AbiVersion = 2 };
 
 struct __lc_Buffer {
   char* data;
@@ -35,6 +35,9 @@ struct __lc_Rule {
   // Parameters of the matched modules are passed as pointers, in pattern order.
   void (*body)(__lc_Ctx*, const char* const*);
   int line;  // source line of the predecessor
+  // The predecessor as written ("A(x) < B") and its file: fault messages name the rule.
+  const char* predecessor;
+  const char* file;
 };
 
 struct __lc_Filter {

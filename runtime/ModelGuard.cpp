@@ -1,0 +1,595 @@
+// The guard around model code (see ModelGuard.h and docs/faults.md).
+#include "ModelGuard.h"
+
+#include <cxxabi.h>
+#include <fcntl.h>
+#include <link.h>
+#include <poll.h>
+#include <pthread.h>
+#include <setjmp.h>
+#include <signal.h>
+#include <sys/mman.h>
+#include <time.h>
+#include <ucontext.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cinttypes>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <new>
+#include <thread>
+#include <typeinfo>
+
+namespace lcjit::runtime {
+
+// The watchdog reaches into ModelGuard's state through this (ModelGuard.h keeps it private).
+struct GuardInternals {
+  static std::atomic<int>& stop(ModelGuard& g) { return g.stop_; }
+  static std::atomic<bool>& force(ModelGuard& g) { return g.force_; }
+  static int& depth(ModelGuard& g) { return g.depth_; }
+  static uint64_t& thread(ModelGuard& g) { return g.thread_; }
+  static int64_t& deadline(ModelGuard& g) { return g.deadlineNs_; }
+  static std::atomic<int64_t>& stopSince(ModelGuard& g) { return g.stopSinceNs_; }
+  static std::atomic<bool>& running(ModelGuard& g) { return g.running_; }
+  static int64_t& forceSince(ModelGuard& g) { return g.forceSinceNs_; }
+  static std::atomic<size_t>& observed(ModelGuard& g) { return g.observedBytes_; }
+  static const GuardLimits& limits(const ModelGuard& g) { return g.limits_; }
+};
+using GI = GuardInternals;
+
+namespace {
+
+constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+constexpr int kInterruptSignal = SIGUSR2;
+// An interrupt is cooperative first (the engine and the host functions check, and unwind); only
+// a thread still inside after the grace period is made to jump.
+constexpr int64_t kGraceNs = 5'000'000;
+// Then SIGUSR2 every kForceTickNs until it lands in JIT'd code; after kForceAnywhereNs, wherever
+// it lands.
+constexpr int64_t kForceTickNs = 250'000;
+constexpr int64_t kForceAnywhereNs = 1'000'000'000;
+constexpr int64_t kTickNs = 2'000'000;     // watchdog period while model code runs
+constexpr int64_t kLingerNs = 200'000'000;  // keep ticking this long after the last run ended
+
+int64_t nowNs() {
+  timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
+// One guarded run on one thread. Signals jump to the innermost; the handler fills in what it saw.
+struct Region {
+  sigjmp_buf env;
+  ModelGuard* guard = nullptr;
+  Region* outer = nullptr;
+  volatile int signo = 0, code = 0, stopKind = 0;
+  void* volatile addr = nullptr;
+  volatile uintptr_t sp = 0, pc = 0;
+};
+
+thread_local Region* tlRegion = nullptr;
+
+// ---- where the thread was when the signal came
+
+uintptr_t pcOf(void* uc) {
+  auto* c = static_cast<ucontext_t*>(uc);
+#if defined(__x86_64__)
+  return uintptr_t(c->uc_mcontext.gregs[REG_RIP]);
+#elif defined(__aarch64__)
+  return uintptr_t(c->uc_mcontext.pc);
+#else
+  (void)c;
+  return 0;
+#endif
+}
+
+uintptr_t spOf(void* uc) {
+  auto* c = static_cast<ucontext_t*>(uc);
+#if defined(__x86_64__)
+  return uintptr_t(c->uc_mcontext.gregs[REG_RSP]);
+#elif defined(__aarch64__)
+  return uintptr_t(c->uc_mcontext.sp);
+#else
+  (void)c;
+  return 0;
+#endif
+}
+
+// The executable segments of every loaded ELF object (lcjit, libLLVM, libc, ld.so, GL drivers):
+// "host code". JIT'd model code lives in anonymous mappings, outside all of them. Rebuilt by the
+// watchdog before it forces a jump; read by the SIGUSR2 handler.
+struct HostCode {
+  static constexpr int kMax = 4096;
+  uintptr_t lo[kMax], hi[kMax];
+  std::atomic<int> n{0};
+};
+HostCode gHostCode;
+
+void refreshHostCode() {
+  gHostCode.n.store(0, std::memory_order_release);
+  int count = 0;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        int& k = *static_cast<int*>(data);
+        for (int i = 0; i < info->dlpi_phnum && k < HostCode::kMax; ++i) {
+          const ElfW(Phdr)& p = info->dlpi_phdr[i];
+          if (p.p_type != PT_LOAD || !(p.p_flags & PF_X)) continue;
+          gHostCode.lo[k] = info->dlpi_addr + p.p_vaddr;
+          gHostCode.hi[k] = info->dlpi_addr + p.p_vaddr + p.p_memsz;
+          ++k;
+        }
+        return 0;
+      },
+      &count);
+  gHostCode.n.store(count, std::memory_order_release);
+}
+
+bool inHostCode(uintptr_t pc) {
+  int n = gHostCode.n.load(std::memory_order_acquire);
+  for (int i = 0; i < n; ++i)
+    if (pc >= gHostCode.lo[i] && pc < gHostCode.hi[i]) return true;
+  return false;
+}
+
+// ---- signal handlers
+
+struct sigaction gPrevious[NSIG];
+
+// A signal that is not ours goes where it would have gone without lcjit's guard.
+void chain(int sig, siginfo_t* info, void* uc) {
+  const struct sigaction& prev = gPrevious[sig];
+  if (prev.sa_flags & SA_SIGINFO) {
+    if (prev.sa_sigaction) prev.sa_sigaction(sig, info, uc);
+    return;
+  }
+  if (prev.sa_handler == SIG_IGN) return;
+  if (prev.sa_handler == SIG_DFL) {
+    // Die as the process would have: restore the default action; a fault of an instruction
+    // happens again when the handler returns, anything else is raised again (blocked until the
+    // handler returns).
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
+    sigaction(sig, &dfl, nullptr);
+    if (info->si_code <= 0 || sig == SIGABRT) raise(sig);
+    return;
+  }
+  prev.sa_handler(sig);
+}
+
+// The fault is the guarded thread's own: raised by an instruction it executed (the kernel), or by
+// itself (abort() and raise() send the signal to their own thread).
+bool ownFault(const siginfo_t* info) { return info->si_code > 0 || (info->si_code == SI_TKILL && info->si_pid == getpid()); }
+
+void onCrash(int sig, siginfo_t* info, void* uc) {
+  Region* r = tlRegion;
+  if (r && ownFault(info)) {
+    r->signo = sig;
+    r->code = info->si_code;
+    r->addr = info->si_addr;
+    r->sp = spOf(uc);
+    r->pc = pcOf(uc);
+    tlRegion = r->outer;
+    siglongjmp(r->env, 1);
+  }
+  chain(sig, info, uc);
+}
+
+void onInterrupt(int sig, siginfo_t* info, void* uc) {
+  int savedErrno = errno;
+  if (Region* r = tlRegion) {
+    for (Region* x = r; x; x = x->outer) {
+      ModelGuard& g = *x->guard;
+      if (!GI::force(g).load(std::memory_order_acquire)) continue;
+      uintptr_t pc = pcOf(uc);
+      // Inside libc or the host the thread may hold a lock (malloc's, stdio's): wait for it to
+      // come back to model code, but not forever.
+      if (inHostCode(pc) && nowNs() - GI::forceSince(g) < kForceAnywhereNs) break;
+      r->signo = sig;
+      r->pc = pc;
+      r->stopKind = GI::stop(g).load();
+      tlRegion = r->outer;
+      siglongjmp(r->env, 1);
+    }
+  }
+  errno = savedErrno;
+  // A late one of ours (the run had ended before it arrived) is dropped; others are chained.
+  if (info->si_code == SI_TKILL && info->si_pid == getpid()) return;
+  chain(sig, info, uc);
+}
+
+void installHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction sa {};
+    sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
+    sigemptyset(&sa.sa_mask);
+    sigaddset(&sa.sa_mask, kInterruptSignal);
+    sa.sa_sigaction = onCrash;
+    for (int s : kCrashSignals) sigaction(s, &sa, &gPrevious[s]);
+    sigemptyset(&sa.sa_mask);
+    sa.sa_sigaction = onInterrupt;
+    sigaction(kInterruptSignal, &sa, &gPrevious[kInterruptSignal]);
+  });
+}
+
+// Every thread that runs model code gets an alternate signal stack: a stack overflow leaves no
+// room on the thread's own stack to run the handler.
+struct AltStack {
+  void* mem = nullptr;
+  size_t size = 0;
+  AltStack() {
+    stack_t old;
+    if (sigaltstack(nullptr, &old) == 0 && !(old.ss_flags & SS_DISABLE)) return;  // it has one
+    size = 64 * 1024;
+#ifdef _SC_SIGSTKSZ
+    long min = sysconf(_SC_SIGSTKSZ);
+    if (min > 0) size = std::max(size, size_t(min) * 4);
+#endif
+    mem = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_STACK, -1, 0);
+    if (mem == MAP_FAILED) {
+      mem = nullptr;
+      return;
+    }
+    stack_t s{};
+    s.ss_sp = mem;
+    s.ss_size = size;
+    sigaltstack(&s, nullptr);
+  }
+  ~AltStack() {
+    if (!mem) return;
+    stack_t s{};
+    s.ss_flags = SS_DISABLE;
+    sigaltstack(&s, nullptr);
+    munmap(mem, size);
+  }
+};
+
+void ensureAltStack() { static thread_local AltStack stack; }
+
+// ---- the watchdog: time limits, the memory limit, forced interrupts, Ctrl-C
+
+class Watchdog {
+ public:
+  static Watchdog& get() {
+    static Watchdog* w = create();  // never destroyed: its thread runs until the process ends
+    return *w;
+  }
+  static Watchdog* existing() { return instance_.load(std::memory_order_acquire); }
+
+  void enter(ModelGuard& g) {
+    bool wake;
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      if (GI::depth(g)++ > 0) return;  // nested: the outermost run's registration stands
+      int64_t now = nowNs();
+      GI::thread(g) = uint64_t(pthread_self());
+      GI::stop(g).store(0);
+      GI::force(g).store(false);
+      GI::stopSince(g) = 0;
+      GI::observed(g) = 0;
+      GI::running(g).store(true);
+      double t = GI::limits(g).timeSeconds;
+      GI::deadline(g) = t > 0 ? now + int64_t(t * 1e9) : 0;
+      guards_.push_back(&g);
+      active_.fetch_add(1);
+      wake = sleeping_;
+      sleeping_ = false;
+    }
+    if (wake) this->wake();
+  }
+
+  void leave(ModelGuard& g) {
+    std::lock_guard<std::mutex> lock(m_);
+    if (--GI::depth(g) > 0) return;
+    guards_.erase(std::find(guards_.begin(), guards_.end(), &g));
+    active_.fetch_sub(1);
+    lastActiveNs_ = nowNs();
+    GI::running(g).store(false);
+    GI::force(g).store(false);
+    GI::stop(g).store(0);
+  }
+
+  // Lock-free, so that a signal handler may call it (the REPL's SIGINT handler cancels a step).
+  // An interrupt that comes as one run ends and the next begins may stop the next one.
+  void interrupt(ModelGuard& g, FaultKind why) {
+    if (!GI::running(g).load()) return;
+    requestStop(g, why, nowNs());
+    wake();
+  }
+
+  // Async-signal-safe.
+  void wake() {
+    char c = 1;
+    ssize_t r = write(fds_[1], &c, 1);
+    (void)r;
+  }
+
+  std::atomic<int> active_{0};
+  std::atomic<bool> sigintPending_{false};
+
+ private:
+  static inline std::atomic<Watchdog*> instance_{nullptr};
+
+  static Watchdog* create() {
+    auto* w = new Watchdog();
+    if (pipe2(w->fds_, O_NONBLOCK | O_CLOEXEC) != 0) w->fds_[0] = w->fds_[1] = -1;
+    std::thread([w] { w->loop(); }).detach();
+    instance_.store(w, std::memory_order_release);
+    return w;
+  }
+
+  static void requestStop(ModelGuard& g, FaultKind why, int64_t now) {
+    int none = 0;
+    if (GI::stop(g).compare_exchange_strong(none, int(why))) GI::stopSince(g).store(now);
+  }
+
+  void loop() {
+    pthread_setname_np(pthread_self(), "lcjit-watchdog");
+    for (;;) {
+      int64_t timeoutNs = -1;
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        int64_t now = nowNs();
+        if (sigintPending_.load()) {
+          // Ctrl-C stops every run in progress; once they have all ended, the next Ctrl-C does it again.
+          if (guards_.empty()) sigintPending_.store(false);
+          for (ModelGuard* g : guards_) requestStop(*g, FaultKind::Interrupted, now);
+        }
+        size_t rss = 0;
+        bool forcing = false;
+        for (ModelGuard* g : guards_) {
+          if (GI::deadline(*g) && now >= GI::deadline(*g)) requestStop(*g, FaultKind::TimeLimit, now);
+          size_t limit = GI::limits(*g).memoryBytes;
+          if (limit && !GI::stop(*g).load()) {
+            if (!rss) rss = residentBytes();
+            if (rss > limit) {
+              GI::observed(*g) = rss;
+              requestStop(*g, FaultKind::MemoryLimit, now);
+            }
+          }
+          // stopSince may lag stop_ by a moment (interrupt() sets them one after the other).
+          int64_t since = GI::stopSince(*g).load();
+          if (GI::stop(*g).load() && since && now >= since + kGraceNs) {
+            if (!GI::force(*g).load()) {
+              refreshHostCode();
+              GI::forceSince(*g) = now;
+              GI::force(*g).store(true, std::memory_order_release);
+            }
+            // Under the lock: the thread is still inside its run (leave() waits), so it exists.
+            pthread_kill(pthread_t(GI::thread(*g)), kInterruptSignal);
+            forcing = true;
+          }
+        }
+        if (forcing) timeoutNs = kForceTickNs;
+        else if (!guards_.empty() || now - lastActiveNs_ < kLingerNs || sigintPending_.load()) timeoutNs = kTickNs;
+        else sleeping_ = true;
+      }
+      pollfd p{fds_[0], POLLIN, 0};
+      timespec timeout{time_t(timeoutNs / 1'000'000'000), long(timeoutNs % 1'000'000'000)};
+      if (ppoll(&p, 1, timeoutNs < 0 ? nullptr : &timeout, nullptr) > 0) {
+        char buf[64];
+        while (read(fds_[0], buf, sizeof buf) > 0) {
+        }
+      }
+      std::lock_guard<std::mutex> lock(m_);
+      sleeping_ = false;
+    }
+  }
+
+  std::mutex m_;
+  std::vector<ModelGuard*> guards_;  // in an outermost run
+  int fds_[2] = {-1, -1};           // wakes the watchdog
+  bool sleeping_ = false;           // waiting with no timeout: enter() must wake it
+  int64_t lastActiveNs_ = 0;
+};
+
+// ---- what went wrong, in words
+
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  char buf[256];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  return buf;
+}
+
+std::string bytes(size_t n) {
+  if (n >= (size_t(1) << 30)) return format("%.2f GB", double(n) / double(size_t(1) << 30));
+  return format("%.1f MB", double(n) / double(size_t(1) << 20));
+}
+
+Fault stopFault(int kind, const ModelGuard& g, size_t observed) {
+  switch (FaultKind(kind)) {
+    case FaultKind::TimeLimit:
+      return {FaultKind::TimeLimit, format("it ran longer than the time limit of %g s (--time-limit)", g.limits().timeSeconds)};
+    case FaultKind::MemoryLimit:
+      return {FaultKind::MemoryLimit, "lcjit's memory reached " + bytes(observed) + " (limit --max-memory " +
+                                          bytes(g.limits().memoryBytes) + ")"};
+    default:
+      return {FaultKind::Interrupted, "interrupted"};
+  }
+}
+
+Fault signalFault(const Region& r) {
+  auto addr = uintptr_t(r.addr);
+  switch (r.signo) {
+    case SIGSEGV:
+      if (addr < 4096) return {FaultKind::Crash, "segmentation fault (null pointer dereference)"};
+      // A stack overflow faults just below the stack pointer, in the stack's guard area.
+      if (r.sp && addr + 65536 >= r.sp && addr < r.sp + 65536)
+        return {FaultKind::Crash, "stack overflow (endless recursion?)"};
+      return {FaultKind::Crash, format("segmentation fault (invalid memory access at 0x%" PRIxPTR ")", addr)};
+    case SIGBUS: return {FaultKind::Crash, format("bus error (invalid memory access at 0x%" PRIxPTR ")", addr)};
+    case SIGFPE:
+      if (r.code == FPE_INTDIV) return {FaultKind::Crash, "integer division by zero"};
+      if (r.code == FPE_INTOVF) return {FaultKind::Crash, "integer overflow"};
+      return {FaultKind::Crash, "floating-point exception"};
+    case SIGILL: return {FaultKind::Crash, "illegal instruction (a trap: undefined behaviour such as a missing return?)"};
+    case SIGABRT: return {FaultKind::Abort, "abort() was called (a failed assert? std::terminate?)"};
+    default: return {FaultKind::Crash, format("signal %d", r.signo)};
+  }
+}
+
+std::string currentExceptionType() {
+  const std::type_info* t = abi::__cxa_current_exception_type();
+  if (!t) return "unknown";
+  int status = 0;
+  char* d = abi::__cxa_demangle(t->name(), nullptr, nullptr, &status);
+  std::string name = status == 0 && d ? d : t->name();
+  std::free(d);
+  return name;
+}
+
+Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g) {
+  try {
+    fn();
+    return {};
+  } catch (const Fault& f) {
+    return f;
+  } catch (const ModelStop&) {
+    return stopFault(GI::stop(g).load(), g, GI::observed(g).load());
+  } catch (const std::exception& e) {
+    return {FaultKind::Exception, currentExceptionType() + ": " + e.what()};
+  } catch (...) {
+    return {FaultKind::Exception, "an exception of type " + currentExceptionType()};
+  }
+}
+
+// ---- allocation in model code
+
+void* modelNew(size_t n) {
+  ModelGuard::checkpoint();
+  return ::operator new(n);
+}
+void* modelNewArray(size_t n) {
+  ModelGuard::checkpoint();
+  return ::operator new[](n);
+}
+void* modelMalloc(size_t n) {
+  ModelGuard::checkpoint();
+  return std::malloc(n);
+}
+void* modelCalloc(size_t n, size_t size) {
+  ModelGuard::checkpoint();
+  return std::calloc(n, size);
+}
+void* modelRealloc(void* p, size_t n) {
+  ModelGuard::checkpoint();
+  return std::realloc(p, n);
+}
+
+struct sigaction gPreviousSigint;
+
+void onSigint(int) {
+  Watchdog* w = Watchdog::existing();
+  if (w && w->active_.load() > 0 && !w->sigintPending_.exchange(true)) {
+    w->wake();
+    return;
+  }
+  // Nothing to interrupt, or the second Ctrl-C: what SIGINT did before.
+  sigaction(SIGINT, &gPreviousSigint, nullptr);
+  raise(SIGINT);
+}
+
+}  // namespace
+
+// ---- ModelGuard
+
+ModelGuard::~ModelGuard() = default;
+
+Fault ModelGuard::run(llvm::function_ref<void()> fn) {
+  installHandlers();
+  ensureAltStack();
+  Watchdog& w = Watchdog::get();
+  w.enter(*this);
+  Region region;
+  region.guard = this;
+  region.outer = tlRegion;
+  Fault fault;
+  if (sigsetjmp(region.env, 1) == 0) {
+    tlRegion = &region;
+    fault = callCatching(fn, *this);
+    tlRegion = region.outer;
+  } else {
+    // The handler jumped here (and restored tlRegion). A stop that was asked for explains the
+    // crash that may follow it (a ModelStop thrown through noexcept code aborts).
+    int asked = region.signo == kInterruptSignal ? region.stopKind : stop_.load();
+    fault = asked ? stopFault(asked, *this, observedBytes_.load()) : signalFault(region);
+  }
+  w.leave(*this);
+  return fault;
+}
+
+void ModelGuard::interrupt(FaultKind why) {
+  if (Watchdog* w = Watchdog::existing()) w->interrupt(*this, why);
+}
+
+void ModelGuard::checkpoint() {
+  // Once the watchdog forces the jump, model code has had its chance to unwind (it may catch
+  // everything and go on): throwing again would only keep the thread in the unwinder, inside
+  // libgcc with its locks, where the jump must not land.
+  for (Region* r = tlRegion; r; r = r->outer)
+    if (r->guard->stopRequested() && !r->guard->force_.load(std::memory_order_relaxed)) throw ModelStop{};
+}
+
+bool ModelGuard::inside() { return tlRegion != nullptr; }
+
+// ---- limits
+
+size_t residentBytes() {
+  static int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+  char buf[128];
+  ssize_t n = fd >= 0 ? pread(fd, buf, sizeof buf - 1, 0) : -1;
+  if (n <= 0) return 0;
+  buf[n] = 0;
+  unsigned long long size = 0, resident = 0;
+  if (std::sscanf(buf, "%llu %llu", &size, &resident) != 2) return 0;
+  return size_t(resident) * size_t(sysconf(_SC_PAGESIZE));
+}
+
+size_t defaultMemoryLimit() {
+  static const size_t limit = [] {
+    size_t physical = size_t(sysconf(_SC_PHYS_PAGES)) * size_t(sysconf(_SC_PAGESIZE));
+    // In a container, the cgroup's limit (cgroup v2: /proc/self/cgroup's "0::/path").
+    std::ifstream cg("/proc/self/cgroup");
+    std::string line;
+    while (std::getline(cg, line)) {
+      if (line.rfind("0::", 0) != 0) continue;
+      std::ifstream max("/sys/fs/cgroup" + line.substr(3) + "/memory.max");
+      unsigned long long v = 0;
+      if (max >> v && v > 0 && v < physical) physical = size_t(v);
+    }
+    return physical / 2;
+  }();
+  return limit;
+}
+
+void interruptModelCodeOnSigint() {
+  Watchdog::get();
+  struct sigaction sa {};
+  sa.sa_handler = onSigint;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &sa, &gPreviousSigint);
+}
+
+void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols) {
+  static_assert(sizeof(size_t) == sizeof(unsigned long), "operator new's mangled names below take unsigned long");
+  symbols.push_back({"_Znwm", reinterpret_cast<void*>(&modelNew)});
+  symbols.push_back({"_Znam", reinterpret_cast<void*>(&modelNewArray)});
+  symbols.push_back({"malloc", reinterpret_cast<void*>(&modelMalloc)});
+  symbols.push_back({"calloc", reinterpret_cast<void*>(&modelCalloc)});
+  symbols.push_back({"realloc", reinterpret_cast<void*>(&modelRealloc)});
+}
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,111 @@
+// Model code runs in lcjit's own process, behind a guard: a crash (SIGSEGV, SIGBUS, SIGFPE,
+// SIGILL, SIGABRT — null pointers, division by zero, stack overflow, abort()), an uncaught C++
+// exception, an interrupt (Ctrl-C, Esc, Stop) or a limit (time, memory) ends the guarded call with
+// a Fault instead of ending the program. docs/faults.md says why in-process and what it cannot
+// promise: the jump out of a crash skips whatever the model was in the middle of, so a lock or
+// heap state it broke stays broken, and what it had allocated is lost.
+//
+// How: ModelGuard::run() marks the calling thread as running model code (sigsetjmp); the signal
+// handlers, installed once and chained to whatever was installed before them, siglongjmp back
+// when the signal comes from that thread while it is inside, on an alternate signal stack (so a
+// stack overflow can be handled). Interrupts are cooperative first — the engine and the host
+// functions model code calls check stopRequested() and throw ModelStop, which unwinds cleanly —
+// and forced after a short grace period: a watchdog thread sends the thread SIGUSR2, whose
+// handler jumps out when the thread is executing JIT'd code (not inside libc or the host, where
+// it could hold a lock). The same watchdog enforces the time limit and polls the process's
+// resident memory against the memory limit.
+#pragma once
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "llvm/ADT/STLFunctionalExtras.h"
+
+namespace lcjit::runtime {
+
+enum class FaultKind : int {
+  None = 0,
+  Crash,        // SIGSEGV, SIGBUS, SIGFPE, SIGILL: `what` says which and, where it can, why
+  Abort,        // SIGABRT: abort(), a failed assert, std::terminate
+  Exception,    // a C++ exception left model code
+  Interrupted,  // interrupt(): Ctrl-C, Esc, Stop
+  TimeLimit,    // the guarded call ran longer than its time limit
+  MemoryLimit,  // the process's memory (or the string's buffers) passed the memory limit
+  StringLimit,  // the string passed the module limit
+};
+
+struct Fault {
+  FaultKind kind = FaultKind::None;
+  std::string what;  // "segmentation fault (null pointer dereference)", "std::runtime_error: boom"…
+  explicit operator bool() const { return kind != FaultKind::None; }
+};
+
+// Thrown by the host (engine loops, host functions, model code's operator new) when the guarded
+// call has been asked to stop: unwinding runs the destructors a jump would skip. Deliberately not
+// a std::exception, so that model code's catch (std::exception&) does not swallow it.
+struct ModelStop {};
+
+struct GuardLimits {
+  double timeSeconds = 0;   // per guarded call; 0: none
+  size_t memoryBytes = 0;   // resident memory of the whole process; 0: none
+};
+
+// The default memory limit: half the physical memory (or of a cgroup's memory.max, if lower).
+size_t defaultMemoryLimit();
+// The process's resident memory (/proc/self/statm), in bytes.
+size_t residentBytes();
+
+class ModelGuard {
+ public:
+  ModelGuard() = default;
+  ~ModelGuard();
+  ModelGuard(const ModelGuard&) = delete;
+  ModelGuard& operator=(const ModelGuard&) = delete;
+
+  // Runs `fn` on the calling thread; returns a Fault (kind None when `fn` returned normally).
+  // Host code inside may throw a Fault to end the run with it (the engine's string limits).
+  // Runs nest (a guarded call inside a guarded call, on the same thread): a fault ends the
+  // innermost one; an interrupt or a limit of the outer run stops the outer run too.
+  Fault run(llvm::function_ref<void()> fn);
+  void setLimits(const GuardLimits& limits) { limits_ = limits; }
+  const GuardLimits& limits() const { return limits_; }
+
+  // From any thread, and from a signal handler (it only stores atomics and writes to a pipe):
+  // the run in progress, if any, stops with `why`.
+  void interrupt(FaultKind why = FaultKind::Interrupted);
+  // Whether the run in progress has been asked to stop (relaxed load: for per-module checks).
+  bool stopRequested() const { return stop_.load(std::memory_order_relaxed) != 0; }
+  // Host functions model code calls: throws ModelStop when the calling thread's guarded run has
+  // been asked to stop (and the jump is not being forced yet). Does nothing outside a run.
+  static void checkpoint();
+  // Whether the calling thread is inside a guarded run.
+  static bool inside();
+
+ private:
+  friend struct GuardInternals;
+  GuardLimits limits_;
+  std::atomic<int> stop_{0};       // FaultKind asked for, 0 = none
+  std::atomic<bool> force_{false};  // the watchdog asks the SIGUSR2 handler to jump
+  std::atomic<bool> running_{false};       // inside run() (the outermost)
+  std::atomic<int64_t> stopSinceNs_{0};   // when stop_ was set
+  // Set under the watchdog's lock.
+  int depth_ = 0;  // nesting of run() on its thread
+  uint64_t thread_ = 0;  // pthread_t of the running thread
+  int64_t deadlineNs_ = 0, forceSinceNs_ = 0;
+  std::atomic<size_t> observedBytes_{0};  // the resident memory that tripped the memory limit
+};
+
+// Ctrl-C: while model code runs, SIGINT interrupts it (every guarded run in the process) instead
+// of ending the program; a second Ctrl-C before that run has ended, or one when no model code
+// runs, ends the program as before.
+void interruptModelCodeOnSigint();
+
+// Stand-ins for operator new, new[], malloc, calloc and realloc in JIT'd model code (linked by
+// name, see hostFunctions()): they throw ModelStop when the run has been asked to stop, so that a
+// model allocating in a loop unwinds (and frees what it holds) instead of being jumped out of.
+void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols);
+
+}  // namespace lcjit::runtime

@@ -1,0 +1,320 @@
+// Faults in model code never end the program (docs/faults.md): each kind — null dereference,
+// integer division by zero, stack overflow, abort(), an uncaught exception, an endless loop
+// (stopped by the time limit, and by an interrupt from another thread), runaway string growth,
+// runaway allocation — is loaded as a small model that faults in a known production at a known
+// step, run 100 times in a row in one process: each run's message names the production's line,
+// the step and the kind; the string is left as it was before the failed step; resident memory
+// stays flat; and a good model loaded afterwards into the same Session runs correctly.
+#include <gtest/gtest.h>
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include "Engine.h"
+#include "ModelGuard.h"
+#include "Session.h"
+
+using namespace lcjit;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kRuns = 100;
+
+// Every faulty model: A(n) → A(n+1) for 5 steps; the production (on line kLine) faults when
+// n == 1, i.e. in step 2, so the string after the fault is A(1).
+constexpr int kLine = 8;
+std::string faulty(const std::string& includes, const std::string& fault) {
+  return "#include <lpfgall.h>\n" + includes +        // lines 1-2
+         "\nderivation length: 5;\n"                  // 3
+         "module A(int);\n"                           // 4
+         "int* volatile nothing = nullptr; volatile int zero = 0;\n"  // 5: what the optimiser cannot see
+         "static int deep(int n, volatile char* up) { volatile char b[64]; b[0] = (char)n; *up = b[0]; return deep(n + 1, b) + b[1]; }\n"
+         "axiom: A(0);\n"                             // 7
+         "A(n) : {\n"                                 // 8: the production
+         "  if (n == 1) { " + fault + " }\n"
+         "  produce A(n + 1);\n"
+         "}\n";
+}
+
+// The good model of the same session afterwards: its own string, so a stale model would show.
+const char* const kGood = "#include <lpfgall.h>\nderivation length: 3;\nmodule B(int);\naxiom: B(7);\n"
+                          "B(n) : { produce B(n * 2) F(1); }\n";
+
+class Faults : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("lcjit-faults-" + std::to_string(::getpid())));
+    fs::create_directories(*dir_);
+    auto s = Session::create();
+    ASSERT_TRUE(bool(s)) << llvm::toString(s.takeError());
+    session_ = s->release();
+  }
+  static void TearDownTestSuite() {
+    delete session_;
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  void SetUp() override {
+    ASSERT_NE(session_, nullptr);
+    session_->setLimits(runtime::EngineLimits());
+  }
+
+  static void load(const std::string& name, const std::string& text) {
+    fs::path file = *dir_ / (name + ".l");
+    std::ofstream(file) << text;
+    ModelFiles files;
+    files.lsystem = file.string();
+    PhaseTimes t;
+    auto e = session_->load(files, 1, t);
+    ASSERT_FALSE(bool(e)) << llvm::toString(std::move(e));
+  }
+  static runtime::Engine& engine() { return session_->engine(); }
+
+  // Runs the loaded model kRuns times; every run must fail with a message containing each of
+  // `expected` and leave the string as it was before step 2. Resident memory may not grow by
+  // more than 2 MB between the 10th run and the last.
+  static void runsFail(const std::vector<std::string>& expected, const runtime::EngineHooks& hooks = {},
+                       const std::function<void()>& beforeEachRun = {}, bool onWorkerThreads = false) {
+    size_t rss10 = 0;
+    for (int i = 0; i < kRuns; ++i) {
+      if (beforeEachRun) beforeEachRun();
+      llvm::Error e = onWorkerThreads ? std::async(std::launch::async, [&] { return engine().run(hooks); }).get()
+                                      : engine().run(hooks);
+      ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
+      std::string message = llvm::toString(std::move(e));
+      for (const std::string& part : expected)
+        ASSERT_NE(message.find(part), std::string::npos) << "run " << i << ": \"" << part << "\" not in: " << message;
+      ASSERT_TRUE(engine().faulted());
+      ASSERT_EQ(engine().stepsDone(), 1) << message;
+      ASSERT_EQ(engine().text(engine().string()), "A(1)\n") << message;
+      if (i == 9) rss10 = runtime::residentBytes();
+    }
+    size_t rss = runtime::residentBytes();
+    std::printf("resident memory: %.1f MB after run 10, %.1f MB after run %d\n", rss10 / 1048576.0, rss / 1048576.0, kRuns);
+    EXPECT_LT(double(rss) - double(rss10), 2.0 * 1048576) << "resident memory grew from run 10 to run " << kRuns;
+  }
+
+  // The same session then loads and runs a good model: B(7) → B(14) F(1) → … after 3 steps.
+  static void goodModelRuns() {
+    session_->setLimits(runtime::EngineLimits());
+    load("good", kGood);
+    llvm::Error e = engine().run();
+    ASSERT_FALSE(bool(e)) << llvm::toString(std::move(e));
+    EXPECT_EQ(engine().text(engine().string()), "B(56)\nF(1)\nF(1)\nF(1)\n");
+    runtime::Geometry g;
+    ASSERT_FALSE(bool(engine().interpret(g)));
+    EXPECT_EQ(g.segments.size(), 3u);
+  }
+
+  static std::string path(const char* name) { return (*dir_ / name).string(); }
+  static std::string at() { return path("f.l") + ":" + std::to_string(kLine) + ": error: production A(n) "; }
+
+  static Session* session_;
+  static fs::path* dir_;
+};
+Session* Faults::session_ = nullptr;
+fs::path* Faults::dir_ = nullptr;
+
+TEST_F(Faults, NullPointerDereference) {
+  load("f", faulty("", "*nothing = 1;"));
+  runsFail({at() + "crashed in step 2: segmentation fault (null pointer dereference)"});
+  goodModelRuns();
+}
+
+TEST_F(Faults, IntegerDivisionByZero) {
+  load("f", faulty("", "n = 10 / zero;"));
+  runsFail({at() + "crashed in step 2: integer division by zero"});
+  goodModelRuns();
+}
+
+TEST_F(Faults, StackOverflow) {
+  load("f", faulty("", "volatile char c; n = deep(0, &c);"));
+  runsFail({at() + "crashed in step 2: stack overflow"});
+  goodModelRuns();
+}
+
+TEST_F(Faults, Abort) {
+  load("f", faulty("#include <cstdlib>", "abort();"));
+  runsFail({at() + "crashed in step 2: abort() was called"});
+  goodModelRuns();
+}
+
+TEST_F(Faults, UncaughtException) {
+  load("f", faulty("#include <stdexcept>", "throw std::runtime_error(\"no leaf here\");"));
+  runsFail({at() + "threw an exception in step 2: std::runtime_error: no leaf here"});
+  goodModelRuns();
+}
+
+TEST_F(Faults, EndlessLoopStoppedByTheTimeLimit) {
+  load("f", faulty("", "for (volatile int k = 0; k == 0;) {}"));
+  runtime::EngineLimits limits;
+  limits.timeLimit = 0.005;
+  session_->setLimits(limits);
+  auto t0 = std::chrono::steady_clock::now();
+  runsFail({at() + "was stopped in step 2: it ran longer than the time limit of 0.005 s"});
+  double perRun = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / kRuns;
+  std::printf("%.1f ms per run (time limit 5 ms)\n", perRun * 1e3);
+  EXPECT_LT(perRun, 0.5);
+  goodModelRuns();
+}
+
+// Esc, Stop, Ctrl-C: another thread interrupts a model stuck in a loop. The model says when it
+// is in the loop (Printf), so the interrupt is not spent on Start or the axiom.
+TEST_F(Faults, EndlessLoopInterruptedFromAnotherThread) {
+  load("f", faulty("", "Printf(\"looping\\n\"); for (volatile int k = 0; k == 0;) {}"));
+  std::atomic<bool> looping{false}, done{false};
+  runtime::EngineHooks hooks;
+  hooks.print = [&](const char*) { looping = true; };
+  std::thread interrupter([&] {
+    while (!done) {
+      if (looping.exchange(false)) engine().interrupt();
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  runsFail({at() + "was interrupted in step 2"}, hooks);
+  done = true;
+  interrupter.join();
+  goodModelRuns();
+}
+
+// The REPL's Ctrl-C handler cancels the step in progress: interrupt() and cancelStep() only
+// store atomics and write to a pipe, so a signal handler may call them. Here the handler runs on
+// the looping thread itself.
+runtime::Engine* signalled = nullptr;
+TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
+  load("f", faulty("", "Printf(\"looping\\n\"); for (volatile int k = 0; k == 0;) {}"));
+  signalled = &engine();
+  struct sigaction sa {}, previous;
+  sa.sa_handler = [](int) { signalled->cancelStep(); };
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGUSR1, &sa, &previous);
+  std::atomic<bool> looping{false}, done{false};
+  runtime::EngineHooks hooks;
+  hooks.print = [&](const char*) { looping = true; };
+  pthread_t runner = pthread_self();
+  std::thread sender([&] {
+    while (!done) {
+      if (looping.exchange(false)) pthread_kill(runner, SIGUSR1);
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  runsFail({at() + "was interrupted in step 2"}, hooks);
+  done = true;
+  sender.join();
+  sigaction(SIGUSR1, &previous, nullptr);
+  goodModelRuns();
+}
+
+// The same loop, but one that swallows every exception (catch (...)) and allocates: the
+// cooperative stop cannot unwind it, the forced jump must.
+TEST_F(Faults, EndlessLoopThatCatchesEverything) {
+  load("f", faulty("", "for (;;) { try { int* volatile p = new int[4]; delete[] p; } catch (...) {} }"));
+  runtime::EngineLimits limits;
+  limits.timeLimit = 0.005;
+  session_->setLimits(limits);
+  runsFail({at() + "was stopped in step 2: it ran longer than the time limit"});
+  goodModelRuns();
+}
+
+// The window derives on a worker thread, a new one (std::async) per run: each gets its own
+// alternate signal stack, freed when it ends. A stack overflow there, 100 times.
+TEST_F(Faults, StackOverflowOnWorkerThreads) {
+  load("f", faulty("", "volatile char c; n = deep(0, &c);"));
+  runsFail({at() + "crashed in step 2: stack overflow"}, {}, {}, /*onWorkerThreads=*/true);
+  goodModelRuns();
+}
+
+// Runaway growth: the string doubles every step until it passes --max-modules.
+TEST_F(Faults, RunawayStringGrowth) {
+  load("f", "#include <lpfgall.h>\nderivation length: 1000;\nmodule A(int);\naxiom: A(0);\n"
+            "A(n) : { produce A(n) A(n + 1); }\n");
+  runtime::EngineLimits limits;
+  limits.maxModules = 50000;
+  session_->setLimits(limits);
+  size_t rss10 = 0;
+  for (int i = 0; i < kRuns; ++i) {
+    llvm::Error e = engine().run();
+    ASSERT_TRUE(bool(e));
+    EXPECT_EQ(llvm::toString(std::move(e)),
+              path("f.l") + ": error: the derivation was stopped in step 16: the string reached 65536 modules (limit --max-modules 50000)");
+    EXPECT_EQ(engine().stepsDone(), 15);
+    EXPECT_EQ(engine().moduleCount(), 32768u);  // the string before the step that passed the limit
+    if (i == 9) rss10 = runtime::residentBytes();
+  }
+  EXPECT_LT(double(runtime::residentBytes()) - double(rss10), 2.0 * 1048576);
+  goodModelRuns();
+}
+
+// Runaway allocation in model code: the watchdog sees the process's resident memory pass the
+// limit; the model's next allocation throws, so its vectors are freed as it unwinds.
+TEST_F(Faults, RunawayAllocationInModelCode) {
+  load("f", faulty("#include <vector>",
+                   "std::vector<std::vector<char>> hog; for (;;) hog.emplace_back(1 << 18, (char)n);"));
+  runtime::EngineLimits limits;
+  auto tighten = [&] {
+    // 16 MB above what the process holds now; set before each run (resident memory moves).
+    limits.maxMemory = runtime::residentBytes() + (16u << 20);
+    session_->setLimits(limits);
+  };
+  runsFail({at() + "was stopped in step 2: lcjit's memory reached"}, {}, tighten);
+  goodModelRuns();
+}
+
+// Faults outside a step: End, an interpretation rule (interpret() returns it; the derivation
+// is not affected), a static constructor (the load fails; the last good model stays).
+TEST_F(Faults, EndInterpretationAndStaticConstructor) {
+  load("f", "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\nint* volatile nothing = nullptr;\n"
+            "axiom: A(0);\nA(n) : { produce A(n + 1); }\nEnd: { *nothing = 2; }\n");
+  llvm::Error e = engine().run();
+  ASSERT_TRUE(bool(e));
+  EXPECT_EQ(llvm::toString(std::move(e)), path("f.l") + ": error: End crashed after step 2: segmentation fault (null pointer dereference)");
+
+  load("f", "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\nint* volatile nothing = nullptr;\n"
+            "axiom: A(0);\nA(n) : { produce A(n + 1); }\ninterpretation:\nA(n) : { if (n == 2) *nothing = 2; produce F(1); }\n");
+  ASSERT_FALSE(bool(engine().run()));
+  runtime::Geometry g;
+  e = engine().interpret(g);
+  ASSERT_TRUE(bool(e));
+  EXPECT_EQ(llvm::toString(std::move(e)),
+            path("f.l") + ":8: error: interpretation rule A(n) crashed while interpreting the string of step 2: segmentation fault "
+            "(null pointer dereference)");
+  EXPECT_EQ(engine().text(engine().string()), "A(2)\n");
+
+  load("good", kGood);
+  fs::path file = *dir_ / "ctor.l";
+  std::ofstream(file) << "#include <lpfgall.h>\nint* volatile nothing = nullptr;\nstruct Boom { Boom() { *nothing = 1; } } boom;\n"
+                         "derivation length: 1;\nmodule A;\naxiom: A;\n";
+  ModelFiles files;
+  files.lsystem = file.string();
+  PhaseTimes t;
+  e = session_->load(files, 1, t);
+  ASSERT_TRUE(bool(e));
+  EXPECT_NE(llvm::toString(std::move(e)).find("ctor.l: a static constructor or destructor crashed: segmentation fault"),
+            std::string::npos);
+  goodModelRuns();
+}
+
+// The guard only takes faults of the thread inside it: a crash elsewhere still ends the process
+// with its signal (the handlers chain to what was there before).
+TEST(FaultGuard, CrashesOutsideModelCodeStillCrash) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  runtime::ModelGuard guard;
+  EXPECT_FALSE(bool(guard.run([] {})));  // the handlers are installed now
+  EXPECT_EXIT(
+      {
+        int* volatile p = nullptr;
+        *p = 1;
+      },
+      ::testing::KilledBySignal(SIGSEGV), "");
+  EXPECT_EXIT(abort(), ::testing::KilledBySignal(SIGABRT), "");
+}
+
+}  // namespace
