@@ -911,9 +911,11 @@ void Compiler::Impl::keepObject(const std::string& key, std::shared_ptr<const Ca
     objects.erase(objects.begin());
 }
 
-// Writes the object to the disk cache (temporary file + rename, as for the PCH) and keeps the
-// cache to its newest kObjectsOnDisk entries. Failures only cost a later compile.
+// Writes the object to the disk cache (temporary file + rename, as for the PCH) and, every so
+// many stores (listing the folder is not free), keeps the cache to its newest `keep` entries.
+// Failures only cost a later compile.
 static void storeObject(const std::string& dir, const std::string& key, const CachedObject& object, size_t keep) {
+  static std::atomic<unsigned> stores{0};
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -934,6 +936,8 @@ static void storeObject(const std::string& dir, const std::string& key, const Ca
     llvm::sys::fs::remove(tmp);
     return;
   }
+  if (stores++ % 32 != 0)
+    return;
   std::vector<std::pair<fs::file_time_type, fs::path>> files;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (it->path().extension() == ".o")
