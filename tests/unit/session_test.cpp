@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <chrono>
 #include <fstream>
+#include <atomic>
 #include <future>
 #include <thread>
 
@@ -420,6 +421,50 @@ TEST(SessionIncremental, OnlyChangedProductionsCompileAndStateStartsFresh) {
   EXPECT_TRUE(s.installTier(std::move(tier)));
   ASSERT_FALSE(s.engine().step());
   EXPECT_EQ(text(), "A(3304)\nB(12)\nC(18)\n");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// Hot swap (issue 5): the next version compiles while the running one derives on another thread
+// (as the window does), and takes over only when installed.
+TEST(SessionHotSwap, PrepareRunsBesideARunningDerivation) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-swap-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto write = [&](int add) {
+    std::ofstream(dir / "swap.l") << "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\naxiom: A(0);\n"
+                                     "A(n) : { volatile double x = 0; for (int i = 0; i < 40000000; ++i) x += i; "
+                                     "produce A(n + " << add << "); }\n";
+  };
+  write(1);
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  Session& s = **session;
+  ModelFiles files;
+  files.lsystem = (dir / "swap.l").string();
+  PhaseTimes t;
+  ASSERT_FALSE(bool(s.load(files, 0, t)));
+  runtime::EngineHooks hooks;
+  s.engine().begin(hooks);
+  std::atomic<bool> deriving{true};
+  std::thread worker([&] {
+    while (s.engine().step()) {
+    }
+    deriving = false;
+  });
+  write(10);
+  PhaseTimes pt;
+  auto prepared = s.prepare(files, 0, pt, ReloadParts::newLsystem());
+  bool preparedWhileDeriving = deriving;
+  worker.join();
+  ASSERT_TRUE(bool(prepared)) << llvm::toString(prepared.takeError());
+  EXPECT_TRUE(preparedWhileDeriving);  // two steps of 40 M additions at -O0 outlast a compile
+  EXPECT_EQ(s.engine().text(s.engine().string()), "A(2)\n");  // the old version's, undisturbed
+  ASSERT_FALSE(bool(s.install(std::move(*prepared))));
+  ASSERT_FALSE(bool(s.engine().run()));
+  EXPECT_EQ(s.engine().text(s.engine().string()), "A(20)\n");
   fs::remove_all(dir);
 }
 
