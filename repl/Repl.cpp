@@ -246,7 +246,10 @@ class Repl {
   void evaluate(const std::string& cpp) {
     if (!session_->loaded())
       return report(error("error: no model is loaded: C++ typed here is compiled against one (:load [files] model.l)"));
+    repl::LineReader::setInterruptible(&engine());  // Ctrl-C stops C++ that does not return
     auto value = session_->evaluate(cpp);
+    repl::LineReader::setInterruptible(nullptr);
+    engine().clearCancel();  // an interrupt of the input must not cancel the next step
     if (!value) return report(value.takeError());
     if (!value->empty()) std::printf("%s\n", value->c_str());
     viewDirty_ = true;  // a statement may have changed what the model draws

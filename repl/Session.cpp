@@ -586,10 +586,8 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     auto fn = unit->lookup(entry);
     if (!fn) return fn.takeError();
     runtime::takeReplOutput();
-    runtime::ModelGuard guard;  // what is typed is model code too
-    guard.setLimits({limits_.timeLimit, limits_.maxMemory});
     auto run = reinterpret_cast<void (*)()>(*fn);
-    runtime::Fault fault = guard.run([&] { run(); });
+    runtime::Fault fault = engine_->runModelCode([&] { run(); });  // model code too: Ctrl-C stops it
     std::string printed = runtime::takeReplOutput();
     if (fault) return error("<repl>: error: " + fault.what);
     return printed;

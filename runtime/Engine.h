@@ -73,6 +73,9 @@ class Engine {
   // interpretation, Start…) stops, with an "interrupted" fault; a model stuck in a loop is made to
   // jump out (ModelGuard.h).
   void interrupt() { guard_.interrupt(FaultKind::Interrupted); }
+  // Other model code of this model (C++ typed at the REPL) behind the same guard and limits, so
+  // that interrupt() and cancelStep() stop it too.
+  Fault runModelCode(llvm::function_ref<void()> fn) { return guard_.run(fn); }
 
   // From another thread (or a signal handler): abandon the derivation step in progress (the
   // string stays as before it; model code already run, StartEach included, is not undone).

@@ -294,6 +294,20 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   EXPECT_NE(crashed.find("segmentation fault"), std::string::npos) << crashed;
   EXPECT_EQ(eval("total"), "100");
 
+  // C++ that does not return stops when the engine is interrupted (the REPL's Ctrl-C).
+  std::atomic<bool> returned{false};
+  std::thread stopper([&] {  // until it returns: an interrupt while it still compiles is lost
+    while (!returned) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      s.engine().interrupt();
+    }
+  });
+  std::string looped = eval("for (;;) total += 1;");
+  returned = true;
+  stopper.join();
+  EXPECT_NE(looped.find("interrupted"), std::string::npos) << looped;
+  EXPECT_EQ(eval("total = 100;"), "");
+
   std::string bad = eval("total +");
   EXPECT_NE(bad.find("<repl>:1:"), std::string::npos) << bad;
   EXPECT_EQ(eval("total"), "100");  // nothing broke
