@@ -607,6 +607,8 @@ struct Compiler::Impl {
   // Makes sure L has a usable PCH (or falls back); reports whether one from disk was reused.
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
   bool buildPch(LevelSetup& L, const std::string& finalPath, std::string& diagnostics);
+  static constexpr size_t kPchsKept = 3;
+  static void prunePchs(const std::string& built);
 
   struct FrontendResult {
     std::unique_ptr<llvm::Module> module;
@@ -720,8 +722,32 @@ bool Compiler::Impl::buildPch(LevelSetup& L, const std::string& finalPath, std::
   }
   if (!ok)
     llvm::sys::fs::remove(tmp);
+  else
+    prunePchs(finalPath);
   diagnostics = dc.text;
   return ok;
+}
+
+// Each runtime-header version (and each checkout) gets its own ~9 MB PCH per level; keep the
+// newest kPchsKept of a level beside a new one. A process still using a removed one keeps its
+// mapping; one about to use it rebuilds it (compile()'s retry).
+void Compiler::Impl::prunePchs(const std::string& built) {
+  namespace fs = std::filesystem;
+  std::string name = fs::path(built).filename().string();  // STEM-O<level>-<hash>.pch
+  std::string prefix = name.substr(0, name.rfind('-') + 1);
+  std::vector<std::pair<fs::file_time_type, fs::path>> same;
+  std::error_code ec;
+  for (fs::directory_iterator it(fs::path(built).parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
+    std::string other = it->path().filename().string();
+    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && other.find(".tmp-") == std::string::npos)
+      same.emplace_back(it->last_write_time(ec), it->path());
+  }
+  if (same.size() <= kPchsKept)
+    return;
+  std::sort(same.begin(), same.end());
+  for (size_t i = 0; i + kPchsKept < same.size(); ++i)
+    if (same[i].second.filename() != name)
+      fs::remove(same[i].second, ec);
 }
 
 void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st) {

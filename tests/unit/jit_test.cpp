@@ -655,6 +655,37 @@ TEST(JitCacheTest, ConcurrentPchBuildsIntoSameCacheDir) {
   EXPECT_EQ(leftovers, 0); // no temp files left behind
 }
 
+// Old PCHs of a level (other header versions) do not pile up: building one keeps the newest
+// three of that level; other levels' stay.
+TEST(JitCacheTest, BuildingAPchPrunesOldOnesOfItsLevel) {
+  std::string dir = g_cacheRoot + "/prune";
+  std::filesystem::create_directories(dir);
+  auto fake = [&](const std::string& name, int hoursAgo) {
+    std::string path = dir + "/" + name;
+    std::ofstream(path) << "old";
+    std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now() - std::chrono::hours(hoursAgo));
+  };
+  for (int i = 1; i <= 4; ++i)
+    fake("testapi-O0-old" + std::to_string(i) + ".pch", i);
+  fake("testapi-O2-other.pch", 10);
+  auto c = makeCompiler(dir);
+  ASSERT_TRUE(c);
+  CompileOptions o;
+  o.optLevel = 0;
+  auto code = c->compile("extern \"C\" int one() { return 1; }", o);
+  ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
+  std::vector<std::string> left;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".pch")
+      left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  ASSERT_EQ(left.size(), 4u) << ::testing::PrintToString(left);  // the new one, the two newest old ones, -O2's
+  EXPECT_EQ(left[0].rfind("testapi-O0-", 0), 0u);  // the one just built (a hash sorts first)
+  EXPECT_EQ(left[1], "testapi-O0-old1.pch");
+  EXPECT_EQ(left[2], "testapi-O0-old2.pch");
+  EXPECT_EQ(left[3], "testapi-O2-other.pch");
+}
+
 TEST(JitCacheTest, CorruptPchIsRebuilt) {
   std::string dir = g_cacheRoot + "/corrupt";
   CompileOptions o;
