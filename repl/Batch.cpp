@@ -57,20 +57,10 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
 // environment files, which a batch run does not use.
 std::optional<ReloadParts> partsFor(const std::vector<Action>& actions) {
   std::optional<ReloadParts> parts;
-  auto add = [&](ReloadParts p) {
-    if (!parts) parts = ReloadParts{false, false, false, false};
-    parts->lsystem |= p.lsystem;
-    parts->view |= p.view;
-    parts->rendering |= p.rendering;
-    parts->parameters |= p.parameters;
-  };
-  for (Action a : actions) switch (a) {
-      case Action::NewModel: add(ReloadParts::all()); break;
-      case Action::NewLsystem: add(ReloadParts::newLsystem()); break;
-      case Action::NewRun: add(ReloadParts::newRun()); break;
-      case Action::NewView:
-      case Action::NewRendering: add(ReloadParts::newView()); break;
-      default: break;
+  for (Action a : actions)
+    if (std::optional<ReloadParts> p = reloadPartsFor(a)) {
+      if (!parts) parts = ReloadParts{false, false, false, false};
+      *parts |= *p;
     }
   return parts;
 }
@@ -149,10 +139,13 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
   // A model that failed to load or run still gets watched, for the fix.
   if (session.loaded()) runOnce(session, files, options, first, frames);
   FileMonitor monitor;
+  std::vector<std::string> watched;
   auto watchInputs = [&] {
     const runtime::DrawingFiles none;
-    if (!monitor.watch(watchedFiles(files, session.loaded() ? session.drawing() : none)))
-      std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+    std::vector<std::string> now = watchedFiles(files, session.loaded() ? session.drawing() : none);
+    if (now == watched) return;
+    watched = std::move(now);
+    if (!monitor.watch(watched)) std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   };
   watchInputs();
   if (!options.quiet) std::fprintf(stderr, "lcjit: watching %s and its input files\n", files.lsystem.c_str());

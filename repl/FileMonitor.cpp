@@ -174,18 +174,28 @@ FileMonitor::~FileMonitor() {
 }
 
 bool FileMonitor::watch(const std::vector<std::string>& paths) {
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
+  // The same inotify instance goes on (adding a directory it watches already gives the same
+  // watch), and changes not yet reported stay pending for the files still watched: a save made
+  // while the set is replaced (after a reload) is not lost.
+  drain();
+  std::map<std::string, Pending> stillPending;
+  for (const auto& [index, p] : pending_) stillPending.emplace(paths_[index], p);
   paths_ = paths;
   byWatch_.clear();
   pending_.clear();
   error_.clear();
-  if (paths.empty()) return true;
-  fd_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (paths.empty()) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    return true;
+  }
+  if (fd_ < 0) fd_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (fd_ < 0) {
     error_ = std::string("inotify_init1: ") + std::strerror(errno);
     return false;
   }
+  for (size_t i = 0; i < paths.size(); ++i)
+    if (auto it = stillPending.find(paths[i]); it != stillPending.end()) pending_.emplace(i, it->second);
   bool ok = true;
   auto add = [&](const fs::path& file, size_t index) {
     fs::path dir = file.parent_path();

@@ -90,8 +90,9 @@ class FileMonitor {
   FileMonitor(const FileMonitor&) = delete;
   FileMonitor& operator=(const FileMonitor&) = delete;
 
-  // Replaces the watched set. Files need not exist yet; their directories must. Returns false
-  // (see error()) if inotify or some directory could not be watched; the others are still watched.
+  // Replaces the watched set; changes of files in both sets not yet reported stay pending. Files
+  // need not exist yet; their directories must. Returns false (see error()) if inotify or some
+  // directory could not be watched; the others are still watched.
   bool watch(const std::vector<std::string>& paths);
   void clear() { watch({}); }
   const std::string& error() const { return error_; }

@@ -209,6 +209,7 @@ class InteractiveModel {
     }
     bool recompiled = p.model->what.lsystem;
     if (auto e = session_.install(std::move(*p.model))) report(std::move(e));  // the model's constructors threw
+    ++installs_;
     window_.setMessage("");
     if (options_.verbose && recompiled)
       std::fprintf(stderr, "lcjit: reloaded %s in %.1f ms: preprocessed in %.1f ms, rewritten in %.1f ms, %s in %.1f ms\n",
@@ -223,16 +224,10 @@ class InteractiveModel {
   }
 
   // A change under -rmode continuous/triggered runs the §1.3 table's action.
+  // The menu's New … items are the same actions.
   void apply(Action a) {
-    switch (a) {
-      case Action::NewModel: reload(ReloadParts::all(), true, true); break;
-      case Action::NewLsystem: reload(ReloadParts::newLsystem(), true, false); break;
-      case Action::NewRun: reload(ReloadParts::newRun(), true, false); break;
-      case Action::NewView: reload(ReloadParts::newView(), false, true); break;
-      case Action::NewRendering: reload(ReloadParts::newView(), false, false); break;
-      case Action::NewAnimate: readAnimationFile(); break;
-      default: break;
-    }
+    if (a == Action::NewAnimate) return readAnimationFile();
+    if (std::optional<ReloadParts> parts = reloadPartsFor(a)) reload(*parts, rerunsSimulation(a), resetsView(a));
   }
 
   // The menu as it stands: items that need the model are greyed out while the worker has it.
@@ -258,11 +253,11 @@ class InteractiveModel {
     a.userMenu = runtime::UserMenu::instance().items();
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (busy()) return a;
-    a.newModel = [this] { reload(ReloadParts::all(), true, true); };
-    a.newLsystem = [this] { reload(ReloadParts::newLsystem(), true, false); };
-    a.newRun = [this] { reload(ReloadParts::newRun(), true, false); };
-    a.newView = [this] { reload(ReloadParts::newView(), false, true); };
-    a.newRendering = [this] { reload(ReloadParts::newView(), false, false); };
+    a.newModel = [this] { apply(Action::NewModel); };
+    a.newLsystem = [this] { apply(Action::NewLsystem); };
+    a.newRun = [this] { apply(Action::NewRun); };
+    a.newView = [this] { apply(Action::NewView); };
+    a.newRendering = [this] { apply(Action::NewRendering); };
     a.saveAs = [this](const std::string& path) {
       if (std::filesystem::path(path).extension() == ".v") return report(saveViewParameters(path));
       report(frames_.write(path, session_.engine(), session_.drawing()));
@@ -284,6 +279,8 @@ class InteractiveModel {
     return a;
   }
   bool exitRequested() const { return exit_; }
+  // How many loads were installed: what the file monitor must look at may have changed.
+  int installs() const { return installs_; }
 
   // Save as… "view parameters" (a .v name): the window's current view as a `view:` line that a
   // view file reads back (direction, up, pan from the box centre, scale with the zoom).
@@ -458,6 +455,7 @@ class InteractiveModel {
   runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
   Clock::time_point shownAt_;
   int recorded_ = 0;
+  int installs_ = 0;
   // Declared last: destroyed first, they wait for their jobs, which use the members above.
   Background<Prepared> compile_;
   Background<BetterTier> tier_;
@@ -479,6 +477,7 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   FileMonitor monitor;
   bool watching = options.refresh != RefreshMode::Explicit;
   std::vector<std::string> watched = watchedFiles(files, session.drawing());
+  int watchedAfter = model.installs();
   if (watching && !monitor.watch(watched) && !options.quiet)
     std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   for (;;) {
@@ -492,10 +491,13 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     if (watching && !model.busy()) {
       for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
       // A reload may have named other files (the view file's surfaces, meshes, textures).
-      if (std::vector<std::string> now = watchedFiles(files, session.drawing()); now != watched) {
-        watched = std::move(now);
-        if (!monitor.watch(watched) && !options.quiet)
-          std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+      if (model.installs() != watchedAfter) {
+        watchedAfter = model.installs();
+        if (std::vector<std::string> now = watchedFiles(files, session.drawing()); now != watched) {
+          watched = std::move(now);
+          if (!monitor.watch(watched) && !options.quiet)
+            std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+        }
       }
     }
   }

@@ -664,18 +664,10 @@ class Repl {
     for (const std::string& c : changed) names += (names.empty() ? "" : ", ") + c;
     reader_.interject([&] {
       for (Action a : actionsForChanges(changed, RefreshMode::Continuous)) {
-        ReloadParts parts;
-        bool rerun = true;
-        switch (a) {
-          case Action::NewModel: parts = ReloadParts::all(); break;
-          case Action::NewLsystem: parts = ReloadParts::newLsystem(); break;
-          case Action::NewRun: parts = ReloadParts::newRun(); break;
-          case Action::NewView:
-          case Action::NewRendering: parts = ReloadParts::newView(), rerun = false; break;
-          default: continue;  // the REPL does not animate
-        }
+        std::optional<ReloadParts> parts = reloadPartsFor(a);
+        if (!parts) continue;  // New animate: the REPL does not animate
         std::printf("watch: %s changed: %s\n", names.c_str(), toString(a));
-        report(load(parts, rerun && session_->loaded() ? engine().stepNo() : -1, "reloaded"));
+        report(load(*parts, rerunsSimulation(a) && session_->loaded() ? engine().stepNo() : -1, "reloaded"));
       }
     });
   }

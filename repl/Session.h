@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "FileMonitor.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "Engine.h"
@@ -81,7 +82,15 @@ struct ReloadParts {
   static ReloadParts newLsystem() { return {true, false, true, true}; }
   static ReloadParts newRun() { return {false, false, true, true}; }
   static ReloadParts newView() { return {false, true, true, false}; }  // New rendering reads the same
+  ReloadParts& operator|=(const ReloadParts& o) {
+    lsystem |= o.lsystem, view |= o.view, rendering |= o.rendering, parameters |= o.parameters;
+    return *this;
+  }
 };
+
+// What a New … action re-reads (the table of §1.2.2); nothing for New animate, which re-reads
+// the animation file only (not part of a Session).
+std::optional<ReloadParts> reloadPartsFor(Action a);
 
 // A load's result before it replaces the running model (Session::prepare).
 struct PreparedModel {

@@ -41,11 +41,9 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
-  bool batch = false, animate = false, compileOnly = false, debug = false, quiet = false, verbose = false;
-  bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false, stats = false, emitCpp = false;
-  bool watch = false, lab = false;
-  std::string out, rmode, dll, libPath;
-  int optLevel = 1;
+  bool batch = false, animate = false, compileOnly = false, emitCpp = false, watch = false, lab = false;
+  lcjit::BatchOptions bo;  // what a batch run does: the options below fill it in
+  std::string rmode, dll, libPath;
   lcjit::runtime::EngineLimits limits;
   uint64_t maxModules = limits.maxModules, maxMemory = limits.maxMemory;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
@@ -53,17 +51,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> inputs;
 
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
-  app.add_option("--out", out,
+  app.add_option("--out", bo.out,
                  "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly, "compile the model only");
-  app.add_flag("-d", debug, "debug: the module count after every step, on stdout");
-  app.add_flag("--ds", dumpSteps, "(-ds) print the string after each derivation step");
-  app.add_flag("--dtf", dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
-  app.add_flag("--dtfes", dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
-  app.add_flag("-q", quiet, "quiet: no messages");
-  app.add_flag("-v", verbose, "verbose: phase timings and sizes on stderr");
+  app.add_flag("-d", bo.debug, "debug: the module count after every step, on stdout");
+  app.add_flag("--ds", bo.dumpSteps, "(-ds) print the string after each derivation step");
+  app.add_flag("--dtf", bo.dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
+  app.add_flag("--dtfes", bo.dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
+  app.add_flag("-q", bo.quiet, "quiet: no messages");
+  app.add_flag("-v", bo.verbose, "verbose: phase timings and sizes on stderr");
   app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
   app.add_option("-w", winSize, "window size")->expected(2)->allow_extra_args(false);
   app.add_option("--wp", winPos, "(-wp) window position")->expected(2)->allow_extra_args(false);
@@ -74,8 +72,8 @@ int main(int argc, char** argv) {
   app.add_flag("--cn", cn, "(-cn) accepted");
   app.add_option("--dll,-o", dll, "(-dll/-o) accepted: lcjit keeps compiled code in memory");
   app.add_option("--lp", libPath, "(-lp) accepted");
-  app.add_flag("--stats", stats, "print a JSON object of phase timings on stderr");
-  app.add_option("-O", optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  app.add_flag("--stats", bo.stats, "print a JSON object of phase timings on stderr");
+  app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
                "model's folder (caches in .lcjit-cache there); compile errors in plain language first");
@@ -119,9 +117,9 @@ int main(int argc, char** argv) {
   const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
   if (inputs.empty()) {
     for (const char* f : {"tree.l", "tree.v", "tree.mat"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
-    if (out.empty()) out = "tree.png";
+    if (bo.out.empty()) bo.out = "tree.png";
     batch = true;
-    if (!quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
+    if (!bo.quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
   }
 
   std::string cacheDir;
@@ -142,12 +140,12 @@ int main(int argc, char** argv) {
       lab.lab = true;
       lab.labFolder = std::filesystem::path(model).parent_path().string();
       if (winSize.size() == 2) lab.width = (int)winSize[0], lab.height = (int)winSize[1];
-      if (app.count("-O")) lab.optLevel = optLevel;
+      if (app.count("-O")) lab.optLevel = bo.optLevel;
       return lcjit::runRepl(inputs, lab);
     }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
-      if (out.empty() && !model.empty()) out = std::filesystem::path(model).stem().string() + ".png";
+      if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + ".png";
     }
   }
   auto files = lcjit::classifyInputs(inputs);
@@ -167,22 +165,21 @@ int main(int argc, char** argv) {
   lcjit::runtime::interruptModelCodeOnSigint();
   // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in
   // the background and swapped in (two tiers).
-  const bool window = !batch && out.empty() && haveDisplay && !emitCpp && !compileOnly;
-  int betterTier = -1;
-  if ((watch || window) && app.count("-O") == 0) optLevel = 0, betterTier = 2;
+  const bool window = !batch && bo.out.empty() && haveDisplay && !emitCpp && !compileOnly;
+  if ((watch || window) && app.count("-O") == 0) bo.optLevel = 0, bo.betterTier = 2;
   lcjit::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.
-    if (auto e = (*session)->load(*files, optLevel, times)) llvm::consumeError(std::move(e));
+    if (auto e = (*session)->load(*files, bo.optLevel, times)) llvm::consumeError(std::move(e));
     std::fputs((*session)->generatedCpp().c_str(), stdout);
   }
-  if (auto e = (*session)->load(*files, optLevel, times)) {
+  if (auto e = (*session)->load(*files, bo.optLevel, times)) {
     std::string text = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", lab ? lcjit::inPlainLanguage(lcjit::withSourceLines(text)).c_str() : text.c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
-  if (!batch && out.empty()) {
+  if (!batch && bo.out.empty()) {
     if (haveDisplay) {
       lcjit::viewer::WindowOptions w;
       if (winSize.size() == 2) w.width = (int)winSize[0], w.height = (int)winSize[1];
@@ -192,33 +189,22 @@ int main(int argc, char** argv) {
       w.borderless = noBorder;
       w.title = "lcjit: " + std::filesystem::path(files->lsystem).filename().string();
       lcjit::InteractiveOptions io;
-      io.optLevel = optLevel;
-      io.betterTier = betterTier;
+      io.optLevel = bo.optLevel;
+      io.betterTier = bo.betterTier;
       io.plainErrors = lab;
-      io.quiet = quiet;
+      io.quiet = bo.quiet;
       if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
       io.animate = animate;
-      io.verbose = verbose;
-      io.debug = debug;
+      io.verbose = bo.verbose;
+      io.debug = bo.debug;
       return lcjit::runInteractive(**session, *files, w, io);
     }
     // No display: show the model as a picture beside it instead.
-    out = std::filesystem::path(files->lsystem).stem().string() + ".png";
-    if (!quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", out.c_str());
+    bo.out = std::filesystem::path(files->lsystem).stem().string() + ".png";
+    if (!bo.quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", bo.out.c_str());
   }
-  lcjit::BatchOptions bo;
-  bo.out = out;
   if (winSize.size() == 2) bo.width = (int)winSize[0], bo.height = (int)winSize[1];
-  bo.optLevel = optLevel;
-  bo.betterTier = betterTier;
   bo.plainErrors = lab;
-  bo.quiet = quiet;
-  bo.verbose = verbose;
-  bo.debug = debug;
-  bo.stats = stats;
-  bo.dumpSteps = dumpSteps;
-  bo.dumpInterpreted = dumpInterpreted;
-  bo.dumpInterpretedEach = dumpInterpretedEach;
   if (watch) return lcjit::watchBatch(**session, *files, bo, times);
   return lcjit::runBatch(**session, *files, bo, times);
 }

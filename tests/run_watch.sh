@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # --watch in batch mode (issue 5): one process; every save of the model rewrites -out and logs a
 # "reload N" line; a broken save keeps the last good model and its output; -v reports the -O2
-# tier swapped in; saving an earlier version again comes from the object cache.
+# tier swapped in; saving an earlier version again comes from the object cache; a surface the
+# view file comes to name is watched from then on.
 # Usage: run_watch.sh LCJIT DIR
 set -u
 lcjit=$1 dir=$2
 work=$(mktemp -d)
 trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
-cp "$dir/grow.l" "$work/"
+cp "$dir/grow.l" "$dir/grow.v" "$(dirname "$dir")/../examples/leaf.s" "$work/"
 cd "$work"
 export LCJIT_CACHE_DIR="$work/cache"
 fail() { echo "FAIL: $*"; echo "--- stderr:"; cat err.txt; exit 1; }
@@ -15,7 +16,7 @@ wait_for() {  # wait_for PATTERN FILE: up to 60 s (the first run builds PCHs)
   for _ in $(seq 1 600); do grep -q "$1" "$2" 2>/dev/null && return 0; sleep 0.1; done
   fail "no '$1' in $2"
 }
-"$lcjit" --watch -b -v -out out.str grow.l 2> err.txt > /dev/null &
+"$lcjit" --watch -b -v -out out.str grow.v grow.l 2> err.txt > /dev/null &
 pid=$!
 wait_for 'watching' err.txt
 wait_for 'A(8)' out.str
@@ -35,5 +36,9 @@ sed -i '$d' grow.l                      # back to the x * 3 version: from the ob
 wait_for 'reload 3 ' err.txt
 grep -q 'reload 3 (grow.l): -O0 code from the cache' err.txt || fail "reload 3 was compiled again"
 grep -q 'A(27)' out.str || fail "reload 3 output: $(cat out.str)"
+echo 'surface: leaf.s 1 4 4' >> grow.v  # the view file names a surface: watched after this reload
+wait_for 'reload 4 (grow.v): re-read' err.txt
+cp leaf.s leaf.tmp && mv leaf.tmp leaf.s
+wait_for 'reload 5 (leaf.s): re-read' err.txt
 kill -0 $pid || fail "lcjit --watch exited"
 echo ok

@@ -267,6 +267,20 @@ TEST_F(Watcher, MissingDirectoryIsAnErrorOthersStillWatched) {
   EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("a.l")});
 }
 
+// After a reload the watched set is replaced (the view file may name new surfaces): a save that
+// came just before must still be reported.
+TEST_F(Watcher, RewatchKeepsChangesNotYetReported) {
+  write(dir / "a.l", "1");
+  write(dir / "b.s", "1");
+  FileMonitor mon;
+  ASSERT_TRUE(mon.watch({path("a.l")}));
+  write(dir / "a.l", "2");
+  ASSERT_TRUE(mon.watch({path("a.l"), path("b.s")}));
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("a.l")});
+  write(dir / "b.s", "2");
+  EXPECT_EQ(mon.poll(3000), std::vector<std::string>{path("b.s")});
+}
+
 TEST_F(Watcher, RewatchAndClear) {
   write(dir / "a.l", "1");
   write(dir / "b.l", "1");
