@@ -24,6 +24,7 @@
 #include <llvm/ExecutionEngine/Orc/IRCompileLayer.h>
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
+#include <llvm/ExecutionEngine/Orc/ObjectFileInterface.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/DiagnosticHandler.h>
@@ -41,6 +42,7 @@
 #include <llvm/Support/SHA256.h>
 #include <llvm/Support/TargetSelect.h>
 #include <llvm/Support/raw_ostream.h>
+#include <llvm/Transforms/Utils/Cloning.h>
 #include <llvm/Target/TargetMachine.h>
 #include <llvm/TargetParser/Host.h>
 #include <llvm/Transforms/Coroutines/CoroCleanup.h>
@@ -64,6 +66,8 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <future>
+#include <map>
 #include <set>
 #include <unistd.h>
 
@@ -584,6 +588,14 @@ struct LevelSetup {
   bool pchFallback = false; // PCH unusable (unwritable cache...): include the header as text
 };
 
+// Level 0 builds its PCH with clang's -fpch-codegen: the runtime header's inline functions and
+// the templates the PCH instantiated are compiled once, into a support object loaded into its
+// own JITDylib, and every model compiled against that PCH links to it instead of emitting its
+// own copies. At -O0 nothing is inlined, so those copies were most of a small model's object
+// (sunflower: 51 functions, 24 its own) and of its instruction selection time. Higher levels
+// keep their own copies, which they inline.
+static bool pchCodegen(int level) { return level == 0; }
+
 struct Compiler::Impl {
   CompilerConfig config;
   std::string headerDir;
@@ -606,7 +618,30 @@ struct Compiler::Impl {
   std::string pchKey(const LevelSetup& L, int level);
   // Makes sure L has a usable PCH (or falls back); reports whether one from disk was reused.
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
-  bool buildPch(LevelSetup& L, const std::string& finalPath, std::string& diagnostics);
+  // The JITDylib holding the support object of the -fpch-codegen PCH at pchPath: loaded from
+  // the cache (pchPath + ".o") or compiled from the PCH and stored there first.
+  // Loading it takes ~15 ms (a 2,000-function object), so the first compile against a PCH
+  // starts it on another thread (startSupport) and only waits for it (supportDylib) before
+  // linking.
+  struct Support {
+    std::shared_future<void> ready;
+    orc::JITDylib* jd = nullptr;
+    std::string error;
+  };
+  std::shared_ptr<Support> startSupport(const LevelSetup& L, const std::string& pchPath);
+  llvm::Expected<orc::JITDylib*> supportDylib(const LevelSetup& L, const std::string& pchPath);
+  llvm::Expected<orc::JITDylib*> loadSupport(std::shared_ptr<clang::CompilerInvocation> base,
+                                             const std::string& pchPath, unsigned number);
+  static constexpr size_t kSupportPartSize = 32;
+  std::mutex supportMutex;
+  std::map<std::string, std::shared_ptr<Support>> supports;
+  unsigned supportsStarted = 0;
+
+  ~Impl() {
+    for (auto& [path, support] : supports)
+      support->ready.wait();
+  }
+  bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics);
   static constexpr size_t kPchsKept = 3;
   static void prunePchs(const std::string& built);
 
@@ -632,6 +667,11 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
                                    kResourceDir,
                                    "-I",
                                    headerDir};
+  // Level 0 (the quick tier) without library builtins: with them, clang looks up every builtin
+  // name (printf, sqrt, memcpy ...) in the PCH before Sema exists and then deserializes each
+  // declaration it finds, ~2 ms of every compile. Unoptimised code gains nothing from them.
+  if (level == 0)
+    args.push_back("-fno-builtin");
   for (const auto& d : config.includeDirs) {
     args.push_back("-I");
     args.push_back(d);
@@ -673,6 +713,8 @@ std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
     h.update(llvm::StringRef("\0", 1));
   }
   h.update(llvm::sys::getHostCPUName());
+  if (pchCodegen(level))
+    h.update(llvm::StringRef("pch-codegen"));
   hashHeaderTree(h, headerDir);
   auto digest = h.final();
   std::string hex = llvm::toHex(digest, /*LowerCase=*/true).substr(0, 24);
@@ -680,7 +722,7 @@ std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
   return stem + "-O" + std::to_string(level) + "-" + hex + ".pch";
 }
 
-bool Compiler::Impl::buildPch(LevelSetup& L, const std::string& finalPath, std::string& diagnostics) {
+bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics) {
   std::error_code ec = llvm::sys::fs::create_directories(cacheDir);
   if (ec) {
     diagnostics = "cannot create cache directory '" + cacheDir + "': " + ec.message();
@@ -706,6 +748,8 @@ bool Compiler::Impl::buildPch(LevelSetup& L, const std::string& finalPath, std::
   fo.OutputFile = std::string(tmp);
   fo.ProgramAction = clang::frontend::GeneratePCH;
   fo.DisableFree = false;
+  if (pchCodegen(level))
+    inv->getLangOpts().ModulesCodegen = true;
 
   clang::CompilerInstance ci;
   ci.setInvocation(inv);
@@ -714,6 +758,16 @@ bool Compiler::Impl::buildPch(LevelSetup& L, const std::string& finalPath, std::
   clang::GeneratePCHAction action;
   bool ok = ci.ExecuteAction(action) && dc.getNumErrors() == 0;
   if (ok) {
+    // A support object beside it belongs to the PCH it replaces; a JITDylib loaded from that one
+    // stays with the models already linked to it.
+    llvm::sys::fs::remove(finalPath + ".o");
+    {
+      std::lock_guard<std::mutex> lock(supportMutex);
+      if (auto it = supports.find(finalPath); it != supports.end()) {
+        it->second->ready.wait();
+        supports.erase(it);
+      }
+    }
     ec = llvm::sys::fs::rename(tmp, finalPath);
     if (ec) {
       dc.text += "cannot move the PCH into place: " + ec.message() + "\n";
@@ -746,8 +800,10 @@ void Compiler::Impl::prunePchs(const std::string& built) {
     return;
   std::sort(same.begin(), same.end());
   for (size_t i = 0; i + kPchsKept < same.size(); ++i)
-    if (same[i].second.filename() != name)
+    if (same[i].second.filename() != name) {
       fs::remove(same[i].second, ec);
+      fs::remove(same[i].second.string() + ".o", ec);  // its support object, if any
+    }
 }
 
 void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st) {
@@ -770,7 +826,7 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
     return;
   }
   std::string diags;
-  if (buildPch(L, path, diags)) {
+  if (buildPch(L, level, path, diags)) {
     L.pchReady = true;
     st.pchCached = false;
   } else {
@@ -817,6 +873,198 @@ Compiler::Impl::FrontendResult Compiler::Impl::runFrontend(const LevelSetup& L, 
   if (!r.module)
     r.diagnostics = "error: compilation produced no module\n";
   return r;
+}
+
+std::shared_ptr<Compiler::Impl::Support> Compiler::Impl::startSupport(const LevelSetup& L, const std::string& pchPath) {
+  std::lock_guard<std::mutex> lock(supportMutex);
+  auto& support = supports[pchPath];
+  if (!support) {
+    support = std::make_shared<Support>();
+    support->ready = std::async(std::launch::async, [this, s = support.get(), base = L.base, pchPath,
+                                                     number = supportsStarted++] {
+                       auto jd = loadSupport(base, pchPath, number);
+                       if (jd)
+                         s->jd = *jd;
+                       else
+                         s->error = llvm::toString(jd.takeError());
+                     }).share();
+  }
+  return support;
+}
+
+llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L, const std::string& pchPath) {
+  std::shared_ptr<Support> support = startSupport(L, pchPath);
+  support->ready.wait();
+  if (!support->jd)
+    return makeError(support->error);
+  return support->jd;
+}
+
+// Splits the support module into parts of `perPart` definitions, in order of their demangled
+// names so that related functions (all of __lc_emit_*, one class's members) share a part. Each
+// part is one object file and ORC links an object only when a symbol of it is first looked up,
+// so a model pays for the parts it uses; the whole (~2,000 functions, mostly libstdc++ templates
+// the header instantiated) took ~15 ms to link. Locals become hidden globals so that parts can
+// reach each other's, and COMDATs go: each definition exists once.
+static std::vector<std::unique_ptr<llvm::Module>> splitIntoParts(llvm::Module& m, size_t perPart) {
+  for (llvm::GlobalValue& gv : m.global_values()) {
+    if (gv.getName().starts_with("llvm."))
+      continue;
+    if (auto* go = llvm::dyn_cast<llvm::GlobalObject>(&gv))
+      go->setComdat(nullptr);
+    if (!gv.hasName())
+      gv.setName("lcjit.support.unnamed");
+    if (gv.hasLocalLinkage()) {
+      gv.setLinkage(llvm::GlobalValue::ExternalLinkage);
+      gv.setVisibility(llvm::GlobalValue::HiddenVisibility);
+    } else if (gv.hasWeakLinkage() || gv.hasLinkOnceLinkage()) {
+      gv.setLinkage(llvm::GlobalValue::ExternalLinkage);
+    }
+  }
+  m.getComdatSymbolTable().clear();
+  std::vector<std::pair<std::string, const llvm::GlobalObject*>> defs;
+  for (const llvm::GlobalObject& go : m.global_objects())
+    if (!go.isDeclaration() && !go.getName().starts_with("llvm."))
+      defs.emplace_back(llvm::demangle(go.getName().str()), &go);
+  std::sort(defs.begin(), defs.end());
+  std::map<const llvm::GlobalValue*, size_t> partOf;
+  for (size_t i = 0; i < defs.size(); ++i)
+    partOf[defs[i].second] = i / perPart;
+  for (const llvm::GlobalAlias& a : m.aliases())
+    if (const llvm::GlobalObject* target = a.getAliaseeObject(); target && partOf.count(target))
+      partOf[&a] = partOf[target];
+  std::vector<std::unique_ptr<llvm::Module>> parts;
+  for (size_t p = 0; p * perPart < defs.size(); ++p) {
+    llvm::ValueToValueMapTy map;
+    parts.push_back(llvm::CloneModule(m, map, [&](const llvm::GlobalValue* gv) {
+      auto it = partOf.find(gv);
+      return it != partOf.end() && it->second == p;
+    }));
+  }
+  return parts;
+}
+
+// The support objects' cache file: "lcjit-support 1\n", then per object "SIZE\n" and its bytes.
+static std::string serializeParts(const std::vector<std::string>& parts) {
+  std::string out = "lcjit-support 1\n";
+  for (const std::string& part : parts)
+    out += std::to_string(part.size()) + "\n" + part;
+  return out;
+}
+
+static std::optional<std::vector<std::string>> deserializeParts(llvm::StringRef in) {
+  if (!in.consume_front("lcjit-support 1\n"))
+    return std::nullopt;
+  std::vector<std::string> parts;
+  while (!in.empty()) {
+    auto [size, rest] = in.split('\n');
+    size_t n = 0;
+    if (size.getAsInteger(10, n) || rest.size() < n)
+      return std::nullopt;
+    parts.push_back(rest.take_front(n).str());
+    in = rest.drop_front(n);
+  }
+  return parts;
+}
+
+llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang::CompilerInvocation> base,
+                                                           const std::string& pchPath, unsigned number) {
+  std::string cachePath = pchPath + ".o";
+  std::optional<std::vector<std::string>> parts;
+  if (auto file = llvm::MemoryBuffer::getFile(cachePath, /*IsText=*/false, /*RequiresNullTerminator=*/false))
+    parts = deserializeParts((*file)->getBuffer());
+  bool fresh = !parts;
+  if (fresh) {
+    // The PCH as the input: clang emits what it marked for codegen (as `clang -c x.pch`).
+    auto inv = std::make_shared<clang::CompilerInvocation>(*base);
+    auto& fo = inv->getFrontendOpts();
+    fo.Inputs.clear();
+    fo.Inputs.emplace_back(pchPath, clang::InputKind(clang::Language::CXX, clang::InputKind::Precompiled));
+    fo.OutputFile.clear();
+    fo.DisableFree = false;
+    inv->getCodeGenOpts().MainFileName = pchPath;
+    clang::CompilerInstance ci;
+    ci.setInvocation(inv);
+    DiagCollector dc;
+    ci.createDiagnostics(&dc, false);
+    llvm::LLVMContext ctx;
+    clang::EmitLLVMOnlyAction action(&ctx);
+    std::unique_ptr<llvm::Module> module;
+    if (ci.ExecuteAction(action) && dc.getNumErrors() == 0)
+      module = action.takeModule();
+    if (!module)
+      return makeError("lcjit: cannot compile the runtime header's support code from " + pchPath + ":\n" +
+                       trimTrailingNewlines(dc.text));
+    gatherInitializers(*module);
+    {
+      orc::JITTargetMachineBuilder b = jtmb;
+      b.setCodeGenOptLevel(llvm::CodeGenOptLevel::None);
+      auto tm = b.createTargetMachine();
+      if (!tm)
+        return tm.takeError();
+      runIRPipeline(*module, 0, tm->get());  // always_inline callees (libstdc++'s allocators) go
+    }
+    parts.emplace();
+    for (auto& part : splitIntoParts(*module, kSupportPartSize)) {
+      auto object = emitObject(*part, 0);
+      if (!object)
+        return object.takeError();
+      parts->push_back(std::move(*object));
+    }
+    // As the PCH: a unique temporary beside it, then rename; failing only costs a later build.
+    llvm::SmallString<256> tmp;
+    int fd = -1;
+    if (!llvm::sys::fs::createUniqueFile(cachePath + ".tmp-%%%%%%%%", fd, tmp)) {
+      llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
+      out << serializeParts(*parts);
+      out.close();
+      if (out.has_error() || llvm::sys::fs::rename(tmp, cachePath)) {
+        out.clear_error();
+        llvm::sys::fs::remove(tmp);
+      }
+    }
+  }
+
+  auto& J = *state->jit;
+  std::lock_guard<std::mutex> jitLock(state->mutex);
+  auto jd = J.createJITDylib("lcjit.support." + std::to_string(number));
+  if (!jd)
+    return jd.takeError();
+  orc::JITDylibSearchOrder order{{state->hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly}};
+  if (auto p = J.getPlatformJITDylib())
+    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  if (auto p = J.getProcessSymbolsJITDylib())
+    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  jd->setLinkOrder(std::move(order), /*LinkAgainstThisJITDylibFirst=*/true);
+  orc::SymbolLookupSet oneOfEach;
+  for (size_t i = 0; i < parts->size(); ++i) {
+    auto buffer = llvm::MemoryBuffer::getMemBufferCopy((*parts)[i], cachePath + "#" + std::to_string(i));
+    if (fresh) {
+      auto symbols = orc::getObjectFileInterface(J.getExecutionSession(), buffer->getMemBufferRef());
+      if (!symbols)
+        return symbols.takeError();
+      if (!symbols->SymbolFlags.empty())
+        oneOfEach.add(symbols->SymbolFlags.begin()->first);
+    }
+    if (auto err = J.addObjectFile(*jd, std::move(buffer)))
+      return std::move(err);
+  }
+  // A freshly built support links every part once, so that a problem shows here rather than as
+  // a bad call from the first model that uses the part.
+  state->takeSessionErrors();
+  if (fresh) {
+    if (auto linked = J.getExecutionSession().lookup(
+            orc::makeJITDylibSearchOrder(&*jd, orc::JITDylibLookupFlags::MatchAllSymbols), std::move(oneOfEach));
+        !linked) {
+      std::string cause = trimTrailingNewlines(state->takeSessionErrors());
+      llvm::consumeError(linked.takeError());
+      llvm::sys::fs::remove(cachePath);
+      return makeError("lcjit: cannot link the runtime header's support code: " + cause);
+    }
+  }
+  if (auto err = J.initialize(*jd))
+    return std::move(err);
+  return &*jd;
 }
 
 Compiler::Compiler(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -1003,11 +1251,17 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // compiler, the cc1 line and the runtime header tree; quoted includes are already expanded
   // into the source by the preprocessor.
   std::string key;
+  LevelSetup used;  // the invocation and PCH the object is compiled with (or was, if cached)
   {
     std::lock_guard<std::mutex> lock(L.mutex);
     if (auto err = impl_->setupLevel(L, level))
       return std::move(err);
     impl_->ensurePch(L, level, false, st);
+    used.base = L.base;
+    used.pchPath = L.pchPath;
+    used.pchFallback = L.pchFallback;
+    if (pchCodegen(level) && !used.pchFallback)
+      impl_->startSupport(used, used.pchPath);
     llvm::SHA256 h;
     for (llvm::StringRef part : {llvm::StringRef(L.pchPath), llvm::StringRef(L.pchFallback ? "text" : "pch"),
                                  llvm::StringRef(bufferName), cppSource}) {
@@ -1043,20 +1297,19 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       }
       auto t0 = Clock::now();
       // Snapshot the PCH decision; another thread may rebuild concurrently.
-      LevelSetup snapshot;
       {
         std::lock_guard<std::mutex> lock(L.mutex);
-        snapshot.base = L.base;
-        snapshot.pchPath = L.pchPath;
-        snapshot.pchFallback = L.pchFallback;
+        used.base = L.base;
+        used.pchPath = L.pchPath;
+        used.pchFallback = L.pchFallback;
       }
-      Impl::FrontendResult fr = impl_->runFrontend(snapshot, cppSource, bufferName, *ctx);
+      Impl::FrontendResult fr = impl_->runFrontend(used, cppSource, bufferName, *ctx);
       st.frontendMs += msSince(t0);
       if (fr.module) {
         module = std::move(fr.module);
         break;
       }
-      if (fr.pchProblem && attempt == 0 && !snapshot.pchFallback) {
+      if (fr.pchProblem && attempt == 0 && !used.pchFallback) {
         // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
         ctx = std::make_unique<llvm::LLVMContext>();
         ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
@@ -1114,6 +1367,15 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
 
   // Load into a fresh JITDylib.
   auto t3 = Clock::now();
+  orc::JITDylib* support = nullptr;
+  if (pchCodegen(level) && !used.pchFallback) {
+    auto jd = impl_->supportDylib(used, used.pchPath);
+    if (!jd) {
+      finish();
+      return jd.takeError();
+    }
+    support = *jd;
+  }
   auto& state = *impl_->state;
   std::unique_lock<std::mutex> lock(state.mutex);
   auto& J = *state.jit;
@@ -1130,6 +1392,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     order.push_back({code->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   for (const auto& owner : stateOwners)
     order.push_back({owner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  if (support)
+    order.push_back({support, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   order.push_back({state.hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   if (auto p = J.getPlatformJITDylib())
     order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});

@@ -333,11 +333,13 @@ class InteractiveModel {
     std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), x, y);
     if (!source) return;
     if (kind == 1) {
-      auto r = __lc_blank<__lc_R_MouseIns>();
+      __lc_R_MouseIns r;
+      __lc_clear(r);
       r.id = r.id2 = __lc_id_MouseIns;
       session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));
     } else {
-      auto r = __lc_blank<__lc_R_MouseInsPos>();
+      __lc_R_MouseInsPos r;
+      __lc_clear(r);
       r.id = r.id2 = __lc_id_MouseInsPos;
       r.p0 = status;
       session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));

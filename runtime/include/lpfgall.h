@@ -30,7 +30,8 @@
 #define __LC_SET_6 __LC_SET_4 r.p4 = a4; r.p5 = a5;
 #define LCJIT_MODULE(N, I, A, ...)                                        \
   inline void __lc_emit_##N(__lc_Ctx* c __LC_EMIT_ARGS_##A(__VA_ARGS__)) { \
-    auto r = __lc_blank<__lc_R_##N>();                                  \
+    __lc_R_##N r;                                                       \
+    __lc_clear(r);                                                      \
     __LC_SET_##A __lc_put(c, r, I);                                     \
   }
 #include "lcjit/stdmods.def"

@@ -665,8 +665,10 @@ TEST(JitCacheTest, BuildingAPchPrunesOldOnesOfItsLevel) {
     std::ofstream(path) << "old";
     std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now() - std::chrono::hours(hoursAgo));
   };
-  for (int i = 1; i <= 4; ++i)
+  for (int i = 1; i <= 4; ++i) {
     fake("testapi-O0-old" + std::to_string(i) + ".pch", i);
+    fake("testapi-O0-old" + std::to_string(i) + ".pch.o", i);  // its support object
+  }
   fake("testapi-O2-other.pch", 10);
   auto c = makeCompiler(dir);
   ASSERT_TRUE(c);
@@ -684,6 +686,9 @@ TEST(JitCacheTest, BuildingAPchPrunesOldOnesOfItsLevel) {
   EXPECT_EQ(left[1], "testapi-O0-old1.pch");
   EXPECT_EQ(left[2], "testapi-O0-old2.pch");
   EXPECT_EQ(left[3], "testapi-O2-other.pch");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/testapi-O0-old4.pch.o"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/testapi-O0-old3.pch.o"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/testapi-O0-old2.pch.o"));
 }
 
 TEST(JitCacheTest, CorruptPchIsRebuilt) {
@@ -709,6 +714,62 @@ TEST(JitCacheTest, CorruptPchIsRebuilt) {
   ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
   EXPECT_FALSE(st.pchCached);
   EXPECT_EQ(reinterpret_cast<int (*)()>(cantFail((*code)->lookup("three")))(), 3);
+}
+
+// Level 0 compiles the header's inline code once, into a support object cached beside the PCH
+// (PCH + ".o"), and models link to it instead of each emitting a copy.
+TEST(JitCacheTest, O0ModelsLinkTheHeadersSupportObject) {
+  std::string dir = g_cacheRoot + "/support";
+  const char* source = R"(
+    #include <string>
+    extern "C" int labelLength(int n) { return (int)testapi::label(n).size(); }
+    extern "C" double three() { return testapi::sumOfThree() + testapi::twice(0); })";
+  auto check = [&](Compiler& c, int level) {
+    CompileOptions o;
+    o.optLevel = level;
+    auto code = c.compile(source, o);
+    ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
+    EXPECT_EQ(lookupFn<int (*)(int)>(**code, "labelLength")(12345), 7);  // "n=12345"
+    EXPECT_EQ(lookupFn<double (*)()>(**code, "three")(), 7.0);
+  };
+  auto supportFile = [&] {
+    std::vector<std::filesystem::path> found;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      if (e.path().string().ends_with(".pch.o"))
+        found.push_back(e.path());
+    return found;
+  };
+  auto header = [](const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::string first;
+    std::getline(in, first);
+    return first;
+  };
+  {
+    auto c = makeCompiler(dir);
+    ASSERT_TRUE(c);
+    check(*c, 0);
+    check(*c, 2);  // -O2 keeps its own copies (no support object for its PCH)
+  }
+  auto files = supportFile();
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_NE(files[0].filename().string().find("-O0-"), std::string::npos);
+  EXPECT_EQ(header(files[0]), "lcjit-support 1");
+  auto built = std::filesystem::last_write_time(files[0]);
+  {
+    auto c = makeCompiler(dir);  // a new process: loads it
+    ASSERT_TRUE(c);
+    check(*c, 0);
+  }
+  EXPECT_EQ(std::filesystem::last_write_time(files[0]), built);
+  std::ofstream(files[0], std::ios::trunc) << "lcjit-support 1\n99999\ntruncated";
+  {
+    auto c = makeCompiler(dir);  // rebuilds it
+    ASSERT_TRUE(c);
+    check(*c, 0);
+  }
+  EXPECT_EQ(header(files[0]), "lcjit-support 1");
+  EXPECT_GT(std::filesystem::file_size(files[0]), 1000u);
 }
 
 TEST(JitLifetimeTest, ModelCodeMayOutliveCompiler) {

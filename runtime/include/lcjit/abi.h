@@ -116,8 +116,12 @@ float lcjit_view_scale(int id);
 void lcjit_camera_position(int id, struct CameraPosition* out);
 }
 
-// Appends one module record to the successor being built.
-template <class R> inline void __lc_put(__lc_Ctx* c, R& r, __lc_ModuleId id) {
+// Appends one module record to the successor being built. The id comes as an unsigned (not a
+// 16-bit __lc_ModuleId) and records go by reference, never by value: -O0 code is selected by
+// FastISel, which gives up on 16-bit arguments and on returned small structs and falls back to
+// the far slower SelectionDAG selector for the whole block.
+template <class R> inline void __lc_put(__lc_Ctx* c, R& r, unsigned id32) {
+  __lc_ModuleId id = (__lc_ModuleId)id32;
   r.id = id;
   r.id2 = id;
   __lc_Buffer* b = c->out;
@@ -129,8 +133,6 @@ template <class R> inline void __lc_put(__lc_Ctx* c, R& r, __lc_ModuleId id) {
 }
 
 // A zeroed record, so padding bytes in strings (and .strb files) are deterministic.
-template <class R> inline R __lc_blank() {
-  R r;
+template <class R> inline void __lc_clear(R& r) {
   std::memset(static_cast<void*>(&r), 0, sizeof(R));
-  return r;
 }

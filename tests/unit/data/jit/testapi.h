@@ -17,6 +17,10 @@ namespace testapi {
 
 inline int twice(int x) { return 2 * x; }
 
+// Inline code that uses std::string and instantiates a template: at -O0 it comes from the
+// PCH's support object.
+inline std::string label(int n) { return "n=" + std::to_string(n); }
+
 template <class T>
 T sum(const std::vector<T>& v) {
   T s{};
@@ -24,6 +28,8 @@ T sum(const std::vector<T>& v) {
     s += x;
   return s;
 }
+
+inline double sumOfThree() { return sum(std::vector<double>{1.5, 2.5, 3}); }
 
 struct Turtle {
   double x = 0, y = 0, heading = 90;
