@@ -402,9 +402,9 @@ class Rewriter {
     s += " __lc_ModuleId id2; }; enum : __lc_ModuleId { __lc_id_" + name + " = " + std::to_string(id) + " }; ";
     s += "static inline void __lc_emit_" + name + "(__lc_Ctx* c";
     for (size_t i = 0; i < types.size(); ++i) s += ", " + types[i] + " a" + std::to_string(i);
-    s += ") { " + R + " r; __lc_clear(r);";
+    s += ") { " + R + " r; __builtin_memset(&r, 0, sizeof r); r.id = r.id2 = " + std::to_string(id) + ";";
     for (size_t i = 0; i < types.size(); ++i) s += " r.p" + std::to_string(i) + " = a" + std::to_string(i) + ";";
-    s += " __lc_put(c, r, " + std::to_string(id) + "); } ";
+    s += " __lc_put(c, &r, sizeof r); } ";
     s += "static const __lc_Field __lc_fields_" + name + "[" + std::to_string(std::max<size_t>(types.size(), 1)) + "] = {";
     for (size_t i = 0; i < types.size(); ++i) {
       std::string quoted;
@@ -517,7 +517,7 @@ class Rewriter {
         r.ids.push_back(pm.module->id);
         if (!pm.params.empty()) {
           std::string rec = "__lc_r" + std::to_string(k);
-          out_.glueAt(pm.name, "__lc_R_" + pm.name.text + " " + rec + "; __lc_load(" + rec + ", __lc_m[" + std::to_string(k) + "]);");
+          out_.glueAt(pm.name, "__lc_R_" + pm.name.text + " " + rec + "; __builtin_memcpy(&" + rec + ", __lc_m[" + std::to_string(k) + "], sizeof " + rec + ");");
           for (size_t i = 0; i < pm.params.size(); ++i) {
             out_.glue("auto");
             out_.token(pm.params[i]);
@@ -617,7 +617,7 @@ class Rewriter {
       auto& m = mods[i];
       if (m.params.empty()) continue;
       std::string tmp = "__lc_v" + std::to_string(i);
-      out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __lc_load(__lc_q, __lc_p[" + std::to_string(i) + "]);");
+      out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __builtin_memcpy(&__lc_q, __lc_p[" + std::to_string(i) + "], sizeof __lc_q);");
       for (size_t j = 0; j < m.params.size(); ++j) {
         out_.token(m.params[j]);
         out_.glue(" = __lc_q.p" + std::to_string(j) + ";");

@@ -26,7 +26,9 @@
 #include <llvm/ExecutionEngine/Orc/LLJIT.h>
 #include <llvm/ExecutionEngine/Orc/ObjectFileInterface.h>
 #include <llvm/ExecutionEngine/Orc/ThreadSafeModule.h>
+#include <llvm/CodeGen/TargetSubtargetInfo.h>
 #include <llvm/IR/Constants.h>
+#include <llvm/IR/IntrinsicInst.h>
 #include <llvm/IR/DiagnosticHandler.h>
 #include <llvm/IR/DiagnosticInfo.h>
 #include <llvm/IR/DiagnosticPrinter.h>
@@ -323,6 +325,44 @@ void gatherInitializers(llvm::Module& m) {
   b.CreateRetVoid();
 }
 
+// FastISel (the quick tiers' instruction selector) has no rule for llvm.fmuladd, clang's a*b+c
+// under -ffp-contract=on, and hands each block holding one to the far slower SelectionDAG. Do
+// here what SelectionDAG would do with it on x86: a fused multiply-add where the CPU has one (a
+// call to fma/fmaf, correctly rounded like the instruction, so the bits match the -O2 tier's),
+// else a multiply and an add.
+static void lowerFMulAddForFastISel(llvm::Module& m, llvm::TargetMachine& tm) {
+  if (!tm.getTargetTriple().isX86())
+    return;
+  std::vector<llvm::CallInst*> calls;
+  for (llvm::Function& f : m)
+    if (f.getIntrinsicID() == llvm::Intrinsic::fmuladd)
+      for (llvm::User* u : f.users())
+        if (auto* call = llvm::dyn_cast<llvm::CallInst>(u); call && call->getType()->isFloatingPointTy())
+          calls.push_back(call);
+  for (llvm::CallInst* call : calls) {
+    llvm::Type* ty = call->getType();
+    if (!ty->isFloatTy() && !ty->isDoubleTy())
+      continue;  // x86 fuses neither long double nor half
+    const llvm::TargetSubtargetInfo* st = tm.getSubtargetImpl(*call->getFunction());
+    bool fused = tm.Options.AllowFPOpFusion != llvm::FPOpFusion::Strict &&
+                 (st->checkFeatures("+fma") || st->checkFeatures("+fma4") || st->checkFeatures("+avx512f"));
+    llvm::IRBuilder<> b(call);
+    b.setFastMathFlags(call->getFastMathFlags());
+    llvm::Value* x = call->getArgOperand(0);
+    llvm::Value* y = call->getArgOperand(1);
+    llvm::Value* z = call->getArgOperand(2);
+    llvm::Value* r;
+    if (fused) {
+      llvm::FunctionCallee fma = m.getOrInsertFunction(ty->isFloatTy() ? "fmaf" : "fma", ty, ty, ty, ty);
+      r = b.CreateCall(fma, {x, y, z});
+    } else {
+      r = b.CreateFAdd(b.CreateFMul(x, y), z);
+    }
+    call->replaceAllUsesWith(r);
+    call->eraseFromParent();
+  }
+}
+
 void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
   // Declared in this order so they are destroyed in the right order (they reference each other).
   llvm::LoopAnalysisManager lam;
@@ -383,6 +423,8 @@ void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
     mpm.addPass(llvm::GlobalDCEPass());
   }
   mpm.run(m, mam);
+  if (level < 2 && tm)
+    lowerFMulAddForFastISel(m, *tm);
 }
 
 // Hash of everything a PCH depends on: the runtime header's directory tree (content), the

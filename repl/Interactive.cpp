@@ -334,12 +334,12 @@ class InteractiveModel {
     if (!source) return;
     if (kind == 1) {
       __lc_R_MouseIns r;
-      __lc_clear(r);
+      std::memset(&r, 0, sizeof r);
       r.id = r.id2 = __lc_id_MouseIns;
       session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));
     } else {
       __lc_R_MouseInsPos r;
-      __lc_clear(r);
+      std::memset(&r, 0, sizeof r);
       r.id = r.id2 = __lc_id_MouseInsPos;
       r.p0 = status;
       session_.engine().insertBefore(*source, reinterpret_cast<const char*>(&r));

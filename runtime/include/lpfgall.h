@@ -31,8 +31,9 @@
 #define LCJIT_MODULE(N, I, A, ...)                                        \
   inline void __lc_emit_##N(__lc_Ctx* c __LC_EMIT_ARGS_##A(__VA_ARGS__)) { \
     __lc_R_##N r;                                                       \
-    __lc_clear(r);                                                      \
-    __LC_SET_##A __lc_put(c, r, I);                                     \
+    __builtin_memset(&r, 0, sizeof r);                                  \
+    r.id = r.id2 = I;                                                   \
+    __LC_SET_##A __lc_put(c, &r, sizeof r);                             \
   }
 #include "lcjit/stdmods.def"
 #undef LCJIT_MODULE

@@ -117,7 +117,7 @@ TEST(RewriterModules, RecordStructEmitterAndFields) {
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "struct__lc_R_A{__lc_ModuleIdid;floatp0;intp1;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "enum:__lc_ModuleId{__lc_id_A=103};");
-  EXPECT_HAS(s, "staticinlinevoid__lc_emit_A(__lc_Ctx*c,floata0,inta1){__lc_R_Ar;__lc_clear(r);r.p0=a0;r.p1=a1;__lc_put(c,r,103);}");
+  EXPECT_HAS(s, "staticinlinevoid__lc_emit_A(__lc_Ctx*c,floata0,inta1){__lc_R_Ar;__builtin_memset(&r,0,sizeofr);r.id=r.id2=103;r.p0=a0;r.p1=a1;__lc_put(c,&r,sizeofr);}");
   EXPECT_HAS(s, "struct__lc_R_B{__lc_ModuleIdid;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "__lc_id_B=104");
   EXPECT_HAS(s, "staticinlinevoid__lc_emit_B(__lc_Ctx*c){");
@@ -217,7 +217,7 @@ TEST(RewriterStatements, CppPassesThrough) {
 TEST(RewriterRules, ProductionLoadsParametersAndTable) {
   auto r = ok(std::string(kMinimal) + "A(x): { produce A(x + 1); }\n");
   std::string s = squash(r.cpp);
-  EXPECT_HAS(s, "staticvoid__lc_rule_0(__lc_Ctx*__lc_ctx,constchar*const*__lc_m){__lc_R_A__lc_r0;__lc_load(__lc_r0,__lc_m[0]);autox=__lc_r0.p0;");
+  EXPECT_HAS(s, "staticvoid__lc_rule_0(__lc_Ctx*__lc_ctx,constchar*const*__lc_m){__lc_R_A__lc_r0;__builtin_memcpy(&__lc_r0,__lc_m[0],sizeof__lc_r0);autox=__lc_r0.p0;");
   EXPECT_HAS(s, "{{__lc_emit_A(__lc_ctx,x+1);__lc_ctx->produced=1;return;}}}");
   EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_pattern_0[]={103,};");
   // Production (kind 0), normal group 0, strict predecessor of one module, no filter, line 4.
@@ -232,7 +232,7 @@ TEST(RewriterRules, PredefinedModuleIds) {
   EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,3,0,-1,__lc_pattern_0,__lc_rule_0,4}");
   EXPECT_HAS(s, "__lc_emit_f(__lc_ctx,l);__lc_emit_Left(__lc_ctx,1);__lc_emit_Right(__lc_ctx,2);");
   // F's parameter comes from the pattern's second record (index 2 in pattern order).
-  EXPECT_HAS(s, "__lc_R_F__lc_r2;__lc_load(__lc_r2,__lc_m[2]);autol=__lc_r2.p0;");
+  EXPECT_HAS(s, "__lc_R_F__lc_r2;__builtin_memcpy(&__lc_r2,__lc_m[2],sizeof__lc_r2);autol=__lc_r2.p0;");
 }
 
 // Fault messages name a rule by its predecessor as written, and its file.
@@ -247,7 +247,7 @@ TEST(RewriterRules, MultiModuleStrictPredecessor) {
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "__lc_pattern_0[]={103,104,105,};");
   EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,3,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
-  EXPECT_HAS(s, "__lc_R_A__lc_r0;__lc_load(__lc_r0,__lc_m[0]);auton=__lc_r0.p0;__lc_R_C__lc_r2;__lc_load(__lc_r2,__lc_m[2]);autoy=__lc_r2.p0;");
+  EXPECT_HAS(s, "__lc_R_A__lc_r0;__builtin_memcpy(&__lc_r0,__lc_m[0],sizeof__lc_r0);auton=__lc_r0.p0;__lc_R_C__lc_r2;__builtin_memcpy(&__lc_r2,__lc_m[2],sizeof__lc_r2);autoy=__lc_r2.p0;");
 }
 
 struct ContextCase {
@@ -375,7 +375,7 @@ TEST(RewriterContextQueries, InLeftContextBecomesHostCall) {
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "([&]()->bool{staticconst__lc_ModuleId__lc_ids[]={103,};constchar*__lc_p[1];"
                 "if(!lcjit_in_context(__lc_ctx,0,__lc_ids,1,__lc_p))returnfalse;"
-                "{__lc_R_A__lc_q;__lc_load(__lc_q,__lc_p[0]);y=__lc_q.p0;}returntrue;}())");
+                "{__lc_R_A__lc_q;__builtin_memcpy(&__lc_q,__lc_p[0],sizeof__lc_q);y=__lc_q.p0;}returntrue;}())");
 }
 
 TEST(RewriterContextQueries, SidesAndSeveralModules) {
@@ -386,9 +386,9 @@ TEST(RewriterContextQueries, SidesAndSeveralModules) {
               "  if (InNewRightContext(SB() C EB())) produce;\n}\n");
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "__lc_ids[]={105,103,};constchar*__lc_p[2];if(!lcjit_in_context(__lc_ctx,1,__lc_ids,2,__lc_p))returnfalse;"
-                "{__lc_R_A__lc_q;__lc_load(__lc_q,__lc_p[1]);y=__lc_q.p0;}returntrue;");
+                "{__lc_R_A__lc_q;__builtin_memcpy(&__lc_q,__lc_p[1],sizeof__lc_q);y=__lc_q.p0;}returntrue;");
   EXPECT_HAS(s, "__lc_ids[]={104,105,};constchar*__lc_p[2];if(!lcjit_in_context(__lc_ctx,2,__lc_ids,2,__lc_p))returnfalse;"
-                "{__lc_R_B__lc_q;__lc_load(__lc_q,__lc_p[0]);k=__lc_q.p0;}returntrue;");
+                "{__lc_R_B__lc_q;__builtin_memcpy(&__lc_q,__lc_p[0],sizeof__lc_q);k=__lc_q.p0;}returntrue;");
   EXPECT_HAS(s, "__lc_ids[]={0,105,1,};constchar*__lc_p[3];if(!lcjit_in_context(__lc_ctx,3,__lc_ids,3,__lc_p))returnfalse;returntrue;");
 }
 

@@ -116,23 +116,18 @@ float lcjit_view_scale(int id);
 void lcjit_camera_position(int id, struct CameraPosition* out);
 }
 
-// Appends one module record to the successor being built. The id comes as an unsigned (not a
-// 16-bit __lc_ModuleId) and records go by reference, never by value: -O0 code is selected by
-// FastISel, which gives up on 16-bit arguments and on returned small structs and falls back to
-// the far slower SelectionDAG selector for the whole block.
-template <class R> inline void __lc_put(__lc_Ctx* c, R& r, unsigned id32) {
-  __lc_ModuleId id = (__lc_ModuleId)id32;
-  r.id = id;
-  r.id2 = id;
+// Appends a module record of `size` bytes (zeroed first, so that padding bytes in strings and
+// .strb files are deterministic; id and id2 set) to the successor being built. Its last two
+// bytes repeat the id, for reading the string backwards.
+//
+// Not a template over the record type, and the records are never passed or returned by value:
+// the generated code of every module would otherwise instantiate its own copies in every
+// compile, and -O0 code is selected by FastISel, which gives up on small structs by value and
+// 16-bit arguments and hands the block to the far slower SelectionDAG.
+inline void __lc_put(__lc_Ctx* c, void* r, unsigned size) {
+  std::memcpy(static_cast<char*>(r) + size - sizeof(__lc_ModuleId), r, sizeof(__lc_ModuleId));
   __lc_Buffer* b = c->out;
-  if (b->cap - b->size < sizeof(R)) lcjit_buffer_reserve(b, sizeof(R));
-  char* d = b->data + b->size;
-  std::memcpy(d, static_cast<const void*>(&r), sizeof(R));
-  std::memcpy(d + sizeof(R) - 2, &id, 2);
-  b->size += sizeof(R);
-}
-
-// A zeroed record, so padding bytes in strings (and .strb files) are deterministic.
-template <class R> inline void __lc_clear(R& r) {
-  std::memset(static_cast<void*>(&r), 0, sizeof(R));
+  if (b->cap - b->size < size) lcjit_buffer_reserve(b, size);
+  std::memcpy(b->data + b->size, r, size);
+  b->size += size;
 }

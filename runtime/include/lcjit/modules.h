@@ -81,7 +81,3 @@ inline constexpr __lc_ModuleInfo __lc_stdmods[__lc_FirstUserModule] = {
 #undef LCJIT_MODULE
 };
 
-// A module's record read from the string (by reference: see __lc_put).
-template <class P> inline void __lc_load(P& p, const char* src) {
-  std::memcpy(static_cast<void*>(&p), src, sizeof(P));
-}
