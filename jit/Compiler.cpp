@@ -495,22 +495,39 @@ llvm::Error runOwnAtExits(orc::LLJIT& J, orc::JITDylib& JD) {
 namespace detail {
 // Instruction selection at one level, with one TargetMachine kept for it (creating one costs
 // about a millisecond; one is not reentrant, hence the lock).
+// One TargetMachine, kept: creating one and its subtarget costs ~1 ms, a tenth of a quick
+// compile. It is not thread-safe (subtargets are created on demand), hence the mutex.
 struct Codegen {
   std::mutex mutex;
   std::unique_ptr<llvm::TargetMachine> tm;
 
+  llvm::Error ensure(orc::JITTargetMachineBuilder& b, llvm::CodeGenOptLevel level) {
+    if (tm)
+      return llvm::Error::success();
+    b.setCodeGenOptLevel(level);
+    auto t = b.createTargetMachine();
+    if (!t)
+      return t.takeError();
+    tm = std::move(*t);
+    return llvm::Error::success();
+  }
+
   llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> compile(llvm::Module& m, orc::JITTargetMachineBuilder b,
                                                               llvm::CodeGenOptLevel level) {
     std::lock_guard<std::mutex> lock(mutex);
-    if (!tm) {
-      b.setCodeGenOptLevel(level);
-      auto t = b.createTargetMachine();
-      if (!t)
-        return t.takeError();
-      tm = std::move(*t);
-    }
+    if (auto err = ensure(b, level))
+      return std::move(err);
     m.setDataLayout(tm->createDataLayout());
     return orc::SimpleCompiler(*tm)(m);
+  }
+
+  // The IR passes of `level` (runIRPipeline) with this TargetMachine.
+  llvm::Error optimize(llvm::Module& m, int level, orc::JITTargetMachineBuilder b, llvm::CodeGenOptLevel cgLevel) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto err = ensure(b, cgLevel))
+      return err;
+    runIRPipeline(m, level, tm.get());
+    return llvm::Error::success();
   }
 };
 
@@ -1038,14 +1055,9 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
       return makeError("lcjit: cannot compile the runtime header's support code from " + pchPath + ":\n" +
                        trimTrailingNewlines(dc.text));
     gatherInitializers(*module);
-    {
-      orc::JITTargetMachineBuilder b = jtmb;
-      b.setCodeGenOptLevel(llvm::CodeGenOptLevel::None);
-      auto tm = b.createTargetMachine();
-      if (!tm)
-        return tm.takeError();
-      runIRPipeline(*module, 0, tm->get());  // always_inline callees (libstdc++'s allocators) go
-    }
+    // always_inline callees (libstdc++'s allocators) go
+    if (auto err = state->codegen[0].optimize(*module, 0, jtmb, llvm::CodeGenOptLevel::None))
+      return std::move(err);
     parts.emplace();
     for (auto& part : splitIntoParts(*module, kSupportPartSize)) {
       auto object = emitObject(*part, 0);
@@ -1372,13 +1384,10 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (!shared.empty())
       useSharedState(*module, shared);
     gatherInitializers(*module);
-    {
-      orc::JITTargetMachineBuilder b = impl_->jtmb;
-      b.setCodeGenOptLevel(level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None);
-      auto tm = b.createTargetMachine();
-      if (!tm)
-        return tm.takeError();
-      runIRPipeline(*module, level, tm->get());
+    if (auto err = impl_->state->codegen[level >= 2 ? 1 : 0].optimize(
+            *module, level, impl_->jtmb, level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None)) {
+      finish();
+      return std::move(err);
     }
     st.optimizeMs = msSince(t1);
 
