@@ -16,6 +16,7 @@
 #include <clang/Frontend/Utils.h>
 #include <clang/Lex/PreprocessorOptions.h>
 
+#include <llvm/ADT/ScopeExit.h>
 #include <llvm/Analysis/InlineCost.h>
 #include <llvm/Config/llvm-config.h>
 #include <llvm/Demangle/Demangle.h>
@@ -638,6 +639,110 @@ std::optional<CachedObject> deserialize(llvm::StringRef text) {
 } // namespace
 
 // Per opt level: the driver-derived invocation (built once) and the PCH state.
+// One clang front end run, in two halves. begin() does all that does not need the unit's text:
+// the CompilerInstance, the target, the PCH loaded and validated, the builtins registered
+// (~3-4 ms of a ~10 ms quick compile). finish() puts the text into the buffer the main file
+// already points at (padded with spaces to the capacity it was begun with) and parses and
+// generates IR. So a quick tier can begin the next compile's front end ahead, while the
+// modeller is still typing.
+class Frontend {
+public:
+  struct Result {
+    std::unique_ptr<llvm::LLVMContext> ctx;
+    std::unique_ptr<llvm::Module> module;
+    std::shared_ptr<std::string> backendErrors;  // what the LLVM back end reports later
+    std::string diagnostics;
+    bool pchProblem = false;
+  };
+
+  Frontend(std::shared_ptr<clang::CompilerInvocation> base, std::string pchPath, bool pchFallback,
+           const std::string& runtimeHeader, std::string bufferName, size_t capacity)
+      : pchPath(std::move(pchPath)), pchFallback(pchFallback), bufferName(std::move(bufferName)), capacity(capacity),
+        base(std::move(base)), runtimeHeader(runtimeHeader) {}
+  Frontend(const Frontend&) = delete;
+  Frontend& operator=(const Frontend&) = delete;
+  ~Frontend() {
+    if (begun)
+      action->EndSourceFile();
+  }
+
+  bool begin() {
+    text = std::make_unique<char[]>(capacity + 1);
+    std::memset(text.get(), ' ', capacity);
+    text[capacity] = '\0';
+    auto inv = std::make_shared<clang::CompilerInvocation>(*base);
+    auto& fo = inv->getFrontendOpts();
+    fo.Inputs.clear();
+    fo.Inputs.emplace_back(bufferName, clang::InputKind(clang::Language::CXX));
+    fo.OutputFile.clear();
+    fo.DisableFree = false;
+    auto& ppo = inv->getPreprocessorOpts();
+    ppo.RetainRemappedFileBuffers = true;  // ours: `text`
+    ppo.addRemappedFile(bufferName, llvm::MemoryBuffer::getMemBuffer(llvm::StringRef(text.get(), capacity), bufferName,
+                                                                     /*RequiresNullTerminator=*/true)
+                                        .release());
+    remapped.reset(ppo.RemappedFileBuffers.back().second);
+    if (pchFallback)
+      ppo.Includes.push_back(runtimeHeader);
+    else
+      ppo.ImplicitPCHInclude = pchPath;
+    inv->getCodeGenOpts().MainFileName = bufferName;
+    ctx = std::make_unique<llvm::LLVMContext>();
+    backendErrors = std::make_shared<std::string>();
+    ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+    ci = std::make_unique<clang::CompilerInstance>();
+    ci->setInvocation(inv);
+    ci->createDiagnostics(&dc, false);
+    action = std::make_unique<clang::EmitLLVMOnlyAction>(ctx.get());
+    // What CompilerInstance::ExecuteAction does, up to the parse.
+    if (!action->PrepareToExecute(*ci) || !ci->createTarget())
+      return false;
+    begun = action->BeginSourceFile(*ci, ci->getFrontendOpts().Inputs[0]);
+    return begun && dc.getNumErrors() == 0;
+  }
+
+  Result finish(llvm::StringRef source) {
+    Result r;
+    r.backendErrors = backendErrors;
+    if (begun && dc.getNumErrors() == 0) {
+      std::memcpy(text.get(), source.data(), std::min(source.size(), capacity));
+      if (llvm::Error err = action->Execute())
+        dc.text += "error: " + llvm::toString(std::move(err)) + "\n";
+      action->EndSourceFile();
+      begun = false;
+    }
+    r.pchProblem = dc.pchProblem;
+    if (dc.getNumErrors() != 0 || !dc.text.empty()) {
+      r.diagnostics = dc.text.empty() ? std::string("error: compilation failed\n") : dc.text;
+      return r;
+    }
+    r.module = action->takeModule();
+    if (!r.module) {
+      r.diagnostics = "error: compilation produced no module\n";
+      return r;
+    }
+    r.ctx = std::move(ctx);
+    return r;
+  }
+
+  const std::string pchPath;
+  const bool pchFallback;
+  const std::string bufferName;
+  const size_t capacity;
+
+private:
+  std::shared_ptr<clang::CompilerInvocation> base;
+  std::string runtimeHeader;
+  std::unique_ptr<char[]> text;
+  std::unique_ptr<llvm::MemoryBuffer> remapped;
+  std::unique_ptr<llvm::LLVMContext> ctx;
+  std::shared_ptr<std::string> backendErrors;
+  DiagCollector dc;
+  std::unique_ptr<clang::CompilerInstance> ci;
+  std::unique_ptr<clang::EmitLLVMOnlyAction> action;
+  bool begun = false;
+};
+
 struct LevelSetup {
   std::mutex mutex;
   std::shared_ptr<clang::CompilerInvocation> base;
@@ -645,6 +750,8 @@ struct LevelSetup {
   std::string pchPath;
   bool pchReady = false;    // pchPath holds a PCH this process built or already used successfully
   bool pchFallback = false; // PCH unusable (unwritable cache...): include the header as text
+  // The quick tiers' next front end, begun on another thread after each compile (Frontend).
+  std::future<std::unique_ptr<Frontend>> ahead;
 };
 
 // Level 0 builds its PCH with clang's -fpch-codegen: the runtime header's inline functions and
@@ -699,18 +806,22 @@ struct Compiler::Impl {
   ~Impl() {
     for (auto& [path, support] : supports)
       support->ready.wait();
+    for (auto& L : levels)
+      if (L.ahead.valid())
+        L.ahead.wait();
   }
   bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics);
   static constexpr size_t kPchsKept = 3;
   static void prunePchs(const std::string& built);
 
-  struct FrontendResult {
-    std::unique_ptr<llvm::Module> module;
-    std::string diagnostics;
-    bool pchProblem = false;
-  };
-  FrontendResult runFrontend(const LevelSetup& L, llvm::StringRef source, const std::string& bufferName,
-                             llvm::LLVMContext& ctx);
+  // The quick tiers' front end begun ahead (Frontend) if there is one that fits this compile;
+  // a mismatched or failed one is dropped.
+  std::unique_ptr<Frontend> takeAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName,
+                                      size_t size);
+  // Begins the next front end of a quick tier on another thread, unless one is under way.
+  void beginAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName, size_t size);
+  static constexpr size_t kAheadCapacity = 64 * 1024;
+
 };
 
 llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
@@ -884,6 +995,8 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
     st.pchBuildMs += msSince(t0);
     return;
   }
+  if (L.ahead.valid())
+    L.ahead.get();  // begun on the PCH being replaced
   std::string diags;
   if (buildPch(L, level, path, diags)) {
     L.pchReady = true;
@@ -898,40 +1011,31 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
   st.pchBuildMs += msSince(t0);
 }
 
-Compiler::Impl::FrontendResult Compiler::Impl::runFrontend(const LevelSetup& L, llvm::StringRef source,
-                                                           const std::string& bufferName,
-                                                           llvm::LLVMContext& ctx) {
-  FrontendResult r;
-  auto inv = std::make_shared<clang::CompilerInvocation>(*L.base);
-  auto& fo = inv->getFrontendOpts();
-  fo.Inputs.clear();
-  fo.Inputs.emplace_back(bufferName, clang::InputKind(clang::Language::CXX));
-  fo.OutputFile.clear();
-  fo.DisableFree = false;
-  auto& ppo = inv->getPreprocessorOpts();
-  // SourceManager takes ownership (RetainRemappedFileBuffers is false).
-  ppo.addRemappedFile(bufferName, llvm::MemoryBuffer::getMemBufferCopy(source, bufferName).release());
-  if (L.pchFallback)
-    ppo.Includes.push_back(config.runtimeHeader);
-  else
-    ppo.ImplicitPCHInclude = L.pchPath;
-  inv->getCodeGenOpts().MainFileName = bufferName;
+std::unique_ptr<Frontend> Compiler::Impl::takeAhead(LevelSetup& L, const LevelSetup& used,
+                                                     const std::string& bufferName, size_t size) {
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (!L.ahead.valid() || L.ahead.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return nullptr;
+  std::unique_ptr<Frontend> fe = L.ahead.get();
+  if (!fe || fe->bufferName != bufferName || fe->pchPath != used.pchPath || fe->pchFallback != used.pchFallback ||
+      fe->capacity < size)
+    return nullptr;
+  return fe;
+}
 
-  clang::CompilerInstance ci;
-  ci.setInvocation(inv);
-  DiagCollector dc;
-  ci.createDiagnostics(&dc, false);
-  clang::EmitLLVMOnlyAction action(&ctx);
-  bool ok = ci.ExecuteAction(action);
-  r.pchProblem = dc.pchProblem;
-  if (!ok || dc.getNumErrors() != 0) {
-    r.diagnostics = dc.text.empty() ? std::string("error: compilation failed\n") : dc.text;
-    return r;
-  }
-  r.module = action.takeModule();
-  if (!r.module)
-    r.diagnostics = "error: compilation produced no module\n";
-  return r;
+void Compiler::Impl::beginAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName, size_t size) {
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (L.ahead.valid())
+    return;
+  size_t capacity = std::max(kAheadCapacity, 2 * size);
+  L.ahead = std::async(std::launch::async, [base = used.base, pch = used.pchPath, fallback = used.pchFallback,
+                                            header = config.runtimeHeader, bufferName, capacity] {
+    clang::noteBottomOfStack();
+    auto fe = std::make_unique<Frontend>(base, pch, fallback, header, bufferName, capacity);
+    if (!fe->begin())
+      fe.reset();  // the compile that would have used it finds out why on its own
+    return fe;
+  });
 }
 
 std::shared_ptr<Compiler::Impl::Support> Compiler::Impl::startSupport(const LevelSetup& L, const std::string& pchPath) {
@@ -1337,13 +1441,20 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       st.object = fromDisk ? CompileStats::ObjectFrom::Disk : CompileStats::ObjectFrom::Memory;
   }
 
-  auto backendErrors = std::make_shared<std::string>();
+  std::shared_ptr<std::string> backendErrors;
+  // A quick tier begins its next front end once this compile is over (not during it: on two
+  // cores it would slow this one's code generation down).
+  bool beginNext = false;
+  auto aheadOnExit = llvm::make_scope_exit([&] {
+    if (beginNext)
+      impl_->beginAhead(L, used, bufferName, cppSource.size());
+  });
   if (!object) {
     // Front end. The level lock only covers setup/PCH decisions; clang runs unlocked so that
     // compiles on several threads may overlap.
-    auto ctx = std::make_unique<llvm::LLVMContext>();
-    ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+    std::unique_ptr<llvm::LLVMContext> ctx;
     std::unique_ptr<llvm::Module> module;
+    bool quickTier = level < 2;
     for (int attempt = 0;; ++attempt) {
       if (attempt > 0) {
         std::lock_guard<std::mutex> lock(L.mutex);
@@ -1357,16 +1468,26 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         used.pchPath = L.pchPath;
         used.pchFallback = L.pchFallback;
       }
-      Impl::FrontendResult fr = impl_->runFrontend(used, cppSource, bufferName, *ctx);
+      std::unique_ptr<Frontend> fe;
+      if (quickTier && attempt == 0)
+        fe = impl_->takeAhead(L, used, bufferName, cppSource.size());
+      st.frontendBegunAhead = fe != nullptr;
+      if (!fe) {
+        fe = std::make_unique<Frontend>(used.base, used.pchPath, used.pchFallback, impl_->config.runtimeHeader,
+                                        bufferName, cppSource.size());
+        fe->begin();
+      }
+      Frontend::Result fr = fe->finish(cppSource);
       st.frontendMs += msSince(t0);
+      beginNext = quickTier && options.beginNextAhead;
       if (fr.module) {
         module = std::move(fr.module);
+        ctx = std::move(fr.ctx);
+        backendErrors = std::move(fr.backendErrors);
         break;
       }
       if (fr.pchProblem && attempt == 0 && !used.pchFallback) {
         // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
-        ctx = std::make_unique<llvm::LLVMContext>();
-        ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
         continue;
       }
       finish();

@@ -54,6 +54,11 @@ struct CompileOptions {
   // that crashes fails the compile (or is reported) instead of ending the process. Empty:
   // called directly.
   std::function<llvm::Error(const std::function<llvm::Error()>& run)> runModelCode;
+  // At a quick level (0, 1): once this compile is over, set up the next compile's front end on
+  // another thread (the PCH loaded, the builtins registered: a third of a small compile), for
+  // the next edit of the same unit (same bufferName) to find ready. For live editing; the
+  // Compiler must then be destroyed before the process exits (it waits for that thread).
+  bool beginNextAhead = false;
 };
 
 struct CompileStats {
@@ -62,6 +67,7 @@ struct CompileStats {
   double codegenMs = 0;   // instruction selection, JIT link, static constructors
   double pchBuildMs = 0;  // building (or validating) the PCH, when this compile had to
   bool pchCached = false; // an existing PCH from the disk cache was reused
+  bool frontendBegunAhead = false;  // the front end was set up before the source came (quick tiers)
   // The object code came from the cache (no front end, optimisation or instruction selection).
   enum class ObjectFrom { Compiled, Memory, Disk } object = ObjectFrom::Compiled;
 };

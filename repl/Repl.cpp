@@ -593,6 +593,7 @@ class Repl {
       return error("error: usage: :watch [on|off]");
     if (args.size() == 1) {
       watching_ = args[0] == "on";
+      session_->setEditedLive(watching_);
       if (watching_) watchFiles();
       else monitor_.clear();
     }

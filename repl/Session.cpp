@@ -317,6 +317,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
   co.runModelCode = guardedStatics(files.lsystem);
+  co.beginNextAhead = editedLive_;
   jit::CompileStats stats;
   splitRules(*cpp, p.rules, p.rest);
   llvm::Expected<std::unique_ptr<jit::ModelCode>> code = nullptr;

@@ -2,6 +2,7 @@
 // §1.1.2), the .l file is preprocessed, rewritten to C++ and compiled in-process, and the
 // derivation engine is set up on the compiled model. Every phase is timed for --stats.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -151,6 +152,9 @@ class Session {
   // then swaps the result in, between derivation steps, without re-running: the new code uses
   // the running version's globals. False (and nothing changes) when another load came between.
   std::function<BetterTier()> betterTierJob(int optLevel) const;
+  // The model is being edited live (its files watched): quick compiles of it set up the next
+  // one's front end ahead (jit::CompileOptions::beginNextAhead).
+  void setEditedLive(bool on) { editedLive_ = on; }
   bool installTier(BetterTier tier);
   // The loaded model's tables (modules, rules with their lines and groups); null before a load.
   const __lc_Model* model() const { return model_; }
@@ -189,6 +193,7 @@ class Session {
   std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load
   int replInputs_ = 0;
   int optLevel_ = 0;
+  std::atomic<bool> editedLive_{false};
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::Engine> engine_;

@@ -167,6 +167,9 @@ int main(int argc, char** argv) {
   // the background and swapped in (two tiers).
   const bool window = !batch && bo.out.empty() && haveDisplay && !emitCpp && !compileOnly;
   if ((watch || window) && app.count("-O") == 0) bo.optLevel = 0, bo.betterTier = 2;
+  // Edits are coming: every compile sets up the next one's front end ahead.
+  const bool watchedWindow = window && !rmode.empty() && rmode != "expl";
+  (*session)->setEditedLive(watch || watchedWindow);
   lcjit::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.

@@ -281,6 +281,57 @@ TEST_F(JitTest, ErrorsCarryNotes) {
   EXPECT_NE(err.find("model.l:10:5: note: previous definition is here"), std::string::npos) << err;
 }
 
+// Live editing: a quick-tier compile sets up the next one's front end on another thread, and
+// the next compile of the same unit only parses. Checked: it is used, the code and diagnostics
+// are those of the new text (a shorter text is padded, never mixed with the old one), and a
+// text longer than what was set up or another unit's compile starts from scratch.
+TEST_F(JitTest, QuickTiersBeginTheNextFrontEndAhead) {
+  CompileOptions o;
+  o.optLevel = 0;
+  o.bufferName = "ahead.cpp";
+  o.beginNextAhead = true;
+  o.useObjectCache = false;
+  auto source = [](int k) {
+    return "extern \"C\" int v() { return " + std::to_string(k) + "; }\n" + std::string(k == 1 ? 400 : 0, ' ') + "// " +
+           std::to_string(k) + "\n";
+  };
+  CompileStats st;
+  auto first = compiler_->compile(source(1), o, &st);
+  ASSERT_TRUE(bool(first)) << llvm::toString(first.takeError());
+  EXPECT_FALSE(st.frontendBegunAhead);
+  // The next front end is set up in the background; keep editing until a compile finds it.
+  bool used = false;
+  for (int k = 2; k < 60 && !used; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    auto code = compiler_->compile(source(k), o, &st);
+    ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
+    EXPECT_EQ(lookupFn<int (*)()>(**code, "v")(), k);
+    used = st.frontendBegunAhead;
+  }
+  ASSERT_TRUE(used);
+  // An error through a front end set up ahead: the new text's line and column.
+  bool errorAhead = false;
+  for (int tries = 0; tries < 40 && !errorAhead; ++tries) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::string err = errorText(compiler_->compile("#line 7 \"ahead.l\"\n  oops;\n", o, &st));
+    EXPECT_NE(err.find("ahead.l:7:3: error: "), std::string::npos) << err;
+    errorAhead = st.frontendBegunAhead;
+  }
+  EXPECT_TRUE(errorAhead);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  auto big = compiler_->compile("extern \"C\" int v() { return 99; }\n//" + std::string(200000, 'x') + "\n", o, &st);
+  ASSERT_TRUE(bool(big)) << llvm::toString(big.takeError());
+  EXPECT_FALSE(st.frontendBegunAhead);
+  EXPECT_EQ(lookupFn<int (*)()>(**big, "v")(), 99);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CompileOptions other = o;
+  other.bufferName = "other.cpp";
+  auto elsewhere = compiler_->compile(source(5), other, &st);
+  ASSERT_TRUE(bool(elsewhere)) << llvm::toString(elsewhere.takeError());
+  EXPECT_FALSE(st.frontendBegunAhead);
+  EXPECT_EQ(lookupFn<int (*)()>(**elsewhere, "v")(), 5);
+}
+
 TEST_F(JitTest, GarbageAndBadInputsFailCleanly) {
   CompileOptions o;
   std::string garbage;
