@@ -637,6 +637,9 @@ bool Engine::insertBefore(size_t offset, const char* record) {
   ModuleBuffer s;
   s.append(string_.data(), offset);
   s.append(record, size);
+  // Its last two bytes repeat the id, as __lc_put writes them (the string is read backwards
+  // too); in a record built by hand they may be padding.
+  std::memcpy(s.data() + offset + size - sizeof(__lc_ModuleId), record, sizeof(__lc_ModuleId));
   s.append(string_.data() + offset, string_.size() - offset);
   string_.swap(s);
   return true;

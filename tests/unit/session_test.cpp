@@ -187,6 +187,36 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   fs::remove_all(dir);
 }
 
+// §5.9: a record the host builds (MouseInsPos, inserted where the user clicked) gets the id
+// repeated in its last two bytes even where its layout has padding there: the string is also
+// scanned backwards (left context), from those bytes.
+TEST(EngineInsert, AnInsertedRecordEndsWithItsId) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-insert-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "ins.l") << "#include <lpfgall.h>\nderivation length: 1;\nmodule A;\naxiom: A A;\n";
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  ModelFiles files;
+  files.lsystem = (dir / "ins.l").string();
+  PhaseTimes t;
+  ASSERT_FALSE(bool((*session)->load(files, 1, t)));
+  runtime::Engine& e = (*session)->engine();
+  runtime::EngineHooks hooks;
+  e.begin(hooks);
+  __lc_R_MouseInsPos r;
+  std::memset(&r, 0, sizeof r);
+  r.id = r.id2 = __lc_id_MouseInsPos;
+  ASSERT_GT(sizeof r, offsetof(__lc_R_MouseInsPos, id2) + sizeof r.id2);  // padding after id2
+  size_t recordA = e.string().size() / 2;
+  ASSERT_TRUE(e.insertBefore(recordA, reinterpret_cast<const char*>(&r)));
+  const char* end = e.string().data() + recordA + sizeof r;
+  __lc_ModuleId last;
+  std::memcpy(&last, end - sizeof last, sizeof last);
+  EXPECT_EQ(last, __lc_id_MouseInsPos);
+  EXPECT_NE(e.text(e.string()).find("MouseInsPos"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 
 namespace {
