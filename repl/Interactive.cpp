@@ -68,6 +68,11 @@ class InteractiveModel {
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       Scene scene = work_.get();
       session_.engine().clearCancel();
+      bool replaced = std::exchange(replacing_, false);
+      if (!scene.error.empty() && replaced) {
+        if (options_.verbose) std::fprintf(stderr, "lcjit: the running derivation stopped for the new version\n");
+        return swapInWhenReady();
+      }
       if (!scene.error.empty()) {
         // A fault in model code (docs/faults.md): said on stderr; the last picture stays.
         std::fprintf(stderr, "%s\n", scene.error.c_str());
@@ -177,7 +182,27 @@ class InteractiveModel {
 
   // poll(): a finished recompile or better tier replaces the running model between pictures.
   void swapInWhenReady() {
-    if (busy()) return;
+    if (busy()) {
+      // A saved version compiled while the worker still runs the old one (a long derivation,
+      // or model code stuck in a loop): stop it, as Esc does, and install the new one once
+      // the worker has let go. A failed compile only shows its diagnostics.
+      if (!waiting_) {
+        if (std::optional<Prepared> p = compile_.take()) {
+          if (!p->model) return installPrepared(std::move(*p));
+          waiting_ = std::move(*p);
+          replacing_ = true;
+          running_ = false;
+        }
+      }
+      // Again at every poll: it stops model code only while some is running.
+      if (waiting_) session_.engine().interrupt();
+      return;
+    }
+    if (waiting_) {
+      Prepared p = std::move(*waiting_);
+      waiting_.reset();
+      installPrepared(std::move(p));
+    }
     if (std::optional<Prepared> p = compile_.take()) installPrepared(std::move(*p));
     if (std::optional<BetterTier> t = tier_.take()) {
       if (!t->error.empty()) {
@@ -225,9 +250,23 @@ class InteractiveModel {
 
   // A change under -rmode continuous/triggered runs the §1.3 table's action.
   // The menu's New … items are the same actions.
+  // While the worker has the model, a change that recompiles starts compiling at once (and
+  // replaces the running version when ready, swapInWhenReady); the others wait for it.
   void apply(Action a) {
     if (a == Action::NewAnimate) return readAnimationFile();
-    if (std::optional<ReloadParts> parts = reloadPartsFor(a)) reload(*parts, rerunsSimulation(a), resetsView(a));
+    std::optional<ReloadParts> parts = reloadPartsFor(a);
+    if (!parts) return;
+    if (busy() && !parts->lsystem) {
+      if (std::find(deferred_.begin(), deferred_.end(), a) == deferred_.end()) deferred_.push_back(a);
+      return;
+    }
+    reload(*parts, rerunsSimulation(a), resetsView(a));
+  }
+  void applyDeferred() {
+    if (busy() || deferred_.empty()) return;
+    std::vector<Action> now = std::move(deferred_);
+    deferred_.clear();
+    for (Action a : now) apply(a);
   }
 
   // The menu as it stands: items that need the model are greyed out while the worker has it.
@@ -458,6 +497,9 @@ class InteractiveModel {
   Clock::time_point shownAt_;
   int recorded_ = 0;
   int installs_ = 0;
+  std::optional<Prepared> waiting_;  // compiled while the worker ran the old version
+  bool replacing_ = false;           // the worker was interrupted for waiting_
+  std::vector<Action> deferred_;     // changes that wait for the worker
   // Declared last: destroyed first, they wait for their jobs, which use the members above.
   Background<Prepared> compile_;
   Background<BetterTier> tier_;
@@ -490,8 +532,9 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     if (model.exitRequested() || !(*window)->frame(actions)) break;
     // Redraw on input; while the worker runs, look for its picture often; files a few times a second.
     (*window)->waitEvents(model.busy() ? 0.01 : 0.1);
+    if (watching) for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
+    model.applyDeferred();
     if (watching && !model.busy()) {
-      for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
       // A reload may have named other files (the view file's surfaces, meshes, textures).
       if (model.installs() != watchedAfter) {
         watchedAfter = model.installs();
