@@ -1,12 +1,19 @@
 // Batch runs and --watch (see Batch.h).
 #include "Batch.h"
 
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <optional>
+#include <thread>
+#include <utility>
 
 #include "Background.h"
 #include "Drawing.h"
@@ -65,8 +72,10 @@ std::optional<ReloadParts> partsFor(const std::vector<Action>& actions) {
   return parts;
 }
 
+// `stopped`: set from another thread when the run was interrupted on purpose (a newer save,
+// under --watch); its fault is then not reported and the status is 2.
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
-            FrameWriter& frames) {
+            FrameWriter& frames, const std::atomic<bool>* stopped = nullptr) {
   auto& engine = session.engine();
   runtime::EngineHooks hooks;
   if (options.quiet) hooks.print = [](const char*) {};
@@ -96,6 +105,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
                  times.pchCached ? "cached PCH" : "PCH built");
   auto t0 = Clock::now();
   if (auto e = engine.run(hooks)) {
+    if (stopped && *stopped) {
+      llvm::consumeError(std::move(e));
+      if (options.verbose) std::fprintf(stderr, "lcjit: the run stopped for the change\n");
+      return 2;
+    }
     report(std::move(e));
     return 1;
   }
@@ -134,11 +148,57 @@ int runBatch(Session& session, const ModelFiles& files, const BatchOptions& opti
   return runOnce(session, files, options, times, frames);
 }
 
+// During a run under --watch, a saved input file stops it: the run is out of date, and model
+// code stuck in a loop would otherwise keep the fix from ever loading. A thread watches the
+// files meanwhile and interrupts the model code (again every 10 ms: that only stops model code
+// while some is running); the changes it saw are the next reload's.
+class StopOnChange {
+ public:
+  StopOnChange(FileMonitor& monitor, runtime::Engine& engine)
+      : wake_(::eventfd(0, EFD_CLOEXEC)), thread_([this, &monitor, &engine] {
+          while (!done_) {
+            struct pollfd fds[2] = {{monitor.fd(), POLLIN, 0}, {wake_, POLLIN, 0}};
+            ::poll(fds, 2, 10);
+            if (done_) break;
+            std::vector<std::string> changed = monitor.poll(0);
+            if (!changed.empty()) {
+              changed_.insert(changed_.end(), changed.begin(), changed.end());
+              stopped_ = true;
+            }
+            if (stopped_) engine.interrupt();
+          }
+        }) {}
+  ~StopOnChange() {
+    if (thread_.joinable()) finish();
+    if (wake_ >= 0) ::close(wake_);
+  }
+  // The changes seen during the run, once it is over (wakes the thread: no wait).
+  std::vector<std::string> finish() {
+    done_ = true;
+    uint64_t one = 1;
+    if (wake_ >= 0) (void)!::write(wake_, &one, sizeof one);
+    thread_.join();
+    return std::move(changed_);
+  }
+  const std::atomic<bool>* stopped() const { return &stopped_; }
+
+ private:
+  int wake_;
+  std::atomic<bool> done_{false}, stopped_{false};
+  std::vector<std::string> changed_;
+  std::thread thread_;
+};
+
 int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes first) {
   FrameWriter frames(options.width, options.height);  // one headless renderer for every reload
-  // A model that failed to load or run still gets watched, for the fix.
-  if (session.loaded()) runOnce(session, files, options, first, frames);
   FileMonitor monitor;
+  std::vector<std::string> changedDuringRun;
+  auto run = [&](const BatchOptions& o, PhaseTimes& t) {
+    StopOnChange stop(monitor, session.engine());
+    int status = runOnce(session, files, o, t, frames, stop.stopped());
+    changedDuringRun = stop.finish();
+    return status;
+  };
   std::vector<std::string> watched;
   auto watchInputs = [&] {
     const runtime::DrawingFiles none;
@@ -148,6 +208,8 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     if (!monitor.watch(watched)) std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
   };
   watchInputs();
+  // A model that failed to load or run still gets watched, for the fix.
+  if (session.loaded()) run(options, first);
   if (!options.quiet) std::fprintf(stderr, "lcjit: watching %s and its input files\n", files.lsystem.c_str());
 
   // The second tier compiles on another thread while the -O0 code serves the runs.
@@ -158,7 +220,8 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
   startTier();
 
   for (int reload = 0;;) {
-    std::vector<std::string> changed = monitor.poll(tier.running() ? 20 : -1);
+    std::vector<std::string> changed =
+        changedDuringRun.empty() ? monitor.poll(tier.running() ? 20 : -1) : std::exchange(changedDuringRun, {});
     if (std::optional<BetterTier> better = tier.take()) {
       if (better->error.size()) {
         std::fprintf(stderr, "lcjit: the -O%d build failed; -O%d code goes on running\n%s\n", options.betterTier,
@@ -188,7 +251,7 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     }
     BatchOptions quietRun = options;
     quietRun.stats = false;
-    int status = runOnce(session, files, quietRun, times, frames);
+    int status = run(quietRun, times);
     double totalMs = msSince(t0);
     std::string compiled = !parts->lsystem     ? "re-read"
                            : times.objectCached ? fmtMs("-O%d code from the cache in %.1f ms", session.optLevel(), times.compileMs)
@@ -199,10 +262,14 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
                                                                    times.productionsCompiled == 1 ? "" : "s")) +
                                                       fmtMs(" (frontend %.1f, optimize %.1f", times.frontendMs, times.optimizeMs) +
                                                       fmtMs(", codegen %.1f)", times.codegenMs);
-    std::fprintf(stderr, "lcjit: reload %d (%s): %s, derived %d steps in %.1f ms%s%s; %.1f ms in all\n", reload,
-                 names.c_str(), compiled.c_str(), session.engine().stepsDone(), times.deriveMs,
-                 options.out.empty() ? "" : ", wrote ", options.out.c_str(), totalMs);
-    if (status != 0) std::fprintf(stderr, "lcjit: reload %d: the run failed\n", reload);
+    if (status == 2)
+      std::fprintf(stderr, "lcjit: reload %d (%s): %s; its run stopped for a newer change\n", reload, names.c_str(),
+                   compiled.c_str());
+    else
+      std::fprintf(stderr, "lcjit: reload %d (%s): %s, derived %d steps in %.1f ms%s%s; %.1f ms in all\n", reload,
+                   names.c_str(), compiled.c_str(), session.engine().stepsDone(), times.deriveMs,
+                   options.out.empty() ? "" : ", wrote ", options.out.c_str(), totalMs);
+    if (status == 1) std::fprintf(stderr, "lcjit: reload %d: the run failed\n", reload);
     if (parts->lsystem) startTier();
     watchInputs();  // the view file may name new surfaces, meshes or textures
   }

@@ -101,6 +101,9 @@ class FileMonitor {
   // settled, and returns the watched paths (as given to watch()) that changed, each once, in
   // watch() order. Changes still within their quiet period stay pending for the next call.
   std::vector<std::string> poll(int timeoutMs);
+  // The inotify descriptor (-1 without one), for waiting on it beside other things; poll(0)
+  // when it is readable. Changes also settle with time alone: poll now and then anyway.
+  int fd() const { return fd_; }
 
  private:
   using Clock = std::chrono::steady_clock;

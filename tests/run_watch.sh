@@ -40,5 +40,17 @@ echo 'surface: leaf.s 1 4 4' >> grow.v  # the view file names a surface: watched
 wait_for 'reload 4 (grow.v): re-read' err.txt
 cp leaf.s leaf.tmp && mv leaf.tmp leaf.s
 wait_for 'reload 5 (leaf.s): re-read' err.txt
+# A save that loops forever in a production, then the fix: the fix's save stops the stuck run
+# (no Ctrl-C) and its output is written.
+cp grow.l good.l
+sed -i 's/total += x;/total += x; for (volatile int k = 0; k == 0;) {}/' grow.l
+sleep 1.5                               # compiled, and looping: its reload line waits for the run
+grep -q 'reload 6 ' err.txt && fail "reload 6 ended before the fix was saved"
+sed -i 's/x \* 3/x * 5/' good.l && cp good.l grow.l
+wait_for 'reload 7 ' err.txt
+grep -q 'the run stopped for the change' err.txt || fail "the stuck run was not stopped"
+grep -q 'reload 6 (grow.l): .*its run stopped for a newer change' err.txt || fail "reload 6 not reported as stopped"
+grep -q 'interrupted' err.txt && fail "the stop was reported as an error"
+wait_for 'A(125)' out.str
 kill -0 $pid || fail "lcjit --watch exited"
 echo ok
