@@ -859,6 +859,7 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   if (!inv)
     return makeError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
   inv->getFrontendOpts().DisableFree = false; // createInvocation leaves it on: ~6 MB leak per compile
+  inv->getCodeGenOpts().DisableFree = false;  // and this one: clang's back end buried a TargetMachine (~28 KB) per compile
   inv->getLangOpts().PCHInstantiateTemplates = true;
   // IR passes run in runIRPipeline so that their time is measured and level 1 can differ.
   inv->getCodeGenOpts().DisableLLVMPasses = true;
