@@ -1064,6 +1064,24 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L,
   return support->jd;
 }
 
+// Writes a cache file whole or not at all: a unique temporary beside it, then a rename, so that
+// readers (other processes too) never see a partial one. False when it could not.
+static bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
+  llvm::SmallString<256> tmp;
+  int fd = -1;
+  if (llvm::sys::fs::createUniqueFile(path + ".tmp-%%%%%%%%", fd, tmp))
+    return false;
+  llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
+  out << bytes;
+  out.close();
+  if (out.has_error() || llvm::sys::fs::rename(tmp, path)) {
+    out.clear_error();
+    llvm::sys::fs::remove(tmp);
+    return false;
+  }
+  return true;
+}
+
 // Splits the support module into parts of `perPart` definitions, in order of their demangled
 // names so that related functions (all of __lc_emit_*, one class's members) share a part. Each
 // part is one object file and ORC links an object only when a symbol of it is first looked up,
@@ -1170,18 +1188,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
         return object.takeError();
       parts->push_back(std::move(*object));
     }
-    // As the PCH: a unique temporary beside it, then rename; failing only costs a later build.
-    llvm::SmallString<256> tmp;
-    int fd = -1;
-    if (!llvm::sys::fs::createUniqueFile(cachePath + ".tmp-%%%%%%%%", fd, tmp)) {
-      llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
-      out << serializeParts(*parts);
-      out.close();
-      if (out.has_error() || llvm::sys::fs::rename(tmp, cachePath)) {
-        out.clear_error();
-        llvm::sys::fs::remove(tmp);
-      }
-    }
+    writeCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
   }
 
   auto& J = *state->jit;
@@ -1352,23 +1359,8 @@ static void storeObject(const std::string& dir, const std::string& key, const Ca
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  llvm::SmallString<256> tmp;
-  int fd = -1;
-  if (llvm::sys::fs::createUniqueFile(dir + "/" + key + ".tmp-%%%%%%%%", fd, tmp))
+  if (!writeCacheFile(dir + "/" + key + ".o", serialize(object)))
     return;
-  {
-    llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
-    out << serialize(object);
-    if (out.has_error()) {
-      out.clear_error();
-      llvm::sys::fs::remove(tmp);
-      return;
-    }
-  }
-  if (llvm::sys::fs::rename(tmp, dir + "/" + key + ".o")) {
-    llvm::sys::fs::remove(tmp);
-    return;
-  }
   if (stores++ % 32 != 0)
     return;
   std::vector<std::pair<fs::file_time_type, fs::path>> files;
