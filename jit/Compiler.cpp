@@ -338,12 +338,12 @@ static void lowerFMulAddForFastISel(llvm::Module& m, llvm::TargetMachine& tm) {
   for (llvm::Function& f : m)
     if (f.getIntrinsicID() == llvm::Intrinsic::fmuladd)
       for (llvm::User* u : f.users())
-        if (auto* call = llvm::dyn_cast<llvm::CallInst>(u); call && call->getType()->isFloatingPointTy())
+        // Scalar float and double: x86 fuses neither long double, half nor (here) vectors.
+        if (auto* call = llvm::dyn_cast<llvm::CallInst>(u);
+            call && (call->getType()->isFloatTy() || call->getType()->isDoubleTy()))
           calls.push_back(call);
   for (llvm::CallInst* call : calls) {
     llvm::Type* ty = call->getType();
-    if (!ty->isFloatTy() && !ty->isDoubleTy())
-      continue;  // x86 fuses neither long double nor half
     const llvm::TargetSubtargetInfo* st = tm.getSubtargetImpl(*call->getFunction());
     bool fused = tm.Options.AllowFPOpFusion != llvm::FPOpFusion::Strict &&
                  (st->checkFeatures("+fma") || st->checkFeatures("+fma4") || st->checkFeatures("+avx512f"));
@@ -537,6 +537,16 @@ struct Codegen {
 struct JitState {
   std::unique_ptr<orc::LLJIT> jit;
   orc::JITDylib* hostJD = nullptr;
+
+  // What every JITDylib of lcjit's links against last: host symbols before the process's, so
+  // that explicit definitions win over same-named process symbols.
+  void appendRuntime(orc::JITDylibSearchOrder& order) const {
+    order.push_back({hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+    if (auto p = jit->getPlatformJITDylib())
+      order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+    if (auto p = jit->getProcessSymbolsJITDylib())
+      order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  }
   // Serializes JITDylib creation, initialization, deinitialization and removal; lookups on
   // materialized code don't take it (ORC's session is thread-safe for those).
   std::mutex mutex;
@@ -645,6 +655,15 @@ std::optional<CachedObject> deserialize(llvm::StringRef text) {
 // already points at (padded with spaces to the capacity it was begun with) and parses and
 // generates IR. So a quick tier can begin the next compile's front end ahead, while the
 // modeller is still typing.
+// Runs `action` on `inv` to the end, its diagnostics into `dc`; true when there was no error.
+static bool executeClang(std::shared_ptr<clang::CompilerInvocation> inv, clang::FrontendAction& action,
+                         DiagCollector& dc) {
+  clang::CompilerInstance ci;
+  ci.setInvocation(std::move(inv));
+  ci.createDiagnostics(&dc, false);
+  return ci.ExecuteAction(action) && dc.getNumErrors() == 0;
+}
+
 class Frontend {
 public:
   struct Result {
@@ -677,11 +696,10 @@ public:
     fo.OutputFile.clear();
     fo.DisableFree = false;
     auto& ppo = inv->getPreprocessorOpts();
-    ppo.RetainRemappedFileBuffers = true;  // ours: `text`
-    ppo.addRemappedFile(bufferName, llvm::MemoryBuffer::getMemBuffer(llvm::StringRef(text.get(), capacity), bufferName,
-                                                                     /*RequiresNullTerminator=*/true)
-                                        .release());
-    remapped.reset(ppo.RemappedFileBuffers.back().second);
+    remapped = llvm::MemoryBuffer::getMemBuffer(llvm::StringRef(text.get(), capacity), bufferName,
+                                                /*RequiresNullTerminator=*/true);
+    ppo.RetainRemappedFileBuffers = true;  // ours
+    ppo.addRemappedFile(bufferName, remapped.get());
     if (pchFallback)
       ppo.Includes.push_back(runtimeHeader);
     else
@@ -786,9 +804,8 @@ struct Compiler::Impl {
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
   // The JITDylib holding the support object of the -fpch-codegen PCH at pchPath: loaded from
   // the cache (pchPath + ".o") or compiled from the PCH and stored there first.
-  // Loading it takes ~15 ms (a 2,000-function object), so the first compile against a PCH
-  // starts it on another thread (startSupport) and only waits for it (supportDylib) before
-  // linking.
+  // Building it takes ~0.4 s and loading it ~3 ms, so the first compile against a PCH starts
+  // it on another thread (startSupport) and only waits for it (supportDylib) before linking.
   struct Support {
     std::shared_future<void> ready;
     orc::JITDylib* jd = nullptr;
@@ -922,12 +939,9 @@ bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& final
   if (pchCodegen(level))
     inv->getLangOpts().ModulesCodegen = true;
 
-  clang::CompilerInstance ci;
-  ci.setInvocation(inv);
   DiagCollector dc;
-  ci.createDiagnostics(&dc, false);
   clang::GeneratePCHAction action;
-  bool ok = ci.ExecuteAction(action) && dc.getNumErrors() == 0;
+  bool ok = executeClang(inv, action, dc);
   if (ok) {
     // A support object beside it belongs to the PCH it replaces; a JITDylib loaded from that one
     // stays with the models already linked to it.
@@ -1165,14 +1179,11 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
     fo.OutputFile.clear();
     fo.DisableFree = false;
     inv->getCodeGenOpts().MainFileName = pchPath;
-    clang::CompilerInstance ci;
-    ci.setInvocation(inv);
     DiagCollector dc;
-    ci.createDiagnostics(&dc, false);
     llvm::LLVMContext ctx;
     clang::EmitLLVMOnlyAction action(&ctx);
     std::unique_ptr<llvm::Module> module;
-    if (ci.ExecuteAction(action) && dc.getNumErrors() == 0)
+    if (executeClang(inv, action, dc))
       module = action.takeModule();
     if (!module)
       return makeError("lcjit: cannot compile the runtime header's support code from " + pchPath + ":\n" +
@@ -1196,11 +1207,8 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
   auto jd = J.createJITDylib("lcjit.support." + std::to_string(number));
   if (!jd)
     return jd.takeError();
-  orc::JITDylibSearchOrder order{{state->hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly}};
-  if (auto p = J.getPlatformJITDylib())
-    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
-  if (auto p = J.getProcessSymbolsJITDylib())
-    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  orc::JITDylibSearchOrder order;
+  state->appendRuntime(order);
   jd->setLinkOrder(std::move(order), /*LinkAgainstThisJITDylibFirst=*/true);
   orc::SymbolLookupSet oneOfEach;
   for (size_t i = 0; i < parts->size(); ++i) {
@@ -1551,19 +1559,14 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     return jdOrErr.takeError();
   orc::JITDylib& JD = *jdOrErr;
   orc::JITDylibSearchOrder order;
-  // The shared state first; host symbols before the process's so explicit definitions win
-  // over same-named process symbols.
+  // The shared state first, the runtime last.
   for (const auto& code : linked)
     order.push_back({code->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   for (const auto& owner : stateOwners)
     order.push_back({owner->jd, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
   if (support)
     order.push_back({support, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
-  order.push_back({state.hostJD, orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
-  if (auto p = J.getPlatformJITDylib())
-    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
-  if (auto p = J.getProcessSymbolsJITDylib())
-    order.push_back({p.get(), orc::JITDylibLookupFlags::MatchExportedSymbolsOnly});
+  state.appendRuntime(order);
   JD.setLinkOrder(std::move(order), /*LinkAgainstThisJITDylibFirst=*/true);
 
   // ORC's lookup error only says which symbols failed to materialize; the cause (e.g. "Symbols

@@ -260,7 +260,8 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
                                                            ? std::string()
                                                            : fmtMs(" (only the %d changed production%s)", times.productionsCompiled,
                                                                    times.productionsCompiled == 1 ? "" : "s")) +
-                                                      fmtMs(" (frontend %.1f, optimize %.1f", times.frontendMs, times.optimizeMs) +
+                                                      fmtMs(" (frontend %.1f", times.frontendMs) + (times.frontendBegunAhead ? " set up ahead" : "") +
+                                                      fmtMs(", optimize %.1f", times.optimizeMs) +
                                                       fmtMs(", codegen %.1f)", times.codegenMs);
     if (status == 2)
       std::fprintf(stderr, "lcjit: reload %d (%s): %s; its run stopped for a newer change\n", reload, names.c_str(),

@@ -352,6 +352,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.productionsCompiled = p.incremental ? p.changedRules : -1;
   times.frontendMs = stats.frontendMs;
+  times.frontendBegunAhead = stats.frontendBegunAhead;
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
   if (p.model->abiVersion != __lc_AbiVersion) return error("internal error: model ABI version mismatch");

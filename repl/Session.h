@@ -38,6 +38,7 @@ struct PhaseTimes {
   bool pchCached = false;
   bool objectCached = false;  // the model's object code came from the cache: nothing compiled
   int productionsCompiled = -1;  // an incremental recompile compiled this many; -1: all of them
+  bool frontendBegunAhead = false;  // the compile found its front end set up (live editing)
 };
 
 // A better-optimised build of the loaded model (Session::betterTierJob).

@@ -25,6 +25,7 @@ wait_for 'swapped in' err.txt
 sed -i 's/x \* 2/x * 3/' grow.l
 wait_for 'reload 1 ' err.txt
 grep -q 'reload 1 (grow.l): compiled -O0' err.txt || fail "reload 1 did not compile"
+grep -q 'reload 1 (grow.l): .*frontend [0-9.]* set up ahead' err.txt || fail "reload 1's front end was not set up ahead"
 grep -q 'A(27)' out.str || fail "reload 1 did not rewrite the output: $(cat out.str)"
 
 echo 'this is not C++' >> grow.l

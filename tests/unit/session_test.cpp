@@ -55,6 +55,32 @@ struct Model {
   }
 };
 
+// A one-file model in a scratch folder, loaded into a new Session at -O1.
+struct ScratchModel {
+  fs::path dir;
+  std::unique_ptr<Session> session;
+
+  ScratchModel(const std::string& name, const std::string& source) {
+    dir = fs::temp_directory_path() / ("lcjit-" + name + "-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / (name + ".l")) << source;
+    auto s = Session::create();
+    if (!s) {
+      ADD_FAILURE() << llvm::toString(s.takeError());
+      return;
+    }
+    ModelFiles files;
+    files.lsystem = (dir / (name + ".l")).string();
+    PhaseTimes t;
+    if (auto e = (*s)->load(files, 1, t)) {
+      ADD_FAILURE() << llvm::toString(std::move(e));
+      return;
+    }
+    session = std::move(*s);
+  }
+  ~ScratchModel() { fs::remove_all(dir); }
+};
+
 struct Picture {
   size_t segments = 0, triangles = 0;
   float length = 0, red = 0;
@@ -153,19 +179,12 @@ namespace {
 TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   // Each step rewrites 200 000 modules, each production busy for a while: cancelStep() from
   // another thread ends the step early, leaving the string (and step number) as before it.
-  fs::path dir = fs::temp_directory_path() / ("lcjit-cancel-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "long.l") << "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\n"
-                                   "axiom: A(0);\n"
-                                   "A(n) : { if (n == 0) { for (int i = 0; i < 200000; ++i) nproduce A(1); produce; }\n"
-                                   "  volatile double x = 0; for (int i = 0; i < 20000; ++i) x += i; produce A(n + 1); }\n";
-  auto session = Session::create();
-  ASSERT_TRUE(bool(session));
-  ModelFiles files;
-  files.lsystem = (dir / "long.l").string();
-  PhaseTimes t;
-  ASSERT_FALSE(bool((*session)->load(files, 1, t)));
-  runtime::Engine& e = (*session)->engine();
+  ScratchModel m("long", "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\n"
+                         "axiom: A(0);\n"
+                         "A(n) : { if (n == 0) { for (int i = 0; i < 200000; ++i) nproduce A(1); produce; }\n"
+                         "  volatile double x = 0; for (int i = 0; i < 20000; ++i) x += i; produce A(n + 1); }\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
   runtime::EngineHooks hooks;
   e.begin(hooks);
   ASSERT_TRUE(e.step());  // step 1: 200 000 × A(1), fast
@@ -184,23 +203,15 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   EXPECT_EQ(e.moduleCount(), before);
   EXPECT_NE(e.text(e.string()).find("A(1)"), std::string::npos);
   EXPECT_EQ(e.text(e.string()).find("A(2)"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 // §5.9: a record the host builds (MouseInsPos, inserted where the user clicked) gets the id
 // repeated in its last two bytes even where its layout has padding there: the string is also
 // scanned backwards (left context), from those bytes.
 TEST(EngineInsert, AnInsertedRecordEndsWithItsId) {
-  fs::path dir = fs::temp_directory_path() / ("lcjit-insert-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "ins.l") << "#include <lpfgall.h>\nderivation length: 1;\nmodule A;\naxiom: A A;\n";
-  auto session = Session::create();
-  ASSERT_TRUE(bool(session));
-  ModelFiles files;
-  files.lsystem = (dir / "ins.l").string();
-  PhaseTimes t;
-  ASSERT_FALSE(bool((*session)->load(files, 1, t)));
-  runtime::Engine& e = (*session)->engine();
+  ScratchModel m("ins", "#include <lpfgall.h>\nderivation length: 1;\nmodule A;\naxiom: A A;\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
   runtime::EngineHooks hooks;
   e.begin(hooks);
   __lc_R_MouseInsPos r;
@@ -214,7 +225,6 @@ TEST(EngineInsert, AnInsertedRecordEndsWithItsId) {
   std::memcpy(&last, end - sizeof last, sizeof last);
   EXPECT_EQ(last, __lc_id_MouseInsPos);
   EXPECT_NE(e.text(e.string()).find("MouseInsPos"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 }  // namespace
