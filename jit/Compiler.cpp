@@ -326,39 +326,21 @@ void gatherInitializers(llvm::Module& m) {
   b.CreateRetVoid();
 }
 
-// FastISel (the quick tiers' instruction selector) has no rule for llvm.fmuladd, clang's a*b+c
-// under -ffp-contract=on, and hands each block holding one to the far slower SelectionDAG. Do
-// here what SelectionDAG would do with it on x86: a fused multiply-add where the CPU has one (a
-// call to fma/fmaf, correctly rounded like the instruction, so the bits match the -O2 tier's),
-// else a multiply and an add.
-static void lowerFMulAddForFastISel(llvm::Module& m, llvm::TargetMachine& tm) {
-  if (!tm.getTargetTriple().isX86())
-    return;
+// Model code is compiled with -ffp-contract=off (lpfg's x86-64 baseline has no fused multiply-add),
+// so llvm.fmuladd comes only from a model's own `#pragma STDC FP_CONTRACT ON`. It becomes a
+// multiply and an add, as on lpfg's target, at every tier: FastISel (the quick tiers' instruction
+// selector) has no rule for it and would hand its whole block to the far slower SelectionDAG.
+static void lowerFMulAdd(llvm::Module& m) {
   std::vector<llvm::CallInst*> calls;
   for (llvm::Function& f : m)
     if (f.getIntrinsicID() == llvm::Intrinsic::fmuladd)
       for (llvm::User* u : f.users())
-        // Scalar float and double: x86 fuses neither long double, half nor (here) vectors.
-        if (auto* call = llvm::dyn_cast<llvm::CallInst>(u);
-            call && (call->getType()->isFloatTy() || call->getType()->isDoubleTy()))
+        if (auto* call = llvm::dyn_cast<llvm::CallInst>(u))
           calls.push_back(call);
   for (llvm::CallInst* call : calls) {
-    llvm::Type* ty = call->getType();
-    const llvm::TargetSubtargetInfo* st = tm.getSubtargetImpl(*call->getFunction());
-    bool fused = tm.Options.AllowFPOpFusion != llvm::FPOpFusion::Strict &&
-                 (st->checkFeatures("+fma") || st->checkFeatures("+fma4") || st->checkFeatures("+avx512f"));
     llvm::IRBuilder<> b(call);
     b.setFastMathFlags(call->getFastMathFlags());
-    llvm::Value* x = call->getArgOperand(0);
-    llvm::Value* y = call->getArgOperand(1);
-    llvm::Value* z = call->getArgOperand(2);
-    llvm::Value* r;
-    if (fused) {
-      llvm::FunctionCallee fma = m.getOrInsertFunction(ty->isFloatTy() ? "fmaf" : "fma", ty, ty, ty, ty);
-      r = b.CreateCall(fma, {x, y, z});
-    } else {
-      r = b.CreateFAdd(b.CreateFMul(x, y), z);
-    }
+    llvm::Value* r = b.CreateFAdd(b.CreateFMul(call->getArgOperand(0), call->getArgOperand(1)), call->getArgOperand(2));
     call->replaceAllUsesWith(r);
     call->eraseFromParent();
   }
@@ -424,8 +406,7 @@ void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
     mpm.addPass(llvm::GlobalDCEPass());
   }
   mpm.run(m, mam);
-  if (level < 2 && tm)
-    lowerFMulAddForFastISel(m, *tm);
+  lowerFMulAdd(m);
 }
 
 // Hash of everything a PCH depends on: the runtime header's directory tree (content), the
@@ -849,6 +830,11 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
                                    "-w",
                                    "-O" + std::to_string(level),
                                    "-march=native",
+                                   // lpfg builds models with g++ -O3 for the x86-64 baseline, which
+                                   // has no fused multiply-add: a*b+c is rounded twice there, so
+                                   // it must be here too, or the last bits (and, through
+                                   // thresholds, whole strings) differ from lpfg's.
+                                   "-ffp-contract=off",
                                    "-fpch-instantiate-templates",
                                    "-resource-dir",
                                    kResourceDir,
@@ -1269,6 +1255,8 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   // JITLink on x86-64 wants PIC + small code model (LLJIT sets the same on its own copy).
   jtmb->setCodeModel(llvm::CodeModel::Small);
   jtmb->setRelocationModel(llvm::Reloc::PIC_);
+  // No fused multiply-add in code generation either (see -ffp-contract=off in setupLevel).
+  jtmb->getOptions().AllowFPOpFusion = llvm::FPOpFusion::Strict;
   impl->jtmb = *jtmb;
 
   auto state = std::make_shared<detail::JitState>();

@@ -37,6 +37,11 @@ struct Engine::Match {
 
 Engine* Engine::current() { return gCurrent; }
 
+Fault Engine::runModelCode(llvm::function_ref<void()> fn) {
+  CurrentScope scope(this);
+  return guard_.run(fn);
+}
+
 Engine::Engine(const __lc_Model& model, const FunctionStore* functions) : model_(&model), functions_(functions) {
   setLimits(limits_);
   index();

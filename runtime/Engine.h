@@ -74,8 +74,9 @@ class Engine {
   // jump out (ModelGuard.h).
   void interrupt() { guard_.interrupt(FaultKind::Interrupted); }
   // Other model code of this model (C++ typed at the REPL) behind the same guard and limits, so
-  // that interrupt() and cancelStep() stop it too.
-  Fault runModelCode(llvm::function_ref<void()> fn) { return guard_.run(fn); }
+  // that interrupt() and cancelStep() stop it too. The engine is the current one meanwhile, so
+  // host functions (LoadString, UseGroup...) act on it.
+  Fault runModelCode(llvm::function_ref<void()> fn);
 
   // From another thread (or a signal handler): abandon the derivation step in progress (the
   // string stays as before it; model code already run, StartEach included, is not undone).
