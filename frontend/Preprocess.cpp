@@ -285,7 +285,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
                                    "-E",
                                    "-x",
                                    "c++",
-                                   "-std=c++20",
+                                   "-std=gnu++14",
                                    "-w",
                                    // Same predefined macros as the C++ compile (__GNUC__, __EXCEPTIONS).
                                    "-fgnuc-version=4.2.1",

@@ -409,7 +409,7 @@ class Rewriter {
     for (size_t i = 0; i < types.size(); ++i) {
       std::string quoted;
       for (char c : types[i]) quoted += c == '"' ? std::string("\\\"") : std::string(1, c);
-      s += "{(uint32_t)offsetof(" + R + ", p" + std::to_string(i) + "), (uint32_t)sizeof(" + types[i] + "), __lc_kind_of<" +
+      s += "{(uint32_t)__builtin_offsetof(" + R + ", p" + std::to_string(i) + "), (uint32_t)sizeof(" + types[i] + "), __lc_kind_of<" +
            types[i] + ">(), \"" + quoted + "\"},";
     }
     s += "};";

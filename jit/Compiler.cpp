@@ -826,7 +826,10 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   if (L.base)
     return llvm::Error::success();
   std::vector<std::string> args = {kClangPath,
-                                   "-std=c++20",
+                                   // lpfg compiles models as gnu++11; C++14 adds nothing that
+                                   // breaks them, and C++17/20 would (std::byte, std::lerp ...
+                                   // clash with models' own names under `using namespace std`).
+                                   "-std=gnu++14",
                                    "-w",
                                    "-O" + std::to_string(level),
                                    "-march=native",

@@ -46,6 +46,7 @@ class Engine {
   // Between steps: the same model compiled again (another optimisation tier; the same modules
   // and productions in the same order) takes over; the string and the derivation go on.
   void swapModel(const __lc_Model& model);
+  const __lc_Model& model() const { return *model_; }
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 

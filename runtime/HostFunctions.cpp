@@ -6,6 +6,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "Engine.h"
 #include "Functions.h"
@@ -172,6 +175,58 @@ void lcjit_mouse_status(MouseStatus* out) { *out = lcjit::runtime::Mouse::instan
 int lcjit_user_menu_choice() { return lcjit::runtime::UserMenu::instance().choice(); }
 void lcjit_user_menu_clear() { lcjit::runtime::UserMenu::instance().clear(); }
 
+int lcjit_model_value(int what) {
+  Engine* e = engine();
+  if (!e) return 0;
+  const __lc_Model& m = e->model();
+  switch (what) {
+    case 0: return m.derivationLength ? m.derivationLength() : 0;
+    case 1: return m.decompositionDepth ? m.decompositionDepth() : 1;
+    case 2: return m.interpretationDepth ? m.interpretationDepth() : 1;
+    default: return m.ringLsystem && m.ringLsystem() ? 1 : 0;
+  }
+}
+
+void lcjit_run(const char* command) {
+  if (!command) return;
+  // Two forks, so that the command is nobody's child here and leaves no zombie.
+  pid_t child = fork();
+  if (child == 0) {
+    if (fork() == 0) {
+      execl("/bin/sh", "sh", "-c", command, (char*)nullptr);
+      _exit(127);
+    }
+    _exit(0);
+  }
+  if (child > 0) waitpid(child, nullptr, 0);
+}
+
+void lcjit_func_tangent(int, float, float* out) { out[0] = out[1] = 0; }
+
+void lcjit_get_bsurface(int id, int maxRows, int, int* rows, int* columns, float*) {
+  *rows = *columns = 0;
+  if (Engine* e = engine())
+    e->print(("GetBsurface" + std::string(maxRows <= 10 ? "S" : "M") + ": invalid id = " + std::to_string(id) +
+              ". Returning uninitialized object.\n")
+                 .c_str());
+}
+
+void lcjit_tablet_status(TabletStatus* out) { *out = lcjit::runtime::Mouse::instance().tablet(); }
+
+namespace {
+void noTerrain(const char* function) {
+  if (Engine* e = engine()) e->print((std::string(function) + ": Terrain Not Loaded\n").c_str());
+}
+}  // namespace
+int lcjit_terrain_query(int what, const float*, float*) {
+  noTerrain(what == 0 ? "terrainHeightAt" : "terrainNormalAt");
+  return 0;
+}
+void lcjit_terrain_visibility(int, int level, const float*) {
+  noTerrain(level < 0 ? "terrainVisibilityAll" : "terrainVisibilityPatch");
+}
+void lcjit_terrain_scale(float) { noTerrain("scaleTerrainBy"); }
+
 void lcjit_load_string(const char* path) {
   Engine* e = engine();
   if (!e || !path) return;
@@ -199,6 +254,9 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
       LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
+      LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),            LCJIT_HOST(lcjit_func_tangent),
+      LCJIT_HOST(lcjit_get_bsurface),   LCJIT_HOST(lcjit_tablet_status),  LCJIT_HOST(lcjit_terrain_query),
+      LCJIT_HOST(lcjit_terrain_visibility), LCJIT_HOST(lcjit_terrain_scale),
   };
 #undef LCJIT_HOST
   // operator new and malloc & co. of model code: stoppable (ModelGuard.h).

@@ -58,7 +58,7 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out) {
   polygon_.clear();
   // The engine reuses its turtles: nothing may carry over (contours change between runs).
   transcript_ = nullptr;
-  for (V3f& p : userPatch_) p = V3f();
+  for (V3tf& p : userPatch_) p = V3f();
   rings_.clear();
 }
 

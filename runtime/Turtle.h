@@ -103,7 +103,7 @@ class Turtle {
   void drawRhombus(float a, float b);
   void drawTriangle(float a, float b);
   void endPolygon();
-  void drawPatch(const V3f (&points)[16], bool turtleFrame);
+  void drawPatch(const V3tf (&points)[16], bool turtleFrame);
   // Adds a tessellated grid; positions/normals map through the turtle frame scaled by `scale`
   // (x along −L, y along H, z along U) unless `world` is set.
   void addGrid(const PatchGrid& grid, bool world, V3f scale, int texture);
@@ -135,7 +135,7 @@ class Turtle {
   };
   bool polygonOn_ = false;
   std::vector<PolygonVertex> polygon_;
-  V3f userPatch_[16] = {};  // InitSurface/SurfacePoint/DrawSurface
+  V3tf userPatch_[16] = {};  // InitSurface/SurfacePoint/DrawSurface
 
   std::map<std::pair<int, int>, ContourSamples> rings_;  // by (contour, divisions)
   std::vector<MeshVertex> ringA_, ringB_;                // drawFrustum's scratch, reused

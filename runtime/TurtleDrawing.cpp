@@ -389,7 +389,7 @@ V3f Turtle::inFrame(V3f p, V3f scale) const {
 // lpfg's box counts a surface's control points (or a mesh's box corners), not its tessellation.
 void Turtle::addGrid(const PatchGrid& grid, bool world, V3f scale, int texture) {
   const TurtleState& t = state_;
-  auto turn = [&](V3f n) {
+  auto turn = [&](V3f n) -> V3f {
     if (world) return n;
     // Normals transform by the inverse scale.
     V3f m = -t.left * (scale.x != 0 ? n.x / scale.x : 0) + t.heading * (scale.y != 0 ? n.y / scale.y : 0) +
@@ -432,7 +432,7 @@ void Turtle::drawMesh(int id, V3f scale) {
 }
 
 // DSurface (turtle frame, no scaling) and DrawSurface (control points already in world space).
-void Turtle::drawPatch(const V3f (&points)[16], bool turtleFrame) {
+void Turtle::drawPatch(const V3tf (&points)[16], bool turtleFrame) {
   SurfaceObj patch;
   for (int i = 0; i < 16; ++i) patch.points[i] = points[i];
   int u = state_.uPrecision ? state_.uPrecision : kDefaultSurfaceDivisions;

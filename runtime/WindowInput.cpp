@@ -98,6 +98,7 @@ void Mouse::update(const MouseStatus& s) {
   std::lock_guard<std::mutex> lock(mutex_);
   bool pushed = status_.lbPushed || s.lbPushed, released = status_.lbReleased || s.lbReleased;
   status_ = s;
+  fed_ = true;
   status_.lbPushed = pushed;
   status_.lbReleased = released;
 }
@@ -107,6 +108,20 @@ MouseStatus Mouse::take() {
   MouseStatus s = status_;
   status_.lbPushed = status_.lbReleased = false;
   return s;
+}
+
+TabletStatus Mouse::tablet() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  TabletStatus t;
+  if (!fed_) return t;
+  t.connected = true;
+  t.viewX = status_.viewX;
+  t.viewY = status_.viewY;
+  t.pressure = status_.lbDown ? 1 : 0;
+  t.buttonState = status_.lbDown ? 1 : 0;
+  t.atFront = status_.atFront;
+  t.atRear = status_.atRear;
+  return t;
 }
 
 }  // namespace lcjit::runtime

@@ -79,10 +79,14 @@ class Mouse {
   void update(const MouseStatus& s);
   // GetMouseStatus(): the latest status; pushed/released since the previous call.
   MouseStatus take();
+  // GetTabletStatus(): the pointer as a tablet pen (lcjit has no tablet driver): connected once
+  // a window feeds the mouse, pressure 1 while the left button is down.
+  TabletStatus tablet();
 
  private:
   std::mutex mutex_;
-  MouseStatus status_{};
+  MouseStatus status_;
+  bool fed_ = false;
 };
 
 }  // namespace lcjit::runtime

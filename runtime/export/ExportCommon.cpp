@@ -110,7 +110,7 @@ size_t Polylines::edgeCount() const {
 Polylines chainSegments(const std::vector<Segment>& segments) {
   Polylines p;
   for (const Segment& s : segments) {
-    if (!p.lines.empty() && p.lines.back().color == s.color && p.points.back() == s.from) {
+    if (!p.lines.empty() && p.lines.back().color == s.color && sameVector(p.points.back(), s.from)) {
       p.points.push_back(s.to);
       p.lines.back().count++;
       continue;
@@ -139,9 +139,9 @@ V3f toV3(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 glm::vec3 toGlm(V3f v) { return {v.x, v.y, v.z}; }
 
 void perpendicularFrame(V3f n, V3f& u, V3f& v) {
-  n = normalize(n);
+  n = unit(n);
   V3f a = std::fabs(n.x) < 0.9f ? V3f(1, 0, 0) : V3f(0, 1, 0);
-  u = normalize(a % n);
+  u = unit(a % n);
   v = n % u;
 }
 
@@ -149,12 +149,12 @@ CameraFrame cameraFrame(const CameraMatrices& camera) {
   // Rows of the view matrix's rotation are the camera axes in model space.
   const glm::mat4& m = camera.view;
   CameraFrame f;
-  f.right = normalize(V3f(m[0][0], m[1][0], m[2][0]));
-  f.up = normalize(V3f(m[0][1], m[1][1], m[2][1]));
-  f.back = normalize(V3f(m[0][2], m[1][2], m[2][2]));
+  f.right = unit(V3f(m[0][0], m[1][0], m[2][0]));
+  f.up = unit(V3f(m[0][1], m[1][1], m[2][1]));
+  f.back = unit(V3f(m[0][2], m[1][2], m[2][2]));
   if (f.right * f.right < 0.5f || f.up * f.up < 0.5f) {
     V3f d = toV3(camera.viewDirection);
-    f.back = normalize(-d);
+    f.back = unit(-d);
     perpendicularFrame(f.back, f.right, f.up);
   }
   return f;
@@ -169,10 +169,10 @@ V3f lightDirection(const Context& cx, const Light& light, V3f at) {
   const glm::mat4 m = lightToModel(cx);
   if (light.kind == Light::Kind::Directional) {
     glm::vec3 d = glm::mat3(m) * toGlm(light.position);
-    return normalize(toV3(d));
+    return unit(toV3(d));
   }
   glm::vec4 p = m * glm::vec4(toGlm(light.position), 1);
-  return normalize(V3f(p.x, p.y, p.z) - at);
+  return unit(V3f(p.x, p.y, p.z) - at);
 }
 
 std::string lowerExtension(std::string_view path) {

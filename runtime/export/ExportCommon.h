@@ -78,6 +78,13 @@ struct Context {
 int clampColor(int index);
 // f without a negative zero (prints "0", not "-0").
 inline float z(float f) { return f + 0.0f; }
+// v scaled to length 1, or v itself when it has no length (model code's Normalize() divides by
+// the length regardless, as lpfg's does).
+inline V3f unit(V3f v) {
+  float l = v.Length();
+  return l > 0 ? V3f(v / l) : v;
+}
+inline bool sameVector(V3f a, V3f b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 // Triangles ready for a mesh format: the geometry's, plus discs turned into camera-facing
 // triangles; `normals` has one unit normal per vertex (zero normals replaced by the faces').

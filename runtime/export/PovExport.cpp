@@ -126,14 +126,14 @@ llvm::Error writePov(const Context& cx) {
   for (const Light& l : lights) {
     const Rgb& c = l.diffuse;
     if (l.kind == Light::Kind::Directional) {
-      V3f d = normalize(toModelDir(l.position));
+      V3f d = unit(toModelDir(l.position));
       w.print("light_source {{ {}, srgb <{},{},{}> parallel point_at {} }}\n", P3{centre + d * (100 * radius)}, c.r,
               c.g, c.b, P3{centre});
     } else {
       V3f p = toModelPoint(l.position);
       w.print("light_source {{ {}, srgb <{},{},{}>", P3{p}, c.r, c.g, c.b);
       if (l.kind == Light::Kind::Spot && l.spotCutoff < 180) {
-        V3f d = normalize(toModelDir(l.spotDirection));
+        V3f d = unit(toModelDir(l.spotDirection));
         float cutoff = std::min(l.spotCutoff, 90.0f);
         w.print(" spotlight point_at {} radius {} falloff {} tightness {}", P3{p + d}, cutoff * 0.8f, cutoff,
                 std::min(100.0f, l.spotExponent));
@@ -231,7 +231,7 @@ llvm::Error writePov(const Context& cx) {
     return depth * viewWidth / W;
   };
   for (const Segment& s : g.segments) {
-    if (s.from == s.to) continue;
+    if (sameVector(s.from, s.to)) continue;
     float r = std::max(1e-6f, 0.5f * s.width * pixelSize((s.from + s.to) * 0.5f));
     w.print("cylinder {{ {}, {}, {} texture {{ {} }} }}\n", P3{s.from}, P3{s.to}, r, materialName({clampColor(s.color), -1}));
   }

@@ -94,7 +94,7 @@ Picture draw(const Context& cx) {
     if (!lights.empty()) {
       V3f n = va.normal + vb.normal + vc.normal;
       if (n * n < 1e-12f) n = (vb.position - va.position) % (vc.position - va.position);
-      n = normalize(n);
+      n = unit(n);
       float s = 0.2f;
       for (auto& [d, bright] : lights) s += bright * std::fabs(n * d);
       k *= std::min(s, 1.0f);

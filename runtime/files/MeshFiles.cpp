@@ -37,7 +37,8 @@ void finish(MeshData& m, const std::vector<uint32_t>& posId, size_t positionCoun
     }
   }
   if (haveFileNormals && o.fileNormals) {
-    for (auto& n : m.normals) n.Normalize();
+    for (auto& n : m.normals)
+      if (n.Length() > 0) n.Normalize();  // a zero normal in the file stays zero
     return;
   }
   std::vector<V3f> acc(positionCount, V3f(0, 0, 0));

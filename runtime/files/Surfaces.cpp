@@ -243,7 +243,7 @@ llvm::Expected<BezierSurface> parseSurface(std::string_view text, const std::str
         float v = 0;
         if (!readFloat(&rest, &v))
           return fail(fileName, ln + 1, "malformed control point in patch '" + s.patchNames.back() + "'");
-        V3f& p = patch.points[count / 3];
+        V3tf& p = patch.points[count / 3];
         (count % 3 == 0 ? p.x : count % 3 == 1 ? p.y : p.z) = v;
         ++count;
       }

@@ -1,21 +1,40 @@
-// lcjit's model API header, the counterpart of lpfg's <lpfgall.h>: what L+C model code may use
-// (manual §5-§7). Precompiled once; every model translation unit is compiled against it.
-#ifndef LCJIT_LPFGALL_H
-#define LCJIT_LPFGALL_H
+// lcjit's model API header, in place of lpfg's <lpfgall.h>: what L+C model code may use, with
+// lpfg's surface (docs/compatibility.md lists every entry). It includes the standard headers
+// lpfg's does, so models use what they declare without including them, defines lpfg's header
+// guards and macros, and gives lpfg's types, functions and predefined modules. Precompiled once;
+// every model translation unit is compiled against it, and the preprocessor sees its macros.
+#ifndef __LPFGALL_H__
+#define __LPFGALL_H__
 
-#include <algorithm>
+// lpfg's lpfgall.h and lintrfc.h include these, in this order.
+#include <memory.h>
+#include <stdlib.h>
+#include <stdio.h>
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
-#include <vector>
+#include <iostream>
 
+// lparams.h
+#define __LPARAMS_H__
+enum { __lc_eMaxIdentifierLength = 32, __lc_eMaxParams = 64, __lc_eMaxFormalModules = 32, __lc_eFirstModuleId = 2 };
+enum __lc_GroupType { __lc_gtUnspecified, __lc_gtLsystem, __lc_gtGillespie };
+#define StartBranchIdent "SB"
+#define EndBranchIdent "EB"
+
+// lintrfc.h: the predefined types (lcjit/types.h, lcjit/vectors.h).
+#define __LINTRFC_H__
 #include "lcjit/abi.h"
 #include "lcjit/repl.h"
 
-// Successor writers of the predefined modules: produce F(x) calls __lc_emit_F(ctx, x).
+// lsys.h
+#define __LSYS_H__
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+#define DECLSPEC extern "C"
+
+// stdmods.h: successor writers of the predefined modules (produce F(x) calls __lc_emit_F(ctx, x)).
+#define __STDMODS_H__
 #define __LC_EMIT_ARGS_0()
 #define __LC_EMIT_ARGS_1(a) , a a0
 #define __LC_EMIT_ARGS_2(a, b) , a a0, b a1
@@ -44,6 +63,11 @@ inline void Backward() { lcjit_backward(); }
 inline bool IsForward() { return lcjit_is_forward() != 0; }
 inline void UseGroup(int g) { lcjit_use_group(g); }
 inline int CurrentGroup() { return lcjit_current_group(); }
+// The model's own statements, as lpfg's translated model exports them.
+inline int DerivationLength() { return lcjit_model_value(0); }
+inline int DecompositionMaxDepth() { return lcjit_model_value(1); }
+inline int InterpretationMaxDepth() { return lcjit_model_value(2); }
+inline int RingLsystem() { return lcjit_model_value(3); }
 
 // §6.5 Animation functions: Stop works everywhere; the rest need a window.
 inline void Stop() { lcjit_stop(); }
@@ -52,10 +76,20 @@ inline void DisplayFrame() { lcjit_animation_request(0); }
 inline void OutputFrame(const char* path) { lcjit_output_frame(path); }
 inline void RunSimulation() { lcjit_animation_request(1); }
 inline void PauseSimulation() { lcjit_animation_request(2); }
+// lpfg declares these and does nothing with them.
 inline void DelayWrite() {}
 inline void Write() {}
 inline void StartPerformance() {}
 inline void StopPerformance() {}
+inline float SetOrGetParameterf(const char*, float) { return 0; }
+inline int SetOrGetParameteri(const char*, int) { return 0; }
+inline bool ParametersNeedUpdating() { return false; }
+inline float GetParameterf(const char*) { return 0; }
+inline int GetParameteri(const char*) { return 0; }
+inline void SetParameterf(const char*, float) {}
+inline void SetParameteri(const char*, int) {}
+// Starts a shell command and does not wait for it (lpfg's Run).
+inline void Run(const char* command) { lcjit_run(command); }
 
 // §6.6-6.7 Functions and parameters from input files.
 inline float func(int id, float x) { return lcjit_func(id, x); }
@@ -79,19 +113,19 @@ inline void ResetGillespie() { lcjit_reset_gillespie(); }
 // §6.9 Input and output.
 inline void Printf(const char* fmt, ...) {
   char small[512];
-  va_list ap;
-  va_start(ap, fmt);
-  int n = std::vsnprintf(small, sizeof small, fmt, ap);
-  va_end(ap);
+  __builtin_va_list ap;
+  __builtin_va_start(ap, fmt);
+  int n = vsnprintf(small, sizeof small, fmt, ap);
+  __builtin_va_end(ap);
   if (n < (int)sizeof small) {
     lcjit_print(small);
     return;
   }
-  std::vector<char> big(n + 1);
-  va_start(ap, fmt);
-  std::vsnprintf(big.data(), big.size(), fmt, ap);
-  va_end(ap);
-  lcjit_print(big.data());
+  std::string big(n + 1, '\0');
+  __builtin_va_start(ap, fmt);
+  vsnprintf(&big[0], big.size(), fmt, ap);
+  __builtin_va_end(ap);
+  lcjit_print(big.c_str());
 }
 inline void OutputString(const char* path) { lcjit_output_string(path); }
 inline void LoadString(const char* path) { lcjit_load_string(path); }
@@ -105,15 +139,27 @@ inline V3f __lc_curve(int id, float t, int what) {
 inline float curveX(int id, float t) { return __lc_curve(id, t, 0).x; }
 inline float curveY(int id, float t) { return __lc_curve(id, t, 0).y; }
 inline float curveZ(int id, float t) { return __lc_curve(id, t, 0).z; }
-inline V2f curveXY(int id, float t) { V3f v = __lc_curve(id, t, 0); return V2f(v.x, v.y); }
+inline V2f curveXY(int id, float t) {
+  V3f v = __lc_curve(id, t, 0);
+  return V2f(v.x, v.y);
+}
 inline V3f curveXYZ(int id, float t) { return __lc_curve(id, t, 0); }
 inline V3f curveNormal(int id, float t) { return __lc_curve(id, t, 1); }
+// lpfg's typed forms of curveXYZ and curveXY.
+inline V3f curveXYZf(int id, float t) { return curveXYZ(id, t); }
+inline V3d curveXYZd(int id, float t) { return curveXYZ(id, t); }
+inline V2f curveXYf(int id, float t) { return curveXY(id, t); }
+inline V2d curveXYd(int id, float t) { return curveXY(id, t); }
 inline float curveGAL(int id) { return lcjit_curve_length(id); }
 inline void curveScale(int id, float x, float y, float z) { lcjit_curve_op(0, id, 0, x, y, z); }
 inline void curveSetPoint(int id, int p, float x, float y, float z) { lcjit_curve_op(1, id, p, x, y, z); }
 inline void curveRecalculate(int id) { lcjit_curve_op(2, id, 0, 0, 0, 0); }
 inline void curveReset(int id) { lcjit_curve_op(3, id, 0, 0, 0, 0); }
-inline V2f funcTangent(int, float) { return V2f(); }
+inline V2f funcTangent(int id, float t) {
+  V2f v;
+  lcjit_func_tangent(id, t, &v.x);
+  return v;
+}
 inline SurfaceObj GetSurface(int id) {
   SurfaceObj s;
   lcjit_get_surface(id, &s.points[0].x);
@@ -123,6 +169,51 @@ inline V3f GetSurfacePoint(int id, int k) {
   V3f v;
   lcjit_get_surface_point(id, k, &v.x);
   return v;
+}
+
+// §10.1 B-spline surfaces: the view file's `bsurface:` entries and operations on them.
+template <int N, int M> const V3f BsurfaceObjNM<N, M>::Get(int i, int j) const {
+  if (i < N && j < M) return V3f(_v[i][j].x, _v[i][j].y, _v[i][j].z);
+  std::cout << "BsurfaceObjNM dimensions exceeded" << std::endl;
+  return V3f(0, 0, 0);
+}
+template <int N, int M> void BsurfaceObjNM<N, M>::Set(int i, int j, const V3f& v) {
+  if (i < N && j < M)
+    _v[i][j] = v;
+  else
+    std::cout << "BsurfaceObjNM dimensions exceeded" << std::endl;
+}
+template <int N, int M> BsurfaceObjNM<N, M> __lc_bsurface(int id) {
+  BsurfaceObjNM<N, M> s;
+  int rows = 0, columns = 0;
+  lcjit_get_bsurface(id, N, M, &rows, &columns, reinterpret_cast<float*>(&s));
+  s.Resize(rows, columns);
+  return s;
+}
+inline BsurfaceObjS GetBsurfaceS(int id) { return __lc_bsurface<10, 10>(id); }
+inline BsurfaceObjM GetBsurfaceM(int id) { return __lc_bsurface<32, 32>(id); }
+// Corresponding control points added; the size is the left operand's.
+template <int N, int M> BsurfaceObjNM<N, M> operator+(const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r) {
+  BsurfaceObjNM<N, M> s = l;
+  for (int i = 0; i < l.RowCount(); ++i)
+    for (int j = 0; j < l.ColumnCount(); ++j) s.Set(i, j, l.Get(i, j) + r.Get(i, j));
+  return s;
+}
+// Each control point (1-alpha)*l + alpha*r; r and c are the size of the result.
+template <int N, int M>
+BsurfaceObjNM<N, M> Interpolate(const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r, float alpha, int rows,
+                                int columns) {
+  BsurfaceObjNM<N, M> s = l;
+  s.Resize(rows, columns);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < columns; ++j) s.Set(i, j, l.Get(i, j) * (1 - alpha) + r.Get(i, j) * alpha);
+  return s;
+}
+template <int N, int M> V3f Get(const BsurfaceObjNM<N, M>& s, int i, int j) { return s.Get(i, j); }
+template <int N, int M> BsurfaceObjNM<N, M> Set(const BsurfaceObjNM<N, M>& s, int i, int j, V3f p) {
+  BsurfaceObjNM<N, M> r = s;
+  r.Set(i, j, p);
+  return r;
 }
 
 // §6.4 View functions and §6.8 mouse and menu: fed by the window; neutral values without one.
@@ -141,13 +232,28 @@ inline CameraPosition GetCameraPosition(int id) {
   return c;
 }
 inline MouseStatus GetMouseStatus() {
-  MouseStatus s{};
+  MouseStatus s;
   lcjit_mouse_status(&s);
   return s;
 }
-inline void UserMenuItem(const char* label, int code) { lcjit_user_menu_item(label, code); }
+// §10.2: lcjit has no tablet driver; the tablet follows the mouse (docs/compatibility.md).
+inline TabletStatus GetTabletStatus() {
+  TabletStatus s;
+  lcjit_tablet_status(&s);
+  return s;
+}
+inline void UserMenuItem(const char* label, unsigned int code) { lcjit_user_menu_item(label, (int)code); }
 inline int UserMenuChoice() { return lcjit_user_menu_choice(); }
 inline void UserMenuClear() { lcjit_user_menu_clear(); }
+
+// §10.3 Terrain (the view file's `terrain:`).
+inline bool terrainHeightAt(V3f world, V3f& onTerrain) { return lcjit_terrain_query(0, &world.x, &onTerrain.x) != 0; }
+inline bool terrainNormalAt(V3f world, V3f& normal) { return lcjit_terrain_query(1, &world.x, &normal.x) != 0; }
+inline void terrainVisibilityAll(VisibilityMode mode) { lcjit_terrain_visibility((int)mode, -1, nullptr); }
+inline void terrainVisibilityPatch(VisibilityMode mode, int level, V3f world) {
+  lcjit_terrain_visibility((int)mode, level, &world.x);
+}
+inline void scaleTerrainBy(float factor) { lcjit_terrain_scale(factor); }
 
 // §6.11 Environment programs are not connected in batch mode.
 inline void Environment() {}

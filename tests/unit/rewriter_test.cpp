@@ -121,8 +121,8 @@ TEST(RewriterModules, RecordStructEmitterAndFields) {
   EXPECT_HAS(s, "struct__lc_R_B{__lc_ModuleIdid;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "__lc_id_B=104");
   EXPECT_HAS(s, "staticinlinevoid__lc_emit_B(__lc_Ctx*c){");
-  EXPECT_HAS(s, "__lc_fields_A[2]={{(uint32_t)offsetof(__lc_R_A,p0),(uint32_t)sizeof(float),__lc_kind_of<float>(),\"float\"},"
-                "{(uint32_t)offsetof(__lc_R_A,p1),(uint32_t)sizeof(int),__lc_kind_of<int>(),\"int\"},};");
+  EXPECT_HAS(s, "__lc_fields_A[2]={{(uint32_t)__builtin_offsetof(__lc_R_A,p0),(uint32_t)sizeof(float),__lc_kind_of<float>(),\"float\"},"
+                "{(uint32_t)__builtin_offsetof(__lc_R_A,p1),(uint32_t)sizeof(int),__lc_kind_of<int>(),\"int\"},};");
   EXPECT_HAS(s, "__lc_user_modules[]={{\"A\",(uint32_t)sizeof(__lc_R_A),2,__lc_fields_A},{\"B\",(uint32_t)sizeof(__lc_R_B),0,__lc_fields_B},};");
   ASSERT_EQ(r.userModules.size(), 2u);
   EXPECT_EQ(r.userModules[0].name, "A");

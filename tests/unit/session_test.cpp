@@ -236,7 +236,7 @@ namespace {
 TEST(SessionTiers, BetterTierContinuesTheRunningDerivation) {
   fs::path dir = fs::temp_directory_path() / ("lcjit-tiers-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::ofstream(dir / "count.l") << "#include <lpfgall.h>\nderivation length: 6;\nmodule A(int);\n"
+  std::ofstream(dir / "count.l") << "#include <lpfgall.h>\n#include <vector>\nderivation length: 6;\nmodule A(int);\n"
                                     "axiom: A(0);\nint calls = 0;\nstatic std::vector<int> seen;\n"
                                     "A(n) : { seen.push_back(n); ++calls; produce A(calls * 100 + (int)seen.size()); }\n";
   auto session = Session::create();
@@ -302,7 +302,7 @@ namespace {
 TEST(SessionRepl, EvaluatesInTheModelsContext) {
   fs::path dir = fs::temp_directory_path() / ("lcjit-repl-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  std::ofstream(dir / "r.l") << "#include <lpfgall.h>\n#define START 3\nderivation length: 2;\n"
+  std::ofstream(dir / "r.l") << "#include <lpfgall.h>\n#include <vector>\n#define START 3\nderivation length: 2;\n"
                                 "module A(int);\nmodule B(float);\naxiom: A(START) B(0.5);\n"
                                 "float total = 0;\nstatic std::vector<int> seen;\n"
                                 "A(n) : { total += n; seen.push_back(n); produce A(n + 1); }\n";
@@ -396,7 +396,7 @@ TEST(SessionIncremental, OnlyChangedProductionsCompileAndStateStartsFresh) {
   fs::create_directories(dir);
   std::string path = (dir / "inc.l").string();
   auto write = [&](int a, int b, int c, const std::string& extraLine = "") {
-    std::ofstream(path) << "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\nmodule B(int);\nmodule C(int);\n"
+    std::ofstream(path) << "#include <lpfgall.h>\n#include <vector>\nderivation length: 2;\nmodule A(int);\nmodule B(int);\nmodule C(int);\n"
                            "int calls = 0;\nstatic std::vector<int> history;\naxiom: A(0) B(0) C(0);\n"
                            "A(n) : { ++calls; history.push_back(n); produce A(n + " << a << " + calls * 100 + (int)history.size() * 1000); }\n"
                            "B(n) : {\n" << extraLine << "  produce B(n + " << b << ");\n}\n"
@@ -449,7 +449,7 @@ TEST(SessionIncremental, OnlyChangedProductionsCompileAndStateStartsFresh) {
   auto e = s.load(files, 0, bad, ReloadParts::newLsystem());
   ASSERT_TRUE(bool(e));
   std::string message = llvm::toString(std::move(e));
-  EXPECT_NE(message.find("inc.l:11:16: error: expected expression"), std::string::npos) << message;
+  EXPECT_NE(message.find("inc.l:12:16: error: expected expression"), std::string::npos) << message;
   EXPECT_EQ(text(), "A(3304)\nB(12)\nC(14)\n");
 
   // Outside the productions: everything is compiled.

@@ -13,3 +13,8 @@ inline testing::AssertionResult Near3(V3f v, float x, float y, float z, float to
                                      << " of (" << x << ", " << y << ", " << z << ")";
 }
 #define EXPECT_V3_NEAR(v, X, Y, Z, tol) EXPECT_TRUE(Near3((v), float(X), float(Y), float(Z), float(tol)))
+
+// Exact equality for EXPECT_EQ (model code has none: lpfg's vectors define no ==).
+inline bool operator==(const V3tf& a, const V3tf& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+inline bool operator==(const V2tf& a, const V2tf& b) { return a.x == b.x && a.y == b.y; }
+inline void PrintTo(const V3tf& v, std::ostream* os) { *os << "(" << v.x << ", " << v.y << ", " << v.z << ")"; }

@@ -114,6 +114,22 @@ void lcjit_use_view(int id, int open);  // UseView (open = 1) / CloseView (0)
 float lcjit_view_box(int id, int axis, int max);
 float lcjit_view_scale(int id);
 void lcjit_camera_position(int id, struct CameraPosition* out);
+// The model's statements: 0 derivation length, 1 decomposition and 2 interpretation maximum
+// depth, 3 ring L-system (1 or 0).
+int lcjit_model_value(int what);
+// Starts `/bin/sh -c command` without waiting for it.
+void lcjit_run(const char* command);
+// The tangent of function `id` at t, into out[2].
+void lcjit_func_tangent(int id, float t, float* out);
+// B-spline surface `id` of the view file: at most maxRows x maxColumns control points go to
+// `points` (rows of maxColumns V3tf); the size used to rows/columns (0 x 0 if there is none).
+void lcjit_get_bsurface(int id, int maxRows, int maxColumns, int* rows, int* columns, float* points);
+void lcjit_tablet_status(struct TabletStatus* out);
+// Terrain (§10.3): what = 0 height, 1 normal at world[3], into out[3]; returns whether the
+// terrain was hit. visibility: level -1 means every patch.
+int lcjit_terrain_query(int what, const float* world, float* out);
+void lcjit_terrain_visibility(int mode, int level, const float* world);
+void lcjit_terrain_scale(float factor);
 }
 
 // Appends a module record of `size` bytes (zeroed first, so that padding bytes in strings and
@@ -125,9 +141,9 @@ void lcjit_camera_position(int id, struct CameraPosition* out);
 // compile, and -O0 code is selected by FastISel, which gives up on small structs by value and
 // 16-bit arguments and hands the block to the far slower SelectionDAG.
 inline void __lc_put(__lc_Ctx* c, void* r, unsigned size) {
-  std::memcpy(static_cast<char*>(r) + size - sizeof(__lc_ModuleId), r, sizeof(__lc_ModuleId));
+  __builtin_memcpy(static_cast<char*>(r) + size - sizeof(__lc_ModuleId), r, sizeof(__lc_ModuleId));
   __lc_Buffer* b = c->out;
   if (b->cap - b->size < size) lcjit_buffer_reserve(b, size);
-  std::memcpy(b->data + b->size, r, size);
+  __builtin_memcpy(b->data + b->size, r, size);
   b->size += size;
 }

@@ -18,7 +18,7 @@ std::string typeName() {  // from the compiler's own spelling of T
   return at == std::string::npos ? "value" : f.substr(at + 4, f.find_first_of(";]", at) - at - 4);
 }
 
-inline std::string number(const char* format, auto v) {
+template <class V> std::string number(const char* format, V v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
@@ -28,19 +28,19 @@ inline std::string quoted(const char* s) { return s ? "\"" + std::string(s) + "\
 
 template <class T>
 std::string show(const T& v) {
-  using U = std::remove_cvref_t<T>;
-  if constexpr (std::is_same_v<U, bool>) return v ? "true" : "false";
-  else if constexpr (std::is_same_v<U, char>) return "'" + std::string(1, v) + "'";
-  else if constexpr (std::is_floating_point_v<U>) return number("%.9g", (double)v);
-  else if constexpr (std::is_integral_v<U> && std::is_signed_v<U>) return number("%lld", (long long)v);
-  else if constexpr (std::is_integral_v<U>) return number("%llu", (unsigned long long)v);
-  else if constexpr (std::is_enum_v<U>) return show((std::underlying_type_t<U>)v);
-  else if constexpr (std::is_same_v<U, std::string>) return quoted(v.c_str());
-  else if constexpr (std::is_convertible_v<U, const char*>) return quoted(v);
-  else if constexpr (std::is_pointer_v<U>) return number("%p", (const void*)v);
-  else if constexpr (std::is_same_v<U, __lc_V3<float>> || std::is_same_v<U, __lc_V3<double>>)
+  typedef typename std::remove_cv<typename std::remove_reference<T>::type>::type U;
+  if constexpr (std::is_same<U, bool>::value) return v ? "true" : "false";
+  else if constexpr (std::is_same<U, char>::value) return "'" + std::string(1, v) + "'";
+  else if constexpr (std::is_floating_point<U>::value) return number("%.9g", (double)v);
+  else if constexpr (std::is_integral<U>::value && std::is_signed<U>::value) return number("%lld", (long long)v);
+  else if constexpr (std::is_integral<U>::value) return number("%llu", (unsigned long long)v);
+  else if constexpr (std::is_enum<U>::value) return show((typename std::underlying_type<U>::type)v);
+  else if constexpr (std::is_same<U, std::string>::value) return quoted(v.c_str());
+  else if constexpr (std::is_convertible<U, const char*>::value) return quoted(v);
+  else if constexpr (std::is_pointer<U>::value) return number("%p", (const void*)v);
+  else if constexpr (std::is_base_of<V3t<float>, U>::value || std::is_base_of<V3t<double>, U>::value)
     return "(" + show(v.x) + ", " + show(v.y) + ", " + show(v.z) + ")";
-  else if constexpr (std::is_same_v<U, __lc_V2<float>> || std::is_same_v<U, __lc_V2<double>>)
+  else if constexpr (std::is_base_of<V2t<float>, U>::value || std::is_base_of<V2t<double>, U>::value)
     return "(" + show(v.x) + ", " + show(v.y) + ")";
   else return "(" + typeName<U>() + ")";
 }
@@ -48,7 +48,7 @@ std::string show(const T& v) {
 // `expr` is the typed expression wrapped in a lambda: a void one is only run.
 template <class F>
 void print(F expr) {
-  if constexpr (std::is_void_v<decltype(expr())>) expr();
+  if constexpr (std::is_void<decltype(expr())>::value) expr();
   else lcjit_repl_output(show(expr()).c_str());
 }
 

@@ -1,69 +1,150 @@
-// The predefined vector types of L+C (manual §6.2): V2f, V2d, V3f, V3d and their operators.
-// Shared by model code and the host runtime, so the layout is plain {x,y[,z]}.
+// The predefined vector types of L+C (manual §6.2), with lpfg's exact surface: the plain structs
+// V2t<T>/V3t<T> (V2tf, V3td ..., used as module parameters) carry the operators and methods, and
+// V2<T>/V3<T> (V2f, V3d ...) add the constructors, among them the implicit conversions between
+// float and double vectors and from 2D to 3D that lpfg models rely on. Operators take and return
+// V2t/V3t by value, Normalize() divides by the length without checking it, and operator[] gives
+// a double, all as in lpfg, so model code computes what it computes there.
+// Shared by model code and the host runtime; a vector is laid out as plain {x,y[,z]}.
 #pragma once
 #include <cmath>
 
-template <class T> struct __lc_V2 {
-  T x = 0, y = 0;
-  constexpr __lc_V2() = default;
-  constexpr __lc_V2(T ax, T ay) : x(ax), y(ay) {}
-  template <class U> constexpr explicit __lc_V2(const __lc_V2<U>& o) : x(T(o.x)), y(T(o.y)) {}
-  void Set(T ax, T ay) { x = ax; y = ay; }
-  T Length() const { return std::sqrt(x * x + y * y); }
-  __lc_V2& Normalize() { T l = Length(); if (l > 0) { x /= l; y /= l; } return *this; }
-  __lc_V2 Normalized() const { __lc_V2 v = *this; return v.Normalize(); }
-  __lc_V2& operator+=(const __lc_V2& o) { x += o.x; y += o.y; return *this; }
-  __lc_V2& operator-=(const __lc_V2& o) { x -= o.x; y -= o.y; return *this; }
-  __lc_V2& operator*=(T s) { x *= s; y *= s; return *this; }
-  __lc_V2& operator/=(T s) { x /= s; y /= s; return *this; }
-  friend __lc_V2 operator+(__lc_V2 a, const __lc_V2& b) { return a += b; }
-  friend __lc_V2 operator-(__lc_V2 a, const __lc_V2& b) { return a -= b; }
-  friend __lc_V2 operator-(const __lc_V2& a) { return {-a.x, -a.y}; }
-  friend __lc_V2 operator*(__lc_V2 a, T s) { return a *= s; }
-  friend __lc_V2 operator*(T s, __lc_V2 a) { return a *= s; }
-  friend __lc_V2 operator/(__lc_V2 a, T s) { return a /= s; }
-  friend T operator*(const __lc_V2& a, const __lc_V2& b) { return a.x * b.x + a.y * b.y; }
-  friend bool operator==(const __lc_V2& a, const __lc_V2& b) { return a.x == b.x && a.y == b.y; }
+extern "C" {
+// What lpfg's curve functions return (a C struct): convertible to V2f/V2d, V3f/V3d.
+struct __lc_V2f {
+  float x, y;
 };
+struct __lc_V3f {
+  float x, y, z;
+};
+}
 
-template <class T> struct __lc_V3 {
-  T x = 0, y = 0, z = 0;
-  constexpr __lc_V3() = default;
-  constexpr __lc_V3(T ax, T ay, T az) : x(ax), y(ay), z(az) {}
-  template <class U> constexpr explicit __lc_V3(const __lc_V3<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}
-  void Set(T ax, T ay, T az) { x = ax; y = ay; z = az; }
-  T Length() const { return std::sqrt(x * x + y * y + z * z); }
-  __lc_V3& Normalize() { T l = Length(); if (l > 0) { x /= l; y /= l; z /= l; } return *this; }
-  __lc_V3 Normalized() const { __lc_V3 v = *this; return v.Normalize(); }
-  __lc_V3& operator+=(const __lc_V3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-  __lc_V3& operator-=(const __lc_V3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-  __lc_V3& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
-  __lc_V3& operator/=(T s) { x /= s; y /= s; z /= s; return *this; }
-  friend __lc_V3 operator+(__lc_V3 a, const __lc_V3& b) { return a += b; }
-  friend __lc_V3 operator-(__lc_V3 a, const __lc_V3& b) { return a -= b; }
-  friend __lc_V3 operator-(const __lc_V3& a) { return {-a.x, -a.y, -a.z}; }
-  friend __lc_V3 operator*(__lc_V3 a, T s) { return a *= s; }
-  friend __lc_V3 operator*(T s, __lc_V3 a) { return a *= s; }
-  friend __lc_V3 operator/(__lc_V3 a, T s) { return a /= s; }
-  friend T operator*(const __lc_V3& a, const __lc_V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-  // Cross product.
-  friend __lc_V3 operator%(const __lc_V3& a, const __lc_V3& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+template <typename T> struct V2t {
+  T x, y;
+
+  void Set(T nx, T ny) {
+    x = nx;
+    y = ny;
   }
-  friend bool operator==(const __lc_V3& a, const __lc_V3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+  T Length() const { return std::sqrt(x * x + y * y); }
+  V2t& Normalize() { return *this /= Length(); }
+  V2t Normalized() const {
+    V2t r = *this;
+    return r /= Length();
+  }
+  V2t& operator+=(V2t r) {
+    x += r.x;
+    y += r.y;
+    return *this;
+  }
+  V2t& operator-=(V2t r) {
+    x -= r.x;
+    y -= r.y;
+    return *this;
+  }
+  V2t& operator*=(T s) {
+    x *= s;
+    y *= s;
+    return *this;
+  }
+  V2t& operator/=(T s) {
+    x /= s;
+    y /= s;
+    return *this;
+  }
+  friend V2t operator-(V2t v) { return V2t{-v.x, -v.y}; }
+  friend V2t operator+(V2t l, V2t r) { return V2t{l.x + r.x, l.y + r.y}; }
+  friend V2t operator-(V2t l, V2t r) { return V2t{l.x - r.x, l.y - r.y}; }
+  friend V2t operator*(V2t v, T s) { return V2t{v.x * s, v.y * s}; }
+  friend V2t operator*(T s, V2t v) { return v * s; }
+  friend V2t operator/(V2t v, T s) { return V2t{v.x / s, v.y / s}; }
+  // Dot product.
+  friend T operator*(V2t l, V2t r) { return l.x * r.x + l.y * r.y; }
 };
 
-typedef __lc_V2<float> V2f;
-typedef __lc_V2<double> V2d;
-typedef __lc_V3<float> V3f;
-typedef __lc_V3<double> V3d;
-// lpfg's module declarations name the same types V2tf/V3tf/V2td/V3td.
-typedef V2f V2tf;
-typedef V2d V2td;
-typedef V3f V3tf;
-typedef V3d V3td;
+template <typename T> struct V3t {
+  T x, y, z;
 
-inline V2f normalize(V2f v) { return v.Normalize(); }
-inline V2d normalize(V2d v) { return v.Normalize(); }
-inline V3f normalize(V3f v) { return v.Normalize(); }
-inline V3d normalize(V3d v) { return v.Normalize(); }
+  void Set(T nx, T ny, T nz) {
+    x = nx;
+    y = ny;
+    z = nz;
+  }
+  T Length() const { return std::sqrt(x * x + y * y + z * z); }
+  V3t& Normalize() { return *this /= Length(); }
+  V3t Normalized() const {
+    V3t r = *this;
+    return r /= Length();
+  }
+  // Component c (0 x, 1 y, anything else z), as a double whatever T is.
+  double operator[](int c) const { return c == 0 ? x : c == 1 ? y : z; }
+  V3t& operator+=(V3t r) {
+    x += r.x;
+    y += r.y;
+    z += r.z;
+    return *this;
+  }
+  V3t& operator-=(V3t r) {
+    x -= r.x;
+    y -= r.y;
+    z -= r.z;
+    return *this;
+  }
+  V3t& operator*=(T s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
+  V3t& operator/=(T s) {
+    x /= s;
+    y /= s;
+    z /= s;
+    return *this;
+  }
+  friend V3t operator-(V3t v) { return V3t{-v.x, -v.y, -v.z}; }
+  friend V3t operator+(V3t l, V3t r) { return V3t{l.x + r.x, l.y + r.y, l.z + r.z}; }
+  friend V3t operator-(V3t l, V3t r) { return V3t{l.x - r.x, l.y - r.y, l.z - r.z}; }
+  friend V3t operator*(V3t v, T s) { return V3t{v.x * s, v.y * s, v.z * s}; }
+  friend V3t operator*(T s, V3t v) { return v * s; }
+  friend V3t operator/(V3t v, T s) { return V3t{v.x / s, v.y / s, v.z / s}; }
+  // Dot product.
+  friend T operator*(V3t l, V3t r) { return l.x * r.x + l.y * r.y + l.z * r.z; }
+  // Cross product.
+  friend V3t operator%(V3t l, V3t r) {
+    return V3t{l.y * r.z - l.z * r.y, l.z * r.x - l.x * r.z, l.x * r.y - l.y * r.x};
+  }
+};
+
+typedef V2t<float> V2tf;
+typedef V2t<double> V2td;
+typedef V3t<float> V3tf;
+typedef V3t<double> V3td;
+
+template <typename T> struct V2 : V2t<T> {
+  V2() : V2t<T>{0, 0} {}
+  V2(T nx, T ny) : V2t<T>{nx, ny} {}
+  V2(const V2tf& v) : V2t<T>{static_cast<T>(v.x), static_cast<T>(v.y)} {}
+  V2(const V2td& v) : V2t<T>{static_cast<T>(v.x), static_cast<T>(v.y)} {}
+  V2(const __lc_V2f& v) : V2t<T>{v.x, v.y} {}
+};
+
+template <typename T> struct V3 : V3t<T> {
+  V3() : V3t<T>{0, 0, 0} {}
+  V3(T nx, T ny, T nz) : V3t<T>{nx, ny, nz} {}
+  V3(const V3tf& v) : V3t<T>{static_cast<T>(v.x), static_cast<T>(v.y), static_cast<T>(v.z)} {}
+  V3(const V3td& v) : V3t<T>{static_cast<T>(v.x), static_cast<T>(v.y), static_cast<T>(v.z)} {}
+  // A 2D vector as a 3D one in the z = 0 plane.
+  V3(const V2tf& v) : V3t<T>{static_cast<T>(v.x), static_cast<T>(v.y), 0} {}
+  V3(const V2td& v) : V3t<T>{static_cast<T>(v.x), static_cast<T>(v.y), 0} {}
+  V3(const __lc_V3f& v) : V3t<T>{v.x, v.y, v.z} {}
+};
+
+typedef V2<float> V2f;
+typedef V2<double> V2d;
+typedef V3<float> V3f;
+typedef V3<double> V3d;
+
+// lpfg's Normalize(v), and the manual's normalize(v) (§6.2.3): a normalized copy. Templates, so
+// that a model's own function of the same name and vector type takes precedence.
+template <class Vector> Vector Normalize(Vector v) { return v.Normalize(); }
+template <class Vector> Vector normalize(Vector v) { return v.Normalize(); }
