@@ -1,25 +1,36 @@
-// In-process `clang -E` for .l files. Angled includes are hidden from the preprocessor (turned
-// into `#pragma <...>` lines of the same length, which -E prints verbatim) and restored after.
+// In-process `clang -E` for .l files, as lpfg runs `g++ -E` on them: every include is resolved,
+// so the model sees the macros of the headers it includes (lpfgall.h's guard, M_PI, INT_MAX ...),
+// but system headers, lcjit's runtime headers among them, stay `#include` lines in the output
+// (clang's -fkeep-system-includes): the C++ compile includes them, mostly from its PCH.
 #include "frontend/Preprocess.h"
+#include "frontend/CacheFiles.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticOptions.h>
 #include <clang/Basic/SourceManager.h>
+#include <clang/Basic/Version.h>
 #include <clang/Frontend/CompilerInstance.h>
 #include <clang/Frontend/CompilerInvocation.h>
 #include <clang/Frontend/FrontendAction.h>
 #include <clang/Frontend/Utils.h>
+#include <clang/Driver/Driver.h>
 #include <clang/Lex/Preprocessor.h>
 #include <clang/Lex/PreprocessorOptions.h>
 
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/FileSystem.h>
+#include <llvm/Support/SHA256.h>
+#include <llvm/ADT/StringExtras.h>
+#include <llvm/Support/Chrono.h>
 #include <llvm/Support/VirtualFileSystem.h>
 #include <llvm/Support/raw_ostream.h>
 #include <llvm/TargetParser/Host.h>
 
 #include <cctype>
 #include <map>
+#include <optional>
+#include <set>
 #include <mutex>
 
 namespace lcjit::frontend {
@@ -31,47 +42,6 @@ llvm::Error makeError(const llvm::Twine& msg) {
 }
 
 bool isHSpace(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
-
-// `#include <x>` -> `#pragma  <x>`: "include" and "pragma " have the same length, so sizes,
-// line and column numbers stay exactly as on disk (clang checks file sizes against stat()).
-// `#include "lpfgall.h"` is lpfg's header too and goes the same way.
-void hideAngledIncludes(std::string& text) {
-  size_t pos = 0;
-  bool continued = false; // previous line ended in a backslash: this line is not a directive
-  while (pos < text.size()) {
-    size_t eol = text.find('\n', pos);
-    if (eol == std::string::npos)
-      eol = text.size();
-    if (!continued) {
-      size_t i = pos;
-      while (i < eol && isHSpace(text[i]))
-        ++i;
-      if (i < eol && text[i] == '#') {
-        ++i;
-        while (i < eol && isHSpace(text[i]))
-          ++i;
-        if (text.compare(i, 7, "include") == 0) {
-          size_t j = i + 7;
-          while (j < eol && isHSpace(text[j]))
-            ++j;
-          if (j < eol && text[j] == '<') {
-            text.replace(i, 7, "pragma ");
-          } else if (text.compare(j, 11, "\"lpfgall.h\"") == 0) {
-            // lpfg's own header, as many models write it: the same as <lpfgall.h> (same length).
-            text.replace(i, 7, "pragma ");
-            text[j] = '<';
-            text[j + 10] = '>';
-          }
-        }
-      }
-    }
-    size_t e = eol;
-    if (e > pos && text[e - 1] == '\r')
-      --e;
-    continued = e > pos && text[e - 1] == '\\';
-    pos = eol + 1;
-  }
-}
 
 class MemFile : public llvm::vfs::File {
 public:
@@ -87,11 +57,10 @@ private:
   std::string content_;
 };
 
-// Serves every file clang reads with its angled includes hidden, and remembers the original
-// text of each for restoring indentation afterwards.
-class HidingFS : public llvm::vfs::ProxyFileSystem {
+// Remembers the text of every file clang reads, for restoring indentation afterwards.
+class RecordingFS : public llvm::vfs::ProxyFileSystem {
 public:
-  explicit HidingFS(llvm::IntrusiveRefCntPtr<llvm::vfs::FileSystem> fs) : ProxyFileSystem(std::move(fs)) {}
+  explicit RecordingFS(llvm::IntrusiveRefCntPtr<llvm::vfs::FileSystem> fs) : ProxyFileSystem(std::move(fs)) {}
 
   llvm::ErrorOr<std::unique_ptr<llvm::vfs::File>> openFileForRead(const llvm::Twine& path) override {
     auto f = ProxyFileSystem::openFileForRead(path);
@@ -109,8 +78,15 @@ public:
       std::lock_guard<std::mutex> lock(mutex_);
       originals_[name] = text;
     }
-    hideAngledIncludes(text);
     return std::unique_ptr<llvm::vfs::File>(new MemFile(*st, std::move(text)));
+  }
+
+  std::vector<std::string> openedFiles() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> names;
+    for (const auto& [name, text] : originals_)
+      names.push_back(name);
+    return names;
   }
 
   const std::string* original(const std::string& name) const {
@@ -200,9 +176,9 @@ bool parseLineMarker(llvm::StringRef line, unsigned& number, std::string& file) 
 }
 
 // -E prints N spaces for a first token in column N+1 (a tab counts as one column): put the
-// original whitespace back when its length matches, and turn hidden includes back into
-// `#include <...>` lines.
-std::string postProcess(const std::string& printed, const HidingFS& fs) {
+// original whitespace back when its length matches; kept system includes lose the comment -E
+// adds to them.
+std::string postProcess(const std::string& printed, const RecordingFS& fs) {
   std::string out;
   out.reserve(printed.size() + 64);
   std::string curFile;
@@ -241,9 +217,9 @@ std::string postProcess(const std::string& printed, const HidingFS& fs) {
       out += line;
     } else {
       llvm::StringRef l = line;
-      if (l.starts_with("#pragma <") && l.rtrim().ends_with(">")) {
-        out += "#include ";
-        out += l.drop_front(8).rtrim();
+      static constexpr llvm::StringLiteral kKeptComment = " /* clang -E -fkeep-system-includes */";
+      if (l.starts_with("#") && l.ends_with(kKeptComment)) {
+        out += l.drop_back(kKeptComment.size());
       } else {
         size_t k = 0;
         while (k < l.size() && l[k] == ' ')
@@ -271,7 +247,181 @@ std::string postProcess(const std::string& printed, const HidingFS& fs) {
   return out;
 }
 
+// The clang driver turns `args` into a preprocessor invocation (finding the system include
+// directories as for the C++ compile); its cc1 arguments are kept per argument list, since the
+// driver costs about a millisecond and reloads repeat the same list.
+std::shared_ptr<clang::CompilerInvocation> makeInvocation(const std::vector<std::string>& args, DiagCollector& dc) {
+  static std::mutex mutex;
+  static std::map<std::vector<std::string>, std::vector<std::string>> cc1ByArgs;
+  std::vector<std::string> cc1;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = cc1ByArgs.find(args);
+    if (it != cc1ByArgs.end())
+      cc1 = it->second;
+  }
+  if (cc1.empty()) {
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+      argv.push_back(a.c_str());
+    clang::CreateInvocationOptions opts;
+    opts.Diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
+    opts.CC1Args = &cc1;
+    if (!clang::createInvocation(argv, std::move(opts)) || dc.getNumErrors() != 0)
+      return nullptr;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (cc1ByArgs.size() > 64)
+      cc1ByArgs.clear();
+    cc1ByArgs[args] = cc1;
+  }
+  std::vector<const char*> argv;
+  for (const auto& a : cc1)
+    argv.push_back(a.c_str());
+  auto inv = std::make_shared<clang::CompilerInvocation>();
+  auto diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
+  // The driver's list starts with "-cc1".
+  if (argv.empty() || !clang::CompilerInvocation::CreateFromArgs(*inv, llvm::ArrayRef(argv).drop_front(1), *diags) ||
+      dc.getNumErrors() != 0)
+    return nullptr;
+  return inv;
+}
+
 } // namespace
+
+namespace {
+
+// lpfg's preprocessing command (g++ -E -DLINUX), for the x86-64 baseline and unoptimised as
+// there: a model's #if sees what it sees with lpfg.
+std::vector<std::string> baseArguments() {
+  return {LCJIT_CLANG_EXECUTABLE, "-E", "-x", "c++", "-std=gnu++14", "-w", "-resource-dir", LCJIT_CLANG_RESOURCE_DIR,
+          "-fkeep-system-includes", "-DLINUX"};
+}
+
+struct Run {
+  std::string printed;
+  llvm::IntrusiveRefCntPtr<RecordingFS> fs;
+};
+
+// Runs the preprocessor with driver arguments `args` (the input last); `mainText` replaces the
+// input file's text; `macros` prints the macros defined at the end (-dM) instead of the text.
+llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const std::optional<std::string>& mainText,
+                                    bool macros) {
+  DiagCollector dc;
+  auto inv = makeInvocation(args, dc);
+  if (!inv)
+    return makeError(dc.text.empty() ? std::string("error: invalid preprocessor options") : dc.text);
+  inv->getFrontendOpts().DisableFree = false;
+  inv->getDiagnosticOpts().ShowCarets = false;
+  if (macros) {
+    inv->getPreprocessorOutputOpts().ShowMacros = 1;
+    inv->getPreprocessorOutputOpts().ShowCPP = 0;
+  }
+  if (mainText)  // the SourceManager takes ownership of the buffer
+    inv->getPreprocessorOpts().addRemappedFile(args.back(),
+                                               llvm::MemoryBuffer::getMemBufferCopy(*mainText, args.back()).release());
+
+  clang::CompilerInstance ci;
+  ci.setInvocation(inv);
+  ci.createDiagnostics(&dc, false);
+  Run run;
+  run.fs = new RecordingFS(llvm::vfs::getRealFileSystem());
+  ci.createFileManager(run.fs);
+  PrintToStringAction action(run.printed);
+  bool ok = ci.ExecuteAction(action);
+  if (!ok || dc.getNumErrors() != 0) {
+    std::string text = dc.text.empty() ? "error: preprocessing '" + args.back() + "' failed\n" : dc.text;
+    while (!text.empty() && text.back() == '\n')
+      text.pop_back();
+    return makeError(text);
+  }
+  return run;
+}
+
+// The macro image of <lpfgall.h>: one header of the #define lines that the real header and the
+// standard headers under it leave defined (predefined macros left out), found before the runtime
+// headers, so that `#include <lpfgall.h>` gives a model every macro lpfg's gives it without
+// lexing a megabyte of standard headers in every reload (~25 ms). Its first lines list the files
+// it was made from (size, mtime); it is made again when one of them changed. Kept on disk under
+// `cacheDir` and known per process; nullopt (the real header is used) when it cannot be made.
+std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, const std::string& cacheDir) {
+  std::vector<std::string> args = baseArguments();
+  args.insert(args.end(), {"-isystem", runtimeIncludeDir});
+  llvm::SHA256 h;
+  h.update(clang::getClangFullVersion());
+  for (const auto& a : args) {
+    h.update(a);
+    h.update(llvm::StringRef("\0", 1));
+  }
+  hashDirectoryTree(h, runtimeIncludeDir);
+  std::string dir = cacheDir + "/preprocessor/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 24);
+  std::string image = dir + "/lpfgall.h";
+  // Known once per process (the standard headers under it do not change meanwhile).
+  static std::mutex mutex;
+  static std::map<std::string, std::optional<std::string>> known;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (auto memo = known.find(image); memo != known.end())
+    return memo->second;
+  std::optional<std::string>& result = known[image];
+
+  auto current = [](llvm::StringRef text) {
+    for (llvm::StringRef rest = text; !rest.empty();) {
+      auto [line, r] = rest.split('\n');
+      rest = r;
+      if (!line.consume_front("// D "))
+        break;
+      auto [size, rest1] = line.split(' ');
+      auto [mtime, path] = rest1.split(' ');
+      llvm::sys::fs::file_status st;
+      if (llvm::sys::fs::status(path, st) || std::to_string(st.getSize()) != size ||
+          std::to_string(llvm::sys::toTimeT(st.getLastModificationTime())) != mtime)
+        return false;
+    }
+    return true;
+  };
+  if (auto existing = llvm::MemoryBuffer::getFile(image, /*IsText=*/true); existing && current((*existing)->getBuffer()))
+    return result = dir;
+
+  std::string empty = cacheDir + "/preprocessor/lcjit-empty.cpp";
+  std::vector<std::string> emptyArgs = args, fullArgs = args;
+  emptyArgs.push_back(empty);
+  fullArgs.push_back(runtimeIncludeDir + "/lpfgall.h");
+  auto predefined = runPreprocessor(emptyArgs, std::string(), /*macros=*/true);
+  auto all = runPreprocessor(fullArgs, std::nullopt, /*macros=*/true);
+  if (!predefined || !all) {
+    llvm::consumeError(predefined.takeError());
+    llvm::consumeError(all.takeError());
+    return result;
+  }
+  std::set<llvm::StringRef> builtIn;
+  for (llvm::StringRef rest = predefined->printed; !rest.empty();) {
+    auto [line, r] = rest.split('\n');
+    builtIn.insert(line);
+    rest = r;
+  }
+  std::string text;
+  for (const std::string& path : all->fs->openedFiles()) {
+    llvm::sys::fs::file_status st;
+    if (llvm::sys::fs::status(path, st))
+      return result;
+    text += "// D " + std::to_string(st.getSize()) + " " +
+            std::to_string(llvm::sys::toTimeT(st.getLastModificationTime())) + " " + path + "\n";
+  }
+  text += "// lcjit: the macros <lpfgall.h> defines (frontend/Preprocess.cpp), made from the files above.\n";
+  text += "#ifndef __LPFGALL_H__\n";
+  for (llvm::StringRef rest = all->printed; !rest.empty();) {
+    auto [line, r] = rest.split('\n');
+    rest = r;
+    if (!builtIn.count(line))
+      text += line.str() + "\n";
+  }
+  text += "#endif\n";
+  llvm::sys::fs::create_directories(dir);
+  if (!writeCacheFile(image, text))
+    return result;
+  return result = dir;
+}
+
+}  // namespace
 
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options) {
   if (!options.mainText) {
@@ -280,62 +430,31 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
       return makeError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
   }
 
-  std::vector<std::string> args = {"-triple",
-                                   llvm::sys::getDefaultTargetTriple(),
-                                   "-E",
-                                   "-x",
-                                   "c++",
-                                   "-std=gnu++14",
-                                   "-w",
-                                   // Same predefined macros as the C++ compile (__GNUC__, __EXCEPTIONS).
-                                   "-fgnuc-version=4.2.1",
-                                   "-fcxx-exceptions",
-                                   "-fexceptions",
-                                   // Angled includes are never resolved here.
-                                   "-nostdsysteminc",
-                                   "-nobuiltininc"};
+  std::vector<std::string> args = baseArguments();
   for (const auto& d : options.includeDirs) {
     args.push_back("-I");
     args.push_back(d);
+  }
+  // After the model's own directories, like lpfg's -I $LPFGRESOURCES/include; system
+  // directories, so that their headers stay #include lines.
+  if (!options.runtimeIncludeDir.empty()) {
+    if (!options.cacheDir.empty())
+      if (auto image = macroImageDir(options.runtimeIncludeDir, options.cacheDir)) {
+        args.push_back("-isystem");
+        args.push_back(*image);
+      }
+    args.push_back("-isystem");
+    args.push_back(options.runtimeIncludeDir);
   }
   for (const auto& [name, value] : options.defines) {
     args.push_back("-D");
     args.push_back(value.empty() ? name : name + "=" + value);
   }
   args.push_back(lsystemPath);
-  std::vector<const char*> argv;
-  for (const auto& a : args)
-    argv.push_back(a.c_str());
-
-  DiagCollector dc;
-  auto inv = std::make_shared<clang::CompilerInvocation>();
-  {
-    auto diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
-    if (!clang::CompilerInvocation::CreateFromArgs(*inv, argv, *diags) || dc.getNumErrors() != 0)
-      return makeError(dc.text.empty() ? std::string("error: invalid preprocessor options") : dc.text);
-  }
-  inv->getFrontendOpts().DisableFree = false;
-  inv->getDiagnosticOpts().ShowCarets = false;
-  if (options.mainText)  // the SourceManager takes ownership of the buffer
-    inv->getPreprocessorOpts().addRemappedFile(lsystemPath,
-                                               llvm::MemoryBuffer::getMemBufferCopy(*options.mainText, lsystemPath).release());
-
-  clang::CompilerInstance ci;
-  ci.setInvocation(inv);
-  ci.createDiagnostics(&dc, false);
-  llvm::IntrusiveRefCntPtr<HidingFS> fs(new HidingFS(llvm::vfs::getRealFileSystem()));
-  ci.createFileManager(fs);
-
-  std::string printed;
-  PrintToStringAction action(printed);
-  bool ok = ci.ExecuteAction(action);
-  if (!ok || dc.getNumErrors() != 0) {
-    std::string text = dc.text.empty() ? "error: preprocessing '" + lsystemPath + "' failed\n" : dc.text;
-    while (!text.empty() && text.back() == '\n')
-      text.pop_back();
-    return makeError(text);
-  }
-  return postProcess(printed, *fs);
+  auto run = runPreprocessor(args, options.mainText, /*macros=*/false);
+  if (!run)
+    return run.takeError();
+  return postProcess(run->printed, *run->fs);
 }
 
 } // namespace lcjit::frontend

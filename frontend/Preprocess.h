@@ -1,5 +1,6 @@
-// Step 1 of an L+C build: run Clang's preprocessor in-process on the .l file (like `g++ -E`),
-// keeping angled includes (`#include <...>`) verbatim for the later C++ compile against the PCH.
+// Step 1 of an L+C build: run Clang's preprocessor in-process on the .l file (like lpfg's
+// `g++ -E`). Every include is resolved and its macros apply; system headers (the standard
+// library's, lcjit's runtime headers) are kept as `#include` lines for the later C++ compile.
 #pragma once
 
 #include <llvm/Support/Error.h>
@@ -12,8 +13,14 @@
 namespace lcjit::frontend {
 
 struct PreprocessOptions {
-  // Searched for `#include "x"` after the including file's own directory.
+  // Searched for `#include "x"` after the including file's own directory, and for `#include <x>`
+  // first; their headers are the model's own: expanded in the output.
   std::vector<std::string> includeDirs;
+  // lcjit's model API headers (<lpfgall.h>): a system directory, searched after includeDirs.
+  std::string runtimeIncludeDir;
+  // Where the macro image of <lpfgall.h> is kept (Preprocess.cpp); empty: the real header is
+  // preprocessed every time (correct, ~25 ms slower).
+  std::string cacheDir;
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
   // When set, the text of the main file instead of what is on disk (the file need not exist;
@@ -23,7 +30,8 @@ struct PreprocessOptions {
 
 // Returns the preprocessed text: comments removed, macros/conditionals/quoted includes applied,
 // GNU line markers (`# LINE "FILE" FLAGS`) wherever the line sequence jumps or the file changes,
-// original indentation kept, and every active `#include <name>` left as a `#include <name>` line.
+// original indentation kept, and every active include of a system header left as an `#include`
+// line. A header that is not found is an error at the #include.
 // Errors: `FILE:LINE:COL: error: MESSAGE` lines (plus notes).
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options);
 

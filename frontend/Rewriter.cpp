@@ -215,6 +215,9 @@ class Rewriter {
       atStatementStart_ = true;
       return;
     }
+    // produce/nproduce inside C++ functions (lpfg's translator takes them anywhere): they write
+    // to the successor of the rule running, which the function was called from.
+    if (depth_ > 0 && produceStatement(Where::Function)) return;
     // C++ passes through; statement boundaries are only recognised at namespace scope.
     out_.token(t);
     next();
@@ -527,9 +530,16 @@ class Rewriter {
         ++k;
       }
     }
-    if (!atText("{")) fail(cur(), "expected '{' to start the body of " + ruleKindName());
     ruleGroupKind_ = groupKind_;
-    block(/*rule=*/true);
+    if (atText("{")) {
+      block(/*rule=*/true);
+    } else {
+      // lpfg also takes a single produce statement as the body: `A(t) : produce A(t+dt);`.
+      out_.glueAt(cur(), "{");
+      if (!produceStatement(Where::Rule))
+        fail(cur(), "expected '{' or 'produce' to start the body of " + ruleKindName());
+      out_.glue("}");
+    }
     out_.glue("}");
     ruleSpans_.emplace_back(begin, out_.size());
     if (atText(";")) next();
@@ -552,36 +562,7 @@ class Rewriter {
         continue;
       }
       if (t.kind == Token::Identifier) {
-        if (t.text == "produce" || t.text == "nproduce") {
-          if (!rule) fail(t, "'" + t.text + "' can only be used in a production or rule body");
-          next();
-          bool final = t.text == "produce";
-          out_.glueAt(t, "{");
-          successorList(";", false);
-          const Token& semi = expect(";", "after the successor");
-          out_.glueAt(semi, final ? "__lc_ctx->produced = 1; return; }" : "}");
-          continue;
-        }
-        if (t.text == "propensity") {
-          if (!rule) fail(t, "'propensity' can only be used in a production body");
-          if (ruleGroupKind_ != 1) fail(t, "'propensity' can only be used in a ggroup (Gillespie group) production");
-          next();
-          out_.glueAt(t, "{ __lc_emit_Propensity(__lc_ctx, (");
-          int d = 0;
-          while (!(d == 0 && atText("produce"))) {
-            if (at(Token::End) || (d == 0 && atText(";"))) fail(cur(), "expected 'produce' after the propensity expression");
-            const Token& e = next();
-            if (e.is("(") || e.is("[") || e.is("{")) ++d;
-            if (e.is(")") || e.is("]") || e.is("}")) --d;
-            out_.token(e);
-          }
-          const Token& p = next();
-          out_.glueAt(p, "));");
-          successorList(";", false);
-          const Token& semi = expect(";", "after the successor");
-          out_.glueAt(semi, "__lc_ctx->produced = 1; }");
-          continue;
-        }
+        if (produceStatement(rule ? Where::Rule : Where::Control)) continue;
         static const std::map<std::string, int> sides = {
             {"InLeftContext", 0}, {"InRightContext", 1}, {"InNewLeftContext", 2}, {"InNewRightContext", 3}};
         if (auto it = sides.find(t.text); it != sides.end() && peek().is("(")) {
@@ -596,6 +577,49 @@ class Rewriter {
       out_.token(t);
       next();
     }
+  }
+
+  enum class Where { Rule, Control, Function };
+  // A produce, nproduce or propensity statement at the current token (false if there is none).
+  // In a rule body the successor goes to the rule's context; in a function it goes to the rule
+  // running when the function is called (lcjit_current_ctx), and in a control statement (Start,
+  // EndEach ...) nproduce goes nowhere: no rule is running.
+  bool produceStatement(Where where) {
+    const Token& t = cur();
+    if (t.kind != Token::Identifier) return false;
+    bool final = t.is("produce");
+    if (final || t.is("nproduce")) {
+      // Elsewhere than in a rule, only as a statement: `produce` followed by a module list.
+      if (where != Where::Rule && !(peek().is(";") || peek().is("(") || findModule(peek().text))) return false;
+      if (final && where == Where::Control) fail(t, "'produce' can only be used in a production or rule body");
+      next();
+      out_.glueAt(t, where == Where::Rule ? "{" : "{ __lc_Ctx* __lc_ctx = lcjit_current_ctx();");
+      successorList(";", false);
+      const Token& semi = expect(";", "after the successor");
+      out_.glueAt(semi, final ? "__lc_ctx->produced = 1; return; }" : "}");
+      return true;
+    }
+    if (t.is("propensity") && where == Where::Rule) {
+      if (ruleGroupKind_ != 1) fail(t, "'propensity' can only be used in a ggroup (Gillespie group) production");
+      next();
+      out_.glueAt(t, "{ __lc_emit_Propensity(__lc_ctx, (");
+      int d = 0;
+      while (!(d == 0 && atText("produce"))) {
+        if (at(Token::End) || (d == 0 && atText(";"))) fail(cur(), "expected 'produce' after the propensity expression");
+        const Token& e = next();
+        if (e.is("(") || e.is("[") || e.is("{")) ++d;
+        if (e.is(")") || e.is("]") || e.is("}")) --d;
+        out_.token(e);
+      }
+      const Token& p = next();
+      out_.glueAt(p, "));");
+      successorList(";", false);
+      const Token& semi = expect(";", "after the successor");
+      out_.glueAt(semi, "__lc_ctx->produced = 1; }");
+      return true;
+    }
+    if (t.is("propensity") && where == Where::Control) fail(t, "'propensity' can only be used in a production body");
+    return false;
   }
 
   void inContext(const Token& kw, int side) {

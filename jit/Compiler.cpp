@@ -1,6 +1,7 @@
 // Clang-as-a-library front end + per-level IR pipelines + one LLJIT, with a disk-cached PCH of
 // the runtime header. See docs in Compiler.h and /work/shared/notes/jit-latency-study.md.
 #include "jit/Compiler.h"
+#include "frontend/CacheFiles.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticFrontend.h>
@@ -409,42 +410,6 @@ void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
   lowerFMulAdd(m);
 }
 
-// Hash of everything a PCH depends on: the runtime header's directory tree (content), the
-// compiler version, the full cc1 command line (opt level, -D, target CPU + features).
-void hashHeaderTree(llvm::SHA256& h, const std::string& dir) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> files;
-  std::error_code ec;
-  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
-       !ec && it != end; it.increment(ec)) {
-    std::error_code ec2;
-    if (it->is_regular_file(ec2))
-      files.push_back(it->path());
-  }
-  std::sort(files.begin(), files.end());
-  // A runtime header in a huge directory should not make every start slow; past this many
-  // bytes, size + mtime stand in for content (clang's own PCH validation checks those too).
-  uint64_t budget = 64ull << 20;
-  for (const auto& f : files) {
-    std::string p = f.string();
-    h.update(p);
-    h.update(llvm::StringRef("\0", 1));
-    std::error_code ec2;
-    auto size = fs::file_size(f, ec2);
-    if (!ec2 && size <= budget) {
-      if (auto buf = llvm::MemoryBuffer::getFile(p, /*IsText=*/false, /*RequiresNullTerminator=*/false)) {
-        h.update((*buf)->getBuffer());
-        budget -= size;
-        continue;
-      }
-    }
-    auto t = fs::last_write_time(f, ec2);
-    std::string meta = std::to_string(ec2 ? 0 : size) + ":" +
-                       std::to_string(ec2 ? 0 : t.time_since_epoch().count());
-    h.update(meta);
-  }
-}
-
 std::string defaultCacheDir() {
   if (const char* d = std::getenv("LCJIT_CACHE_DIR"); d && *d)
     return d;
@@ -831,6 +796,8 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
                                    // clash with models' own names under `using namespace std`).
                                    "-std=gnu++14",
                                    "-w",
+                                   // g++ warns about narrowing in braces; clang refuses it.
+                                   "-Wno-c++11-narrowing",
                                    "-O" + std::to_string(level),
                                    "-march=native",
                                    // lpfg builds models with g++ -O3 for the x86-64 baseline, which
@@ -875,6 +842,8 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   return llvm::Error::success();
 }
 
+// Hash of everything a PCH depends on: the runtime header's directory tree (content), the
+// compiler version, the full cc1 command line (opt level, -D, target CPU + features).
 std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
   llvm::SHA256 h;
   h.update(clang::getClangFullVersion());
@@ -892,7 +861,7 @@ std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
   h.update(llvm::sys::getHostCPUName());
   if (pchCodegen(level))
     h.update(llvm::StringRef("pch-codegen"));
-  hashHeaderTree(h, headerDir);
+  frontend::hashDirectoryTree(h, headerDir);
   auto digest = h.final();
   std::string hex = llvm::toHex(digest, /*LowerCase=*/true).substr(0, 24);
   std::string stem = llvm::sys::path::stem(config.runtimeHeader).str();
@@ -1069,21 +1038,6 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L,
 
 // Writes a cache file whole or not at all: a unique temporary beside it, then a rename, so that
 // readers (other processes too) never see a partial one. False when it could not.
-static bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
-  llvm::SmallString<256> tmp;
-  int fd = -1;
-  if (llvm::sys::fs::createUniqueFile(path + ".tmp-%%%%%%%%", fd, tmp))
-    return false;
-  llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
-  out << bytes;
-  out.close();
-  if (out.has_error() || llvm::sys::fs::rename(tmp, path)) {
-    out.clear_error();
-    llvm::sys::fs::remove(tmp);
-    return false;
-  }
-  return true;
-}
 
 // Splits the support module into parts of `perPart` definitions, in order of their demangled
 // names so that related functions (all of __lc_emit_*, one class's members) share a part. Each
@@ -1188,7 +1142,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
         return object.takeError();
       parts->push_back(std::move(*object));
     }
-    writeCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
+    frontend::writeCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
   }
 
   auto& J = *state->jit;
@@ -1358,7 +1312,7 @@ static void storeObject(const std::string& dir, const std::string& key, const Ca
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (!writeCacheFile(dir + "/" + key + ".o", serialize(object)))
+  if (!frontend::writeCacheFile(dir + "/" + key + ".o", serialize(object)))
     return;
   if (stores++ % 32 != 0)
     return;

@@ -40,7 +40,7 @@ std::string besideView(const std::string& viewFile, const std::string& name) {
 // Loads the graphics inputs. Nothing here is fatal: lpfg reports a bad view file line or an
 // unreadable colormap and goes on drawing with what it has.
 std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files, const ReloadParts& what,
-                                                       const runtime::DrawingFiles* current,
+                                                       const runtime::DrawingFiles* current, const std::string& cacheDir,
                                                        std::vector<std::string>& warnings) {
   // What is not re-read is carried over from the model as it is.
   auto d = current ? std::make_unique<runtime::DrawingFiles>(*current) : std::make_unique<runtime::DrawingFiles>();
@@ -49,7 +49,10 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   };
   if (what.view) d->view = runtime::ViewSettings();
   if (what.view && !files.view.empty()) {
-    auto text = frontend::preprocess(files.view, {});
+    frontend::PreprocessOptions pp;
+    pp.runtimeIncludeDir = runtimeIncludeDir();
+    pp.cacheDir = cacheDir;
+    auto text = frontend::preprocess(files.view, pp);
     if (!text) {
       warn(text.takeError());
     } else {
@@ -275,7 +278,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
       if (auto e = functions->loadFunction(f)) return e;
   }
 
-  p.drawing = loadDrawingFiles(files, what, drawing_.get(), p.warnings);
+  p.drawing = loadDrawingFiles(files, what, drawing_.get(), compiler_->cacheDir(), p.warnings);
   // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
   // the string stays too; only what it is drawn with changes.
   if (!what.lsystem) return p;
@@ -283,6 +286,8 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   const runtime::DrawingFiles* drawing = p.drawing.get();
   auto t0 = std::chrono::steady_clock::now();
   frontend::PreprocessOptions pp;
+  pp.runtimeIncludeDir = runtimeIncludeDir();
+  pp.cacheDir = compiler_->cacheDir();
   for (int id = 1; id <= functions->size(); ++id) {
     std::string name(functions->nameOf(id));
     if (!name.empty()) pp.defines.push_back({name, std::to_string(id)});

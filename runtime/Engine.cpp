@@ -39,6 +39,7 @@ Engine* Engine::current() { return gCurrent; }
 
 Fault Engine::runModelCode(llvm::function_ref<void()> fn) {
   CurrentScope scope(this);
+  activeCtx_ = nullptr;
   return guard_.run(fn);
 }
 
@@ -330,9 +331,12 @@ bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
   __lc_Ctx ctx{out.raw(), 0, this, &m};
   Match* saved = activeMatch_;
   const __lc_Rule* savedRule = runningRule_;  // a rule runs inside another through OutputFrame
+  __lc_Ctx* savedCtx = activeCtx_;
   activeMatch_ = &m;
   runningRule_ = &r;
+  activeCtx_ = &ctx;
   r.body(&ctx, m.params);
+  activeCtx_ = savedCtx;
   runningRule_ = savedRule;
   activeMatch_ = saved;
   if (!ctx.produced) out.resize(mark);
@@ -502,7 +506,9 @@ bool Engine::deriveGillespie(int group) {
         scratch_.clear();
         __lc_Ctx ctx{scratch_.raw(), 0, this, &m};
         runningRule_ = r;
+        activeCtx_ = &ctx;
         r->body(&ctx, m.params);
+        activeCtx_ = nullptr;
         runningRule_ = nullptr;
         if (scratch_.size() == 0) break;
         if (ModuleTable::idAt(scratch_.data()) != __lc_id_Propensity) {

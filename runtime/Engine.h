@@ -47,6 +47,8 @@ class Engine {
   // and productions in the same order) takes over; the string and the derivation go on.
   void swapModel(const __lc_Model& model);
   const __lc_Model& model() const { return *model_; }
+  // The context of the rule body running, or null (lcjit_current_ctx).
+  __lc_Ctx* activeContext() const { return activeCtx_; }
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
@@ -176,6 +178,7 @@ class Engine {
   // Called before each model function that is not a rule ("Start", "StartEach"…).
   void calling(const char* what) {
     runningRule_ = nullptr;
+    activeCtx_ = nullptr;
     runningCall_ = what;
   }
   // The per-module checks of the derivation loops: an interrupt or a limit.
@@ -239,6 +242,7 @@ class Engine {
   double gillespieTime_ = 0;
   const EngineHooks* hooks_ = nullptr;
   Match* activeMatch_ = nullptr;
+  __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
   TurtleSetup turtleSetup_;
   std::vector<int> views_;
   Geometry* tracking_ = nullptr;  // interpret(): the geometry recording its source modules

@@ -37,6 +37,18 @@ std::string& replOutput() {
   return text;
 }
 
+// A successor context that keeps nothing: produce/nproduce outside every rule write here.
+struct ModuleBufferHolder {
+  __lc_Buffer buffer{nullptr, 0, 0};
+  __lc_Ctx ctx{&buffer, 0, nullptr, nullptr};
+  ~ModuleBufferHolder() { std::free(buffer.data); }
+  __lc_Ctx* fresh() {
+    buffer.size = 0;
+    ctx.produced = 0;
+    return &ctx;
+  }
+};
+
 // Random streams outlive engines: lpfg keeps one per process.
 lcjit::runtime::Rand48& fallbackRandom() {
   static lcjit::runtime::Rand48 r;
@@ -64,6 +76,14 @@ void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra) {
 int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params) {
   Engine* e = static_cast<Engine*>(c->engine);
   return e && e->inContext(c, side, ids, n, params) ? 1 : 0;
+}
+
+__lc_Ctx* lcjit_current_ctx() {
+  Engine* e = engine();
+  if (e && e->activeContext()) return e->activeContext();
+  // No rule is running: a successor that nothing reads, emptied each time.
+  static thread_local ModuleBufferHolder discarded;
+  return discarded.fresh();
 }
 
 void lcjit_use_group(int g) {
@@ -254,7 +274,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
       LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
-      LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),            LCJIT_HOST(lcjit_func_tangent),
+      LCJIT_HOST(lcjit_current_ctx),    LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),            LCJIT_HOST(lcjit_func_tangent),
       LCJIT_HOST(lcjit_get_bsurface),   LCJIT_HOST(lcjit_tablet_status),  LCJIT_HOST(lcjit_terrain_query),
       LCJIT_HOST(lcjit_terrain_visibility), LCJIT_HOST(lcjit_terrain_scale),
   };

@@ -11,4 +11,5 @@ set_tests_properties(jit_test PROPERTIES TIMEOUT 600)
 
 add_executable(lcjit_preprocess_test "${CMAKE_CURRENT_LIST_DIR}/preprocess_test.cpp")
 target_link_libraries(lcjit_preprocess_test PRIVATE lcjit_preprocess GTest::gtest_main)
+target_compile_definitions(lcjit_preprocess_test PRIVATE LCJIT_RUNTIME_INCLUDE_DIR="${CMAKE_SOURCE_DIR}/runtime/include")
 add_test(NAME preprocess_test COMMAND lcjit_preprocess_test)

@@ -54,6 +54,13 @@ protected:
     return llvm::toString(r.takeError());
   }
 
+  // lcjit's own runtime headers (<lpfgall.h>), as the Session passes them.
+  static PreprocessOptions withRuntime() {
+    PreprocessOptions o;
+    o.runtimeIncludeDir = LCJIT_RUNTIME_INCLUDE_DIR;
+    return o;
+  }
+
   std::string dir_;
 };
 
@@ -145,44 +152,106 @@ TEST_F(PreprocessTest, QuotedIncludesAreExpanded) {
   EXPECT_EQ(out.find("#include \""), std::string::npos) << out;
 }
 
-TEST_F(PreprocessTest, AngledIncludesKeptVerbatimOnlyWhenActive) {
+// lpfg runs g++ -E over the model: every include is resolved and its macros count. System
+// headers (the standard library's, lcjit's runtime) stay #include lines for the C++ compile.
+TEST_F(PreprocessTest, SystemHeadersStayIncludeLinesAndTheirMacrosApply) {
   write("helper.h", "#include <cmath>\nint helper;\n");
   std::string p = write("model.l", R"(#include <lpfgall.h>
 #define vector not_expanded_in_include_names
 #include<vector>
-#  include   <lpfg/sub-dir/x.1.h>   // comment
 #if 0
 #include <never_included.h>
 #endif
 #ifdef NOPE
 #include <also_never.h>
 #else
-#include <else_branch.h>
+#include <climits>
 #endif
 #include "helper.h"
+#ifdef __LPFGALL_H__
+lpfgall_guard_seen;
+#endif
+#if INT_MAX == 2147483647
+int_max_seen;
+#endif
+double pi = M_PI;
 axiom: A;
 )");
-  std::string out = ok(p);
+  std::string out = ok(p, withRuntime());
   EXPECT_NE(out.find("\n#include <lpfgall.h>\n"), std::string::npos) << out;
-  EXPECT_NE(out.find("\n#include <vector>\n"), std::string::npos) << out;
-  EXPECT_NE(out.find("\n#include <lpfg/sub-dir/x.1.h>\n"), std::string::npos) << out;
-  EXPECT_NE(out.find("\n#include <else_branch.h>\n"), std::string::npos) << out;
-  EXPECT_NE(out.find("\n#include <cmath>\n"), std::string::npos) << out; // from a quoted include
+  EXPECT_NE(out.find("\n#include <vector>\n"), std::string::npos) << out;  // not the macro
+  EXPECT_NE(out.find("\n#include <climits>\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("\n#include <cmath>\n"), std::string::npos) << out;  // from a quoted include
   EXPECT_EQ(out.find("never_included"), std::string::npos) << out;
   EXPECT_EQ(out.find("also_never"), std::string::npos) << out;
-  EXPECT_EQ(out.find("#pragma"), std::string::npos) << out;
+  // The headers' text is not in the output; their macros were applied.
+  EXPECT_EQ(out.find("namespace std"), std::string::npos) << out;
+  EXPECT_NE(out.find("lpfgall_guard_seen;"), std::string::npos) << out;
+  EXPECT_NE(out.find("int_max_seen;"), std::string::npos) << out;
+  EXPECT_NE(out.find("double pi = 3.14159265358979323846;"), std::string::npos) << out;
 
   auto lines = mapLines(out);
   const MappedLine* m = findLine(lines, "#include <lpfgall.h>");
   ASSERT_TRUE(m);
   EXPECT_EQ(m->line, 1u);
-  m = findLine(lines, "#include <else_branch.h>");
+  m = findLine(lines, "#include <climits>");
   ASSERT_TRUE(m);
-  EXPECT_EQ(m->line, 11u);
+  EXPECT_EQ(m->line, 10u);
   m = findLine(lines, "#include <cmath>");
   ASSERT_TRUE(m);
   EXPECT_NE(m->file.find("helper.h"), std::string::npos);
   EXPECT_EQ(m->line, 1u);
+}
+
+// A model header that insists on lpfg's header (research models do) works.
+TEST_F(PreprocessTest, ModelHeadersSeeLpfgallsGuard) {
+  write("quaternion.hpp", "#ifndef __LPFGALL_H__\n#error quaternion.hpp must be included after lpfgall.h\n#endif\nint q;\n");
+  std::string p = write("model.l", "#include <lpfgall.h>\n#include \"quaternion.hpp\"\naxiom: A;\n");
+  EXPECT_NE(ok(p, withRuntime()).find("int q;"), std::string::npos);
+  std::string bad = write("bad.l", "#include \"quaternion.hpp\"\n#include <lpfgall.h>\naxiom: A;\n");
+  std::string e = err(bad, withRuntime());
+  EXPECT_NE(e.find("quaternion.hpp:2:2: error: quaternion.hpp must be included after lpfgall.h"), std::string::npos) << e;
+}
+
+// An angled include of the model's own header (found in an -I directory) is the model's text.
+TEST_F(PreprocessTest, AngledIncludeOfAModelHeaderIsExpanded) {
+  write("inc/shapes.h", "#define LEAF 7\nint from_model_header = LEAF;\n");
+  std::string p = write("model.l", "#include <shapes.h>\nleaf LEAF;\n");
+  PreprocessOptions o = withRuntime();
+  o.includeDirs = {dir_ + "/inc"};
+  std::string out = ok(p, o);
+  EXPECT_NE(out.find("int from_model_header = 7;"), std::string::npos) << out;
+  EXPECT_NE(out.find("leaf 7;"), std::string::npos) << out;
+  EXPECT_EQ(out.find("#include <shapes.h>"), std::string::npos) << out;
+}
+
+TEST_F(PreprocessTest, MissingAngledIncludeNamesFileAndLine) {
+  std::string p = write("model.l", "axiom: A;\n\n#include <no_such_header_anywhere.h>\n");
+  std::string e = err(p, withRuntime());
+  EXPECT_NE(e.find("model.l:3:10: error: 'no_such_header_anywhere.h' file not found"), std::string::npos) << e;
+}
+
+// The macro image of <lpfgall.h> (kept in the cache directory) gives what the real header gives,
+// and is made again when a header it was made from changes.
+TEST_F(PreprocessTest, MacroImageMatchesTheRealHeader) {
+  std::string runtime = dir_ + "/runtime";
+  write("runtime/lpfgall.h", "#ifndef __LPFGALL_H__\n#define __LPFGALL_H__\n#include <cmath>\n#include \"extra.h\"\n#endif\n");
+  write("runtime/extra.h", "#define EXTRA_VALUE 1\n");
+  std::string p = write("model.l", "#include <lpfgall.h>\nextra EXTRA_VALUE;\n#ifdef _GLIBCXX_CMATH\ncmath_seen;\n#endif\nmpi M_PI;\n");
+  PreprocessOptions real;
+  real.runtimeIncludeDir = runtime;
+  PreprocessOptions cached = real;
+  cached.cacheDir = dir_ + "/cache";
+  std::string expected = ok(p, real);
+  EXPECT_NE(expected.find("extra 1;"), std::string::npos) << expected;
+  EXPECT_NE(expected.find("cmath_seen;"), std::string::npos) << expected;
+  EXPECT_EQ(ok(p, cached), expected);
+  EXPECT_EQ(ok(p, cached), expected);
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/cache/preprocessor")) << "no macro image was made";
+
+  // The runtime headers change (as in a new lcjit build): another image.
+  write("runtime/extra.h", "#define EXTRA_VALUE 2\n");
+  EXPECT_NE(ok(p, cached).find("extra 2;"), std::string::npos);
 }
 
 TEST_F(PreprocessTest, LineMarkersMapEveryLine) {
@@ -201,7 +270,7 @@ TEST_F(PreprocessTest, LineMarkersMapEveryLine) {
          "#include \"inc.h\"\n"                 // 34
          "after_include;\n";                    // 35
   std::string p = write("model.l", src);
-  std::string out = ok(p);
+  std::string out = ok(p, withRuntime());
   auto lines = mapLines(out);
 
   struct Expect {

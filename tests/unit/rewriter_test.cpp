@@ -297,6 +297,33 @@ TEST(RewriterRules, NproduceAloneHasNoReturn) {
   EXPECT_HASNT(s, "return;");
 }
 
+// lpfg's translator takes produce and nproduce anywhere (a model's grow() helper nproduces):
+// outside a rule body they write to the rule running (lcjit_current_ctx()); in a control
+// statement no rule runs, and what nproduce writes is dropped.
+TEST(RewriterRules, ProduceInFunctionsAndControlStatements) {
+  auto r = ok("module A(int), B;\nderivation length: 1;\naxiom: A(3);\n"
+              "void grow(int n) { for (int i = 0; i < n; ++i) nproduce B; }\n"
+              "void finish() { produce A(0); }\n"
+              "End: { nproduce B; }\n"
+              "A(n): { grow(n); finish(); }\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "for(inti=0;i<n;++i){__lc_Ctx*__lc_ctx=lcjit_current_ctx();__lc_emit_B(__lc_ctx);}");
+  EXPECT_HAS(s, "voidfinish(){{__lc_Ctx*__lc_ctx=lcjit_current_ctx();__lc_emit_A(__lc_ctx,0);__lc_ctx->produced=1;return;}}");
+  EXPECT_HAS(s, "staticvoid__lc_end(){{__lc_Ctx*__lc_ctx=lcjit_current_ctx();__lc_emit_B(__lc_ctx);}}");
+  // A variable that happens to be called produce, as C++ allows, stays a variable.
+  auto v = ok(std::string(kMinimal) + "int f() { int produce = 2; return produce * 3; }\n");
+  EXPECT_HAS(squash(v.cpp), "intf(){intproduce=2;returnproduce*3;}");
+}
+
+// lpfg also takes one produce statement without braces as the body: `A(t) : produce A(t+dt);`.
+TEST(RewriterRules, BodyWithoutBraces) {
+  auto r = ok("module A(float);\nderivation length: 1;\naxiom: A(1);\nA(t) : produce A(t + 1);\n"
+              "interpretation:\nA(t) : produce F(t);\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "{{__lc_emit_A(__lc_ctx,t+1);__lc_ctx->produced=1;return;}}}");
+  EXPECT_HAS(s, "{{__lc_emit_F(__lc_ctx,t);__lc_ctx->produced=1;return;}}}");
+}
+
 TEST(RewriterRules, ProduceWithParenthesisedGroupsAndBrackets) {
   auto r = ok("module A(float);\nderivation length: 1;\naxiom: A(1);\nA(x): { produce (A(x) SB() (F(x))) EB(); }\n");
   EXPECT_HAS(squash(r.cpp), "{__lc_emit_A(__lc_ctx,x);__lc_emit_SB(__lc_ctx);__lc_emit_F(__lc_ctx,x);__lc_emit_EB(__lc_ctx);"
@@ -517,8 +544,8 @@ TEST(RewriterErrors, Bodies) {
   EXPECT_EQ(err(std::string(kMinimal) + "A(x) { produce A(x); }\n"), "m.l:4:6: error: expected ':' after the predecessor of a production");
   EXPECT_EQ(err(std::string(kMinimal) + "decomposition:\nA(x) ;\n"),
             "m.l:5:6: error: expected ':' after the predecessor of a decomposition rule");
-  EXPECT_EQ(err(std::string(kMinimal) + "interpretation:\nA(x): produce F(x);\n"),
-            "m.l:5:7: error: expected '{' to start the body of an interpretation rule");
+  EXPECT_EQ(err(std::string(kMinimal) + "interpretation:\nA(x): F(x);\n"),
+            "m.l:5:7: error: expected '{' or 'produce' to start the body of an interpretation rule");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) }\n"), "m.l:4:22: error: expected a module name in the module list, found '}'");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x ; }\n"), "m.l:4:21: error: expected ')' to close the parameters of module 'A'");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) + 1; }\n"),
@@ -528,8 +555,6 @@ TEST(RewriterErrors, Bodies) {
 TEST(RewriterErrors, ProduceAndPropensityPlacement) {
   EXPECT_EQ(err(std::string(kMinimal) + "Start: {\n  produce A(1);\n}\n"),
             "m.l:5:3: error: 'produce' can only be used in a production or rule body");
-  EXPECT_EQ(err(std::string(kMinimal) + "End: { nproduce A(1); }\n"),
-            "m.l:4:8: error: 'nproduce' can only be used in a production or rule body");
   EXPECT_EQ(err(std::string(kMinimal) + "group 1:\nA(x): { propensity 1.0 produce A(x); }\n"),
             "m.l:5:9: error: 'propensity' can only be used in a ggroup (Gillespie group) production");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { propensity 1.0 produce A(x); }\n"),

@@ -73,6 +73,9 @@ enum __lc_ContextSide { __lc_InLeft = 0, __lc_InRight = 1, __lc_InNewLeft = 2, _
 extern "C" {
 void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra);
 int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
+// The context of the rule running on this thread, for produce/nproduce in functions it calls;
+// outside every rule a context whose successor is thrown away.
+__lc_Ctx* lcjit_current_ctx();
 void lcjit_use_group(int g);
 int lcjit_current_group();
 void lcjit_forward();
