@@ -178,7 +178,7 @@ bool parseLineMarker(llvm::StringRef line, unsigned& number, std::string& file) 
 // -E prints N spaces for a first token in column N+1 (a tab counts as one column): put the
 // original whitespace back when its length matches; kept system includes lose the comment -E
 // adds to them.
-std::string postProcess(const std::string& printed, const RecordingFS& fs) {
+std::string postProcess(const std::string& printed, const RecordingFS& fs, bool plainMarkers) {
   std::string out;
   out.reserve(printed.size() + 64);
   std::string curFile;
@@ -214,7 +214,8 @@ std::string postProcess(const std::string& printed, const RecordingFS& fs) {
     if (parseLineMarker(line, n, f)) {
       curFile = std::move(f);
       curLine = n;
-      out += line;
+      // Without its flags (1 enter, 2 return, 3 system) a marker only sets the line and file.
+      out += plainMarkers ? line.substr(0, line.rfind('"') + 1) : line;
     } else {
       llvm::StringRef l = line;
       static constexpr llvm::StringLiteral kKeptComment = " /* clang -E -fkeep-system-includes */";
@@ -274,6 +275,12 @@ std::shared_ptr<clang::CompilerInvocation> makeInvocation(const std::vector<std:
       cc1ByArgs.clear();
     cc1ByArgs[args] = cc1;
   }
+  // The driver adds CPLUS_INCLUDE_PATH as system directories, whose headers would stay #include
+  // lines; g++ -E expands them, and research models keep L+C (nproduce ...) in headers found
+  // there: make them the model's own directories.
+  for (auto& a : cc1)
+    if (a == "-cxx-isystem")
+      a = "-I";
   std::vector<const char*> argv;
   for (const auto& a : cc1)
     argv.push_back(a.c_str());
@@ -454,7 +461,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   auto run = runPreprocessor(args, options.mainText, /*macros=*/false);
   if (!run)
     return run.takeError();
-  return postProcess(run->printed, *run->fs);
+  return postProcess(run->printed, *run->fs, options.plainMarkers);
 }
 
 } // namespace lcjit::frontend

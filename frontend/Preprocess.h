@@ -23,6 +23,9 @@ struct PreprocessOptions {
   std::string cacheDir;
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
+  // Line markers without their include flags: the output is C++ that clang compiles as it is
+  // (a model's own .cpp), rather than input to the rewriter.
+  bool plainMarkers = false;
   // When set, the text of the main file instead of what is on disk (the file need not exist;
   // its directory is still where quoted includes are looked up first): C++ typed at the REPL.
   std::optional<std::string> mainText;

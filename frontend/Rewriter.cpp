@@ -157,6 +157,13 @@ class Rewriter {
   Rewriter(Lexed l) : lx_(std::move(l)), out_(lx_), modules_(predefinedModules()) {}
 
   Rewritten run() {
+    // lpfg's translator starts at lpfgall.h (its `#pragma L2C start`): what a model includes
+    // before it is plain C++, whatever names it uses. Without lpfgall.h, all of it is L+C.
+    for (size_t i = 0; i < lx_.tokens.size(); ++i)
+      if (lx_.tokens[i].kind == Token::Directive && includesLpfgall(lx_.tokens[i].text)) {
+        lsystemFrom_ = i + 1;
+        break;
+      }
     while (!at(Token::End)) topLevelItem();
     if (!haveAxiom_) throw RewriteError{cur(), "the model has no 'axiom:' statement"};
     if (!haveDerivationLength_) throw RewriteError{cur(), "the model has no 'derivation length:' statement"};
@@ -211,13 +218,13 @@ class Rewriter {
       atStatementStart_ = true;
       return;
     }
-    if (atStatementStart_ && t.kind == Token::Identifier && lsystemStatement()) {
+    if (atStatementStart_ && t.kind == Token::Identifier && pos_ >= lsystemFrom_ && lsystemStatement()) {
       atStatementStart_ = true;
       return;
     }
     // produce/nproduce inside C++ functions (lpfg's translator takes them anywhere): they write
     // to the successor of the rule running, which the function was called from.
-    if (depth_ > 0 && produceStatement(Where::Function)) return;
+    if (depth_ > 0 && pos_ >= lsystemFrom_ && produceStatement(Where::Function)) return;
     // C++ passes through; statement boundaries are only recognised at namespace scope.
     out_.token(t);
     next();
@@ -758,8 +765,17 @@ class Rewriter {
     out_.generated(s);
   }
 
+  static bool includesLpfgall(const std::string& directive) {
+    size_t i = directive.find_first_not_of(" \t", 1);
+    if (i == std::string::npos || directive.compare(i, 7, "include") != 0) return false;
+    i = directive.find_first_not_of(" \t", i + 7);
+    return i != std::string::npos &&
+           (directive.compare(i, 11, "<lpfgall.h>") == 0 || directive.compare(i, 11, "\"lpfgall.h\"") == 0);
+  }
+
   Lexed lx_;
   size_t pos_ = 0;
+  size_t lsystemFrom_ = 0;  // the first token of L+C: the one after lpfgall.h's #include
   Emitter out_;
   std::unordered_map<std::string, ModuleEntry> modules_;
   std::vector<ModuleDecl> userModules_;

@@ -1360,14 +1360,17 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     std::lock_guard<std::mutex> lock(L.mutex);
     if (auto err = impl_->setupLevel(L, level))
       return std::move(err);
-    impl_->ensurePch(L, level, false, st);
     used.base = L.base;
-    used.pchPath = L.pchPath;
-    used.pchFallback = L.pchFallback;
-    if (pchCodegen(level) && !used.pchFallback)
-      impl_->startSupport(used, used.pchPath);
+    if (!options.plainUnit) {
+      impl_->ensurePch(L, level, false, st);
+      used.pchPath = L.pchPath;
+      used.pchFallback = L.pchFallback;
+      if (pchCodegen(level) && !used.pchFallback)
+        impl_->startSupport(used, used.pchPath);
+    }
     llvm::SHA256 h;
-    for (llvm::StringRef part : {llvm::StringRef(L.pchPath), llvm::StringRef(L.pchFallback ? "text" : "pch"),
+    for (llvm::StringRef part : {llvm::StringRef(used.pchPath),
+                                 llvm::StringRef(options.plainUnit ? "plain" : used.pchFallback ? "text" : "pch"),
                                  llvm::StringRef(bufferName), cppSource}) {
       h.update(part);
       h.update(llvm::StringRef("\0", 1));
@@ -1400,7 +1403,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     // compiles on several threads may overlap.
     std::unique_ptr<llvm::LLVMContext> ctx;
     std::unique_ptr<llvm::Module> module;
-    bool quickTier = level < 2;
+    bool quickTier = level < 2 && !options.plainUnit;
     for (int attempt = 0;; ++attempt) {
       if (attempt > 0) {
         std::lock_guard<std::mutex> lock(L.mutex);
@@ -1408,7 +1411,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       }
       auto t0 = Clock::now();
       // Snapshot the PCH decision; another thread may rebuild concurrently.
-      {
+      if (!options.plainUnit) {
         std::lock_guard<std::mutex> lock(L.mutex);
         used.base = L.base;
         used.pchPath = L.pchPath;
@@ -1432,7 +1435,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         backendErrors = std::move(fr.backendErrors);
         break;
       }
-      if (fr.pchProblem && attempt == 0 && !used.pchFallback) {
+      if (fr.pchProblem && attempt == 0 && !used.pchFallback && !options.plainUnit) {
         // Stale (header edited, mtime changed) or corrupt PCH: rebuild it and try once more.
         continue;
       }
@@ -1486,7 +1489,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   // Load into a fresh JITDylib.
   auto t3 = Clock::now();
   orc::JITDylib* support = nullptr;
-  if (pchCodegen(level) && !used.pchFallback) {
+  if (pchCodegen(level) && !used.pchFallback && !options.plainUnit) {
     auto jd = impl_->supportDylib(used, used.pchPath);
     if (!jd) {
       finish();

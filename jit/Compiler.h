@@ -54,6 +54,11 @@ struct CompileOptions {
   // that crashes fails the compile (or is reported) instead of ending the process. Empty:
   // called directly.
   std::function<llvm::Error(const std::function<llvm::Error()>& run)> runModelCode;
+  // A C++ translation unit of the model's own (an extra .cpp on the command line), compiled as
+  // g++ compiles it for lpfg: without the runtime header (no PCH, nothing included implicitly),
+  // so its names cannot clash with lpfgall.h's. Slower to parse than model code; the object
+  // cache keeps it. Models reach its functions through linkAgainst.
+  bool plainUnit = false;
   // At a quick level (0, 1): once this compile is over, set up the next compile's front end on
   // another thread (the PCH loaded, the builtins registered: a third of a small compile), for
   // the next edit of the same unit (same bufferName) to find ready. For live editing; the

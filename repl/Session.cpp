@@ -140,9 +140,11 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
       f.contours.push_back(p);
     } else if (ext == ".a" || ext == ".e" || ext == ".s") {
       f.other.push_back(p);
+    } else if (ext == ".cpp" || ext == ".cc" || ext == ".cxx" || ext == ".C") {
+      f.sources.push_back(p);
     } else {
       return error(p + ": error: unknown input file type '" + ext +
-                   "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset or .vset)");
+                   "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset, .vset or C++ sources .cpp .cc .cxx)");
     }
   }
   if (f.lsystem.empty()) return error("error: no L-system file (.l) given");
@@ -288,6 +290,23 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   frontend::PreprocessOptions pp;
   pp.runtimeIncludeDir = runtimeIncludeDir();
   pp.cacheDir = compiler_->cacheDir();
+  pp.includeDirs = files.includeDirs;
+  // The model's own C++ units first: the model links against them. Preprocessed as the model is
+  // (their quoted headers become part of the text the object cache keys on), without its macros.
+  for (const std::string& source : files.sources) {
+    frontend::PreprocessOptions spp = pp;
+    spp.plainMarkers = true;
+    auto text = frontend::preprocess(source, spp);
+    if (!text) return text.takeError();
+    jit::CompileOptions so;
+    so.optLevel = optLevel;
+    so.plainUnit = true;
+    so.bufferName = source;
+    so.runModelCode = guardedStatics(source);
+    auto unit = compiler_->compile(*text, so);
+    if (!unit) return unit.takeError();
+    p.sourceCode.push_back(std::move(*unit));
+  }
   for (int id = 1; id <= functions->size(); ++id) {
     std::string name(functions->nameOf(id));
     if (!name.empty()) pp.defines.push_back({name, std::to_string(id)});
@@ -323,6 +342,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   co.bufferName = files.lsystem + ".cpp";
   co.runModelCode = guardedStatics(files.lsystem);
   co.beginNextAhead = editedLive_;
+  for (const auto& c : p.sourceCode) co.linkAgainst.push_back(c.get());
   jit::CompileStats stats;
   splitRules(*cpp, p.rules, p.rest);
   llvm::Expected<std::unique_ptr<jit::ModelCode>> code = nullptr;
@@ -333,7 +353,9 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
       uo.shareStateWith = {stateOwners_[0].get()};
       p.ruleCode = ruleCode_;
     }
+    uo.linkAgainst.clear();
     for (const auto& c : p.ruleCode) uo.linkAgainst.push_back(c.get());
+    for (const auto& c : p.sourceCode) uo.linkAgainst.push_back(c.get());
     code = compiler_->compile(*unit, uo, &stats);
     if (code) {
       p.incremental = true;
@@ -391,6 +413,7 @@ llvm::Error Session::install(PreparedModel p) {
     }
     preprocess_ = std::move(p.preprocess);
     lsystem_ = std::move(p.lsystem);
+    sourceCode_ = std::move(p.sourceCode);
     replDeclarations_.clear();  // a reload replaces them
   }
   if (p.what.lsystem || p.what.parameters) {
@@ -487,14 +510,15 @@ std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& c
 }
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
-  return [compiler = compiler_.get(), owners = stateOwners_, cpp = runningCpp_, name = bufferName_, generation = generation_,
-          optLevel, statics = guardedStatics(lsystem_)]() -> BetterTier {
+  return [compiler = compiler_.get(), owners = stateOwners_, sources = sourceCode_, cpp = runningCpp_, name = bufferName_,
+          generation = generation_, optLevel, statics = guardedStatics(lsystem_)]() -> BetterTier {
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
     co.bufferName = name;
     co.runModelCode = statics;
     for (const auto& owner : owners) co.shareStateWith.push_back(owner.get());  // alive until the job ends
+    for (const auto& source : sources) co.linkAgainst.push_back(source.get());
     jit::CompileStats stats;
     auto code = compiler->compile(cpp, co, &stats);
     BetterTier t;
@@ -581,6 +605,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     co.bufferName = "<repl>";
     co.runModelCode = guardedStatics("<repl>");
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
+    for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);
     if (!code) {
       errors.push_back(llvm::toString(code.takeError()));

@@ -60,6 +60,11 @@ struct ModelFiles {
   std::string colormap, materials;   // .map / .mat: the last one given wins
   std::vector<std::string> contours;  // .con and .cset, in command-line order
   std::vector<std::string> other;     // animation (.a), environment (.e): not used in batch mode
+  // The model's own C++ translation units (.cpp .cc .cxx), compiled beside it and linked with it,
+  // as a research model's lpfg.mak builds them into lsys.so.
+  std::vector<std::string> sources;
+  // -I: searched for the model's headers (and its sources'), before lcjit's own.
+  std::vector<std::string> includeDirs;
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
@@ -115,6 +120,7 @@ struct PreparedModel {
   bool incremental = false;
   int changedRules = 0;
   std::vector<std::shared_ptr<jit::ModelCode>> ruleCode;  // where the unchanged ones are, newest first
+  std::vector<std::shared_ptr<jit::ModelCode>> sourceCode;  // ModelFiles::sources, compiled
   PreparedModel();
   PreparedModel(PreparedModel&&);
   PreparedModel& operator=(PreparedModel&&);
@@ -207,6 +213,8 @@ class Session {
   std::vector<std::string> runningRules_;
   std::string runningRest_;
   std::vector<std::shared_ptr<jit::ModelCode>> ruleCode_;
+  // The model's extra translation units: every compile of the model links against them.
+  std::vector<std::shared_ptr<jit::ModelCode>> sourceCode_;
   std::vector<std::string> warnings_;
   runtime::EngineLimits limits_;
 };

@@ -89,7 +89,10 @@ int main(int argc, char** argv) {
                  "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
                  "none; Ctrl-C interrupts)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("files", inputs, "input files: [view.v anim.a color.map ...] model.l");
+  std::vector<std::string> includeDirs;
+  app.add_option("-I", includeDirs, "a folder searched for the model's headers (and its C++ sources'), as g++'s -I")
+      ->allow_extra_args(false);
+  app.add_option("files", inputs, "input files: [view.v anim.a color.map ... helper.cpp] model.l");
 
   // A subcommand, so that lpfg's own command line stays as it is without it.
   CLI::App* repl = app.add_subcommand("repl", "a prompt for commands and C++ run in the loaded model (docs/repl.md)");
@@ -122,6 +125,7 @@ int main(int argc, char** argv) {
     if (!bo.quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
   }
 
+  for (auto& dir : includeDirs) dir = std::filesystem::absolute(dir).lexically_normal().string();
   std::string cacheDir;
   if (lab) {
     // Everything the session writes goes to the model's folder: work there, cache there.
@@ -153,6 +157,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
     return 1;
   }
+  files->includeDirs = includeDirs;
   auto session = lcjit::Session::create(cacheDir);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
