@@ -261,8 +261,8 @@ void Turtle::executeModule(char* rec) {
       break;
     }
     case __lc_id_SetWidth: {
-      float w = param<float>(rec, p0<__lc_R_SetWidth>());
-      if (w > 0) t.width = t.widthUp = w;
+      // Any value, as lpfg (zero and negative widths too: a function dipping below zero).
+      t.width = t.widthUp = param<float>(rec, p0<__lc_R_SetWidth>());
       break;
     }
     case __lc_id_ScaleContour:
@@ -407,10 +407,18 @@ void Turtle::executeModule(char* rec) {
       t.contourSides = n > 9999 ? 10000 : n;
       break;
     }
-    case __lc_id_CurrentTexture:
-      t.texture = i0();
+    case __lc_id_CurrentTexture: {
+      int id = i0();
+      int known = setup_.view ? (int)setup_.view->textures.size() : 0;
+      if (id != -1 && (id < 0 || id >= known)) {  // lpfg: a message, the module ignored ...
+        t.textureSet = false;  // ... and the surfaces' own textures again
+        break;
+      }
+      t.texture = id;
+      t.textureSet = true;
       t.textureV = 0;
       break;
+    }
     case __lc_id_TextureVCoeff: {
       float v = param<float>(rec, p0<__lc_R_TextureVCoeff>());
       if (v >= 0) t.textureVCoeff = v;

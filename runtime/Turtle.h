@@ -53,6 +53,9 @@ struct TurtleState {
   float blend = 0;
   int contourSides = 0;  // ContourSides module; 0: the view file's `contour sides`
   int texture = -1;
+  // CurrentTexture was given (lpfg's "texture on"): surfaces then take `texture` (none if -1)
+  // instead of the view file's.
+  bool textureSet = false;
   float textureV = 0, textureVCoeff = 1;
   int uPrecision = 0, vPrecision = 0;  // 0: the surface's own
 

@@ -413,7 +413,7 @@ void Turtle::drawSurface(int id, V3f scale) {
   int u = state_.uPrecision ? state_.uPrecision : s.sdiv ? s.sdiv : kDefaultSurfaceDivisions;
   int v = state_.vPrecision ? state_.vPrecision : s.tdiv ? s.tdiv : kDefaultSurfaceDivisions;
   for (size_t k = 0; k < s.surface.patches.size(); ++k) {
-    addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, s.texture);
+    addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, state_.textureSet ? state_.texture : s.texture);
     for (const V3f& p : s.surface.patches[k].points) extend(inFrame(p, scale * s.scale));
   }
 }
@@ -426,7 +426,8 @@ void Turtle::drawMesh(int id, V3f scale) {
   grid.normals = m.data.normals;
   grid.uvs = m.data.uvs;
   grid.indices = m.data.indices;
-  addGrid(grid, false, scale, m.texture);
+  // A textured mesh takes the current texture instead of its own, as in lpfg.
+  addGrid(grid, false, scale, m.texture >= 0 && state_.texture >= 0 ? state_.texture : m.texture);
   const V3f lo = m.data.boundsMin, hi = m.data.boundsMax;
   for (int c = 0; c < 8; ++c) extend(inFrame(V3f(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z), scale));
 }

@@ -161,7 +161,8 @@ TEST(TurtleGeometry, CylinderLinesAreFrustumsOfTheContour) {
 
 TEST(TurtleGeometry, GeneralizedCylinderSharesRingsAndMapsTexture) {
   Geometry g = draw("gc", "SetWidth(2) CurrentTexture(0) TextureVCoeff(0.25) StartGC F(1) F(2) EndGC F(1)",
-                    "line style: cylinder\ncontour sides: 4\n");
+                    "line style: cylinder\ncontour sides: 4\ntexture: " + std::string(LCJIT_TEST_DATA) +
+                        "/images/checker.rgb\n");
   // Two GC frustums and one plain F: 3 × 10 vertices.
   ASSERT_EQ(g.vertices.size(), 30u);
   // The second frustum starts where the first ended.
@@ -174,6 +175,31 @@ TEST(TurtleGeometry, GeneralizedCylinderSharesRingsAndMapsTexture) {
   EXPECT_NEAR(g.vertices[2].uv.x, 0.25, 1e-6);
   ASSERT_FALSE(g.runs.empty());
   EXPECT_EQ(g.runs[0].texture, 0);
+}
+
+// lpfg: CurrentTexture(id) makes surfaces take that texture instead of the view file's
+// (CurrentTexture(-1): none); an id the view file has not given is ignored, and the surfaces
+// have their own textures again.
+TEST(TurtleGeometry, CurrentTextureAppliesToSurfaces) {
+  std::string data = LCJIT_TEST_DATA;
+  std::string texture = "texture: " + data + "/images/checker.rgb\n";
+  std::string view = texture + texture + "surface: " + data + "/surfaces/flat.s 1 2 2 0\n";
+  Geometry g = draw("texsurf", "Surface(0, 1) CurrentTexture(1) Surface(0, 1) CurrentTexture(-1) Surface(0, 1) "
+                               "CurrentTexture(7) Surface(0, 1)",
+                    view);
+  std::vector<int> textures;
+  for (const auto& r : g.runs) textures.push_back(r.texture);
+  EXPECT_EQ(textures, (std::vector<int>{0, 1, -1, 0}));
+}
+
+// Widths are what SetWidth says, zero and negative ones included (lpfg's; a function dipping
+// below zero makes a flower vanish there), not the previous width.
+TEST(TurtleGeometry, SetWidthTakesAnyValue) {
+  // Sphere0's radius is half the width: 0 and -0.05 draw nothing (the old width, 1, would).
+  Geometry g = draw("negwidth", "SetWidth(1) SetWidth(0) Sphere0 SetWidth(-0.1) Sphere0", "contour sides: 4\n");
+  EXPECT_TRUE(g.vertices.empty());
+  Geometry h = draw("poswidth", "SetWidth(1) SetWidth(0.5) Sphere0", "contour sides: 4\n");
+  EXPECT_FALSE(h.vertices.empty());
 }
 
 TEST(TurtleGeometry, CirclesAndSpheres) {
