@@ -9,6 +9,7 @@
 #include "Drawing.h"
 #include "Engine.h"
 #include "Headless.h"
+#include "WindowInput.h"
 #include "export/Export.h"
 
 namespace lcjit {
@@ -52,6 +53,25 @@ const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
 
 bool isFrameOutput(const std::string& path) { return isImage(path) || runtime::isExportFormat(path); }
 
+llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
+  std::vector<viewer::ViewPane> panes;
+  const auto& windows = view.windows;
+  for (int id : engine.views()) {
+    if (id < 0 || id >= (int)windows.size()) continue;
+    viewer::ViewPane pane;
+    if (auto e = engine.interpret(pane.geometry, id)) return std::move(e);
+    runtime::Bounds b = pane.geometry.framingBounds();
+    if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
+    const auto& w = windows[id];
+    pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
+    pane.rect.width = std::clamp(w.width, 0.f, 1 - pane.rect.left);  // lpfg reads a width; keep it inside
+    pane.rect.height = std::clamp(w.height, 0.f, 1 - pane.rect.top);
+    pane.viewId = id;
+    panes.push_back(std::move(pane));
+  }
+  return panes;
+}
+
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
 FrameWriter::~FrameWriter() = default;
 
@@ -76,7 +96,10 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
     options.width = width_;
     options.height = height_;
     const RenderLook& look = look_.of(drawing);
-    auto image = renderer_->render(geometry, drawing.view, look.palette, look.textures, options);
+    auto panes = interpretViews(engine, drawing.view);
+    if (!panes) return panes.takeError();
+    auto image = panes->empty() ? renderer_->render(geometry, drawing.view, look.palette, look.textures, options)
+                                : renderer_->renderPanes(*panes, drawing.view, look.palette, look.textures, options);
     if (!image) return image.takeError();
     if (auto e = viewer::writeImage(*image, path)) return e;
   } else {

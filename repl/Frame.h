@@ -22,6 +22,11 @@ namespace lcjit {
 
 bool isFrameOutput(const std::string& path);
 
+// Multi-view (manual §7.3): every view the model opened with UseView that the view file has a
+// `window:` for, interpreted by its view group, in that window's rectangle (kept inside the
+// picture). Empty for a model with one view. Also records each view's bounding box (vvXmin ...).
+llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view);
+
 // The model's colours and textures as the renderer takes them (textures rows top first),
 // converted once per loaded DrawingFiles rather than for every picture: a reload replaces the
 // DrawingFiles object, which is what `of` notices.

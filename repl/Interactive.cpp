@@ -404,27 +404,14 @@ class InteractiveModel {
       }
       // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
       // its `window:` rectangle.
-      const auto& windows = session_.drawing().view.windows;
-      auto box = [](int id, const runtime::Geometry& g) {
-        runtime::Bounds b = g.framingBounds();
-        if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
-      };
-      box(0, scene.main);
-      for (int id : session_.engine().views()) {
-        if (id < 0 || id >= (int)windows.size()) continue;
-        viewer::ViewPane pane;
-        if (auto e = session_.engine().interpret(pane.geometry, id)) {
-          scene.error = llvm::toString(std::move(e));
-          return scene;
-        }
-        box(id, pane.geometry);
-        const auto& w = windows[id];
-        pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
-        pane.rect.width = std::clamp(w.width, 0.f, 1 - pane.rect.left);  // lpfg reads a width; keep it inside
-        pane.rect.height = std::clamp(w.height, 0.f, 1 - pane.rect.top);
-        pane.viewId = id;
-        scene.panes.push_back(std::move(pane));
+      runtime::Bounds b = scene.main.framingBounds();
+      if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
+      auto panes = interpretViews(session_.engine(), session_.drawing().view);
+      if (!panes) {
+        scene.error = llvm::toString(panes.takeError());
+        return scene;
       }
+      scene.panes = std::move(*panes);
       return scene;
     });
   }

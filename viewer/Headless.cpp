@@ -72,6 +72,31 @@ struct HeadlessRenderer::Impl {
 
   bool makeCurrent() { return eglMakeCurrent(dpy, surface, surface, ctx); }
 
+  // The framebuffer's w×h pixels, rows top first.
+  llvm::Expected<Image> readImage(int w, int h) {
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.rgba.resize(size_t(w) * h * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    // GL's rows go bottom to top.
+    const size_t row = size_t(w) * 4;
+    std::vector<uint8_t> tmp(row);
+    for (int y = 0; y < h / 2; ++y) {
+      uint8_t* a = &img.rgba[row * y];
+      uint8_t* b = &img.rgba[row * (h - 1 - y)];
+      std::memcpy(tmp.data(), a, row);
+      std::memcpy(a, b, row);
+      std::memcpy(b, tmp.data(), row);
+    }
+    if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
+    return img;
+  }
+
   llvm::Error ensureFramebuffer(int w, int h) {
     if (fbo && w == width && h == height) {
       glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -176,27 +201,34 @@ llvm::Expected<Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings&
   Renderer& r = *impl_->renderer;
   r.draw(view, camera, options);
   if (!r.lastError().empty()) return error("rendering: " + r.lastError());
-  Image img;
-  img.width = camera.width;
-  img.height = camera.height;
-  img.rgba.resize(size_t(img.width) * img.height * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  // GL's rows go bottom to top.
-  const size_t row = size_t(img.width) * 4;
-  std::vector<uint8_t> tmp(row);
-  for (int y = 0; y < img.height / 2; ++y) {
-    uint8_t* a = &img.rgba[row * y];
-    uint8_t* b = &img.rgba[row * (img.height - 1 - y)];
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
+  return impl_->readImage(camera.width, camera.height);
+}
+
+llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
+                                                   const RenderPalette& palette,
+                                                   const std::vector<TextureImage>& textures,
+                                                   const HeadlessOptions& options) {
+  if (!impl_->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
+  if (llvm::Error e = impl_->ensureFramebuffer(options.width, options.height)) return e;
+  glViewport(0, 0, options.width, options.height);
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(view.windowBorderColor.r, view.windowBorderColor.g, view.windowBorderColor.b, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  Renderer& r = *impl_->renderer;
+  r.setPalette(palette);
+  r.setTextures(textures);
+  for (const ViewPane& pane : panes) {
+    std::array<int, 4> rect = paneRect(pane.rect, options.width, options.height, view.windowBorderSize);
+    r.setGeometry(pane.geometry);
+    runtime::CameraMatrices cam = runtime::frameView(view, pane.geometry.framingBounds(), pane.geometry.camera, rect[2],
+                                                     rect[3], pane.viewId, options.adjust);
+    RenderOptions o = options.render;
+    o.viewportX = rect[0];
+    o.viewportY = options.height - rect[1] - rect[3];  // GL counts from the bottom
+    r.draw(view, cam, o);
+    if (!r.lastError().empty()) return error("rendering: " + r.lastError());
   }
-  if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
-  return img;
+  return impl_->readImage(options.width, options.height);
 }
 
 llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,

@@ -43,6 +43,12 @@ class HeadlessRenderer {
   llvm::Expected<Image> render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
                                const RenderPalette& palette, const std::vector<TextureImage>& textures,
                                const HeadlessOptions& options = {});
+  // Several views in one picture (a multi-view model, §7.3): each view framed in its rectangle
+  // (paneRect), the view file's window border colour between them. options.width/height are
+  // the whole picture's.
+  llvm::Expected<Image> renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
+                                    const RenderPalette& palette, const std::vector<TextureImage>& textures,
+                                    const HeadlessOptions& options = {});
   // Renders what was uploaded through renderer() with a given camera (animations, tests).
   llvm::Expected<Image> renderFrame(const runtime::ViewSettings& view, const runtime::CameraMatrices& camera,
                                     const RenderOptions& options = {});

@@ -1383,4 +1383,16 @@ void Renderer::draw(const ViewSettings& view, const CameraMatrices& camera, cons
   impl_->draw(view, camera, options);
 }
 
+std::array<int, 4> paneRect(const ViewPane::Rect& r, int w, int h, int border) {
+  // Each rectangle shrinks by half the border on every side that meets another view.
+  const float half = float(border) / 2;
+  float x0 = r.left * w, x1 = (r.left + r.width) * w, y0 = r.top * h, y1 = (r.top + r.height) * h;
+  if (r.left > 0) x0 += half;
+  if (r.left + r.width < 1) x1 -= half;
+  if (r.top > 0) y0 += half;
+  if (r.top + r.height < 1) y1 -= half;
+  return {int(std::lround(x0)), int(std::lround(y0)), std::max(1, int(std::lround(x1 - x0))),
+          std::max(1, int(std::lround(y1 - y0)))};
+}
+
 }  // namespace lcjit::viewer

@@ -123,4 +123,18 @@ class Renderer {
   RenderStats stats_;
 };
 
+// One view of a multi-view model (manual §7.3): what its view group draws, in its `window:`
+// rectangle (fractions of the picture, from the top left).
+struct ViewPane {
+  runtime::Geometry geometry;
+  struct Rect {
+    float left = 0, top = 0, width = 1, height = 1;
+  } rect;
+  int viewId = 0;
+};
+
+// A view's rectangle in pixels of a w×h picture: {x0, top y0, width, height}. As lpfg's window
+// lays its views out, the view file's `window border:` width separates views that meet.
+std::array<int, 4> paneRect(const ViewPane::Rect& r, int w, int h, int border);
+
 }  // namespace lcjit::viewer

@@ -365,19 +365,10 @@ struct Window::Impl {
     }
   }
 
-  // Pane i's rectangle in framebuffer pixels (x0, top y0, width, height): its `window:` rect
-  // shrunk by half the border on every side that meets another pane.
+  // Pane i's rectangle in framebuffer pixels (x0, top y0, width, height).
   std::array<int, 4> paneRect(size_t i) const {
     auto [w, h] = fbSize();
-    const auto& r = panes[i].rect;
-    const float half = float(view.windowBorderSize) / 2;
-    float x0 = r.left * w, x1 = (r.left + r.width) * w, y0 = r.top * h, y1 = (r.top + r.height) * h;
-    if (r.left > 0) x0 += half;
-    if (r.left + r.width < 1) x1 -= half;
-    if (r.top > 0) y0 += half;
-    if (r.top + r.height < 1) y1 -= half;
-    return {int(std::lround(x0)), int(std::lround(y0)), std::max(1, int(std::lround(x1 - x0))),
-            std::max(1, int(std::lround(y1 - y0)))};
+    return viewer::paneRect(panes[i].rect, w, h, view.windowBorderSize);
   }
   runtime::CameraMatrices paneCamera(size_t i, const runtime::ViewAdjustment& a) const {
     auto r = paneRect(i);

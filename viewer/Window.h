@@ -73,16 +73,6 @@ struct MenuActions {
   std::function<void()> interrupt;
 };
 
-// One view of a multi-view window (manual §7.3): what its view group drew, where it goes (the
-// view file's `window:` rectangle, relative, top-left origin) and its `view:`/`box:` id.
-struct ViewPane {
-  runtime::Geometry geometry;
-  struct Rect {
-    float left = 0, top = 0, width = 1, height = 1;
-  } rect;
-  int viewId = 0;
-};
-
 // Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
 // GLFW_MOD_SHIFT…): the inject* functions are what the GLFW callbacks call.
 class Window {

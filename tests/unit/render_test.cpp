@@ -209,6 +209,39 @@ TEST(Render, TriangleCentreAndBackground) {
   EXPECT_EQ(rgb(d, 2, 2), (std::array<uint8_t, 3>{0, 0, 0}));
 }
 
+// A multi-view picture (lpfg's window: lines): every view framed in its rectangle, the window
+// border's colour (and width) between views that meet, as lpfg's window lays them out.
+TEST(Render, ViewsInTheirRectanglesWithBorders) {
+  ViewSettings v;
+  v.windowBorderSize = 10;
+  v.windowBorderColor = {0, 1, 0};
+  std::vector<ViewPane> panes(2);
+  panes[0].geometry = centredTriangle(1);
+  panes[0].rect = {0, 0, 1, 0.5f};  // the top half
+  panes[1].geometry = centredTriangle(3);
+  panes[1].rect = {0, 0.5f, 1, 0.5f};
+  panes[1].viewId = 1;
+  HeadlessOptions o;
+  o.width = 200;
+  o.height = 200;
+  auto im = context().renderPanes(panes, v, colors(), {}, o);
+  ASSERT_TRUE(bool(im)) << llvm::toString(im.takeError());
+  EXPECT_EQ(im->width, 200);
+  EXPECT_EQ(im->height, 200);
+  // Each view is 200 x 95 (half the 200 rows less half the border), its triangle in its middle.
+  EXPECT_EQ(rgb(*im, 100, 50), kRed);
+  EXPECT_EQ(rgb(*im, 100, 152), (std::array<uint8_t, 3>{255, 255, 255}));
+  EXPECT_EQ(rgb(*im, 2, 2), kBg);
+  EXPECT_EQ(rgb(*im, 2, 197), kBg);
+  // The border: rows 95..104.
+  EXPECT_EQ(rgb(*im, 100, 96), kGreen);
+  EXPECT_EQ(rgb(*im, 2, 103), kGreen);
+  EXPECT_EQ(rgb(*im, 2, 93), kBg);
+  EXPECT_EQ(rgb(*im, 2, 106), kBg);
+  std::array<int, 4> r = paneRect(panes[1].rect, 200, 200, 10);
+  EXPECT_EQ(r, (std::array<int, 4>{0, 105, 200, 95}));
+}
+
 TEST(Render, NonSquareImage) {
   Image im = render(centredTriangle(), ViewSettings{}, colors(), 300, 150);
   EXPECT_EQ(im.width, 300);
