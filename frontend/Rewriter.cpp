@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "Lexer.h"
+#include "lcjit/abi.h"
 
 namespace lcjit::frontend {
 namespace {
@@ -318,8 +319,12 @@ class Rewriter {
       groupKind_ = 0;
       return true;
     }
-    if (w == "VerifyString" && peek().is(":")) {  // deprecated (manual §10.4): accepted, not checked
-      while (!at(Token::End) && !atText(";")) next();
+    if (w == "VerifyString" && peek().is(":")) {  // manual §10.4: checked after a batch run
+      next(), next();
+      while (!atText(";")) {
+        if (at(Token::End)) fail(cur(), "expected ';' after the module list");
+        verify_.push_back(requireModule(next()).id);
+      }
       next();
       return true;
     }
@@ -753,14 +758,18 @@ class Rewriter {
     s += "};\n";
     auto fnOrNull = [&](bool have, const char* name) { return have ? std::string(name) : std::string("nullptr"); };
     std::string main = lx_.files.empty() ? "" : lx_.files[0];
-    s += "static const __lc_Model __lc_the_model = {" + std::to_string(2) + ", " + std::to_string(userModules_.size()) +
+    s += "static const __lc_ModuleId __lc_verify[] = {";
+    for (int id : verify_) s += std::to_string(id) + ",";
+    if (verify_.empty()) s += "0";
+    s += "};\n";
+    s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(userModules_.size()) +
          ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
          ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
          fnOrNull(haveDecompDepth_, "__lc_decomposition_depth") + ", " + fnOrNull(haveInterpDepth_, "__lc_interpretation_depth") +
          ", " + fnOrNull(controls_.count("__lc_start"), "__lc_start") + ", " +
          fnOrNull(controls_.count("__lc_start_each"), "__lc_start_each") + ", " +
          fnOrNull(controls_.count("__lc_end_each"), "__lc_end_each") + ", " + fnOrNull(controls_.count("__lc_end"), "__lc_end") +
-         ", " + cString(main) + "};\n";
+         ", " + cString(main) + ", " + std::to_string(verify_.size()) + ", __lc_verify};\n";
     s += "extern \"C\" const __lc_Model* __lc_model() { return &__lc_the_model; }\n";
     out_.generated(s);
   }
@@ -788,6 +797,7 @@ class Rewriter {
   int ruleGroupKind_ = 0;
   int filter_ = -1;
   std::vector<FilterEntry> filters_;
+  std::vector<int> verify_;  // VerifyString:
   std::vector<RuleEntry> rules_;
   std::vector<std::pair<size_t, size_t>> ruleSpans_;  // rules_[i]'s function in the output
   std::set<std::string> controls_;

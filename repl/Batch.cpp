@@ -74,6 +74,27 @@ std::optional<ReloadParts> partsFor(const std::vector<Action>& actions) {
 
 // `stopped`: set from another thread when the run was interrupted on purpose (a newer save,
 // under --watch); its fault is then not reported and the status is 2.
+// VerifyString: (manual §10.4), as lpfg checks it after a batch run: the final string's module
+// names against the statement's list. "Verify: Success" or "Verify: Fail" on standard output;
+// on failure the two lists go to Verify_<model>_expected.txt and Verify_<model>_actual.txt, one
+// name a line, and the run fails. Models without the statement pass.
+bool verifyString(const runtime::Engine& engine, const std::string& lsystem, bool quiet) {
+  const __lc_Model& model = engine.model();
+  if (model.nVerify == 0) return true;
+  const runtime::ModuleTable& modules = engine.modules();
+  const runtime::ModuleBuffer& s = engine.string();
+  std::vector<__lc_ModuleId> actual;
+  for (size_t p = 0; p < s.size(); p = modules.next(s.data(), p)) actual.push_back(runtime::ModuleTable::idAt(s.data() + p));
+  bool same = std::equal(actual.begin(), actual.end(), model.verify, model.verify + model.nVerify);
+  same = same && actual.size() == model.nVerify;
+  if (!quiet) std::printf("Verify: %s\n", same ? "Success" : "Fail");
+  if (same) return true;
+  std::ofstream expected("Verify_" + lsystem + "_expected.txt"), got("Verify_" + lsystem + "_actual.txt");
+  for (uint32_t i = 0; i < model.nVerify; ++i) expected << modules.info(model.verify[i]).name << "\n";
+  for (__lc_ModuleId id : actual) got << modules.info(id).name << "\n";
+  return false;
+}
+
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
             FrameWriter& frames, const std::atomic<bool>* stopped = nullptr) {
   auto& engine = session.engine();
@@ -127,6 +148,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     }
     std::ofstream(stemInWorkingFolder(files.lsystem) + ".str", std::ios::binary) << text;
   }
+  if (!verifyString(engine, files.lsystem, options.quiet)) return 1;
   if (options.verbose)
     std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
                  engine.moduleCount());

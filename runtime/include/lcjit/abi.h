@@ -4,7 +4,7 @@
 #pragma once
 #include "modules.h"
 
-enum { __lc_AbiVersion = 2 };
+enum { __lc_AbiVersion = 3 };
 
 struct __lc_Buffer {
   char* data;
@@ -64,6 +64,9 @@ struct __lc_Model {
   void (*endEach)();
   void (*end)();
   const char* sourceFile;
+  // VerifyString: (manual §10.4): the module ids the final string must have, in order.
+  uint32_t nVerify;
+  const __lc_ModuleId* verify;
 };
 
 // Which context an InXContext(...) expression tests.
