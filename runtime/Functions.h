@@ -5,6 +5,7 @@
 #include <llvm/ADT/StringMap.h>
 #include <llvm/Support/Error.h>
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,12 @@ public:
   float tfunc(int id, float x) const;
   float tfunc(std::string_view name, float x) const;
 
+  // lpfg's funcTangent: the curve's tangent (dx/du, dy/du for the spline
+  // parameter u in [0, points-3]) at x, tabulated and interpolated like func.
+  // x is mapped through the function's range first, as tfunc does. Unknown id
+  // or a parameter: (0,0).
+  std::array<float, 2> funcTangent(int id, float x) const;
+
   float val(std::string_view name) const;  // unknown → 0
   float val(int id) const;                 // unknown or not a parameter → 0
   bool isParameter(int id) const;          // a .vset entry
@@ -64,6 +71,7 @@ private:
     float value = 0.0f;           // .vset value
     float low = 0.0f, up = 1.0f;  // tfunc domain
     std::vector<float> samples;   // curve y at x = i/(n-1), n >= 10
+    std::vector<std::array<float, 2>> tangents;  // the tangent at the same points
   };
   friend class FunctionFileParser;
 

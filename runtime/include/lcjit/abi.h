@@ -93,6 +93,7 @@ float lcjit_tfunc(int id, float x);
 float lcjit_tfunc_named(const char* name, float x);
 float lcjit_val(int id);
 float lcjit_val_named(const char* name);
+void lcjit_func_tangent(int id, float x, float* out2);
 void lcjit_print(const char* text);
 void lcjit_output_string(const char* path);
 void lcjit_load_string(const char* path);
