@@ -84,10 +84,16 @@ class Turtle {
   void executeModule(char* rec);
   void rotate(V3f& a, V3f& b, float degrees);  // a' = cos·a + sin·b, b' = cos·b − sin·a
   void rotateAbout(V3f axis, float degrees);
+  V3f transform(V3f p, V3f origin) const;
   V3f mapPoint(V3f p) const;
   V3f mapDirection(V3f d) const;
   void forward(float d, bool draw, bool polygonVertex);
+  void lineAlong(V3f delta);
   void lineTo(V3f target);
+  void line(V3f from, V3f to);
+  static V3f scaled(const Tropism& tr);  // T·I
+  void setElasticity(int i, float e);
+  void restoreTropismField();
   void applyTropisms();
   void applySimpleTropism();
   void pushBranch();
@@ -128,6 +134,14 @@ class Turtle {
   std::string* transcript_ = nullptr;
   TurtleState state_;
   std::vector<TurtleState> stack_;
+  // lpfg's tropism array: one for the whole interpretation, beside the branch stack (each
+  // TurtleState keeps its own copy of the elasticities, which EB puts back here).
+  struct TropismField {
+    std::array<float, kMaxTropisms> elasticity{};
+    V3f direction{0, 0, 0};  // Σ T·I·cos A·E, kept up to date by adding changes
+    V3f twist{0, 0, 0};      // Σ T·I·E of the torques, as the view file gives them
+    float twistLength = 0;
+  } field_;
 
   struct PolygonVertex {
     V3f position, normal;
