@@ -527,7 +527,8 @@ bool Engine::deriveGillespie(int group) {
           }
           reactions.push_back({v, pos, end, from, pieces.size()});
         }
-        break;
+        // Every matching production of a Gillespie group is a reaction of its own (lpfg tries
+        // them all; only an empty or invalid successor ends the search).
       }
     }
     pos = modules_.next(s, pos);
@@ -536,7 +537,7 @@ bool Engine::deriveGillespie(int group) {
   for (auto& r : reactions) sum += r.propensity;
   if (!(sum > 0)) return true;  // nothing can happen: the string stays
   double x = sum * gillespieRandom_.next();
-  const Reaction* chosen = &reactions.back();
+  const Reaction* chosen = nullptr;
   for (auto& r : reactions) {
     x -= r.propensity;
     if (x <= 0) {
@@ -544,7 +545,9 @@ bool Engine::deriveGillespie(int group) {
       break;
     }
   }
-  gillespieTime_ += -std::log(1 - gillespieRandom_.next()) / sum;
+  // lpfg's formula and rounding: t - (1/sum)·log(1 - r).
+  gillespieTime_ -= 1.0 / sum * std::log(1.0 - gillespieRandom_.next());
+  if (!chosen) return true;  // rounding left x above 0: lpfg replaces nothing
   next_.clear();
   next_.append(s, chosen->from);
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
