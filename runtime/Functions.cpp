@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -610,10 +611,18 @@ float FunctionStore::evalCurve(const Entry& e, float v) {
   return w1 * e.samples[i] + w2 * e.samples[i + 1];
 }
 
+// The range that tfunc and funcTangent map through. pfunc overwrites it (lpfg's side effect);
+// relaxed atomics keep concurrent evaluations defined, as lpfg's plain floats are not.
+float FunctionStore::toUnit(const Entry& e, float x) {
+  const float low = std::atomic_ref<float>(e.low).load(std::memory_order_relaxed);
+  const float up = std::atomic_ref<float>(e.up).load(std::memory_order_relaxed);
+  return (x - low) / (up - low);
+}
+
 std::array<float, 2> FunctionStore::funcTangent(int id, float x) const {
   const Entry* e = curve(id);
   if (!e) return {0.0f, 0.0f};
-  const float v = clampUnit((x - e->low) / (e->up - e->low));
+  const float v = clampUnit(toUnit(*e, x));
   const size_t n = e->tangents.size();
   const float index = v * static_cast<float>(n - 1);
   const size_t i = static_cast<size_t>(index);
@@ -635,7 +644,10 @@ float FunctionStore::func(std::string_view name, float x) const {
 
 float FunctionStore::pfunc(int id, float x, float min, float max) const {
   const Entry* e = curve(id);
-  return e ? evalCurve(*e, (x - min) / (max - min)) : 0.0f;
+  if (!e) return 0.0f;
+  std::atomic_ref<float>(e->low).store(min, std::memory_order_relaxed);
+  std::atomic_ref<float>(e->up).store(max, std::memory_order_relaxed);
+  return evalCurve(*e, (x - min) / (max - min));
 }
 
 float FunctionStore::pfunc(std::string_view name, float x, float min,
@@ -645,7 +657,7 @@ float FunctionStore::pfunc(std::string_view name, float x, float min,
 
 float FunctionStore::tfunc(int id, float x) const {
   const Entry* e = curve(id);
-  return e ? evalCurve(*e, (x - e->low) / (e->up - e->low)) : 0.0f;
+  return e ? evalCurve(*e, toUnit(*e, x)) : 0.0f;
 }
 
 float FunctionStore::tfunc(std::string_view name, float x) const {
