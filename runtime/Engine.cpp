@@ -774,8 +774,6 @@ void Engine::finish() {
   }
   CurrentScope scope(this);
   auto message = guarded(Phase::Finish, [&] {
-    // The query modules of the final string are filled in too (the brief: after each step).
-    queryPass();
     if (!ended_ && model_->end) {
       calling("End");
       model_->end();
