@@ -656,7 +656,7 @@ bool Engine::insertBefore(size_t offset, const char* record) {
 void Engine::queryPass() {
   if (!hasQueries_) return;
   Turtle& turtle = acquireTurtle();
-  turtle.reset(turtleSetup_);
+  turtle.reset(turtleSetup_, nullptr, &queryTropisms_);
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle, nullptr);
   --turtlesInUse_;
 }
@@ -680,6 +680,7 @@ void Engine::begin(const EngineHooks& hooks) {
   fault_.reset();
   views_.clear();
   gillespieTime_ = 0;
+  queryTropisms_.initialised = false;
   string_.clear();
   if (auto message = guarded(Phase::Begin, [&] { beginGuarded(); })) fail(std::move(*message));
 }

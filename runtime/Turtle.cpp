@@ -78,23 +78,30 @@ V3f turnedTowards(V3f v, V3f target) {
 
 }  // namespace
 
-void Turtle::reset(const TurtleSetup& setup, Geometry* out) {
+void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropisms) {
   setup_ = setup;
   view_ = setup.view ? setup.view : &defaults_;
   out_ = out;
   state_ = TurtleState();
-  // lpfg adds the view file's tropisms one by one into a global sum (tropismarr.cpp).
-  field_ = TropismField();
-  for (size_t i = 0; i < view_->tropisms.size() && i < kMaxTropisms; ++i) {
-    const Tropism& tr = view_->tropisms[i];
-    state_.elasticity[i] = field_.elasticity[i] = tr.elasticity;
-    if (tr.torque) {
-      field_.twist += scaled(tr) * tr.elasticity;
-      field_.twistLength = field_.twist.Length();
-    } else {
-      field_.direction += scaled(tr) * std::cos(radians(tr.angle)) * tr.elasticity;
+  field_ = tropisms ? tropisms : &ownField_;
+  if (!tropisms) ownField_.initialised = false;
+  if (!field_->initialised) {
+    // lpfg adds the view file's tropisms one by one into a global sum (tropismarr.cpp).
+    *field_ = TropismField();
+    field_->initialised = true;
+    for (size_t i = 0; i < view_->tropisms.size() && i < kMaxTropisms; ++i) {
+      const Tropism& tr = view_->tropisms[i];
+      field_->elasticity[i] = tr.elasticity;
+      if (tr.torque) {
+        field_->twist += scaled(tr) * tr.elasticity;
+        field_->twistLength = field_->twist.Length();
+      } else {
+        field_->direction += scaled(tr) * std::cos(radians(tr.angle)) * tr.elasticity;
+      }
     }
   }
+  // A new lpfg turtle copies the global elasticities.
+  state_.elasticity = field_->elasticity;
   if (view_->simpleTropism) {
     state_.simpleTropism = view_->simpleTropism->direction;
     state_.simpleElasticity = view_->simpleTropism->elasticity;
@@ -153,11 +160,11 @@ V3f Turtle::scaled(const Tropism& tr) { return tr.direction * tr.intensity; }
 void Turtle::restoreTropismField() {
   const auto& tropisms = view_->tropisms;
   if (tropisms.empty()) return;
-  field_.direction = V3f(0, 0, 0);
+  field_->direction = V3f(0, 0, 0);
   for (size_t i = 0; i < tropisms.size() && i < kMaxTropisms; ++i) {
     const Tropism& tr = tropisms[i];
-    field_.elasticity[i] = state_.elasticity[i];
-    field_.direction += scaled(tr) * std::cos(radians(tr.torque ? 0.0f : tr.angle)) * field_.elasticity[i];
+    field_->elasticity[i] = state_.elasticity[i];
+    field_->direction += scaled(tr) * std::cos(radians(tr.torque ? 0.0f : tr.angle)) * field_->elasticity[i];
   }
 }
 
@@ -165,10 +172,10 @@ void Turtle::restoreTropismField() {
 // torque too, whose "angle" is 0).
 void Turtle::setElasticity(int i, float e) {
   const Tropism& tr = view_->tropisms[i];
-  float de = e - field_.elasticity[i];
-  field_.elasticity[i] = e;
+  float de = e - field_->elasticity[i];
+  field_->elasticity[i] = e;
   state_.elasticity[i] = e;
-  field_.direction += scaled(tr) * de * std::cos(radians(tr.torque ? 0.0f : tr.angle));
+  field_->direction += scaled(tr) * de * std::cos(radians(tr.torque ? 0.0f : tr.angle));
 }
 
 // Tropisms of the view file, applied before every F/f move (lpfg's Turtle::_AdjustTropisms):
@@ -178,7 +185,7 @@ void Turtle::applyTropisms() {
   const auto& tropisms = view_->tropisms;
   if (tropisms.empty()) return;
   TurtleState& t = state_;
-  V3f desired = field_.direction;
+  V3f desired = field_->direction;
   bool bend = false;
   for (size_t i = 0; i < tropisms.size() && i < kMaxTropisms; ++i) {
     const Tropism& tr = tropisms[i];
@@ -194,7 +201,7 @@ void Turtle::applyTropisms() {
         v = t.left;
         len = 1.0f;
       }
-      desired += cross(T, v) * (field_.elasticity[i] * sinA / len);
+      desired += cross(T, v) * (field_->elasticity[i] * sinA / len);
     }
   }
   if (bend) {
@@ -211,10 +218,10 @@ void Turtle::applyTropisms() {
       t.left = cross(t.up, t.heading);
     }
   }
-  if (field_.twistLength > 0.0f) {
-    V3f v = cross(t.heading, field_.twist);
+  if (field_->twistLength > 0.0f) {
+    V3f v = cross(t.heading, field_->twist);
     if (v.Length() > kEpsilon) {
-      V3f target = scaledTo(cross(v, t.heading)) * field_.twistLength;
+      V3f target = scaledTo(cross(v, t.heading)) * field_->twistLength;
       t.up = turnedTowards(t.up, target);
       t.left = cross(t.up, t.heading);
     }
@@ -473,7 +480,7 @@ void Turtle::executeModule(char* rec) {
       int i = param<int>(rec, p0<__lc_R_IncElasticity>());
       if (i >= 0 && i < kMaxTropisms && i < (int)view_->tropisms.size()) {
         float step = view_->tropisms[i].step;
-        setElasticity(i, id == __lc_id_IncElasticity ? field_.elasticity[i] + step : field_.elasticity[i] - step);
+        setElasticity(i, id == __lc_id_IncElasticity ? field_->elasticity[i] + step : field_->elasticity[i] - step);
       }
       break;
     }
