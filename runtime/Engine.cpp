@@ -533,7 +533,8 @@ bool Engine::deriveGillespie(int group) {
           }
           reactions.push_back({v, pos, end, from, pieces.size()});
         }
-        break;
+        // Every matching production of a Gillespie group is a reaction of its own (lpfg tries
+        // them all; only an empty or invalid successor ends the search).
       }
     }
     pos = modules_.next(s, pos);
@@ -542,7 +543,7 @@ bool Engine::deriveGillespie(int group) {
   for (auto& r : reactions) sum += r.propensity;
   if (!(sum > 0)) return true;  // nothing can happen: the string stays
   double x = sum * gillespieRandom_.next();
-  const Reaction* chosen = &reactions.back();
+  const Reaction* chosen = nullptr;
   for (auto& r : reactions) {
     x -= r.propensity;
     if (x <= 0) {
@@ -550,7 +551,9 @@ bool Engine::deriveGillespie(int group) {
       break;
     }
   }
-  gillespieTime_ += -std::log(1 - gillespieRandom_.next()) / sum;
+  // lpfg's formula and rounding: t - (1/sum)·log(1 - r).
+  gillespieTime_ -= 1.0 / sum * std::log(1.0 - gillespieRandom_.next());
+  if (!chosen) return true;  // rounding left x above 0: lpfg replaces nothing
   next_.clear();
   next_.append(s, chosen->from);
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
@@ -659,7 +662,7 @@ bool Engine::insertBefore(size_t offset, const char* record) {
 void Engine::queryPass() {
   if (!hasQueries_) return;
   Turtle& turtle = acquireTurtle();
-  turtle.reset(turtleSetup_);
+  turtle.reset(turtleSetup_, nullptr, &queryTropisms_);
   expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle, nullptr);
   --turtlesInUse_;
 }
@@ -683,6 +686,7 @@ void Engine::begin(const EngineHooks& hooks) {
   fault_.reset();
   views_.clear();
   gillespieTime_ = 0;
+  queryTropisms_.initialised = false;
   string_.clear();
   if (auto message = guarded(Phase::Begin, [&] { beginGuarded(); })) fail(std::move(*message));
 }
@@ -777,8 +781,6 @@ void Engine::finish() {
   }
   CurrentScope scope(this);
   auto message = guarded(Phase::Finish, [&] {
-    // The query modules of the final string are filled in too (the brief: after each step).
-    queryPass();
     if (!ended_ && model_->end) {
       calling("End");
       model_->end();

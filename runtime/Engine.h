@@ -111,7 +111,10 @@ class Engine {
   bool insertBefore(size_t offset, const char* record);
   // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
   // the turtle). The pointed-to data must outlive the engine's runs.
-  void setTurtleSetup(const TurtleSetup& setup) { turtleSetup_ = setup; }
+  void setTurtleSetup(const TurtleSetup& setup) {
+    turtleSetup_ = setup;
+    queryTropisms_.initialised = false;
+  }
   const TurtleSetup& turtleSetup() const { return turtleSetup_; }
   // The contours the curve functions read and edit (curveSetPoint & co.).
   void setCurves(ContourStore* curves) { curves_ = curves; }
@@ -244,6 +247,9 @@ class Engine {
   Match* activeMatch_ = nullptr;
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
   TurtleSetup turtleSetup_;
+  // The query passes' tropism field, kept from one pass to the next during a run, as lpfg's
+  // global tropisms are in a batch run (drawing passes start from the view file).
+  TropismField queryTropisms_;
   std::vector<int> views_;
   Geometry* tracking_ = nullptr;  // interpret(): the geometry recording its source modules
   ContourStore* curves_ = nullptr;

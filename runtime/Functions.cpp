@@ -7,6 +7,8 @@
 #include <llvm/Support/Path.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -69,10 +71,13 @@ std::string toUpper(std::string_view s) {
 }
 
 // Whole-token number parsing: the editors write plain decimals, so anything
-// else in a point or count is a damaged file worth reporting.
-std::optional<double> parseReal(std::string_view s) {
+// else in a point or count is a damaged file worth reporting. Values lpfg keeps
+// as float are read straight into float (lpfg uses stof and sscanf's %f): going
+// through double first could round twice.
+template <class T = double>
+std::optional<T> parseReal(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  double v = 0;
+  T v = 0;
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || p != s.data() + s.size() || !std::isfinite(v))
     return std::nullopt;
@@ -87,72 +92,120 @@ std::optional<long> parseInt(std::string_view s) {
   return v;
 }
 
-// Cubic B-spline over clamped uniform knots 0,0,0,0,1,2,...,m-3,m-3,m-3,m-3
-// (m control points), parameter d in [0,1] scaled onto [0, m-3] — lpfg's
-// definition. At d = 1 lpfg's half-open basis functions all vanish and give
-// (0,0); here the last span is used instead, giving the end point.
+// lpfg's function curve: a cubic B-spline over the clamped uniform knots
+// 0,0,0,0,1,2,...,m-3,m-3,m-3,m-3 (m control points), parameter d in [0,1]
+// scaled onto [0, m-3]. Everything follows lpfg's arithmetic (function.h), since
+// the tables it fills are what func() returns bit for bit: the basis functions
+// come from the Cox-de Boor recursion evaluated in float with integer knots,
+// and the point is the float sum over all control points. At d = 1 the
+// half-open degree-0 basis functions all vanish, so the point is (0,0), as in
+// lpfg (the tabulation below never asks for d = 1).
 class BSpline {
 public:
-  BSpline(std::vector<double> xs, std::vector<double> ys)
+  BSpline(std::vector<float> xs, std::vector<float> ys)
       : x_(std::move(xs)), y_(std::move(ys)),
         m_(static_cast<int>(x_.size())) {}
 
-  void eval(double d, double& X, double& Y) const {
-    const double u = d * (m_ - 3);
-    int span = u > 0 ? static_cast<int>(std::floor(u)) : 0;
-    span = std::min(span, m_ - 4);
-    const int k = span + 3;  // knot index with knot(k) <= u < knot(k+1)
-    double dx[4], dy[4];
-    for (int j = 0; j < 4; ++j) {
-      dx[j] = x_[span + j];
-      dy[j] = y_[span + j];
+  void point(float d, float& X, float& Y) const {
+    const float u = d * static_cast<float>(m_ - 3);
+    float sx = 0.0f, sy = 0.0f;
+    // Only the four basis functions whose support holds u can be non-zero;
+    // lpfg adds the others too, but they are signed zeros, which leave a
+    // float sum that starts at +0 unchanged.
+    const int first = firstSupported(u);
+    for (int k = first; k < first + 4 && k < m_; ++k) {
+      const float w = basis(k, 4, u);
+      sx += x_[k] * w;
+      sy += y_[k] * w;
     }
-    for (int r = 1; r <= 3; ++r)
-      for (int j = 3; j >= r; --j) {
-        const double a = knot(j + k - 3), b = knot(j + 1 + k - r);
-        const double alpha = b > a ? (u - a) / (b - a) : 0.0;
-        dx[j] = (1 - alpha) * dx[j - 1] + alpha * dx[j];
-        dy[j] = (1 - alpha) * dy[j - 1] + alpha * dy[j];
-      }
-    X = dx[3];
-    Y = dy[3];
+    X = sx;
+    Y = sy;
+  }
+
+  // dP/du (not d/dd): lpfg's derivative weights (order-1)/(knot span) are
+  // doubles, so each control point's weight is summed in double and rounded
+  // to float twice, once per term.
+  void tangent(float d, float& X, float& Y) const {
+    const float u = d * static_cast<float>(m_ - 3);
+    float sx = 0.0f, sy = 0.0f;
+    const int first = firstSupported(u);
+    for (int k = first; k < first + 4 && k < m_; ++k) {
+      float w = 0.0f;
+      if (const int span = knot(k + 3) - knot(k); span > 0)
+        w = static_cast<float>(w + 3.0 / span * basis(k, 3, u));
+      if (const int span = knot(k + 4) - knot(k + 1); span > 0)
+        w = static_cast<float>(w - 3.0 / span * basis(k + 1, 3, u));
+      sx += x_[k] * w;
+      sy += y_[k] * w;
+    }
+    X = sx;
+    Y = sy;
   }
 
 private:
-  double knot(int j) const {
+  int knot(int j) const {
     if (j < 4) return 0;
     if (j > m_ - 1) return m_ - 3;
     return j - 3;
   }
 
-  std::vector<double> x_, y_;
+  // The lowest k whose basis function of order 4 may be non-zero at u.
+  int firstSupported(float u) const {
+    int s = u > 0.0f ? static_cast<int>(u) : 0;
+    return std::clamp(s, 0, std::max(m_ - 4, 0));
+  }
+
+  // Order `order` (degree order-1) basis function k at u, in lpfg's float
+  // operation order: ((u - knot) / span) * lower-order basis.
+  float basis(int k, int order, float u) const {
+    if (order == 1)
+      return static_cast<float>(knot(k)) <= u && u < static_cast<float>(knot(k + 1))
+                 ? 1.0f
+                 : 0.0f;
+    float sum = 0.0f;
+    const int a = knot(k);
+    if (const int span = knot(k + order - 1) - a; span != 0)
+      sum = (u - static_cast<float>(a)) / static_cast<float>(span) *
+            basis(k, order - 1, u);
+    const int b = knot(k + order);
+    if (const int span = b - knot(k + 1); span != 0)
+      sum += (static_cast<float>(b) - u) / static_cast<float>(span) *
+             basis(k + 1, order - 1, u);
+    return sum;
+  }
+
+  std::vector<float> x_, y_;
   int m_;
 };
 
-// lpfg tabulates y at x = i/(n-1). It finds each x by bisecting the curve
-// parameter in float and stops as soon as |x(t) - target| <= 0.01/n, so the
-// stored y belongs to a slightly-off x; the same search is repeated here so the
-// table matches lpfg's, not the exact curve. The iteration cap replaces lpfg's
-// endless loop when the last control point's x is below 1.
-std::vector<float> tabulate(const BSpline& s, int n) {
-  std::vector<float> out(n);
+// lpfg tabulates y (and the tangent) at x = i/(n-1). It finds each x by
+// bisecting the curve parameter in float and stops as soon as
+// |x(t) - target| <= 0.01/n, so the stored values belong to a slightly-off x;
+// the same search is repeated here so the table matches lpfg's, not the exact
+// curve. The iteration cap replaces lpfg's endless loop when the last control
+// point's x is below 1.
+void tabulate(const BSpline& s, int n, std::vector<float>& values,
+              std::vector<std::array<float, 2>>& tangents) {
+  values.assign(n, 0.0f);
+  tangents.assign(n, {0.0f, 0.0f});
   const float maxError = 0.01f / static_cast<float>(n);
   for (int i = 0; i < n; ++i) {
     const float target = static_cast<float>(i) / static_cast<float>(n - 1);
     float low = 0.0f, high = 1.0f, check = 0.5f;
-    double X = 0, Y = 0;
+    float X = 0, Y = 0;
     for (int iter = 0; iter < 100; ++iter) {
       check = (low + high) / 2.0f;
-      s.eval(check, X, Y);
+      s.point(check, X, Y);
       if (X > target)
         high = check;
       else
         low = check;
       if (std::fabs(X - target) <= maxError) break;
     }
-    out[i] = static_cast<float>(Y);
+    s.point(check, X, Y);
+    values[i] = Y;
+    s.tangent(check, tangents[i][0], tangents[i][1]);
   }
-  return out;
 }
 
 }  // namespace
@@ -301,7 +354,7 @@ public:
     if (count > kMaxPoints)
       return error(l.no, rest.col, "too many control points");
 
-    std::vector<double> xs, ys;
+    std::vector<float> xs, ys;  // lpfg keeps the points as float
     for (long i = 0; i < count; ++i) {
       if (auto err = expectLine(l, "control point " + llvm::Twine(i + 1) +
                                        " of " + llvm::Twine(count)))
@@ -310,7 +363,7 @@ public:
       if (t.size() < 2 || t.size() > 3)
         return error(l.no, firstCol(l),
                      "expected a control point 'x y' or 'x y multiplicity'");
-      std::optional<double> x = parseReal(t[0].text), y = parseReal(t[1].text);
+      std::optional<float> x = parseReal<float>(t[0].text), y = parseReal<float>(t[1].text);
       if (!x) return error(t[0], l, "invalid number '" + llvm::Twine(t[0].text) + "'");
       if (!y) return error(t[1], l, "invalid number '" + llvm::Twine(t[1].text) + "'");
       long mult = 1;
@@ -322,8 +375,8 @@ public:
         mult = static_cast<long>(*m);
       }
       for (long j = 0; j < mult; ++j) {
-        xs.push_back(static_cast<float>(*x));  // lpfg keeps points as float
-        ys.push_back(static_cast<float>(*y));
+        xs.push_back(*x);
+        ys.push_back(*y);
       }
     }
     if (xs.size() < 4)
@@ -331,8 +384,8 @@ public:
                    "a function needs at least 4 control points after "
                    "multiplicities, got " + llvm::Twine(xs.size()));
 
-    e.samples = tabulate(BSpline(std::move(xs), std::move(ys)),
-                         static_cast<int>(samples));
+    tabulate(BSpline(std::move(xs), std::move(ys)), static_cast<int>(samples),
+             e.samples, e.tangents);
     return llvm::Error::success();
   }
 
@@ -368,10 +421,10 @@ public:
       Token rest;
       Entry e;
       if (auto err = expectKeyed("start:", l, rest)) return err;
-      std::optional<double> start = parseReal(rest.text);
+      std::optional<float> start = parseReal<float>(rest.text);
       if (!start) return error(l.no, rest.col, "expected a number after 'start:'");
       if (auto err = expectKeyed("end:", l, rest)) return err;
-      std::optional<double> end = parseReal(rest.text);
+      std::optional<float> end = parseReal<float>(rest.text);
       if (!end) return error(l.no, rest.col, "expected a number after 'end:'");
       if (auto err = expectKeyed("name:", l, rest)) return err;
       std::string timelineName(rest.text);
@@ -388,8 +441,8 @@ public:
       if (auto err = expectLine(h, "'fver 1 1'")) return err;
       if (auto err = parseCurve(h, timelineName, e)) return err;
       if (auto err = expectKeyed("timelineFunceditFileEnd:", l, rest)) return err;
-      e.low = static_cast<float>(*start);
-      e.up = static_cast<float>(*end);
+      e.low = *start;
+      e.up = *end;
       // lpfg names the function by its funcedit name; the timeline's own name
       // is what users see in the editor, so it resolves too.
       if (timelineName != e.name) e.alias = std::move(timelineName);
@@ -538,10 +591,17 @@ const FunctionStore::Entry* FunctionStore::curve(int id) const {
   return e.isParameter ? nullptr : &e;
 }
 
+namespace {
+// lpfg's argument clamp; NaN goes to 0 (lpfg's behaviour is undefined there).
+float clampUnit(float v) {
+  if (!(v >= 0.0f)) return 0.0f;
+  return v > 1.0f ? 1.0f : v;
+}
+}  // namespace
+
 // Linear interpolation in lpfg's table, with lpfg's float arithmetic.
 float FunctionStore::evalCurve(const Entry& e, float v) {
-  if (!(v >= 0.0f)) v = 0.0f;  // NaN included: lpfg's behaviour is undefined
-  else if (v > 1.0f) v = 1.0f;
+  v = clampUnit(v);
   const size_t n = e.samples.size();
   const float index = v * static_cast<float>(n - 1);
   const size_t i = static_cast<size_t>(index);
@@ -549,6 +609,28 @@ float FunctionStore::evalCurve(const Entry& e, float v) {
   const float w1 = 1 - index + static_cast<float>(i);
   const float w2 = index - static_cast<float>(i);
   return w1 * e.samples[i] + w2 * e.samples[i + 1];
+}
+
+// The range that tfunc and funcTangent map through. pfunc overwrites it (lpfg's side effect);
+// relaxed atomics keep concurrent evaluations defined, as lpfg's plain floats are not.
+float FunctionStore::toUnit(const Entry& e, float x) {
+  const float low = std::atomic_ref<float>(e.low).load(std::memory_order_relaxed);
+  const float up = std::atomic_ref<float>(e.up).load(std::memory_order_relaxed);
+  return (x - low) / (up - low);
+}
+
+std::array<float, 2> FunctionStore::funcTangent(int id, float x) const {
+  const Entry* e = curve(id);
+  if (!e) return {0.0f, 0.0f};
+  const float v = clampUnit(toUnit(*e, x));
+  const size_t n = e->tangents.size();
+  const float index = v * static_cast<float>(n - 1);
+  const size_t i = static_cast<size_t>(index);
+  if (i >= n - 1) return e->tangents[n - 1];
+  const float w1 = 1 - index + static_cast<float>(i);
+  const float w2 = index - static_cast<float>(i);
+  return {w1 * e->tangents[i][0] + w2 * e->tangents[i + 1][0],
+          w1 * e->tangents[i][1] + w2 * e->tangents[i + 1][1]};
 }
 
 float FunctionStore::func(int id, float x) const {
@@ -562,7 +644,10 @@ float FunctionStore::func(std::string_view name, float x) const {
 
 float FunctionStore::pfunc(int id, float x, float min, float max) const {
   const Entry* e = curve(id);
-  return e ? evalCurve(*e, (x - min) / (max - min)) : 0.0f;
+  if (!e) return 0.0f;
+  std::atomic_ref<float>(e->low).store(min, std::memory_order_relaxed);
+  std::atomic_ref<float>(e->up).store(max, std::memory_order_relaxed);
+  return evalCurve(*e, (x - min) / (max - min));
 }
 
 float FunctionStore::pfunc(std::string_view name, float x, float min,
@@ -572,7 +657,7 @@ float FunctionStore::pfunc(std::string_view name, float x, float min,
 
 float FunctionStore::tfunc(int id, float x) const {
   const Entry* e = curve(id);
-  return e ? evalCurve(*e, (x - e->low) / (e->up - e->low)) : 0.0f;
+  return e ? evalCurve(*e, toUnit(*e, x)) : 0.0f;
 }
 
 float FunctionStore::tfunc(std::string_view name, float x) const {

@@ -5,6 +5,7 @@
 #include <llvm/ADT/StringMap.h>
 #include <llvm/Support/Error.h>
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,15 +31,21 @@ public:
   // domain is clamped to its ends, as lpfg does.
   float func(int id, float x) const;
   float func(std::string_view name, float x) const;
-  // x in [min,max] is mapped onto [0,1]. lpfg's pfunc also overwrites the
-  // function's stored range as a side effect (seen by later tfunc calls); that
-  // is deliberately not reproduced.
+  // x in [min,max] is mapped onto [0,1]. Like lpfg's, pfunc also makes
+  // [min,max] the function's stored range: later tfunc and funcTangent calls
+  // map through it (until the files are loaded again).
   float pfunc(int id, float x, float min, float max) const;
   float pfunc(std::string_view name, float x, float min, float max) const;
   // x in the timeline's [start,end] is mapped onto [0,1]; functions that did
   // not come from a .tset have the range [0,1].
   float tfunc(int id, float x) const;
   float tfunc(std::string_view name, float x) const;
+
+  // lpfg's funcTangent: the curve's tangent (dx/du, dy/du for the spline
+  // parameter u in [0, points-3]) at x, tabulated and interpolated like func.
+  // x is mapped through the function's range first, as tfunc does. Unknown id
+  // or a parameter: (0,0).
+  std::array<float, 2> funcTangent(int id, float x) const;
 
   float val(std::string_view name) const;  // unknown → 0
   float val(int id) const;                 // unknown or not a parameter → 0
@@ -62,14 +69,16 @@ private:
     std::string alias;            // a .tset timeline's own name, if different
     bool isParameter = false;
     float value = 0.0f;           // .vset value
-    float low = 0.0f, up = 1.0f;  // tfunc domain
+    mutable float low = 0.0f, up = 1.0f;  // tfunc domain; pfunc sets it (atomically)
     std::vector<float> samples;   // curve y at x = i/(n-1), n >= 10
+    std::vector<std::array<float, 2>> tangents;  // the tangent at the same points
   };
   friend class FunctionFileParser;
 
   void commit(std::vector<Entry> added);
   const Entry* curve(int id) const;
   static float evalCurve(const Entry& e, float x);
+  static float toUnit(const Entry& e, float x);
 
   std::vector<Entry> entries_;
   llvm::StringMap<int> exact_;

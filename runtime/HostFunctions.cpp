@@ -1,6 +1,7 @@
 // Host functions for model code: each forwards to the engine that is running the model.
 #include "HostFunctions.h"
 
+#include <array>
 #include <utility>
 #include <cstdio>
 #include <cstdlib>
@@ -122,6 +123,12 @@ float lcjit_tfunc(int id, float x) { return functions() ? functions()->tfunc(id,
 float lcjit_tfunc_named(const char* name, float x) { return functions() && name ? functions()->tfunc(name, x) : 0; }
 float lcjit_val(int id) { return functions() ? functions()->val(id) : 0; }
 float lcjit_val_named(const char* name) { return functions() && name ? functions()->val(name) : 0; }
+void lcjit_func_tangent(int id, float x, float* out2) {
+  std::array<float, 2> t{0, 0};
+  if (functions()) t = functions()->funcTangent(id, x);
+  out2[0] = t[0];
+  out2[1] = t[1];
+}
 
 void lcjit_print(const char* text) {
   if (Engine* e = engine()) e->print(text);
@@ -221,8 +228,6 @@ void lcjit_run(const char* command) {
   if (child > 0) waitpid(child, nullptr, 0);
 }
 
-void lcjit_func_tangent(int, float, float* out) { out[0] = out[1] = 0; }
-
 void lcjit_get_bsurface(int id, int maxRows, int, int* rows, int* columns, float*) {
   *rows = *columns = 0;
   if (Engine* e = engine())
@@ -268,13 +273,14 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_reset_gillespie), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
+      LCJIT_HOST(lcjit_func_tangent),
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
       LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
-      LCJIT_HOST(lcjit_current_ctx),    LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),            LCJIT_HOST(lcjit_func_tangent),
+      LCJIT_HOST(lcjit_current_ctx),    LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),
       LCJIT_HOST(lcjit_get_bsurface),   LCJIT_HOST(lcjit_tablet_status),  LCJIT_HOST(lcjit_terrain_query),
       LCJIT_HOST(lcjit_terrain_visibility), LCJIT_HOST(lcjit_terrain_scale),
   };

@@ -11,7 +11,6 @@ namespace lcjit::runtime {
 namespace {
 
 constexpr float kEpsilon = 1e-5f;
-constexpr double kDegrees = 3.14159265358979323846 / 180.0;
 
 template <class T> T param(const char* rec, size_t offset) {
   T v;
@@ -34,21 +33,75 @@ V3f toV3f(const char* rec, size_t off, int kind) {
   }
 }
 
-// Rodrigues rotation of v about a unit axis.
-V3f rotated(V3f v, V3f axis, float radians) {
-  float c = std::cos(radians), s = std::sin(radians);
-  return v * c + cross(axis, v) * s + axis * ((axis * v) * (1 - c));
+// The turtle's arithmetic is lpfg's, operation for operation, because models read the state
+// back (GetPos & co.) and lpfg's strings are the reference: float vectors, angles converted as
+// (float)(degrees·π/180) with the product in double, cosf/sinf of that float, normalisation by
+// one reciprocal and three products, and quaternion rotations where lpfg uses them.
+
+float radians(float degrees) { return static_cast<float>(degrees * M_PI / 180.0); }
+
+// v scaled to length n (lpfg: d = n / |v|, then v·d).
+V3f scaledTo(V3f v, float n = 1.0f) {
+  float d = n / v.Length();
+  return V3f(v.x * d, v.y * d, v.z * d);
+}
+
+struct Quat {
+  float a, x, y, z;
+};
+
+Quat operator*(const Quat& p, const Quat& q) {
+  return {p.a * q.a - (p.x * q.x + p.y * q.y + p.z * q.z), p.a * q.x + q.a * p.x + p.y * q.z - p.z * q.y,
+          p.a * q.y + q.a * p.y + p.z * q.x - p.x * q.z, p.a * q.z + q.a * p.z + p.x * q.y - p.y * q.x};
+}
+
+// lpfg's rotation by a quaternion: q⁻¹·(0,v)·q with q⁻¹ = conj(q)/|q|² (so q need not be a
+// unit quaternion, and the sense is opposite to q·v·q⁻¹).
+V3f rotatedBy(V3f v, const Quat& q) {
+  float n = 1.0f / (q.a * q.a + q.x * q.x + q.y * q.y + q.z * q.z);
+  Quat inv{q.a * n, q.x * -n, q.y * -n, q.z * -n};
+  Quat r = (inv * Quat{0.0f, v.x, v.y, v.z}) * q;
+  return V3f(r.x, r.y, r.z);
+}
+
+// Turns v towards `target` (lpfg's Vector3d::RotateTo, used by torques): by half of
+// min(|v × target|, 1) as a quaternion angle, or 1 when they point apart.
+V3f turnedTowards(V3f v, V3f target) {
+  V3f axis = cross(v, target);
+  float len = axis.Length();
+  if (v * target < 0.0f) len = 1.0f;
+  else if (len > 1.0f) len = 1.0f;
+  float half = len * 0.5f;
+  float s = std::sin(half) / len;
+  return rotatedBy(v, Quat{std::cos(half), axis.x * s, axis.y * s, axis.z * s});
 }
 
 }  // namespace
 
-void Turtle::reset(const TurtleSetup& setup, Geometry* out) {
+void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropisms) {
   setup_ = setup;
   view_ = setup.view ? setup.view : &defaults_;
   out_ = out;
   state_ = TurtleState();
-  for (size_t i = 0; i < view_->tropisms.size() && i < kMaxTropisms; ++i)
-    state_.elasticity[i] = view_->tropisms[i].elasticity;
+  field_ = tropisms ? tropisms : &ownField_;
+  if (!tropisms) ownField_.initialised = false;
+  if (!field_->initialised) {
+    // lpfg adds the view file's tropisms one by one into a global sum (tropismarr.cpp).
+    *field_ = TropismField();
+    field_->initialised = true;
+    for (size_t i = 0; i < view_->tropisms.size() && i < kMaxTropisms; ++i) {
+      const Tropism& tr = view_->tropisms[i];
+      field_->elasticity[i] = tr.elasticity;
+      if (tr.torque) {
+        field_->twist += scaled(tr) * tr.elasticity;
+        field_->twistLength = field_->twist.Length();
+      } else {
+        field_->direction += scaled(tr) * std::cos(radians(tr.angle)) * tr.elasticity;
+      }
+    }
+  }
+  // A new lpfg turtle copies the global elasticities.
+  state_.elasticity = field_->elasticity;
   if (view_->simpleTropism) {
     state_.simpleTropism = view_->simpleTropism->direction;
     state_.simpleElasticity = view_->simpleTropism->elasticity;
@@ -68,80 +121,109 @@ void Turtle::finish() {
 }
 
 void Turtle::rotate(V3f& a, V3f& b, float degrees) {
-  double r = degrees * kDegrees;
-  float c = (float)std::cos(r), s = (float)std::sin(r);
+  float r = radians(degrees);
+  float c = std::cos(r), s = std::sin(r);
   V3f na = a * c + b * s;
   V3f nb = b * c - a * s;
   a = na;
   b = nb;
 }
 
+// RotateXYZ/RotateHLU: a quaternion of half the angle about the (normalised) axis.
 void Turtle::rotateAbout(V3f axis, float degrees) {
-  float len = axis.Length();
-  if (len < kEpsilon) return;
-  axis /= len;
-  float r = (float)(degrees * kDegrees);
-  state_.heading = rotated(state_.heading, axis, r);
-  state_.left = rotated(state_.left, axis, r);
-  state_.up = rotated(state_.up, axis, r);
+  float half = -radians(degrees) * 0.5f;
+  V3f v = scaledTo(axis, std::sin(half));
+  Quat q{std::cos(half), v.x, v.y, v.z};
+  state_.heading = rotatedBy(state_.heading, q);
+  state_.up = rotatedBy(state_.up, q);
+  state_.left = rotatedBy(state_.left, q);
 }
 
-V3f Turtle::mapDirection(V3f d) const {
+// lpfg's coordinate-system matrix: columns −X, Y, Z and the origin (0 for a direction, still
+// added: it turns −0 into +0).
+V3f Turtle::transform(V3f p, V3f origin) const {
   const TurtleState& t = state_;
-  return t.csX * -d.x + t.csY * d.y + t.csZ * d.z;
+  return V3f(-t.csX.x * p.x + t.csY.x * p.y + t.csZ.x * p.z + origin.x,
+             -t.csX.y * p.x + t.csY.y * p.y + t.csZ.y * p.z + origin.y,
+             -t.csX.z * p.x + t.csY.z * p.y + t.csZ.z * p.z + origin.z);
 }
 
-V3f Turtle::mapPoint(V3f p) const { return state_.csOrigin + mapDirection(p) * state_.csScale; }
+V3f Turtle::mapDirection(V3f d) const { return transform(d, V3f(0, 0, 0)); }
 
-// Tropisms of the view file, applied before every F/f move (lpfg's rules, docs/graphics.md):
-// the heading bends towards the combined tropism vector by min(|H × D|, 1) radians, and torques
-// roll U about H away from their vector.
+// Points are scaled first, then mapped, then moved by the origin.
+V3f Turtle::mapPoint(V3f p) const { return transform(p * state_.csScale, state_.csOrigin); }
+
+V3f Turtle::scaled(const Tropism& tr) { return tr.direction * tr.intensity; }
+
+// EB: lpfg sets every tropism's elasticity from the restored branch and sums the field again
+// from zero, torques included (they only have a twist when added from the view file).
+void Turtle::restoreTropismField() {
+  const auto& tropisms = view_->tropisms;
+  if (tropisms.empty()) return;
+  field_->direction = V3f(0, 0, 0);
+  for (size_t i = 0; i < tropisms.size() && i < kMaxTropisms; ++i) {
+    const Tropism& tr = tropisms[i];
+    field_->elasticity[i] = state_.elasticity[i];
+    field_->direction += scaled(tr) * std::cos(radians(tr.torque ? 0.0f : tr.angle)) * field_->elasticity[i];
+  }
+}
+
+// SetElasticity & co.: lpfg adds the change to the field rather than summing it again (for a
+// torque too, whose "angle" is 0).
+void Turtle::setElasticity(int i, float e) {
+  const Tropism& tr = view_->tropisms[i];
+  float de = e - field_->elasticity[i];
+  field_->elasticity[i] = e;
+  state_.elasticity[i] = e;
+  field_->direction += scaled(tr) * de * std::cos(radians(tr.torque ? 0.0f : tr.angle));
+}
+
+// Tropisms of the view file, applied before every F/f move (lpfg's Turtle::_AdjustTropisms):
+// the heading turns towards D = field + Σ E·sin A·(T × (H × T))/|H × T| by a quaternion of half
+// of min(|H × D|, 1), then torques turn U towards the twist's component across H.
 void Turtle::applyTropisms() {
   const auto& tropisms = view_->tropisms;
   if (tropisms.empty()) return;
   TurtleState& t = state_;
-  V3f d(0, 0, 0), w(0, 0, 0);
+  V3f desired = field_->direction;
   bool bend = false;
   for (size_t i = 0; i < tropisms.size() && i < kMaxTropisms; ++i) {
     const Tropism& tr = tropisms[i];
-    V3f T = tr.direction * tr.intensity;
-    float e = t.elasticity[i];
-    if (tr.torque) {
-      w += T * e;
-      continue;
-    }
+    if (tr.torque) continue;
     bend = true;
-    float a = (float)(tr.angle * kDegrees);
-    d += T * (e * std::cos(a));
-    if (std::sin(a) != 0) {
-      V3f hxt = cross(t.heading, T);
-      float len = hxt.Length();
-      V3f perp = len < kEpsilon ? cross(T, t.left) : cross(T, hxt) / len;
-      d += perp * (e * std::sin(a));
+    float a = radians(tr.angle);
+    float sinA = std::sin(a);
+    if (sinA != 0.0f) {
+      V3f T = scaled(tr);
+      V3f v = cross(t.heading, T);
+      float len = v.Length();
+      if (len < kEpsilon) {
+        v = t.left;
+        len = 1.0f;
+      }
+      desired += cross(T, v) * (field_->elasticity[i] * sinA / len);
     }
   }
   if (bend) {
-    V3f r = cross(t.heading, d);
-    float len = r.Length();
+    V3f v = cross(t.heading, desired);
+    float len = v.Length();
     if (len >= kEpsilon) {
-      V3f axis = r / len;
-      float alpha = len < 1 ? len : 1;
-      t.heading = rotated(t.heading, axis, alpha).Normalized();
-      t.up = rotated(t.up, axis, alpha).Normalized();
+      if (len > 1.0f) len = 1.0f;  // v keeps its length then: lpfg turns further
+      float angle = -len * 0.5f;
+      v *= 1.0f / len;
+      v *= std::sin(angle);
+      Quat q{std::cos(angle), v.x, v.y, v.z};
+      t.heading = rotatedBy(t.heading, q);
+      t.up = rotatedBy(t.up, q);
       t.left = cross(t.up, t.heading);
     }
   }
-  float wl = w.Length();
-  if (wl > 0) {
-    V3f v = cross(t.heading, w);
+  if (field_->twistLength > 0.0f) {
+    V3f v = cross(t.heading, field_->twist);
     if (v.Length() > kEpsilon) {
-      V3f wp = cross(v, t.heading).Normalized() * wl;
-      V3f axis = cross(t.up, wp);
-      float len = axis.Length();
-      if (len > kEpsilon) {
-        t.up = rotated(t.up, axis / len, -(len < 1 ? len : 1)).Normalized();
-        t.left = cross(t.up, t.heading);
-      }
+      V3f target = scaledTo(cross(v, t.heading)) * field_->twistLength;
+      t.up = turnedTowards(t.up, target);
+      t.left = cross(t.up, t.heading);
     }
   }
 }
@@ -152,20 +234,17 @@ void Turtle::applySimpleTropism() {
   TurtleState& t = state_;
   float e = t.simpleElasticity;
   if (e == 0) return;
+  // As in lpfg, |e·(D·U)| > 1 gives NaN (the square root of a negative number).
   float s1 = e * (t.simpleTropism * t.up);
-  if (std::fabs(s1) <= 1) {
-    float c1 = std::sqrt(1 - s1 * s1);
-    V3f h = t.heading * c1 + t.up * s1;
-    t.up = t.up * c1 - t.heading * s1;
-    t.heading = h;
-  }
+  float c1 = std::sqrt(1 - s1 * s1);
+  V3f h = t.heading * c1 + t.up * s1;
+  t.up = t.up * c1 - t.heading * s1;
+  t.heading = h;
   float s2 = e * (t.simpleTropism * t.left);
-  if (std::fabs(s2) <= 1) {
-    float c2 = std::sqrt(1 - s2 * s2);
-    V3f h = t.heading * c2 + t.left * s2;
-    t.left = t.left * c2 - t.heading * s2;
-    t.heading = h;
-  }
+  float c2 = std::sqrt(1 - s2 * s2);
+  h = t.heading * c2 + t.left * s2;
+  t.left = t.left * c2 - t.heading * s2;
+  t.heading = h;
 }
 
 void Turtle::forward(float d, bool draw, bool polygonVertex) {
@@ -195,24 +274,31 @@ void Turtle::forward(float d, bool draw, bool polygonVertex) {
   }
 }
 
-// LineTo & co.: head for the target, draw an F of the distance, then restore the frame
-// (lpfg routes them through F, so tropisms and the polygon flag apply).
-void Turtle::lineTo(V3f target) {
+// LineTo & co.: head along `delta`, draw an F of its length, then restore the frame (lpfg
+// routes them through F, so tropisms and the polygon flag apply).
+void Turtle::lineAlong(V3f delta) {
   TurtleState& t = state_;
-  V3f delta = target - t.position;
   float len = delta.Length();
   if (len < kEpsilon) return;
   V3f h0 = t.heading, l0 = t.left, u0 = t.up;
-  t.heading = delta / len;
+  t.heading = scaledTo(delta);
   V3f l = cross(t.up, t.heading);
   if (l.Length() < kEpsilon) l = V3f(-t.heading.y, t.heading.x, 0);
-  if (l.Length() < kEpsilon) l = V3f(1, 0, 0);
-  t.left = l.Normalized();
+  t.left = l.Length() < kEpsilon ? V3f(1, 0, 0) : scaledTo(l);
   t.up = cross(t.heading, t.left);
   forward(len, true, true);
   t.heading = h0;
   t.left = l0;
   t.up = u0;
+}
+
+void Turtle::lineTo(V3f target) { lineAlong(target - state_.position); }
+
+// Line2f & co.: nothing at all (not even the move to the start) when the ends coincide.
+void Turtle::line(V3f from, V3f to) {
+  if ((to - from).Length() < kEpsilon) return;
+  state_.position = from;
+  lineAlong(to - from);
 }
 
 void Turtle::pushBranch() {
@@ -224,6 +310,7 @@ void Turtle::popBranch() {
   if (stack_.empty()) return;  // lpfg: message, ignored
   state_ = stack_.back();
   stack_.pop_back();
+  restoreTropismField();
 }
 
 void Turtle::execute(char* rec) {
@@ -288,11 +375,11 @@ void Turtle::executeModule(char* rec) {
     case __lc_id_MoveTo3f: t.position = mapPoint(toV3f(rec, p0<__lc_R_MoveTo3f>(), 2)); break;
     case __lc_id_MoveTo3d: t.position = mapPoint(toV3f(rec, p0<__lc_R_MoveTo3d>(), 3)); break;
     // Relative moves are directions in the coordinate system (lpfg also adds its origin: a bug
-    // not reproduced).
-    case __lc_id_MoveRel2f: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel2f>(), 0)) * t.csScale; break;
-    case __lc_id_MoveRel2d: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel2d>(), 1)) * t.csScale; break;
-    case __lc_id_MoveRel3f: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel3f>(), 2)) * t.csScale; break;
-    case __lc_id_MoveRel3d: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel3d>(), 3)) * t.csScale; break;
+    // not reproduced; with the origin at 0 the bits are lpfg's).
+    case __lc_id_MoveRel2f: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel2f>(), 0) * t.csScale); break;
+    case __lc_id_MoveRel2d: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel2d>(), 1) * t.csScale); break;
+    case __lc_id_MoveRel3f: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel3f>(), 2) * t.csScale); break;
+    case __lc_id_MoveRel3d: t.position += mapDirection(toV3f(rec, p0<__lc_R_MoveRel3d>(), 3) * t.csScale); break;
     case __lc_id_LineTo:
       lineTo(mapPoint(V3f(param<float>(rec, offsetof(__lc_R_LineTo, p0)), param<float>(rec, offsetof(__lc_R_LineTo, p1)),
                           param<float>(rec, offsetof(__lc_R_LineTo, p2)))));
@@ -301,25 +388,21 @@ void Turtle::executeModule(char* rec) {
     case __lc_id_LineTo2d: lineTo(mapPoint(toV3f(rec, p0<__lc_R_LineTo2d>(), 1))); break;
     case __lc_id_LineTo3f: lineTo(mapPoint(toV3f(rec, p0<__lc_R_LineTo3f>(), 2))); break;
     case __lc_id_LineTo3d: lineTo(mapPoint(toV3f(rec, p0<__lc_R_LineTo3d>(), 3))); break;
-    case __lc_id_LineRel2f: lineTo(t.position + mapDirection(toV3f(rec, p0<__lc_R_LineRel2f>(), 0)) * t.csScale); break;
-    case __lc_id_LineRel2d: lineTo(t.position + mapDirection(toV3f(rec, p0<__lc_R_LineRel2d>(), 1)) * t.csScale); break;
-    case __lc_id_LineRel3f: lineTo(t.position + mapDirection(toV3f(rec, p0<__lc_R_LineRel3f>(), 2)) * t.csScale); break;
-    case __lc_id_LineRel3d: lineTo(t.position + mapDirection(toV3f(rec, p0<__lc_R_LineRel3d>(), 3)) * t.csScale); break;
+    case __lc_id_LineRel2f: lineAlong(mapDirection(toV3f(rec, p0<__lc_R_LineRel2f>(), 0) * t.csScale)); break;
+    case __lc_id_LineRel2d: lineAlong(mapDirection(toV3f(rec, p0<__lc_R_LineRel2d>(), 1) * t.csScale)); break;
+    case __lc_id_LineRel3f: lineAlong(mapDirection(toV3f(rec, p0<__lc_R_LineRel3f>(), 2) * t.csScale)); break;
+    case __lc_id_LineRel3d: lineAlong(mapDirection(toV3f(rec, p0<__lc_R_LineRel3d>(), 3) * t.csScale)); break;
     case __lc_id_Line2f:
-      t.position = mapPoint(toV3f(rec, p0<__lc_R_Line2f>(), 0));
-      lineTo(mapPoint(toV3f(rec, p1<__lc_R_Line2f>(), 0)));
+      line(mapPoint(toV3f(rec, p0<__lc_R_Line2f>(), 0)), mapPoint(toV3f(rec, p1<__lc_R_Line2f>(), 0)));
       break;
     case __lc_id_Line2d:
-      t.position = mapPoint(toV3f(rec, p0<__lc_R_Line2d>(), 1));
-      lineTo(mapPoint(toV3f(rec, p1<__lc_R_Line2d>(), 1)));
+      line(mapPoint(toV3f(rec, p0<__lc_R_Line2d>(), 1)), mapPoint(toV3f(rec, p1<__lc_R_Line2d>(), 1)));
       break;
     case __lc_id_Line3f:
-      t.position = mapPoint(toV3f(rec, p0<__lc_R_Line3f>(), 2));
-      lineTo(mapPoint(toV3f(rec, p1<__lc_R_Line3f>(), 2)));
+      line(mapPoint(toV3f(rec, p0<__lc_R_Line3f>(), 2)), mapPoint(toV3f(rec, p1<__lc_R_Line3f>(), 2)));
       break;
     case __lc_id_Line3d:
-      t.position = mapPoint(toV3f(rec, p0<__lc_R_Line3d>(), 3));
-      lineTo(mapPoint(toV3f(rec, p1<__lc_R_Line3d>(), 3)));
+      line(mapPoint(toV3f(rec, p0<__lc_R_Line3d>(), 3)), mapPoint(toV3f(rec, p1<__lc_R_Line3d>(), 3)));
       break;
     case __lc_id_SetCoordinateSystem:
       t.csScale = param<float>(rec, p0<__lc_R_SetCoordinateSystem>());
@@ -330,61 +413,75 @@ void Turtle::executeModule(char* rec) {
       break;
     case __lc_id_RollToVert: {
       V3f l = cross(V3f(0, 1, 0), t.heading);
-      float len = l.Length();
-      t.left = len < kEpsilon ? V3f(-1, 0, 0) : l / len;
+      t.left = l.Length() < kEpsilon ? V3f(-1, 0, 0) : scaledTo(l);
       t.up = cross(t.heading, t.left);
       break;
     }
     case __lc_id_SetHead: {
-      V3f h = mapDirection(V3f(param<float>(rec, offsetof(__lc_R_SetHead, p0)), param<float>(rec, offsetof(__lc_R_SetHead, p1)),
-                               param<float>(rec, offsetof(__lc_R_SetHead, p2))));
-      V3f u = mapDirection(V3f(param<float>(rec, offsetof(__lc_R_SetHead, p3)), param<float>(rec, offsetof(__lc_R_SetHead, p4)),
-                               param<float>(rec, offsetof(__lc_R_SetHead, p5))));
+      // lpfg normalises H and U, maps them, and keeps L = U × H as it comes (not normalised:
+      // H and U need not be perpendicular); U is then H × L.
+      V3f h(param<float>(rec, offsetof(__lc_R_SetHead, p0)), param<float>(rec, offsetof(__lc_R_SetHead, p1)),
+            param<float>(rec, offsetof(__lc_R_SetHead, p2)));
+      V3f u(param<float>(rec, offsetof(__lc_R_SetHead, p3)), param<float>(rec, offsetof(__lc_R_SetHead, p4)),
+            param<float>(rec, offsetof(__lc_R_SetHead, p5)));
       if (h.Length() < kEpsilon || u.Length() < kEpsilon) break;
-      h.Normalize();
-      u.Normalize();
+      h = mapDirection(scaledTo(h));
+      u = mapDirection(scaledTo(u));
       V3f l = cross(u, h);
       if (l.Length() < kEpsilon) break;
       t.heading = h;
-      t.left = l.Normalized();
+      t.left = l;
       t.up = cross(t.heading, t.left);
       break;
     }
     case __lc_id_SetHead3f: {
-      V3f h = mapDirection(param<V3f>(rec, p0<__lc_R_SetHead3f>()));
+      // lpfg: the quaternion turning the old heading into the new one, half angle from acosf of
+      // the cosine; (anti)parallel headings: nothing, or Left(180).
+      V3f h = param<V3f>(rec, p0<__lc_R_SetHead3f>());
       if (h.Length() < kEpsilon) break;
-      h.Normalize();
-      V3f axis = cross(t.heading, h);
-      float s = axis.Length(), c = t.heading * h;
-      if (s < kEpsilon) {
-        if (c < 0) rotate(t.heading, t.left, 180);
-        break;
+      V3f from = scaledTo(t.heading), to = scaledTo(mapDirection(h));
+      float c = from * to;
+      if (std::fabs(c) < 1.0f - kEpsilon) {
+        V3f axis = scaledTo(cross(from, to));
+        float half = static_cast<float>(-0.5 * std::acos(c));
+        float s = std::sin(half);
+        Quat q{std::cos(half), s * axis.x, s * axis.y, s * axis.z};
+        t.heading = rotatedBy(t.heading, q);
+        t.up = rotatedBy(t.up, q);
+        t.left = rotatedBy(t.left, q);
+      } else if (c < 0.0f) {
+        rotate(t.heading, t.left, 180);
       }
-      rotateAbout(axis, (float)(std::atan2(s, c) / kDegrees));
       break;
     }
+    // lpfg interprets Rotate as RotateXYZ.
     case __lc_id_RotateXYZ:
-      rotateAbout(param<V3f>(rec, p0<__lc_R_RotateXYZ>()), param<float>(rec, p1<__lc_R_RotateXYZ>()));
-      break;
-    case __lc_id_RotateHLU:
     case __lc_id_Rotate: {
+      V3f a = param<V3f>(rec, p0<__lc_R_RotateXYZ>());
+      if (a.Length() >= kEpsilon) rotateAbout(a, param<float>(rec, p1<__lc_R_RotateXYZ>()));
+      break;
+    }
+    case __lc_id_RotateHLU: {
       V3f a = param<V3f>(rec, p0<__lc_R_RotateHLU>());
-      rotateAbout(t.heading * a.x + t.left * a.y + t.up * a.z, param<float>(rec, p1<__lc_R_RotateHLU>()));
+      if (a.Length() >= kEpsilon)
+        rotateAbout(a.x * t.heading + a.y * t.left + a.z * t.up, param<float>(rec, p1<__lc_R_RotateHLU>()));
       break;
     }
     // ---- tropisms (manual §5.8)
     case __lc_id_SetElasticity: {
       int i = param<int>(rec, p0<__lc_R_SetElasticity>());
       if (i >= 0 && i < kMaxTropisms && i < (int)view_->tropisms.size())
-        t.elasticity[i] = param<float>(rec, p1<__lc_R_SetElasticity>());
+        setElasticity(i, param<float>(rec, p1<__lc_R_SetElasticity>()));
       break;
     }
     case __lc_id_IncElasticity:
     case __lc_id_DecElasticity: {
       // lpfg steps by the view file's `S:` value.
       int i = param<int>(rec, p0<__lc_R_IncElasticity>());
-      if (i >= 0 && i < kMaxTropisms && i < (int)view_->tropisms.size())
-        t.elasticity[i] += (id == __lc_id_IncElasticity ? 1 : -1) * view_->tropisms[i].step;
+      if (i >= 0 && i < kMaxTropisms && i < (int)view_->tropisms.size()) {
+        float step = view_->tropisms[i].step;
+        setElasticity(i, id == __lc_id_IncElasticity ? field_->elasticity[i] + step : field_->elasticity[i] - step);
+      }
       break;
     }
     case __lc_id_Elasticity: t.simpleElasticity = param<float>(rec, p0<__lc_R_Elasticity>()); break;

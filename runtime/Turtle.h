@@ -67,13 +67,28 @@ struct TurtleState {
   float simpleElasticity = 0;
 };
 
+// lpfg's tropism array (tropismarr.cpp): global, beside the branch stack (each TurtleState keeps
+// its own copy of the elasticities, which EB puts back here). Query passes share one across a
+// run (see Turtle::reset), as lpfg's global outlives its query turtles.
+struct TropismField {
+  bool initialised = false;
+  std::array<float, kMaxTropisms> elasticity{};
+  V3f direction{0, 0, 0};  // Σ T·I·cos A·E, kept up to date by adding changes
+  V3f twist{0, 0, 0};      // Σ T·I·E of the torques, as the view file gives them
+  float twistLength = 0;
+};
+
 // Appends lpfg's `-dtf` line(s) for one executed module (TurtleText.cpp).
 void describeTurtleCommand(std::string& out, const char* rec, const TurtleState& before, const TurtleState& after);
 
 class Turtle {
  public:
-  // Starts a fresh interpretation. `out` may be null (query pass: move only).
-  void reset(const TurtleSetup& setup = {}, Geometry* out = nullptr);
+  // Starts a fresh interpretation. `out` may be null (query pass: move only). `tropisms`, if
+  // given, is the tropism field to work on and keep: it is set from the view file only if not
+  // yet initialised, so elasticities a pass leaves changed at the top level carry over to the
+  // next pass sharing it (lpfg's global tropisms between its query passes). Without it the
+  // field starts from the view file.
+  void reset(const TurtleSetup& setup = {}, Geometry* out = nullptr, TropismField* tropisms = nullptr);
   // Executes one module record; query modules (GetPos...) get the state written into `rec`.
   void execute(char* rec);
   // `-dtf`: every executed command is also written to `text` in lpfg's turtle-text format.
@@ -87,10 +102,16 @@ class Turtle {
   void executeModule(char* rec);
   void rotate(V3f& a, V3f& b, float degrees);  // a' = cos·a + sin·b, b' = cos·b − sin·a
   void rotateAbout(V3f axis, float degrees);
+  V3f transform(V3f p, V3f origin) const;
   V3f mapPoint(V3f p) const;
   V3f mapDirection(V3f d) const;
   void forward(float d, bool draw, bool polygonVertex);
+  void lineAlong(V3f delta);
   void lineTo(V3f target);
+  void line(V3f from, V3f to);
+  static V3f scaled(const Tropism& tr);  // T·I
+  void setElasticity(int i, float e);
+  void restoreTropismField();
   void applyTropisms();
   void applySimpleTropism();
   void pushBranch();
@@ -131,6 +152,8 @@ class Turtle {
   std::string* transcript_ = nullptr;
   TurtleState state_;
   std::vector<TurtleState> stack_;
+  TropismField ownField_;
+  TropismField* field_ = &ownField_;
 
   struct PolygonVertex {
     V3f position, normal;

@@ -141,7 +141,8 @@ void describeTurtleCommand(std::string& out, const char* rec, const TurtleState&
     case __lc_id_RotateHLU:
     case __lc_id_Rotate: {
       V3f a = param<V3f>(rec, OFF(RotateXYZ, p0));
-      l.call(id == __lc_id_RotateXYZ ? "RotateXYZ" : "RotateHLU", a.x, a.y, a.z, fp(OFF(RotateXYZ, p1)));
+      // lpfg turns Rotate into RotateXYZ.
+      l.call(id == __lc_id_RotateHLU ? "RotateHLU" : "RotateXYZ", a.x, a.y, a.z, fp(OFF(RotateXYZ, p1)));
       break;
     }
     case __lc_id_Surface: {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 
@@ -68,20 +69,57 @@ int clampDivisions(long n) {
   return (int)std::clamp<long>(n, Contour::kMinDivisions, Contour::kMaxDivisions);
 }
 
-// Uniform cubic B-spline segment (control points a..d) at parameter s: point and derivative.
-void bspline(const V3f& a, const V3f& b, const V3f& c, const V3f& d, float s, V3f* p, V3f* dp) {
-  const float s2 = s * s, s3 = s2 * s, m = 1 - s;
-  const float b0 = m * m * m / 6, b1 = (3 * s3 - 6 * s2 + 4) / 6, b2 = (-3 * s3 + 3 * s2 + 3 * s + 1) / 6,
-              b3 = s3 / 6;
-  *p = a * b0 + b * b1 + c * b2 + d * b3;
-  const float d0 = -0.5f * m * m, d1 = 1.5f * s2 - 2 * s, d2 = -1.5f * s2 + s + 0.5f, d3 = 0.5f * s2;
-  *dp = a * d0 + b * d1 + c * d2 + d * d3;
+// A uniform cubic B-spline segment (control points a..d) the way lpfg evaluates it: the basis
+// matrix times the point matrix (4×4 by 4×3), then the row [s³ s² s 1] times that, every entry a
+// float sum from 0 in index order. The tangent uses the derivative's matrix the same way. The
+// bits matter: the curve functions return these points (through the arc-length resampling).
+constexpr float kSplineBasis[4][4] = {{-1.0f / 6.0f, 3.0f / 6.0f, -3.0f / 6.0f, 1.0f / 6.0f},
+                                      {3.0f / 6.0f, -6.0f / 6.0f, 3.0f / 6.0f, 0.0f},
+                                      {-3.0f / 6.0f, 0.0f, 3.0f / 6.0f, 0.0f},
+                                      {1.0f / 6.0f, 4.0f / 6.0f, 1.0f / 6.0f, 0.0f}};
+constexpr float kSplineDerivative[4][4] = {{0.0f, 0.0f, 0.0f, 0.0f},
+                                           {-3.0f / 6.0f, 9.0f / 6.0f, -9.0f / 6.0f, 3.0f / 6.0f},
+                                           {6.0f / 6.0f, -2.0f, 6.0f / 6.0f, 0.0f},
+                                           {-3.0f / 6.0f, 0.0f, 3.0f / 6.0f, 0.0f}};
+
+struct SegmentMatrices {
+  float point[4][3], tangent[4][3];
+};
+
+SegmentMatrices segmentMatrices(const V3f& a, const V3f& b, const V3f& c, const V3f& d) {
+  const float p[4][3] = {{a.x, a.y, a.z}, {b.x, b.y, b.z}, {c.x, c.y, c.z}, {d.x, d.y, d.z}};
+  SegmentMatrices m;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 3; ++j) {
+      float sp = 0.0f, st = 0.0f;
+      for (int k = 0; k < 4; ++k) {
+        sp += kSplineBasis[i][k] * p[k][j];
+        st += kSplineDerivative[i][k] * p[k][j];
+      }
+      m.point[i][j] = sp;
+      m.tangent[i][j] = st;
+    }
+  return m;
 }
 
+V3f powerRowTimes(const float (&g)[4][3], float s) {
+  const float s2 = s * s;
+  const float row[4] = {s * s2, s2, s, 1.0f};
+  float r[3];
+  for (int j = 0; j < 3; ++j) {
+    float sum = 0.0f;
+    for (int k = 0; k < 4; ++k) sum += row[k] * g[k][j];
+    r[j] = sum;
+  }
+  return V3f(r[0], r[1], r[2]);
+}
+
+// (0,0,1) × the unit tangent (lpfg normalises with one reciprocal and three products).
 V3f normalOfTangent(V3f t) {
-  if (t.Length() < kEpsilon) return V3f(0, 0, 0);
-  t.Normalize();
-  return V3f(-t.y, t.x, 0);  // (0,0,1) × t
+  const float len = t.Length();
+  if (len < kEpsilon) return V3f(0, 0, 0);
+  const float inv = 1.0f / len;
+  return V3f(0, 0, 1) % V3f(t.x * inv, t.y * inv, t.z * inv);
 }
 
 // Open-uniform cubic B-spline basis with lpfg's integer knots (for the deprecated oe/ce types).
@@ -165,7 +203,8 @@ void Contour::computeDefault() {
   vertex_.assign(n, V3f());
   normal_.assign(n, V3f());
   for (int i = 0; i < n - 1; ++i) {
-    const float a = float(M_PI) / (0.5f * float(n - 1)) * float(i);
+    // lpfg: π (a double) over the float 0.5·(n-1), times i, in double; sinf/cosf of that.
+    const float a = static_cast<float>(M_PI / (0.5f * float(n - 1)) * double(i));
     vertex_[i] = V3f(std::sin(a), std::cos(a), 0.0f);
     normal_[i] = vertex_[i];
   }
@@ -193,13 +232,18 @@ void Contour::computeRegular() {
     return;
   }
   const size_t m = segments * kStepsPerSegment + (closed_ ? 1 : 0);
+  SegmentMatrices matrices;
+  size_t cachedSegment = SIZE_MAX;
   auto dense = [&](size_t k, V3f* p, V3f* nrm) {
     if (k == segments * kStepsPerSegment) k = 0;  // closing point
     const size_t seg = k / kStepsPerSegment;
-    V3f d;
-    bspline(cpts_[seg], cpts_[seg + 1], cpts_[seg + 2], cpts_[seg + 3],
-            float(k % kStepsPerSegment) / float(kStepsPerSegment), p, &d);
-    *nrm = normalOfTangent(d);
+    if (seg != cachedSegment) {
+      matrices = segmentMatrices(cpts_[seg], cpts_[seg + 1], cpts_[seg + 2], cpts_[seg + 3]);
+      cachedSegment = seg;
+    }
+    const float s = float(k % kStepsPerSegment) / float(kStepsPerSegment);
+    *p = powerRowTimes(matrices.point, s);
+    *nrm = normalOfTangent(powerRowTimes(matrices.tangent, s));
   };
 
   float total = 0;
@@ -258,8 +302,9 @@ void Contour::computeRegular() {
 void Contour::computeEndPoint() {
   // Deprecated oe/ce contours: an open-uniform cubic B-spline through the end points, sampled
   // uniformly in its parameter (lpfg does not reparametrise these). lpfg leaves their normals
-  // zero and their arc length unset; here normals come from the sampled polyline and the arc
-  // length is its length.
+  // zero and their arc length unset (curveGAL then returns whatever was in memory, often the
+  // previous contour's); here drawing gets normals from the sampled polyline (curveNormal still
+  // gives lpfg's zeros) and the arc length is the polyline's length.
   const int n = divisions_;
   const size_t last = cpts_.size() - 1;
   vertex_.assign(n, V3f());
@@ -316,7 +361,9 @@ V3f Contour::pointAt(float t) const {
 }
 
 V3f Contour::normalAt(float t) const {
-  if (normal_.empty()) return V3f();
+  // lpfg never computes an end-point contour's normals: curveNormal gives (0,0,0) there. The
+  // polyline normals below are only for drawing.
+  if (endPoint_ || normal_.empty()) return V3f();
   if (!(t >= 0.0f)) t = 0.0f;
   if (t > 1.0f) t = 1.0f;
   const float f = t * float(normal_.size() - 1);

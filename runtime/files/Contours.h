@@ -10,7 +10,8 @@
 //
 // Sampling: a B-spline contour (uniform cubic B-spline; a closed one wraps around, an open one
 // reaches its ends only through multiplicity-3 end points) is evaluated densely (1000 points per
-// segment), then resampled at `divisions()` points equally spaced in arc length. The first sample
+// segment, with lpfg's float matrix products, so the samples are lpfg's bits), then resampled at
+// `divisions()` points equally spaced in arc length. The first sample
 // is the curve's start; a closed contour's last sample repeats its first (so n samples draw n-1
 // sides). Normals are the tangent turned +90° about z: (-ty, tx, 0), i.e. outward for a clockwise
 // contour (the default circle, x = sin, y = cos, runs clockwise and its normals are its points).
@@ -90,7 +91,7 @@ class Contour {
 
   // Curve functions (§6.3). t is clamped to [0,1].
   V3f pointAt(float t) const;   // curveX/Y/Z/XY/XYZ
-  V3f normalAt(float t) const;  // curveNormal
+  V3f normalAt(float t) const;  // curveNormal; (0,0,0) for an end-point contour, as in lpfg
   float arcLength() const { return arcLen_; }  // curveGAL
 
   // Control points as lpfg indexes them for curveSetPoint: multiplicities expanded, and for a

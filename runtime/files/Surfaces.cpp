@@ -200,12 +200,12 @@ llvm::Expected<BezierSurface> parseSurface(std::string_view text, const std::str
   if (!next() || !readKeyedVector(lines[ln], "HEADING", &s.heading))
     return fail(fileName, std::min(ln + 1, lines.size()), "expected 'HEADING X: x Y: y Z: z'");
   if (s.heading.Length() < 0.001f) return fail(fileName, ln + 1, "the heading vector is (nearly) zero");
-  s.heading.Normalize();
+  s.heading *= 1.0f / s.heading.Length();  // lpfg normalises by one reciprocal
   ++ln;
   if (!next() || !readKeyedVector(lines[ln], "UP", &s.up))
     return fail(fileName, std::min(ln + 1, lines.size()), "expected 'UP X: x Y: y Z: z'");
   if (s.up.Length() < 0.001f) return fail(fileName, ln + 1, "the up vector is (nearly) zero");
-  s.up.Normalize();
+  s.up *= 1.0f / s.up.Length();
   ++ln;
   {
     bool ok = next();

@@ -102,6 +102,11 @@ inline float tfunc(const char* name, float x) { return lcjit_tfunc_named(name, x
 // their ids, as lpfg does, so val(LENGTH) is val(<id>).
 inline float val(int id) { return lcjit_val(id); }
 inline float val(const char* name) { return lcjit_val_named(name); }
+inline V2f funcTangent(int id, float x) {
+  V2f v;
+  lcjit_func_tangent(id, x, &v.x);
+  return v;
+}
 
 // §6.10 Random numbers.
 inline double ran(double range) { return lcjit_ran(range); }
@@ -155,11 +160,6 @@ inline void curveScale(int id, float x, float y, float z) { lcjit_curve_op(0, id
 inline void curveSetPoint(int id, int p, float x, float y, float z) { lcjit_curve_op(1, id, p, x, y, z); }
 inline void curveRecalculate(int id) { lcjit_curve_op(2, id, 0, 0, 0, 0); }
 inline void curveReset(int id) { lcjit_curve_op(3, id, 0, 0, 0, 0); }
-inline V2f funcTangent(int id, float t) {
-  V2f v;
-  lcjit_func_tangent(id, t, &v.x);
-  return v;
-}
 inline SurfaceObj GetSurface(int id) {
   SurfaceObj s;
   lcjit_get_surface(id, &s.points[0].x);

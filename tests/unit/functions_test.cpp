@@ -131,8 +131,10 @@ TEST(Functions, TimelineAndRanges) {
   EXPECT_EQ(s.pfunc(1, 15.0f, 10.0f, 20.0f), s.func(1, 0.5f));
   EXPECT_EQ(s.pfunc("GROWTH", 2.0f, 0.0f, 8.0f), s.func(1, 0.25f));
   EXPECT_EQ(s.pfunc(1, 25.0f, 10.0f, 20.0f), s.func(1, 1.0f));
-  // pfunc does not change the range later tfunc calls use.
-  EXPECT_NEAR(s.tfunc(1, 9.0f), 0.5f, 1e-4);
+  // pfunc makes [min,max] the range later tfunc calls use, as in lpfg: the last one above set
+  // [10,20], so 9 is below the start.
+  EXPECT_EQ(s.tfunc(1, 9.0f), s.func(1, 0.0f));
+  EXPECT_EQ(s.tfunc(1, 12.5f), s.func(1, 0.25f));
   // Second timeline: funcedit name aging_curve, timeline name Aging; both
   // resolve, domain [10.5, 20.5], constant 1.
   EXPECT_EQ(s.nameOf(2), "aging_curve");

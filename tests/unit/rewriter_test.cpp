@@ -157,7 +157,7 @@ TEST(RewriterStatements, AxiomAndDerivationLength) {
   EXPECT_HAS(s, "staticint__lc_derivation_length(){return(int)(2+3);}");
   EXPECT_HAS(s, "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){__lc_emit_A(__lc_ctx,1);__lc_emit_SB(__lc_ctx);__lc_emit_F(__lc_ctx,2);"
                 "__lc_emit_EB(__lc_ctx);__lc_emit_A(__lc_ctx,3.5f);}");
-  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,\"m.l\"};");
+  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,\"m.l\",0,__lc_verify};");
   EXPECT_HAS(s, "extern\"C\"const__lc_Model*__lc_model(){return&__lc_the_model;}");
   EXPECT_EQ(r.ruleCount, 0);
 }
@@ -185,7 +185,7 @@ TEST(RewriterStatements, ControlStatementsAndDepths) {
   EXPECT_HAS(s, "staticint__lc_decomposition_depth(){return(int)(4);}");
   EXPECT_HAS(s, "staticint__lc_interpretation_depth(){return(int)(7);}");
   EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,__lc_ring_lsystem,__lc_decomposition_depth,__lc_interpretation_depth,"
-                "__lc_start,__lc_start_each,__lc_end_each,__lc_end,\"m.l\"};");
+                "__lc_start,__lc_start_each,__lc_end_each,__lc_end,\"m.l\",0,__lc_verify};");
 }
 
 TEST(RewriterStatements, CppPassesThrough) {
@@ -313,6 +313,13 @@ TEST(RewriterRules, ProduceInFunctionsAndControlStatements) {
   // A variable that happens to be called produce, as C++ allows, stays a variable.
   auto v = ok(std::string(kMinimal) + "int f() { int produce = 2; return produce * 3; }\n");
   EXPECT_HAS(squash(v.cpp), "intf(){intproduce=2;returnproduce*3;}");
+}
+
+// VerifyString (manual §10.4): its module ids go into the model table.
+TEST(RewriterStatements, VerifyStringListsModuleIds) {
+  std::string s = squash(ok("module A, B;\nderivation length: 1;\naxiom: A;\nVerifyString: A B B;\nA : produce A B;\n").cpp);
+  EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_verify[]={103,104,104,};");
+  EXPECT_HAS(s, "\"m.l\",3,__lc_verify};");
 }
 
 // lpfg also takes one produce statement without braces as the body: `A(t) : produce A(t+dt);`.

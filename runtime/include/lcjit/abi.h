@@ -99,6 +99,7 @@ float lcjit_tfunc(int id, float x);
 float lcjit_tfunc_named(const char* name, float x);
 float lcjit_val(int id);
 float lcjit_val_named(const char* name);
+void lcjit_func_tangent(int id, float x, float* out2);
 void lcjit_print(const char* text);
 void lcjit_output_string(const char* path);
 void lcjit_load_string(const char* path);
@@ -125,8 +126,6 @@ void lcjit_camera_position(int id, struct CameraPosition* out);
 int lcjit_model_value(int what);
 // Starts `/bin/sh -c command` without waiting for it.
 void lcjit_run(const char* command);
-// The tangent of function `id` at t, into out[2].
-void lcjit_func_tangent(int id, float t, float* out);
 // B-spline surface `id` of the view file: at most maxRows x maxColumns control points go to
 // `points` (rows of maxColumns V3tf); the size used to rows/columns (0 x 0 if there is none).
 void lcjit_get_bsurface(int id, int maxRows, int maxColumns, int* rows, int* columns, float* points);

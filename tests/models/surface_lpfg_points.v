@@ -1,0 +1,1 @@
+surface: surface_lpfg_points.s 2.5
