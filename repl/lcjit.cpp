@@ -28,7 +28,8 @@ namespace {
 // lpfg's options are multi-letter with one dash; CLI11 wants two for long names.
 std::vector<std::string> normaliseArgs(int argc, char** argv) {
   static const std::set<std::string> lpfgLong = {"-out", "-ds", "-dtf", "-dtfes", "-rmode", "-wnb", "-wp", "-wpr", "-wr",
-                                                 "-cleanEA20", "-cn", "-dll", "-lp"};
+                                                 "-cleanEA20", "-cn", "-dll", "-lp", "-wnm", "-tablet", "-timer",
+                                                 "-timed"};
   std::vector<std::string> out;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
   lcjit::runtime::EngineLimits limits;
   uint64_t maxModules = limits.maxModules, maxMemory = limits.maxMemory;
   std::vector<float> winSize, winPos, winPosRel, winSizeRel;
-  bool noBorder = false, cleanEA = false, cn = false;
+  bool noBorder = false, cleanEA = false, cn = false, noMessageLog = false, tablet = false, timer = false;
   std::vector<std::string> inputs;
 
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
@@ -55,7 +56,9 @@ int main(int argc, char** argv) {
                  "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
-  app.add_flag("-c", compileOnly, "compile the model only");
+  app.add_flag("-c", compileOnly,
+               "compile the model only (exit 0 if it compiles, 1 if not); the compiled code is cached, so the next "
+               "run starts without compiling");
   app.add_flag("-d", bo.debug, "debug: the module count after every step, on stdout");
   app.add_flag("--ds", bo.dumpSteps, "(-ds) print the string after each derivation step");
   app.add_flag("--dtf", bo.dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
@@ -68,9 +71,14 @@ int main(int argc, char** argv) {
   app.add_option("--wpr", winPosRel, "(-wpr) relative window position")->expected(2)->allow_extra_args(false);
   app.add_option("--wr", winSizeRel, "(-wr) relative window size")->expected(2)->allow_extra_args(false);
   app.add_flag("--wnb", noBorder, "(-wnb) window without borders");
+  app.add_flag("--wnm", noMessageLog, "(-wnm) accepted: lcjit's window has no message log");
   app.add_flag("--cleanEA20", cleanEA, "(-cleanEA20) accepted");
   app.add_flag("--cn", cn, "(-cn) accepted");
-  app.add_option("--dll,-o", dll, "(-dll/-o) accepted: lcjit keeps compiled code in memory");
+  app.add_flag("--tablet", tablet, "(-tablet) accepted: GetTabletStatus() follows the mouse in any case");
+  app.add_flag("--timer,--timed", timer, "(-timer, -timed) accepted: --stats gives lcjit's timings");
+  app.add_option("--dll,-o", dll,
+                 "(-dll/-o) accepted: lcjit compiles the .l file (an lpfg lsys.so cannot be loaded); after -c the "
+                 "compiled code comes from lcjit's cache");
   app.add_option("--lp", libPath, "(-lp) accepted");
   app.add_flag("--stats", bo.stats, "print a JSON object of phase timings on stderr");
   app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
