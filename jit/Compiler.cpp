@@ -54,6 +54,7 @@
 #include <llvm/Transforms/Coroutines/CoroEarly.h>
 #include <llvm/Transforms/Coroutines/CoroSplit.h>
 #include <llvm/Transforms/IPO/GlobalDCE.h>
+#include <llvm/Transforms/IPO/ElimAvailExtern.h>
 #include <llvm/Transforms/IPO/Inliner.h>
 #include <llvm/Transforms/InstCombine/InstCombine.h>
 #include <llvm/Transforms/Scalar/EarlyCSE.h>
@@ -403,6 +404,10 @@ void runIRPipeline(llvm::Module& m, int level, llvm::TargetMachine* tm) {
       coro.addPass(llvm::CoroCleanupPass());
       mpm.addPass(llvm::CoroConditionalWrapper(std::move(coro)));
     }
+    // Bodies kept only for inlining (extern templates: libstdc++'s std::string in C++14) become
+    // declarations again, as in the standard pipelines: left available_externally, their
+    // references did not resolve in the JIT link.
+    mpm.addPass(llvm::EliminateAvailableExternallyPass());
     // Inlined linkonce_odr helpers (most of the runtime header) would otherwise be codegen'd.
     mpm.addPass(llvm::GlobalDCEPass());
   }
@@ -1369,7 +1374,10 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         impl_->startSupport(used, used.pchPath);
     }
     llvm::SHA256 h;
-    for (llvm::StringRef part : {llvm::StringRef(used.pchPath),
+    // This build of lcjit's code generation too: an object made by an older one (other IR
+    // passes) is not this one's.
+    static constexpr const char* kBuild = __DATE__ " " __TIME__;
+    for (llvm::StringRef part : {llvm::StringRef(kBuild), llvm::StringRef(used.pchPath),
                                  llvm::StringRef(options.plainUnit ? "plain" : used.pchFallback ? "text" : "pch"),
                                  llvm::StringRef(bufferName), cppSource}) {
       h.update(part);

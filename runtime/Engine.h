@@ -47,6 +47,9 @@ class Engine {
   // and productions in the same order) takes over; the string and the derivation go on.
   void swapModel(const __lc_Model& model);
   const __lc_Model& model() const { return *model_; }
+  // Environment()/NoEnvironment() (§6.11): whether the environment is ignored.
+  void setIgnoreEnvironment(bool ignore) { ignoreEnvironment_ = ignore; }
+  bool ignoreEnvironment() const { return ignoreEnvironment_; }
   // The context of the rule body running, or null (lcjit_current_ctx).
   __lc_Ctx* activeContext() const { return activeCtx_; }
   Engine(const Engine&) = delete;
@@ -246,6 +249,7 @@ class Engine {
   const EngineHooks* hooks_ = nullptr;
   Match* activeMatch_ = nullptr;
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
+  bool ignoreEnvironment_ = false;
   TurtleSetup turtleSetup_;
   // The query passes' tropism field, kept from one pass to the next during a run, as lpfg's
   // global tropisms are in a batch run (drawing passes start from the view file).

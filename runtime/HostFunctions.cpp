@@ -252,6 +252,13 @@ void lcjit_terrain_visibility(int, int level, const float*) {
 }
 void lcjit_terrain_scale(float) { noTerrain("scaleTerrainBy"); }
 
+int lcjit_environment(int op) {
+  Engine* e = engine();
+  if (!e) return 0;
+  if (op < 2) e->setIgnoreEnvironment(op == 1);
+  return e->ignoreEnvironment() ? 1 : 0;
+}
+
 void lcjit_load_string(const char* path) {
   Engine* e = engine();
   if (!e || !path) return;
@@ -282,7 +289,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
       LCJIT_HOST(lcjit_current_ctx),    LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),
       LCJIT_HOST(lcjit_get_bsurface),   LCJIT_HOST(lcjit_tablet_status),  LCJIT_HOST(lcjit_terrain_query),
-      LCJIT_HOST(lcjit_terrain_visibility), LCJIT_HOST(lcjit_terrain_scale),
+      LCJIT_HOST(lcjit_terrain_visibility), LCJIT_HOST(lcjit_terrain_scale), LCJIT_HOST(lcjit_environment),
   };
 #undef LCJIT_HOST
   // operator new and malloc & co. of model code: stoppable (ModelGuard.h).

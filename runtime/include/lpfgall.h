@@ -255,9 +255,10 @@ inline void terrainVisibilityPatch(VisibilityMode mode, int level, V3f world) {
 }
 inline void scaleTerrainBy(float factor) { lcjit_terrain_scale(factor); }
 
-// §6.11 Environment programs are not connected in batch mode.
-inline void Environment() {}
-inline void NoEnvironment() {}
-inline bool IgnoreEnvironment() { return true; }
+// §6.11 Environment(): interpret for the environment after EndEach; NoEnvironment(): not at
+// all; IgnoreEnvironment() says which was called last (false at first, as in lpfg).
+inline void Environment() { lcjit_environment(0); }
+inline void NoEnvironment() { lcjit_environment(1); }
+inline bool IgnoreEnvironment() { return lcjit_environment(2) != 0; }
 
 #endif

@@ -135,6 +135,8 @@ void lcjit_tablet_status(struct TabletStatus* out);
 int lcjit_terrain_query(int what, const float* world, float* out);
 void lcjit_terrain_visibility(int mode, int level, const float* world);
 void lcjit_terrain_scale(float factor);
+// 0 Environment(), 1 NoEnvironment(), 2 IgnoreEnvironment(): 1 after NoEnvironment().
+int lcjit_environment(int op);
 }
 
 // Appends a module record of `size` bytes (zeroed first, so that padding bytes in strings and
