@@ -396,6 +396,19 @@ class Rewriter {
         else if (!types.empty()) fail(cur(), "missing parameter type in module '" + name.text + "'");
         if (types.size() == 1 && types[0] == "void") types.clear();
       }
+      // `module X(...) = N;` as lpfg's translator takes it: this module is N, the next N+1.
+      if (atText("=")) {
+        next();
+        const Token& n = next();
+        long v = n.kind == Token::Number ? std::strtol(n.text.c_str(), nullptr, 10) : -1;
+        if (n.kind != Token::Number || v < 0) fail(n, "expected a module id (a number) after '='");
+        if (v < nextModuleId_)
+          fail(n, "module id " + n.text + " is taken: " +
+                      (v < 103 ? std::string("ids below 103 are the predefined modules'")
+                               : "ids up to " + std::to_string(nextModuleId_ - 1) + " are given already"));
+        if (v > 60000) fail(n, "module id " + n.text + " is too large (at most 60000)");
+        nextModuleId_ = (int)v;
+      }
       int id = nextModuleId_++;
       modules_[name.text] = ModuleEntry{id, types};
       userModules_.push_back(ModuleDecl{name.text, id, types});
@@ -406,7 +419,6 @@ class Rewriter {
       }
       break;
     }
-    if (atText("=")) fail(cur(), "module ids cannot be assigned in a model");
     expect(";", "after the module declaration");
   }
 
@@ -724,9 +736,19 @@ class Rewriter {
   void emitTables() {
     std::string s = "#line 1 \"<lcjit: generated model tables>\"\n";
     s += "static const __lc_ModuleInfo __lc_user_modules[] = {";
-    for (auto& m : userModules_)
-      s += "{\"" + m.name + "\", " + "(uint32_t)sizeof(__lc_R_" + m.name + ")" +
-           ", " + std::to_string(m.paramTypes.size()) + ", __lc_fields_" + m.name + "},";
+    // One entry per id from 103; ids skipped by `module X = N;` are nameless and never used.
+    std::map<int, const ModuleDecl*> byId;
+    for (auto& m : userModules_) byId[m.id] = &m;
+    for (int id = 103; id < nextModuleId_; ++id) {
+      auto it = byId.find(id);
+      if (it == byId.end()) {
+        s += "{\"\", 4, 0, nullptr},";
+        continue;
+      }
+      const ModuleDecl& m = *it->second;
+      s += "{\"" + m.name + "\", " + "(uint32_t)sizeof(__lc_R_" + m.name + ")" + ", " +
+           std::to_string(m.paramTypes.size()) + ", __lc_fields_" + m.name + "},";
+    }
     if (userModules_.empty()) s += "{nullptr, 0, 0, nullptr}";
     s += "};\n";
     for (size_t i = 0; i < rules_.size(); ++i) {
@@ -762,7 +784,7 @@ class Rewriter {
     for (int id : verify_) s += std::to_string(id) + ",";
     if (verify_.empty()) s += "0";
     s += "};\n";
-    s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(userModules_.size()) +
+    s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(nextModuleId_ - 103) +
          ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
          ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
          fnOrNull(haveDecompDepth_, "__lc_decomposition_depth") + ", " + fnOrNull(haveInterpDepth_, "__lc_interpretation_depth") +

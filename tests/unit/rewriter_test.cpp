@@ -315,6 +315,17 @@ TEST(RewriterRules, ProduceInFunctionsAndControlStatements) {
   EXPECT_HAS(squash(v.cpp), "intf(){intproduce=2;returnproduce*3;}");
 }
 
+// `module X = N;` (lpfg's translator takes it): X is N, the next module N+1; the ids between
+// have nameless table entries.
+TEST(RewriterModules, ExplicitIds) {
+  auto r = ok("module A(int) = 105;\nmodule B;\nderivation length: 1;\naxiom: A(1) B;\n");
+  std::string s = squash(r.cpp);
+  EXPECT_HAS(s, "__lc_id_A=105");
+  EXPECT_HAS(s, "__lc_id_B=106");
+  EXPECT_HAS(s, "__lc_user_modules[]={{\"\",4,0,nullptr},{\"\",4,0,nullptr},{\"A\",");
+  EXPECT_HAS(s, "__lc_the_model={3,4,");
+}
+
 // VerifyString (manual §10.4): its module ids go into the model table.
 TEST(RewriterStatements, VerifyStringListsModuleIds) {
   std::string s = squash(ok("module A, B;\nderivation length: 1;\naxiom: A;\nVerifyString: A B B;\nA : produce A B;\n").cpp);
@@ -531,7 +542,10 @@ TEST(RewriterErrors, ModuleDeclarations) {
             "m.l:1:18: error: missing parameter type in module 'A'");
   EXPECT_EQ(err("module A(, float);\nderivation length: 1;\naxiom: A(1);\n"),
             "m.l:1:10: error: missing parameter type in module 'A'");
-  EXPECT_EQ(err("module A = 5;\nderivation length: 1;\naxiom: A;\n"), "m.l:1:10: error: module ids cannot be assigned in a model");
+  EXPECT_EQ(err("module A = 5;\nderivation length: 1;\naxiom: A;\n"),
+            "m.l:1:12: error: module id 5 is taken: ids below 103 are the predefined modules'");
+  EXPECT_EQ(err("module A = 200;\nmodule B = 150;\nderivation length: 1;\naxiom: A;\n"),
+            "m.l:2:12: error: module id 150 is taken: ids up to 200 are given already");
   EXPECT_EQ(err("module A\nderivation length: 1;\naxiom: A;\n"), "m.l:2:1: error: expected ';' after the module declaration");
 }
 
