@@ -304,7 +304,8 @@ class Rewriter {
       groupKind_ = 0;
       return true;
     }
-    if ((w == "group" || w == "ggroup" || w == "vgroup") && peek(2).is(":") &&
+    // lpfg's translator also spells vgroup `window`, and endgroup `endvgroup` or `endwindow`.
+    if ((w == "group" || w == "ggroup" || w == "vgroup" || w == "window") && peek(2).is(":") &&
         (peek().kind == Token::Number || peek().kind == Token::Identifier)) {
       next();
       group_ = next().text;
@@ -312,7 +313,7 @@ class Rewriter {
       groupKind_ = w == "group" ? 0 : w == "ggroup" ? 1 : 2;
       return true;
     }
-    if (w == "endgroup") {
+    if (w == "endgroup" || w == "endvgroup" || w == "endwindow") {
       next();
       if (atText(";")) next();
       group_ = "0";

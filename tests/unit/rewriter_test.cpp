@@ -370,6 +370,14 @@ TEST(RewriterRules, DecompositionInterpretationHomomorphismKinds) {
 
 // ---- groups and filters
 
+// lpfg's translator takes `window N:` for `vgroup N:`, and `endvgroup`/`endwindow` for `endgroup`.
+TEST(RewriterGroups, WindowIsVgroup) {
+  std::string s = squash(ok("module A;\nderivation length: 1;\naxiom: A;\ninterpretation:\nwindow 2:\nA : { produce F(1); }\n"
+                            "endwindow\nA : { produce F(2); }\n").cpp);
+  EXPECT_HAS(s, "{2,2,(int16_t)(2),");  // interpretation, view group 2
+  EXPECT_HAS(s, "{2,0,(int16_t)(0),");  // after endwindow: group 0
+}
+
 TEST(RewriterGroups, GroupGgroupVgroupEndgroup) {
   auto r = ok(std::string(kMinimal) +
               "A(x): { produce A(x); }\n"
