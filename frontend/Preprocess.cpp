@@ -299,9 +299,9 @@ namespace {
 
 // lpfg's preprocessing command (g++ -E -DLINUX), for the x86-64 baseline and unoptimised as
 // there: a model's #if sees what it sees with lpfg.
-std::vector<std::string> baseArguments() {
-  return {LCJIT_CLANG_EXECUTABLE, "-E", "-x", "c++", "-std=gnu++14", "-w", "-resource-dir", LCJIT_CLANG_RESOURCE_DIR,
-          "-fkeep-system-includes", "-DLINUX"};
+std::vector<std::string> baseArguments(const std::string& languageStandard) {
+  return {LCJIT_CLANG_EXECUTABLE, "-E", "-x", "c++", "-std=" + languageStandard, "-w", "-resource-dir",
+          LCJIT_CLANG_RESOURCE_DIR, "-fkeep-system-includes", "-DLINUX"};
 }
 
 struct Run {
@@ -350,8 +350,9 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
 // lexing a megabyte of standard headers in every reload (~25 ms). Its first lines list the files
 // it was made from (size, mtime); it is made again when one of them changed. Kept on disk under
 // `cacheDir` and known per process; nullopt (the real header is used) when it cannot be made.
-std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, const std::string& cacheDir) {
-  std::vector<std::string> args = baseArguments();
+std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, const std::string& cacheDir,
+                                         const std::string& languageStandard) {
+  std::vector<std::string> args = baseArguments(languageStandard);
   args.insert(args.end(), {"-isystem", runtimeIncludeDir});
   llvm::SHA256 h;
   h.update(clang::getClangFullVersion());
@@ -437,7 +438,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
       return makeError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
   }
 
-  std::vector<std::string> args = baseArguments();
+  std::vector<std::string> args = baseArguments(options.languageStandard);
   for (const auto& d : options.includeDirs) {
     args.push_back("-I");
     args.push_back(d);
@@ -446,7 +447,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   // directories, so that their headers stay #include lines.
   if (!options.runtimeIncludeDir.empty()) {
     if (!options.cacheDir.empty())
-      if (auto image = macroImageDir(options.runtimeIncludeDir, options.cacheDir)) {
+      if (auto image = macroImageDir(options.runtimeIncludeDir, options.cacheDir, options.languageStandard)) {
         args.push_back("-isystem");
         args.push_back(*image);
       }

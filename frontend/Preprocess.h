@@ -23,6 +23,8 @@ struct PreprocessOptions {
   std::string cacheDir;
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
+  // -std= of the model's C++ (as the compile's: __cplusplus and what headers declare).
+  std::string languageStandard = "gnu++14";
   // Line markers without their include flags: the output is C++ that clang compiles as it is
   // (a model's own .cpp), rather than input to the rewriter.
   bool plainMarkers = false;

@@ -796,10 +796,8 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   if (L.base)
     return llvm::Error::success();
   std::vector<std::string> args = {kClangPath,
-                                   // lpfg compiles models as gnu++11; C++14 adds nothing that
-                                   // breaks them, and C++17/20 would (std::byte, std::lerp ...
-                                   // clash with models' own names under `using namespace std`).
-                                   "-std=gnu++14",
+                                   // gnu++14 unless the model asks (CompilerConfig).
+                                   "-std=" + config.languageStandard,
                                    "-w",
                                    // g++ warns about narrowing in braces; clang refuses it.
                                    "-Wno-c++11-narrowing",
@@ -1210,6 +1208,8 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   impl->headerDir = llvm::sys::path::parent_path(config.runtimeHeader).str();
   impl->cacheDir = config.cacheDir.empty() ? defaultCacheDir() : config.cacheDir;
   impl->config = std::move(config);
+  if (impl->config.languageStandard.empty())
+    impl->config.languageStandard = "gnu++14";
 
   auto jtmb = orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)

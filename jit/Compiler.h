@@ -28,6 +28,10 @@ struct CompilerConfig {
   std::string cacheDir;
   // Defined explicitly in the JIT so the host binary needs no -rdynamic.
   std::vector<HostSymbol> hostSymbols;
+  // The C++ of model code (-std=). lpfg compiles models as gnu++11: gnu++14 adds nothing that
+  // breaks them, and C++17/20 would (std::byte, std::lerp ... clash with models' own names
+  // under `using namespace std`). A model's lpfg.mak may ask for another.
+  std::string languageStandard = "gnu++14";
 };
 
 class ModelCode;

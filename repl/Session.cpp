@@ -1,5 +1,6 @@
 // Loading a model (see Session.h).
 #include "Session.h"
+#include "LpfgMak.h"
 
 #include <cctype>
 #include <chrono>
@@ -148,6 +149,16 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
     }
   }
   if (f.lsystem.empty()) return error("error: no L-system file (.l) given");
+  // lpfg builds a model whose folder has an lpfg.mak with it: its sources, flags and -std.
+  auto mak = readLpfgMak(std::filesystem::path(f.lsystem).parent_path().string());
+  if (!mak) return mak.takeError();
+  if (*mak) {
+    for (auto& s : (*mak)->sources)
+      if (std::find(f.sources.begin(), f.sources.end(), s) == f.sources.end()) f.sources.push_back(s);
+    f.sourceIncludeDirs = (*mak)->includeDirs;
+    f.defines = (*mak)->defines;
+    f.languageStandard = (*mak)->languageStandard;
+  }
   return f;
 }
 
@@ -206,11 +217,14 @@ std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::Dr
   return f;
 }
 
-llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cacheDir) {
+llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cacheDir,
+                                                         const std::string& languageStandard) {
   std::unique_ptr<Session> s(new Session());
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
   config.cacheDir = cacheDir;
+  if (!languageStandard.empty()) config.languageStandard = languageStandard;
+  s->languageStandard_ = config.languageStandard;
   for (auto& [name, addr] : runtime::hostFunctions()) config.hostSymbols.push_back({name, addr});
   auto compiler = jit::Compiler::create(std::move(config));
   if (!compiler) return compiler.takeError();
@@ -291,11 +305,17 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   pp.runtimeIncludeDir = runtimeIncludeDir();
   pp.cacheDir = compiler_->cacheDir();
   pp.includeDirs = files.includeDirs;
+  pp.languageStandard = languageStandard_;
+  if (!files.languageStandard.empty() && files.languageStandard != languageStandard_)
+    return error(files.lsystem + ": error: the model's lpfg.mak asks for -std=" + files.languageStandard +
+                 ", and this session compiles " + languageStandard_ + ": start lcjit again for it");
   // The model's own C++ units first: the model links against them. Preprocessed as the model is
   // (their quoted headers become part of the text the object cache keys on), without its macros.
   for (const std::string& source : files.sources) {
     frontend::PreprocessOptions spp = pp;
     spp.plainMarkers = true;
+    spp.includeDirs.insert(spp.includeDirs.end(), files.sourceIncludeDirs.begin(), files.sourceIncludeDirs.end());
+    spp.defines = files.defines;
     auto text = frontend::preprocess(source, spp);
     if (!text) return text.takeError();
     jit::CompileOptions so;

@@ -65,6 +65,12 @@ struct ModelFiles {
   std::vector<std::string> sources;
   // -I: searched for the model's headers (and its sources'), before lcjit's own.
   std::vector<std::string> includeDirs;
+  // From the model folder's lpfg.mak (LpfgMak.h), as lpfg applies them: its -I folders and -D
+  // flags to the sources only (lpfg preprocesses the model without them, and g++ does not
+  // preprocess the translated model, lsys.ii, again), and its -std (empty: lcjit's).
+  std::vector<std::string> sourceIncludeDirs;
+  std::vector<std::pair<std::string, std::string>> defines;
+  std::string languageStandard;
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
@@ -130,7 +136,9 @@ struct PreparedModel {
 class Session {
  public:
   // `cacheDir`: where compiled headers and object code are kept ("": the user's cache folder).
-  static llvm::Expected<std::unique_ptr<Session>> create(const std::string& cacheDir = "");
+  // `languageStandard`: the C++ of model code (-std=), "" for lcjit's (jit::CompilerConfig).
+  static llvm::Expected<std::unique_ptr<Session>> create(const std::string& cacheDir = "",
+                                                         const std::string& languageStandard = "");
   ~Session();
 
   // Reads input files, compiles the model; on error the previous model (if any) stays loaded.
@@ -213,6 +221,7 @@ class Session {
   std::vector<std::string> runningRules_;
   std::string runningRest_;
   std::vector<std::shared_ptr<jit::ModelCode>> ruleCode_;
+  std::string languageStandard_;  // the compiler's -std=
   // The model's extra translation units: every compile of the model links against them.
   std::vector<std::shared_ptr<jit::ModelCode>> sourceCode_;
   std::vector<std::string> warnings_;

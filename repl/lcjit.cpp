@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
     return 1;
   }
-  files->includeDirs = includeDirs;
-  auto session = lcjit::Session::create(cacheDir);
+  files->includeDirs.insert(files->includeDirs.begin(), includeDirs.begin(), includeDirs.end());
+  auto session = lcjit::Session::create(cacheDir, files->languageStandard);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
