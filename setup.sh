@@ -11,6 +11,7 @@ packages=(
   libfmt-dev libcli11-dev libgtest-dev libbenchmark-dev libglm-dev libstb-dev
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
+  libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
 )
 missing=()

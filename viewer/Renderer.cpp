@@ -41,9 +41,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#define STB_TRUETYPE_IMPLEMENTATION
-#define STBTT_STATIC
-#include "stb_truetype.h"
+#include <map>
+#include <mutex>
+#include <tuple>
+#include <fontconfig/fontconfig.h>
+
+#include <ft2build.h>
+#include FT_FREETYPE_H
 
 namespace lcjit::viewer {
 
@@ -370,12 +374,18 @@ struct SegmentChunk {
   std::vector<WidthGroup> groups;  // empty unless the widths are fragmented
 };
 
+// The printable ASCII glyphs of the label font, rendered by FreeType into one atlas.
+struct Glyph {
+  int x = 0, y = 0, width = 0, height = 0;  // in the atlas
+  int left = 0, top = 0;                    // bitmap offset from the pen, y up
+  float advance = 0;  // unhinted: Qt lays the pen out in fractions, each glyph at a whole pixel
+};
 struct GlyphSet {
   int pixelSize = 0;
   bool loaded = false;
   GLuint atlas = 0;
   int atlasSize = 512;
-  stbtt_bakedchar chars[96];
+  Glyph chars[96];
 };
 
 }  // namespace
@@ -415,7 +425,6 @@ struct Renderer::Impl {
   bool paletteDirty = true;
 
   GlyphSet glyphs;
-  std::vector<unsigned char> fontData;
   std::string fontFile;
 
   std::string* error = nullptr;
@@ -1121,26 +1130,52 @@ struct Renderer::Impl {
 
   // --- Labels ----------------------------------------------------------------------------------
 
+  // FreeType with light hinting, as Qt draws lpfg's labels on Linux (fontconfig's usual
+  // "hintslight"): the same face at an em of pixelSize gives the same pixels, near enough.
   bool ensureGlyphs(const std::string& file, int pixelSize) {
     if (glyphs.loaded && glyphs.pixelSize == pixelSize && fontFile == file) return true;
-    if (fontFile != file || fontData.empty()) {
-      std::ifstream in(file, std::ios::binary);
-      if (!in) return false;
-      fontData.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-      fontFile = file;
-    }
-    stbtt_fontinfo info;
-    if (!stbtt_InitFont(&info, fontData.data(), stbtt_GetFontOffsetForIndex(fontData.data(), 0))) return false;
-    // Bake at an em size of pixelSize (Qt's font size), stb's height is ascent − descent.
-    float em = stbtt_ScaleForMappingEmToPixels(&info, 1.0f), height = stbtt_ScaleForPixelHeight(&info, 1.0f);
-    float bakeHeight = pixelSize * height / em;
+    FT_Library library = nullptr;
+    if (FT_Init_FreeType(&library)) return false;
+    struct Done {
+      FT_Library library;
+      FT_Face face = nullptr;
+      ~Done() {
+        if (face) FT_Done_Face(face);
+        FT_Done_FreeType(library);
+      }
+    } done{library};
+    if (FT_New_Face(library, file.c_str(), 0, &done.face) || FT_Set_Pixel_Sizes(done.face, 0, pixelSize)) return false;
+    FT_Face face = done.face;
     int size = 256;
     std::vector<unsigned char> bitmap;
-    for (;; size *= 2) {
+    for (;; size *= 2) {  // shelf-pack the 95 glyphs; a bigger atlas if they do not fit
       bitmap.assign(size_t(size) * size, 0);
-      int r = stbtt_BakeFontBitmap(fontData.data(), 0, bakeHeight, bitmap.data(), size, size, 32, 96, glyphs.chars);
-      if (r > 0 || size >= 4096) break;
+      int x = 1, y = 1, rowHeight = 0;
+      bool fits = true;
+      for (int c = 32; c < 128 && fits; ++c) {
+        Glyph& g = glyphs.chars[c - 32];
+        g = Glyph();
+        if (FT_Load_Char(face, c, FT_LOAD_RENDER | FT_LOAD_TARGET_LIGHT)) continue;
+        const FT_Bitmap& b = face->glyph->bitmap;
+        g.left = face->glyph->bitmap_left;
+        g.top = face->glyph->bitmap_top;
+        g.advance = face->glyph->linearHoriAdvance / 65536.0f;
+        g.width = (int)b.width;
+        g.height = (int)b.rows;
+        if (x + g.width + 1 > size) x = 1, y += rowHeight + 1, rowHeight = 0;
+        if (y + g.height + 1 > size) {
+          fits = false;
+          break;
+        }
+        g.x = x, g.y = y;
+        for (int r = 0; r < g.height; ++r)
+          std::memcpy(&bitmap[size_t(y + r) * size + x], b.buffer + (ptrdiff_t)r * b.pitch, (size_t)g.width);
+        x += g.width + 1;
+        rowHeight = std::max(rowHeight, g.height);
+      }
+      if (fits || size >= 4096) break;
     }
+    fontFile = file;
     if (!glyphs.atlas) glGenTextures(1, &glyphs.atlas);
     glBindTexture(GL_TEXTURE_2D, glyphs.atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
@@ -1171,10 +1206,14 @@ struct Renderer::Impl {
       auto col = palette.textColor(l.color);
       for (unsigned char ch : l.text) {
         if (ch < 32 || ch >= 128) ch = '?';
-        stbtt_aligned_quad q;
-        stbtt_GetBakedQuad(glyphs.chars, glyphs.atlasSize, glyphs.atlasSize, ch - 32, &x, &y, &q, 1);
-        float quad[6][4] = {{q.x0, q.y0, q.s0, q.t0}, {q.x1, q.y0, q.s1, q.t0}, {q.x1, q.y1, q.s1, q.t1},
-                            {q.x0, q.y0, q.s0, q.t0}, {q.x1, q.y1, q.s1, q.t1}, {q.x0, q.y1, q.s0, q.t1}};
+        const Glyph& g = glyphs.chars[ch - 32];
+        const float n = 1.0f / glyphs.atlasSize;
+        float x0 = std::round(x) + g.left, y0 = y - g.top, x1 = x0 + g.width, y1 = y0 + g.height;
+        float s0 = g.x * n, t0 = g.y * n, s1 = (g.x + g.width) * n, t1 = (g.y + g.height) * n;
+        x += g.advance;
+        if (g.width == 0) continue;
+        float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
+                            {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
         for (auto& p : quad) {
           v.insert(v.end(), {p[0], p[1], p[2], p[3], col[0], col[1], col[2], 1.0f});
         }
@@ -1351,20 +1390,36 @@ struct Renderer::Impl {
 };
 
 std::string labelFontFile(const ViewSettings& view) {
-  const std::string dir = "/usr/share/fonts/truetype/dejavu/";
-  std::string name;
-  for (char c : view.winFont) name += (char)std::tolower((unsigned char)c);
-  auto has = [&](const char* w) { return name.find(w) != std::string::npos; };
-  std::string family = "DejaVuSans", bold = "-Bold", italic = "-Oblique";
-  if (has("times") || has("serif") || has("roman") || has("georgia")) family = "DejaVuSerif", italic = "-Italic";
-  else if (has("courier") || has("mono") || has("fixed") || has("console")) family = "DejaVuSansMono";
-  std::string style = view.winFontBold && view.winFontItalic ? bold + italic.substr(1)
-                      : view.winFontBold                     ? bold
-                      : view.winFontItalic                   ? italic
-                                                             : "";
-  for (const std::string& f : {dir + family + style + ".ttf", dir + family + ".ttf", dir + "DejaVuSans.ttf"})
-    if (std::ifstream(f).good()) return f;
-  return dir + "DejaVuSans.ttf";
+  // The face Qt draws lpfg's labels with: fontconfig's match for the family, weight and slant
+  // (Times is Nimbus Roman where the URW fonts are installed, else DejaVu Serif).
+  static std::mutex mutex;
+  static std::map<std::tuple<std::string, int, bool>, std::string> known;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto key = std::make_tuple(view.winFont, view.winFontWeight, view.winFontItalic);
+  if (auto it = known.find(key); it != known.end()) return it->second;
+  std::string file = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (FcInit()) {
+    FcPattern* pattern = FcPatternCreate();
+    FcPatternAddString(pattern, FC_FAMILY, reinterpret_cast<const FcChar8*>(view.winFont.c_str()));
+    int weight = view.winFontWeight;
+    FcPatternAddInteger(pattern, FC_WEIGHT,
+                        weight <= 25   ? FC_WEIGHT_LIGHT
+                        : weight <= 50 ? FC_WEIGHT_REGULAR
+                        : weight <= 63 ? FC_WEIGHT_DEMIBOLD
+                        : weight <= 75 ? FC_WEIGHT_BOLD
+                                       : FC_WEIGHT_BLACK);
+    FcPatternAddInteger(pattern, FC_SLANT, view.winFontItalic ? FC_SLANT_ITALIC : FC_SLANT_ROMAN);
+    FcConfigSubstitute(nullptr, pattern, FcMatchPattern);
+    FcDefaultSubstitute(pattern);
+    FcResult result;
+    if (FcPattern* match = FcFontMatch(nullptr, pattern, &result)) {
+      FcChar8* path = nullptr;
+      if (FcPatternGetString(match, FC_FILE, 0, &path) == FcResultMatch && path) file = reinterpret_cast<const char*>(path);
+      FcPatternDestroy(match);
+    }
+    FcPatternDestroy(pattern);
+  }
+  return known[key] = file;
 }
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {

@@ -202,7 +202,7 @@ std::string psFontName(const ViewSettings& v) {
   std::string family = v.winFont;
   std::string lower;
   for (char c : family) lower += (char)std::tolower((unsigned char)c);
-  bool bold = v.winFontBold, italic = v.winFontItalic;
+  bool bold = v.winFontBold(), italic = v.winFontItalic;
   std::string base, slant = "Oblique";
   if (lower.find("times") != std::string::npos || lower.find("serif") == 0) base = "Times", slant = "Italic";
   else if (lower.find("courier") != std::string::npos || lower.find("mono") != std::string::npos) base = "Courier";
@@ -268,7 +268,7 @@ llvm::Error writeSvg(const Context& cx) {
         const glm::vec3& p = pic.labelAt[it.index];
         w.print("<text x=\"{}\" y=\"{}\" fill=\"{}\" font-family=\"{}\" font-size=\"{}\"{}{} xml:space=\"preserve\">{}</text>\n",
                 num(p.x), num(p.y), Hex{cx.palette.textColor(l.color)}, font, cx.view.winFontSize,
-                cx.view.winFontBold ? " font-weight=\"bold\"" : "", cx.view.winFontItalic ? " font-style=\"italic\"" : "",
+                cx.view.winFontBold() ? " font-weight=\"bold\"" : "", cx.view.winFontItalic ? " font-style=\"italic\"" : "",
                 xmlEscape(l.text));
         break;
       }

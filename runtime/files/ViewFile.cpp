@@ -864,12 +864,15 @@ class Parser {
     std::string family;
     for (char c : fields[2]) family += c == '_' ? ' ' : c;
     if (family != "*") vs_.winFont = family;  // lpfg passes "*" to Qt, i.e. its default family
-    vs_.winFontBold = fields[3] == "bold" || fields[3] == "black";
+    const std::string& w = fields[3];
+    vs_.winFontWeight = w == "light" ? 25 : w == "medium" ? 63 : w == "bold" ? 75 : w == "black" ? 87 : 50;
     vs_.winFontItalic = fields[4] == "italic";
   }
 
   // `winfont: name size [flags]`: name in quotes if it has blanks; flags: b and/or i (lpfg looks at
-  // the first two characters only).
+  // the first two characters only). lpfg's Linux build applies it only when flags are given, and
+  // then makes it bold unless a b flag asks for bold (its test is inverted); italic stays on once
+  // set.
   void readWinFont(const char* arg) {
     const char* p = skipBlanks(arg);
     const char* at = p;
@@ -891,17 +894,18 @@ class Parser {
       warn(p, "winfont: needs a font size after the name");
       return;
     }
-    vs_.winFont = name;
-    vs_.winFontSize = std::atoi(p);
-    vs_.winFontBold = vs_.winFontItalic = false;
+    int size = std::atoi(p);
     p = skipBlanks(skipNonBlanks(p));
-    if (*p) {
-      for (int i = 0; i < 2 && p[i] && !isBlank(p[i]); ++i) {
-        char c = (char)std::toupper((unsigned char)p[i]);
-        if (c == 'I') vs_.winFontItalic = true;
-        if (c == 'B') vs_.winFontBold = true;
-      }
+    if (!*p) return;  // no flags: lpfg keeps the font it had
+    bool boldFlag = false;
+    for (int i = 0; i < 2 && p[i] && !isBlank(p[i]); ++i) {
+      char c = (char)std::toupper((unsigned char)p[i]);
+      if (c == 'I') vs_.winFontItalic = true;
+      if (c == 'B') boldFlag = true;
     }
+    vs_.winFont = name;
+    vs_.winFontSize = size;
+    vs_.winFontWeight = boldFlag ? 50 : 75;
   }
 };
 

@@ -130,12 +130,16 @@ struct ViewSettings {
   std::vector<Tropism> tropisms;
   std::optional<SimpleTropism> simpleTropism;  // `stropism:`
   std::string font;                    // `font:` (X font name, as written)
-  // The label font. In lpfg's Qt build `font:` (parsed as an XLFD name: family, weight, slant,
-  // pixel size) and `winfont:` both set this one font, the last wins; its default there is
-  // Times 12 (the Windows build and the manual: Arial, 14 resp. 12).
-  std::string winFont = "Times";       // `winfont:`
+  // The label font, as lpfg's Qt build makes it on Linux: `font:` (an XLFD name: family,
+  // weight, slant, size in points) sets it; `winfont: name size` changes it only when flags
+  // follow the size (then its weight is bold without a b flag, normal with one: lpfg's quirk).
+  // The default is Times, 12 points. Weights are Qt's: 25 light, 50 normal, 63 demibold
+  // (XLFD "medium"), 75 bold, 87 black.
+  std::string winFont = "Times";
   int winFontSize = 12;
-  bool winFontBold = false, winFontItalic = false;
+  int winFontWeight = 50;
+  bool winFontItalic = false;
+  bool winFontBold() const { return winFontWeight >= 63; }
   bool correctedRotation = true;
   bool correctedRotationGiven = false;  // lpfg warns when `corrected rotation:` is missing
 };

@@ -14,7 +14,7 @@ For each model, in copies of its folder:
   - lcjit -b -out out.str ARGS, and lcjit decodes ref.strb with the same model (REPL LoadString),
     so the two strings are compared as text, one module per line, every parameter printed exactly
     (%.9g floats, %.17g doubles): "equal" means every module and every bit of every parameter;
-  - pictures (unless --no-pictures): lpfg's window under Xvfb (-out ref.png, 400x400 picture) and
+  - pictures (unless --no-pictures): lpfg's window under Xvfb at 96 dpi (-out ref.png, 400x400) and
     lcjit -b -out out.png at the same size, compared with tests/tools/image_diff.
 Models with a .e file (environment programs) are run only with --env.
 """
@@ -215,13 +215,16 @@ def compare_pictures(a, env, args, lp, lc, work):
         for d in (lp, lc):
             if os.path.exists(os.path.join(d, f)):
                 os.remove(os.path.join(d, f))
-    # Qt's menu bar takes 22 pixels of lpfg's window: -w 400 422 leaves a 400x400 picture.
+    # At 96 dpi (Qt's usual; lcjit's labels assume it) Qt's menu bar takes 20 pixels of lpfg's
+    # window: -w 400 420 leaves a 400x400 picture. A multi-view window is saved whole, its
+    # bottom 20 rows in the border colour: the top 400 rows are the picture.
     xenv = dict(env)
     xenv.pop("QT_QPA_PLATFORM", None)
-    code, log, _ = run(["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", "lpfg", "-w", "400", "422", "-out", "ref.png",
-                        *args], lp, a.timeout, xenv)
+    code, log, _ = run(["xvfb-run", "-a", "-s", "-screen 0 1024x768x24 -dpi 96", "lpfg", "-w", "400", "420", "-out",
+                        "ref.png", *args], lp, a.timeout, xenv)
     if not os.path.exists(os.path.join(lp, "ref.png")):
         return "lpfg failed"
+    run(["convert", "ref.png", "-crop", "400x400+0+0", "+repage", "ref.png"], lp, 60)
     code, log, _ = run([a.lcjit, "-b", "-q", "-w", "400", "400", "-out", "out.png", *args], lc, a.timeout)
     if code != 0:
         return "lcjit failed"

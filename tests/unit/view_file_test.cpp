@@ -479,34 +479,45 @@ TEST(ViewFileTropisms, TropismTorqueSimple) {
   EXPECT_EQ(w[0].column, 18);  // "A:" on the torque line
 }
 
+// The label font as lpfg's Linux build reads it (lpfg/drawparam.cpp, DrawParams::Font): an XLFD
+// `font:` gives family, weight (medium is Qt's DemiBold), slant and size; `winfont:` only counts
+// with flags after the size, and then its weight is the reverse of its b flag.
 TEST(ViewFileFonts, XFontAndWinFont) {
   ViewSettings vs = parseClean("font: -adobe-helvetica-bold-italic-normal-*-24-*-*-*-*-*-*-*\n");
   EXPECT_EQ(vs.font, "-adobe-helvetica-bold-italic-normal-*-24-*-*-*-*-*-*-*");
   EXPECT_EQ(vs.winFont, "helvetica");
   EXPECT_EQ(vs.winFontSize, 24);
-  EXPECT_TRUE(vs.winFontBold);
+  EXPECT_EQ(vs.winFontWeight, 75);
   EXPECT_TRUE(vs.winFontItalic);
 
   vs = parseClean("font: -*-courier_new-medium-r-*-*-26-*-*-*-*-*-*-*\n");
   EXPECT_EQ(vs.winFont, "courier new");
   EXPECT_EQ(vs.winFontSize, 26);
-  EXPECT_FALSE(vs.winFontBold);
+  EXPECT_EQ(vs.winFontWeight, 63);
   EXPECT_FALSE(vs.winFontItalic);
 
   vs = parseClean("font: -*-*-*-r-*-*-10-*-*-*-*-*-*-*\n");
   EXPECT_EQ(vs.winFont, "Times");  // "*" family: the default
   EXPECT_EQ(vs.winFontSize, 10);
+  EXPECT_EQ(vs.winFontWeight, 50);
 
   vs = parseClean("winfont: \"Times New Roman\" 18 bi\n");
   EXPECT_EQ(vs.winFont, "Times New Roman");
   EXPECT_EQ(vs.winFontSize, 18);
-  EXPECT_TRUE(vs.winFontBold);
+  EXPECT_EQ(vs.winFontWeight, 50);  // b: normal, in lpfg
   EXPECT_TRUE(vs.winFontItalic);
 
+  vs = parseClean("winfont: Arial 9 i\n");
+  EXPECT_EQ(vs.winFont, "Arial");
+  EXPECT_EQ(vs.winFontWeight, 75);  // no b: bold, in lpfg
+  EXPECT_TRUE(vs.winFontItalic);
+
+  // Without flags lpfg keeps the font it had.
   vs = parseClean("winfont: Arial 9 i\nwinfont: Courier 11\n");
-  EXPECT_EQ(vs.winFont, "Courier");
-  EXPECT_EQ(vs.winFontSize, 11);
-  EXPECT_FALSE(vs.winFontItalic);
+  EXPECT_EQ(vs.winFont, "Arial");
+  EXPECT_EQ(vs.winFontSize, 9);
+  vs = parseClean("winfont: \"Times\" 24\n");
+  EXPECT_EQ(vs.winFontSize, 12);
 
   std::vector<ViewFileWarning> w;
   vs = parse("winfont: \"Times\"\nwinfont:\nfont:\n", w);
