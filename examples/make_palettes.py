@@ -151,6 +151,16 @@ write_mat("gcplant.mat", (0.8, 0.87, 0.92), [
     material(5, (1.0, 0.8, 0.1), specular=(0.3, 0.3, 0.1), shininess=20),
 ])
 
+# bspline.mat: 1 stem, 2 leaf, 3 textured leaf (light, so that veins.png shows), 4 petal (pink),
+# 5 flower centre (yellow).
+write_mat("bspline.mat", (0.86, 0.9, 0.95), [
+    material(1, (0.35, 0.5, 0.2)),
+    material(2, (0.2, 0.55, 0.15), ambient=(0.06, 0.15, 0.04), specular=(0.25, 0.25, 0.2), shininess=30),
+    material(3, (0.9, 0.9, 0.9), ambient=(0.3, 0.3, 0.3), specular=(0.15, 0.15, 0.15), shininess=20),
+    material(4, (0.95, 0.55, 0.7), ambient=(0.3, 0.15, 0.2), specular=(0.3, 0.3, 0.3), shininess=25),
+    material(5, (1.0, 0.8, 0.15), specular=(0.3, 0.3, 0.1), shininess=20),
+])
+
 # materials.mat: the materials example, one sphere per material 1..8 (see materials.l).
 write_mat("materials.mat", (0.15, 0.15, 0.18), [
     material(1, (0.8, 0.1, 0.1), specular=(0, 0, 0), shininess=0),                  # matte red

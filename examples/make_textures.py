@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Writes the example textures (standard library only): birch.png, a birch-bark pattern — white
-bark with dark horizontal lenticels — 64x128 RGB. Run from examples/; the output is kept here."""
+bark with dark horizontal lenticels — 64x128 RGB; veins.png, a leaf's midrib and veins, 64x64
+(x runs along the leaf, y across it: a B-spline surface maps (i/uDiv, j/vDiv) of its rows and
+columns). Run from examples/; the output is kept here."""
 import math, random, struct, zlib
 
 
@@ -27,5 +29,20 @@ def birch():
     png("birch.png", 64, 128, pixel)
 
 
+def veins():
+    def pixel(x, y):
+        across = abs(y - 31.5) / 32          # 0 on the midrib, 1 at the margin
+        along = x / 63                        # 0 at the base, 1 at the tip
+        g = 150 + int(70 * along)
+        shade = (int(70 + 60 * along), g, int(40 + 30 * along))
+        if across < 0.06:
+            return (225, 235, 170)            # the midrib
+        if abs(((x - 2.2 * abs(y - 31.5)) % 12) - 6) < 1:
+            return (190, 220, 140)            # veins, slanting towards the tip
+        return shade
+    png("veins.png", 64, 64, pixel)
+
+
 if __name__ == "__main__":
     birch()
+    veins()

@@ -95,6 +95,13 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
     }
     d->shapes.meshes.push_back({std::move(*mesh), m.texture});
   }
+  for (auto& b : d->view.bsurfaces) {
+    d->shapeFiles.push_back(besideView(files.view, b.file));
+    std::vector<std::string> notes;
+    runtime::BSplineFile f = runtime::loadBSpline(d->shapeFiles.back(), notes);
+    warnings.insert(warnings.end(), notes.begin(), notes.end());
+    d->shapes.bsplines.push_back({std::move(f.net), b.sdiv, b.tdiv, b.texture});
+  }
   for (auto& t : d->view.textures) {
     std::string path = besideView(files.view, t);
     auto image = runtime::loadImage(path);

@@ -228,12 +228,31 @@ void lcjit_run(const char* command) {
   if (child > 0) waitpid(child, nullptr, 0);
 }
 
-void lcjit_get_bsurface(int id, int maxRows, int, int* rows, int* columns, float*) {
+void lcjit_get_bsurface(int id, int maxRows, int maxColumns, int* rows, int* columns, float* points) {
   *rows = *columns = 0;
-  if (Engine* e = engine())
-    e->print(("GetBsurface" + std::string(maxRows <= 10 ? "S" : "M") + ": invalid id = " + std::to_string(id) +
-              ". Returning uninitialized object.\n")
-                 .c_str());
+  const std::string name = std::string("GetBsurface") + (maxRows <= 10 ? "S" : "M");
+  auto* lib = shapes();
+  if (!lib || id < 0 || id >= (int)lib->bsplines.size()) {
+    if (Engine* e = engine())
+      e->print((name + ": invalid id = " + std::to_string(id) + ". Returning uninitialized object.\n").c_str());
+    return;
+  }
+  if (!lcjit::runtime::bsplineToRecord(lib->bsplines[id].net, maxRows, maxColumns, points, rows, columns))
+    if (Engine* e = engine()) e->print((name + ": lpfg cannot resize this surface to fit (it would not return)\n").c_str());
+}
+
+void lcjit_bsurface_op(int op, int maxRows, int maxColumns, const float* l, int lRows, int lColumns, const float* r,
+                       int rRows, int rColumns, float alpha, int rows, int columns, float* out, int* outRows,
+                       int* outColumns) {
+  using lcjit::runtime::BSplineNet;
+  BSplineNet a = lcjit::runtime::bsplineFromRecord(l, maxRows, maxColumns, lRows, lColumns);
+  BSplineNet b = lcjit::runtime::bsplineFromRecord(r, maxRows, maxColumns, rRows, rColumns);
+  BSplineNet s = op == 0 ? BSplineNet::add(a, b)
+                         : BSplineNet::interpolate(a, b, alpha, std::min(rows, maxRows), std::min(columns, maxColumns));
+  if (!lcjit::runtime::bsplineToRecord(std::move(s), maxRows, maxColumns, out, outRows, outColumns))
+    if (Engine* e = engine())
+      e->print(op == 0 ? "BsurfaceObj operator+: lpfg cannot resize the sum to fit (it would not return)\n"
+                       : "Interpolate: lpfg cannot resize the result to fit (it would not return)\n");
 }
 
 void lcjit_tablet_status(TabletStatus* out) { *out = lcjit::runtime::Mouse::instance().tablet(); }
@@ -281,6 +300,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
       LCJIT_HOST(lcjit_func_tangent),
+      LCJIT_HOST(lcjit_bsurface_op),
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),

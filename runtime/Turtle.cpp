@@ -581,6 +581,17 @@ void Turtle::executeModule(char* rec) {
             drawPatch(s.points, true);
             break;
           }
+          case __lc_id_BSurface: drawBSurface(i0(), param<float>(rec, p1<__lc_R_BSurface>())); break;
+          case __lc_id_DBSurfaceS: {
+            BsurfaceObjS b = param<BsurfaceObjS>(rec, p0<__lc_R_DBSurfaceS>());
+            drawDynamicBSurface(reinterpret_cast<const float*>(&b), 10, 10, b.RowCount(), b.ColumnCount());
+            break;
+          }
+          case __lc_id_DBSurfaceM: {
+            auto b = std::make_unique<BsurfaceObjM>(param<BsurfaceObjM>(rec, p0<__lc_R_DBSurfaceM>()));
+            drawDynamicBSurface(reinterpret_cast<const float*>(b.get()), 32, 32, b->RowCount(), b->ColumnCount());
+            break;
+          }
           case __lc_id_InitSurface: break;
           case __lc_id_SurfacePoint: {
             int p = param<int>(rec, p1<__lc_R_SurfacePoint>()), q = param<int>(rec, offsetof(__lc_R_SurfacePoint, p2));

@@ -19,6 +19,7 @@ namespace lcjit::runtime {
 
 struct ShapeLibrary;
 struct PatchGrid;
+class BSplineNet;
 
 // What the turtle draws with: the view file's settings and the shapes it names.
 struct TurtleSetup {
@@ -134,6 +135,10 @@ class Turtle {
   V3f inFrame(V3f p, V3f scale) const;  // P + x·(−L) + y·H + z·U, each coordinate scaled
   void drawSurface(int id, V3f scale);
   void drawMesh(int id, V3f scale);
+  void drawBSurface(int id, float scale);
+  void extendByNet(const BSplineNet& net, float scale);
+  // DBSurfaceS/M: `points` are the record's rows of `maxColumns` V3tf, rows × columns used.
+  void drawDynamicBSurface(const float* points, int maxRows, int maxColumns, int rows, int columns);
   void startCylinder();
   void endCylinder();
   CylinderPoint cylinderHere() const;

@@ -432,6 +432,42 @@ void Turtle::drawMesh(int id, V3f scale) {
   for (int c = 0; c < 8; ++c) extend(inFrame(V3f(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z), scale));
 }
 
+// lpfg's bounding box counts a B-spline surface's control points turned and scaled by the turtle
+// but not moved to it: lpfg takes the translation from the wrong entries of its column-major
+// matrix (zeros), so the surface counts as if drawn at the origin.
+void Turtle::extendByNet(const BSplineNet& net, float scale) {
+  const TurtleState& t = state_;
+  for (int i = 0; i < net.rows(); ++i)
+    for (int j = 0; j < net.columns(); ++j) {
+      const BSplinePoint& p = net.at(i, j);
+      extend(-t.left * (float(p.x) * scale) + t.heading * (float(p.y) * scale) + t.up * (float(p.z) * scale));
+    }
+}
+
+// BSurface (manual §10.1), as lpfg draws it: at the turtle, scaled by the module (the view file's
+// scale is not used), in the current colour, with its view-file texture (CurrentTexture does not
+// apply; lpfg draws an id beyond the `texture:` lines untextured), vertices of the first draw's
+// precision (ShapeLibrary::BSpline). It counts in the bounding box textured or not.
+void Turtle::drawBSurface(int id, float scale) {
+  if (!setup_.shapes || id < 0 || id >= (int)setup_.shapes->bsplines.size()) return;  // lpfg: message, ignored
+  const ShapeLibrary::BSpline& b = setup_.shapes->bsplines[id];
+  extendByNet(b.net, scale);
+  int texture = b.texture < (int)view_->textures.size() ? b.texture : -1;
+  int u = state_.uPrecision ? state_.uPrecision : b.sdiv ? b.sdiv : kDefaultSurfaceDivisions;
+  int v = state_.vPrecision ? state_.vPrecision : b.tdiv ? b.tdiv : kDefaultSurfaceDivisions;
+  addGrid(BSplineNet::mesh(b.grid(u, v), u, v), false, V3f(scale, scale, scale), texture);
+}
+
+// DBSurfaceS/M: the record's net at the turtle, unscaled, untextured, at the turtle's precision.
+void Turtle::drawDynamicBSurface(const float* points, int maxRows, int maxColumns, int rows, int columns) {
+  BSplineNet net = bsplineFromRecord(points, maxRows, maxColumns, rows, columns);
+  if (net.empty()) return;
+  extendByNet(net, 1);
+  int u = state_.uPrecision ? state_.uPrecision : kDefaultSurfaceDivisions;
+  int v = state_.vPrecision ? state_.vPrecision : kDefaultSurfaceDivisions;
+  addGrid(BSplineNet::mesh(net.sample(u, v), u, v), false, V3f(1, 1, 1), -1);
+}
+
 // DSurface (turtle frame, no scaling) and DrawSurface (control points already in world space).
 void Turtle::drawPatch(const V3tf (&points)[16], bool turtleFrame) {
   SurfaceObj patch;

@@ -159,6 +159,13 @@ void describeTurtleCommand(std::string& out, const char* rec, const TurtleState&
       break;
     }
     case __lc_id_Mesh3: l.call("Mesh", ip(OFF(Mesh3, p0)), fp(OFF(Mesh3, p1)), fp(OFF(Mesh3, p2)), fp(OFF(Mesh3, p3))); break;
+    case __lc_id_BSurface: {
+      float s = fp(OFF(BSurface, p1));
+      l.call("BSurface", ip(OFF(BSurface, p0)), s, s, s);
+      break;
+    }
+    case __lc_id_DBSurfaceS: l.name("DBSurfaceS(surface)"); break;
+    case __lc_id_DBSurfaceM: l.name("DBSurfaceM(surface)"); break;
     case __lc_id_SetElasticity: l.call("SetElasticity", ip(OFF(SetElasticity, p0)), fp(OFF(SetElasticity, p1))); break;
     case __lc_id_IncElasticity: l.call("IncElasticity", ip(OFF(IncElasticity, p0))); break;
     case __lc_id_DecElasticity: l.call("DecElasticity", ip(OFF(DecElasticity, p0))); break;

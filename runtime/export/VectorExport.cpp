@@ -93,7 +93,7 @@ Picture draw(const Context& cx) {
     else if (gradient == 2) k += cx.view.gradientMagnitude * (va.uv.y + vb.uv.y + vc.uv.y) / 3;
     if (!lights.empty()) {
       V3f n = va.normal + vb.normal + vc.normal;
-      if (n * n < 1e-12f) n = (vb.position - va.position) % (vc.position - va.position);
+      if (!(n * n >= 1e-12f)) n = (vb.position - va.position) % (vc.position - va.position);  // also NaN
       n = unit(n);
       float s = 0.2f;
       for (auto& [d, bright] : lights) s += bright * std::fabs(n * d);

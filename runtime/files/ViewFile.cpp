@@ -401,8 +401,7 @@ class Parser {
         readView(arg);
         break;
       case Cmd::BSurface:
-        if (word.empty()) warn(at, "bsurface: needs a file name");
-        else vs_.bsurfaces.push_back(word);
+        readBSurface(arg);
         break;
       case Cmd::Box:
         readBox(arg);
@@ -622,6 +621,49 @@ class Parser {
     if (count >= 5) s.texture = texture;
     if (!surfaceLines_.insert(command).second) return;  // lpfg rereads, adds nothing
     vs_.surfaces.push_back(s);
+  }
+
+  // b_wrapper's sscanf("%s %f %d %d %d"): 1, 2, 4 or 5 values.
+  void readBSurface(const char* arg) {
+    const char* at = skipBlanks(arg);
+    BSplineDeclaration b;
+    const char* p = skipNonBlanks(at);
+    b.file.assign(at, p);
+    if (b.file.empty()) {
+      warn(at, "bsurface: needs a file name");
+      return;
+    }
+    float scale = 1;
+    int sdiv = 0, tdiv = 0, texture = -1;
+    int count = 1;
+    if (scanFloat(p, scale)) {
+      ++count;
+      if (scanInt(p, sdiv)) {
+        ++count;
+        if (scanInt(p, tdiv)) {
+          ++count;
+          if (scanInt(p, texture)) ++count;
+        }
+      }
+    }
+    if (count == 3) {
+      warn(at, "bsurface: sdiv and tdiv must be given together");
+      return;
+    }
+    if (count >= 2 && scale <= 0) {
+      warn(at, "bsurface: the scale must be positive");
+      return;
+    }
+    if (count >= 4) {
+      if (sdiv < kMinSurfaceDiv || sdiv > kMaxSurfaceDiv || tdiv < kMinSurfaceDiv || tdiv > kMaxSurfaceDiv) {
+        warn(at, "bsurface: sdiv and tdiv must be between 2 and 64");
+        return;
+      }
+      b.sdiv = sdiv;
+      b.tdiv = tdiv;
+    }
+    if (count >= 5) b.texture = texture;
+    vs_.bsurfaces.push_back(b);
   }
 
   void readMesh(const char* arg) {

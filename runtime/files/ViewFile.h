@@ -79,6 +79,14 @@ struct SurfaceDeclaration {
   int sdiv = 0, tdiv = 0;  // 0: the surface's default precision
   int texture = -1;
 };
+// `bsurface: file [scale [sdiv tdiv [texture]]]` (manual §10.1): lpfg checks the values as for
+// surface: (3 values, scale <= 0 or sdiv/tdiv outside 2..64 reject the line) but uses no scale.
+// Every line adds a surface, repeated or not.
+struct BSplineDeclaration {
+  std::string file;
+  int sdiv = 0, tdiv = 0;  // 0: not given
+  int texture = -1;
+};
 struct MeshDeclaration {
   std::string file;
   float scale = 1;
@@ -124,7 +132,7 @@ struct ViewSettings {
   std::vector<SurfaceDeclaration> surfaces;
   std::vector<MeshDeclaration> meshes;
   std::vector<std::string> textures;  // texture ids in order, from 0
-  std::vector<std::string> bsurfaces;  // `bsurface: file` (B-spline surfaces)
+  std::vector<BSplineDeclaration> bsurfaces;  // `bsurface:` (B-spline surfaces)
   std::string terrain;                 // `terrain: file`
 
   std::vector<Tropism> tropisms;

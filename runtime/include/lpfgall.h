@@ -183,31 +183,39 @@ template <int N, int M> void BsurfaceObjNM<N, M>::Set(int i, int j, const V3f& v
   else
     std::cout << "BsurfaceObjNM dimensions exceeded" << std::endl;
 }
+// lpfg's arithmetic lives in the host (runtime/files/BSplineSurfaces.h): nets of different
+// sizes are refined or coarsened first, and sums are taken in double, as lpfg's are. Unused
+// entries of a result are 0 (lpfg leaves them uninitialised).
 template <int N, int M> BsurfaceObjNM<N, M> __lc_bsurface(int id) {
-  BsurfaceObjNM<N, M> s;
+  BsurfaceObjNM<N, M> s{};
   int rows = 0, columns = 0;
   lcjit_get_bsurface(id, N, M, &rows, &columns, reinterpret_cast<float*>(&s));
   s.Resize(rows, columns);
   return s;
 }
-inline BsurfaceObjS GetBsurfaceS(int id) { return __lc_bsurface<10, 10>(id); }
-inline BsurfaceObjM GetBsurfaceM(int id) { return __lc_bsurface<32, 32>(id); }
-// Corresponding control points added; the size is the left operand's.
-template <int N, int M> BsurfaceObjNM<N, M> operator+(const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r) {
-  BsurfaceObjNM<N, M> s = l;
-  for (int i = 0; i < l.RowCount(); ++i)
-    for (int j = 0; j < l.ColumnCount(); ++j) s.Set(i, j, l.Get(i, j) + r.Get(i, j));
+template <int N, int M>
+BsurfaceObjNM<N, M> __lc_bsurface_op(int op, const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r, float alpha,
+                                     int rows, int columns) {
+  BsurfaceObjNM<N, M> s{};
+  int n = 0, m = 0;
+  lcjit_bsurface_op(op, N, M, reinterpret_cast<const float*>(&l), l.RowCount(), l.ColumnCount(),
+                    reinterpret_cast<const float*>(&r), r.RowCount(), r.ColumnCount(), alpha, rows, columns,
+                    reinterpret_cast<float*>(&s), &n, &m);
+  s.Resize(n, m);
   return s;
 }
-// Each control point (1-alpha)*l + alpha*r; r and c are the size of the result.
+inline BsurfaceObjS GetBsurfaceS(int id) { return __lc_bsurface<10, 10>(id); }
+inline BsurfaceObjM GetBsurfaceM(int id) { return __lc_bsurface<32, 32>(id); }
+// The smaller net is refined until the sizes match; the sum has the left operand's size.
+template <int N, int M> BsurfaceObjNM<N, M> operator+(const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r) {
+  return __lc_bsurface_op(0, l, r, 0, 0, 0);
+}
+// l and r resized to rows x columns (at most N x M; lpfg refines while rows >= 2n - 3 and
+// coarsens while rows < n and rows >= 10), then (1-alpha)*l + alpha*r.
 template <int N, int M>
 BsurfaceObjNM<N, M> Interpolate(const BsurfaceObjNM<N, M>& l, const BsurfaceObjNM<N, M>& r, float alpha, int rows,
                                 int columns) {
-  BsurfaceObjNM<N, M> s = l;
-  s.Resize(rows, columns);
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < columns; ++j) s.Set(i, j, l.Get(i, j) * (1 - alpha) + r.Get(i, j) * alpha);
-  return s;
+  return __lc_bsurface_op(1, l, r, alpha, rows, columns);
 }
 template <int N, int M> V3f Get(const BsurfaceObjNM<N, M>& s, int i, int j) { return s.Get(i, j); }
 template <int N, int M> BsurfaceObjNM<N, M> Set(const BsurfaceObjNM<N, M>& s, int i, int j, V3f p) {

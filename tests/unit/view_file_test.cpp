@@ -431,6 +431,7 @@ TEST(ViewFileExternal, SurfacesMeshesTextures) {
   ASSERT_EQ(vs.textures.size(), 2u);
   EXPECT_EQ(vs.textures[1], "leaf.png");
   ASSERT_EQ(vs.bsurfaces.size(), 1u);
+  EXPECT_EQ(vs.bsurfaces[0].file, "b.s");
   EXPECT_EQ(vs.terrain, "ground.ter");
   ASSERT_EQ(w.size(), 4u);
   EXPECT_EQ(w[0].line, 6);
@@ -438,6 +439,39 @@ TEST(ViewFileExternal, SurfacesMeshesTextures) {
   EXPECT_EQ(w[2].line, 10);
   EXPECT_EQ(w[2].column, 20);  // "Q:"
   EXPECT_EQ(w[3].line, 11);
+}
+
+// `bsurface:` lines as lpfg's b_wrapper reads them: 1, 2, 4 or 5 values; a positive scale;
+// sdiv/tdiv in 2..64; every line adds a surface, a repeated one too.
+TEST(ViewFileExternal, BSurfaceLines) {
+  std::vector<ViewFileWarning> w;
+  ViewSettings vs = parse(
+      "bsurface: a.s\n"
+      "bsurface: b.s 2.5\n"
+      "bsurface: c.s 1 8 6\n"
+      "bsurface: d.s 1 12 12 3\n"
+      "bsurface: a.s\n"
+      "bsurface: e.s 1 8\n"       // sdiv without tdiv
+      "bsurface: f.s 0\n"         // scale 0
+      "bsurface: g.s 1 1 8\n"     // sdiv < 2
+      "bsurface: h.s 1 8 65 0\n"  // tdiv > 64
+      "bsurface:\n",
+      w);
+  ASSERT_EQ(vs.bsurfaces.size(), 5u);
+  EXPECT_EQ(vs.bsurfaces[0].file, "a.s");
+  EXPECT_EQ(vs.bsurfaces[0].sdiv, 0);
+  EXPECT_EQ(vs.bsurfaces[0].texture, -1);
+  EXPECT_EQ(vs.bsurfaces[1].file, "b.s");
+  EXPECT_EQ(vs.bsurfaces[1].sdiv, 0);
+  EXPECT_EQ(vs.bsurfaces[2].sdiv, 8);
+  EXPECT_EQ(vs.bsurfaces[2].tdiv, 6);
+  EXPECT_EQ(vs.bsurfaces[2].texture, -1);
+  EXPECT_EQ(vs.bsurfaces[3].sdiv, 12);
+  EXPECT_EQ(vs.bsurfaces[3].texture, 3);
+  EXPECT_EQ(vs.bsurfaces[4].file, "a.s");
+  ASSERT_EQ(w.size(), 5u);
+  EXPECT_EQ(w[0].line, 6);
+  EXPECT_EQ(w[4].line, 10);
 }
 
 TEST(ViewFileTropisms, TropismTorqueSimple) {

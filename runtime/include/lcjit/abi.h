@@ -129,6 +129,11 @@ void lcjit_run(const char* command);
 // B-spline surface `id` of the view file: at most maxRows x maxColumns control points go to
 // `points` (rows of maxColumns V3tf); the size used to rows/columns (0 x 0 if there is none).
 void lcjit_get_bsurface(int id, int maxRows, int maxColumns, int* rows, int* columns, float* points);
+// Arithmetic of two such records (l, r of lRows x lColumns, rRows x rColumns): op 0 l + r,
+// op 1 Interpolate(l, r, alpha, rows, columns); the result to `out`, its size to outRows/outColumns.
+void lcjit_bsurface_op(int op, int maxRows, int maxColumns, const float* l, int lRows, int lColumns, const float* r,
+                       int rRows, int rColumns, float alpha, int rows, int columns, float* out, int* outRows,
+                       int* outColumns);
 void lcjit_tablet_status(struct TabletStatus* out);
 // Terrain (§10.3): what = 0 height, 1 normal at world[3], into out[3]; returns whether the
 // terrain was hit. visibility: level -1 means every patch.
