@@ -15,6 +15,7 @@
 #include "Engine.h"
 #include "PlainErrors.h"
 #include "Session.h"
+#include "WindowInput.h"
 
 using namespace lcjit;
 namespace fs = std::filesystem;
@@ -523,3 +524,20 @@ TEST(SessionHotSwap, PrepareRunsBesideARunningDerivation) {
 }
 
 }  // namespace
+
+// §10.2 with no tablet driver: GetTabletStatus() is the mouse as a pen — not connected until a
+// window feeds the mouse, then its position, and pressure 1 while the left button is down.
+TEST(SessionTablet, TheTabletFollowsTheMouse) {
+  ScratchModel m("tablet", "#include <lpfgall.h>\nderivation length: 1;\nmodule T(int, int, double);\naxiom: T(0, 0, 0);\n"
+                           "T(c, x, p) : { TabletStatus t = GetTabletStatus(); produce T(t.connected, t.viewX, t.pressure); }\n");
+  ASSERT_TRUE(m.session);
+  ASSERT_FALSE(bool(m.session->engine().run()));
+  EXPECT_EQ(m.session->engine().text(m.session->engine().string()), "T(0,0,0)\n");
+  MouseStatus pointer;
+  pointer.viewX = 120;
+  pointer.viewY = 30;
+  pointer.lbDown = true;
+  runtime::Mouse::instance().update(pointer);
+  ASSERT_FALSE(bool(m.session->engine().run()));
+  EXPECT_EQ(m.session->engine().text(m.session->engine().string()), "T(1,120,1)\n");
+}
