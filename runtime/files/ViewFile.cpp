@@ -581,88 +581,71 @@ class Parser {
 
   // ---- external files -------------------------------------------------------------------------
 
-  void readSurface(const char* arg) {
-    const char* at = skipBlanks(arg);
-    std::string command = trimmed(arg);
-    if (command.empty()) {
-      warn(at, "surface: needs a file name");
-      return;
-    }
-    SurfaceDeclaration s;
-    const char* p = skipNonBlanks(at);
-    s.file.assign(at, p);
-    // sscanf("%s %f %d %d %d") semantics: count the leading values that read.
+  // `file scale sdiv tdiv texture` as lpfg's sscanf("%s %f %d %d %d") reads a surface: how many
+  // values read (1 to 5; 3 is an error: divisions come in pairs) and those values. `what` names
+  // the command in warnings; false after a warning.
+  struct SurfaceArgs {
+    std::string file;
+    int count = 0;
     float scale = 1;
     int sdiv = 0, tdiv = 0, texture = -1;
-    int count = 1;
-    if (scanFloat(p, scale)) {
-      ++count;
-      if (scanInt(p, sdiv)) {
-        ++count;
-        if (scanInt(p, tdiv)) {
-          ++count;
-          if (scanInt(p, texture)) ++count;
+  };
+  bool readSurfaceArgs(const char* at, const char* what, SurfaceArgs& a) {
+    const char* p = skipNonBlanks(at);
+    a.file.assign(at, p);
+    if (a.file.empty()) {
+      warn(at, std::string(what) + ": needs a file name");
+      return false;
+    }
+    a.count = 1;
+    if (scanFloat(p, a.scale)) {
+      ++a.count;
+      if (scanInt(p, a.sdiv)) {
+        ++a.count;
+        if (scanInt(p, a.tdiv)) {
+          ++a.count;
+          if (scanInt(p, a.texture)) ++a.count;
         }
       }
     }
-    if (count == 3) {
-      warn(at, "surface: sdiv and tdiv must be given together");
-      return;
+    if (a.count == 3) {
+      warn(at, std::string(what) + ": sdiv and tdiv must be given together");
+      return false;
     }
-    if (count >= 4) {
-      if (sdiv < kMinSurfaceDiv || sdiv > kMaxSurfaceDiv || tdiv < kMinSurfaceDiv || tdiv > kMaxSurfaceDiv) {
-        warn(at, "surface: sdiv and tdiv must be between 2 and 64");
-        return;
-      }
-      s.sdiv = sdiv;
-      s.tdiv = tdiv;
+    if (a.count >= 4 && (a.sdiv < kMinSurfaceDiv || a.sdiv > kMaxSurfaceDiv || a.tdiv < kMinSurfaceDiv ||
+                         a.tdiv > kMaxSurfaceDiv)) {
+      warn(at, std::string(what) + ": sdiv and tdiv must be between 2 and 64");
+      return false;
     }
-    if (count >= 2) s.scale = scale;
-    if (count >= 5) s.texture = texture;
-    if (!surfaceLines_.insert(command).second) return;  // lpfg rereads, adds nothing
+    return true;
+  }
+
+  void readSurface(const char* arg) {
+    const char* at = skipBlanks(arg);
+    SurfaceArgs a;
+    if (!readSurfaceArgs(at, "surface", a)) return;
+    SurfaceDeclaration s;
+    s.file = a.file;
+    if (a.count >= 4) s.sdiv = a.sdiv, s.tdiv = a.tdiv;
+    if (a.count >= 2) s.scale = a.scale;
+    if (a.count >= 5) s.texture = a.texture;
+    if (!surfaceLines_.insert(trimmed(arg)).second) return;  // lpfg rereads, adds nothing
     vs_.surfaces.push_back(s);
   }
 
-  // b_wrapper's sscanf("%s %f %d %d %d"): 1, 2, 4 or 5 values.
+  // b_wrapper's reading: the same values, a positive scale (which it does not use).
   void readBSurface(const char* arg) {
     const char* at = skipBlanks(arg);
-    BSplineDeclaration b;
-    const char* p = skipNonBlanks(at);
-    b.file.assign(at, p);
-    if (b.file.empty()) {
-      warn(at, "bsurface: needs a file name");
-      return;
-    }
-    float scale = 1;
-    int sdiv = 0, tdiv = 0, texture = -1;
-    int count = 1;
-    if (scanFloat(p, scale)) {
-      ++count;
-      if (scanInt(p, sdiv)) {
-        ++count;
-        if (scanInt(p, tdiv)) {
-          ++count;
-          if (scanInt(p, texture)) ++count;
-        }
-      }
-    }
-    if (count == 3) {
-      warn(at, "bsurface: sdiv and tdiv must be given together");
-      return;
-    }
-    if (count >= 2 && scale <= 0) {
+    SurfaceArgs a;
+    if (!readSurfaceArgs(at, "bsurface", a)) return;
+    if (a.count >= 2 && a.scale <= 0) {
       warn(at, "bsurface: the scale must be positive");
       return;
     }
-    if (count >= 4) {
-      if (sdiv < kMinSurfaceDiv || sdiv > kMaxSurfaceDiv || tdiv < kMinSurfaceDiv || tdiv > kMaxSurfaceDiv) {
-        warn(at, "bsurface: sdiv and tdiv must be between 2 and 64");
-        return;
-      }
-      b.sdiv = sdiv;
-      b.tdiv = tdiv;
-    }
-    if (count >= 5) b.texture = texture;
+    BSplineDeclaration b;
+    b.file = a.file;
+    if (a.count >= 4) b.sdiv = a.sdiv, b.tdiv = a.tdiv;
+    if (a.count >= 5) b.texture = a.texture;
     vs_.bsurfaces.push_back(b);
   }
 
