@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the example textures (standard library only): birch.png, a birch-bark pattern — white
-bark with dark horizontal lenticels — 64x128 RGB. Run from examples/; the output is kept here."""
+bark with dark horizontal lenticels — 64x128 RGB; ground.png, grass with patches of bare soil (the terrain example),
+64x64 RGB. Run from examples/; the output is kept here."""
 import math, random, struct, zlib
 
 
@@ -27,5 +28,19 @@ def birch():
     png("birch.png", 64, 128, pixel)
 
 
+def ground():
+    rnd = random.Random(11)
+    soil = [(rnd.randrange(64), rnd.randrange(64), rnd.randrange(5, 12)) for _ in range(6)]
+    def pixel(x, y):
+        bare = any(min(abs(x - sx), 64 - abs(x - sx)) ** 2 + min(abs(y - sy), 64 - abs(y - sy)) ** 2 < r * r
+                   for (sx, sy, r) in soil)
+        n = (x * 37 + y * 91 + (x * y) % 13) % 23
+        if bare:
+            return (150 + n, 115 + n, 70 + n // 2)
+        return (70 + n, 140 + 2 * n, 40 + n)
+    png("ground.png", 64, 64, pixel)
+
+
 if __name__ == "__main__":
     birch()
+    ground()
