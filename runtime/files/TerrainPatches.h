@@ -32,8 +32,8 @@
 
 namespace lcjit::runtime {
 
-constexpr int kMaxTerrainLevels = 12;
-constexpr size_t kMaxTerrainPoints = size_t(1) << 22;
+constexpr int kMaxTerrainLevels = 10;
+constexpr size_t kMaxTerrainPoints = size_t(1) << 21;
 
 struct TerrainGrid {
   int numU = 0, numV = 0;

@@ -123,19 +123,19 @@ TEST(TerrainPatchFile, HostileSizesAllocateNothing) {
   auto t0 = std::chrono::steady_clock::now();
   // 2·10⁹ declared points, or 10⁶ in a file of a few bytes: refused before any allocation.
   EXPECT_EQ(errorOf(parseTerrainPatches("8\n50000 40000\n0 0 0 0 1 0\n", "t.patch", 1)),
-            "t.patch:2: error: the terrain has more than 4194304 points");
+            "t.patch:2: error: the terrain has more than 2097152 points");
   EXPECT_EQ(errorOf(parseTerrainPatches("8\n1000 1000\n0 0 0 0 1 0\n", "t.patch", 1)),
             "t.patch:2: error: level 0 declares 1000000 points, more than the rest of the file holds");
   EXPECT_EQ(errorOf(parseTerrainPatches("8\n2147483647 2147483647\n", "t.patch", 1)),
-            "t.patch:2: error: the terrain has more than 4194304 points");
+            "t.patch:2: error: the terrain has more than 2097152 points");
   EXPECT_EQ(errorOf(parseTerrainPatches("8\n99999999999 2\n", "t.patch", 1)),
             "t.patch:2: error: the size of level 0 is out of range: 99999999999");
   EXPECT_EQ(errorOf(parseTerrainPatches("8\n-5 2\n", "t.patch", 1)),
             "t.patch:2: error: level 0 is -5 x 2 points: at least 2 per side are needed");
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
   // The number of levels the terrain: line may ask for.
-  EXPECT_EQ(errorOf(parseTerrainPatches("8\n", "t.patch", 0)), "t.patch:1: error: a terrain has 1 to 12 levels, not 0");
-  EXPECT_EQ(errorOf(parseTerrainPatches("8\n", "t.patch", 13)), "t.patch:1: error: a terrain has 1 to 12 levels, not 13");
+  EXPECT_EQ(errorOf(parseTerrainPatches("8\n", "t.patch", 0)), "t.patch:1: error: a terrain has 1 to 10 levels, not 0");
+  EXPECT_EQ(errorOf(parseTerrainPatches("8\n", "t.patch", 11)), "t.patch:1: error: a terrain has 1 to 10 levels, not 11");
 }
 
 TEST(TerrainPatchFile, MissingFile) {

@@ -486,7 +486,7 @@ TEST(ViewFileExternal, BadTerrainLinesWarnAndLeaveNone) {
   // unusable, so there is none here.
   std::vector<ViewFileWarning> w;
   ViewSettings vs = parse("terrain: a.patch 0\n"
-                          "terrain: a.patch 13\n"
+                          "terrain: a.patch 11\n"
                           "terrain: a.patch 2 0\n"
                           "terrain: a.patch 2 1 1 on -2\n"
                           "terrain: a.patch 2 1 1 on 0 -1 1\n"
@@ -498,7 +498,7 @@ TEST(ViewFileExternal, BadTerrainLinesWarnAndLeaveNone) {
   EXPECT_EQ(w[0].line, 1);
   EXPECT_EQ(w[0].column, 18);  // the levels
   EXPECT_EQ(w[0].message, "terrain: invalid number of levels 0");
-  EXPECT_EQ(w[1].message, "terrain: at most 12 levels, not 13");
+  EXPECT_EQ(w[1].message, "terrain: at most 10 levels, not 11");
   EXPECT_EQ(w[2].column, 20);  // the scale
   EXPECT_EQ(w[2].message, "terrain: the scale must be positive");
   EXPECT_EQ(w[3].column, 27);  // the texture id
