@@ -216,3 +216,11 @@ write_mat("birch.mat", (0.8, 0.88, 0.95), [
     material(1, (0.95, 0.95, 0.92), ambient=(0.35, 0.35, 0.33), specular=(0.05, 0.05, 0.05)),
     material(2, (0.35, 0.7, 0.2), specular=(0.2, 0.2, 0.2), shininess=30),
 ])
+
+# terrain.mat: 1 the ground (light, so that the texture's colours show through GL_MODULATE),
+# 2 stems, 3 flower heads; a pale sky.
+write_mat("terrain.mat", (0.78, 0.86, 0.95), [
+    material(1, (0.95, 0.95, 0.9), ambient=(0.4, 0.4, 0.38), specular=(0.05, 0.05, 0.05)),
+    material(2, (0.3, 0.55, 0.15), specular=(0.2, 0.2, 0.2), shininess=30),
+    material(3, (0.95, 0.75, 0.1), specular=(0.3, 0.3, 0.2), shininess=30),
+])

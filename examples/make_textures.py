@@ -2,7 +2,8 @@
 """Writes the example textures (standard library only): birch.png, a birch-bark pattern — white
 bark with dark horizontal lenticels — 64x128 RGB; veins.png, a leaf's midrib and veins, 64x64
 (x runs along the leaf, y across it: a B-spline surface maps (i/uDiv, j/vDiv) of its rows and
-columns). Run from examples/; the output is kept here."""
+columns); ground.png, grass with patches of bare soil (the terrain example), 64x64 RGB. Run from
+examples/; the output is kept here."""
 import math, random, struct, zlib
 
 
@@ -41,8 +42,20 @@ def veins():
             return (190, 220, 140)            # veins, slanting towards the tip
         return shade
     png("veins.png", 64, 64, pixel)
+def ground():
+    rnd = random.Random(11)
+    soil = [(rnd.randrange(64), rnd.randrange(64), rnd.randrange(5, 12)) for _ in range(6)]
+    def pixel(x, y):
+        bare = any(min(abs(x - sx), 64 - abs(x - sx)) ** 2 + min(abs(y - sy), 64 - abs(y - sy)) ** 2 < r * r
+                   for (sx, sy, r) in soil)
+        n = (x * 37 + y * 91 + (x * y) % 13) % 23
+        if bare:
+            return (150 + n, 115 + n, 70 + n // 2)
+        return (70 + n, 140 + 2 * n, 40 + n)
+    png("ground.png", 64, 64, pixel)
 
 
 if __name__ == "__main__":
     birch()
     veins()
+    ground()

@@ -21,6 +21,7 @@
 #include "FileMonitor.h"
 #include "Frame.h"
 #include "PlainErrors.h"
+#include "WindowInput.h"
 
 namespace lcjit {
 namespace {
@@ -124,6 +125,9 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms (%s)\n",
                  files.lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.compileMs,
                  times.pchCached ? "cached PCH" : "PCH built");
+  // A picture or a geometry file is what lpfg's window would save: derived with its camera.
+  if (!options.out.empty() && isFrameOutput(options.out))
+    runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(session.drawing().view.scale));
   auto t0 = Clock::now();
   if (auto e = engine.run(hooks)) {
     if (stopped && *stopped) {

@@ -346,7 +346,13 @@ class InteractiveModel {
     p.head = V3f(c.viewDirection.x, c.viewDirection.y, c.viewDirection.z);
     p.up = V3f(c.up.x, c.up.y, c.up.z);
     p.left = p.up % p.head;
-    p.scale = window_.adjustment().zoom;
+    // lpfg's vvScale(): 1 / its projection scale, the view file's scale (view 0's `view:` scale
+    // if given, else `scale:`) times the user's zoom.
+    const runtime::ViewSettings& view = session_.drawing().view;
+    float viewScale = view.scale;
+    for (const runtime::ViewDefinition& d : view.views)
+      if (d.id == 0 && d.scale) viewScale = *d.scale;
+    p.scale = window_.adjustment().zoom * viewScale;
     runtime::Views::instance().setCamera(0, p);
   }
 

@@ -62,6 +62,16 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
       for (auto& x : w) warnings.push_back(x.file + ":" + std::to_string(x.line) + ":" + std::to_string(x.column) + ": warning: " + x.message);
     }
   }
+  if (what.view) {
+    // lpfg builds its terrain as it reads the `terrain:` line: a new one with each view file.
+    d->terrain.reset();
+    if (const auto& t = d->view.terrain) {
+      auto terrain = runtime::Terrain::load(*t, besideView(files.view, t->file),
+                                            d->view.renderMode == runtime::RenderMode::Wireframe);
+      if (terrain) d->terrain = std::move(*terrain);
+      else warn(terrain.takeError());
+    }
+  }
   if (what.parameters) {
     d->contours = runtime::ContourStore();
     warn(d->contours.loadFiles(files.contours));

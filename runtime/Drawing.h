@@ -1,10 +1,12 @@
 // Everything a picture of a model needs besides its string: the view file, colours, contours,
 // shapes and textures, as loaded from the vlab object's files (manual §1.1.2, §8.2).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "Shapes.h"
+#include "Terrain.h"
 #include "Turtle.h"
 #include "files/Contours.h"
 #include "files/Images.h"
@@ -21,12 +23,17 @@ struct DrawingFiles {
   std::vector<Image> textures;
   std::vector<std::string> textureFiles;  // resolved paths, by texture id
   std::vector<std::string> shapeFiles;    // resolved paths of the surfaces and meshes read
+  // The view file's `terrain:` (§10.3). Model functions change it, and it stays with the view
+  // file: shared by copies that keep the view, replaced when the view file is read again.
+  std::shared_ptr<Terrain> terrain;
 
   TurtleSetup turtleSetup() const {
     TurtleSetup s;
     s.view = &view;
     s.contours = &contours;
     s.shapes = &shapes;
+    s.terrain = terrain.get();
+    s.textures = &textures;
     if (!view.views.empty() && view.views[0].dir) s.viewDirection = view.views[0].dir->Normalized();
     return s;
   }

@@ -12,6 +12,13 @@
 
 namespace lcjit::runtime {
 
+// Colours are lpfg colour/material indices 0..255, or kRgbColor | 0xRRGGBB: a colour drawn as it
+// is, unlit, whatever the palette (what lpfg draws with glColor3f and lighting off, e.g. the
+// terrain's grid).
+constexpr int32_t kRgbColor = 0x1000000;
+inline bool isRgbColor(int32_t c) { return c >= kRgbColor; }
+inline int32_t rgbColor(uint8_t r, uint8_t g, uint8_t b) { return kRgbColor | (r << 16) | (g << 8) | b; }
+
 struct MeshVertex {
   V3f position;
   V3f normal;  // unit length; (0,0,0) for vertices drawn unlit
@@ -19,10 +26,15 @@ struct MeshVertex {
   int32_t color = 1;
 };
 
-// A run of triangles sharing one texture (-1: untextured). Runs partition `indices`.
+// How a run's triangles are drawn: as the render mode says (Default), or outlined (Lines) or
+// filled (Solid) whatever it says, as lpfg's terrain patches switch glPolygonMode.
+enum class PolygonFill : uint8_t { Default, Lines, Solid };
+
+// A run of triangles sharing one texture (-1: untextured) and fill. Runs partition `indices`.
 struct TriangleRun {
   uint32_t firstIndex = 0, indexCount = 0;
   int texture = -1;
+  PolygonFill fill = PolygonFill::Default;
 };
 
 // `line style: pixel` segments (F, G, LineTo…): width is the turtle width, in pixels.
@@ -89,6 +101,11 @@ struct Geometry {
   std::vector<Disc> discs;
   std::vector<Label> labels;
   std::optional<CameraPose> camera;
+  // lpfg's terrain turns two-sided lighting off when it is done, GL state that lasts into every
+  // later frame: once a terrain was drawn, lpfg's pictures light everything but the terrain
+  // one-sided (a back face with its front normal). Set: lit so, except runs with their own fill
+  // (the terrain's) and unlit primitives.
+  bool oneSidedLighting = false;
   // lpfg's bounding box, which framing uses: built by the turtle with lpfg's rules (f/g moves
   // count, MoveTo does not, labels and pixel widths do not). Empty: use bounds().
   Bounds extent;
@@ -124,11 +141,11 @@ struct Geometry {
   // What framing (the camera) fits: lpfg's box when the turtle built one, else bounds().
   Bounds framingBounds() const { return extent.empty() ? bounds() : extent; }
 
-  // Starts a triangle run with `texture` unless the last run already has it.
-  void useTexture(int texture) {
-    if (runs.empty() || runs.back().texture != texture) {
-      if (!runs.empty() && runs.back().indexCount == 0) runs.back().texture = texture;
-      else runs.push_back({(uint32_t)indices.size(), 0, texture});
+  // Starts a triangle run with `texture` and `fill` unless the last run already has them.
+  void useTexture(int texture, PolygonFill fill = PolygonFill::Default) {
+    if (runs.empty() || runs.back().texture != texture || runs.back().fill != fill) {
+      if (!runs.empty() && runs.back().indexCount == 0) runs.back().texture = texture, runs.back().fill = fill;
+      else runs.push_back({(uint32_t)indices.size(), 0, texture, fill});
     }
   }
   uint32_t addVertex(const MeshVertex& v) {

@@ -14,6 +14,7 @@
 #include "Engine.h"
 #include "Functions.h"
 #include "Shapes.h"
+#include "Terrain.h"
 #include "WindowInput.h"
 
 using lcjit::runtime::Engine;
@@ -258,18 +259,33 @@ void lcjit_bsurface_op(int op, int maxRows, int maxColumns, const float* l, int 
 void lcjit_tablet_status(TabletStatus* out) { *out = lcjit::runtime::Mouse::instance().tablet(); }
 
 namespace {
-void noTerrain(const char* function) {
-  if (Engine* e = engine()) e->print((std::string(function) + ": Terrain Not Loaded\n").c_str());
+// The view file's terrain, or null after lpfg's message.
+lcjit::runtime::Terrain* terrain(const char* function) {
+  Engine* e = engine();
+  if (e && e->turtleSetup().terrain) return e->turtleSetup().terrain;
+  if (e) e->print((std::string(function) + ": Terrain Not Loaded\n").c_str());
+  return nullptr;
 }
 }  // namespace
-int lcjit_terrain_query(int what, const float*, float*) {
-  noTerrain(what == 0 ? "terrainHeightAt" : "terrainNormalAt");
-  return 0;
+int lcjit_terrain_query(int what, const float* world, float* out) {
+  auto* t = terrain("terrainHeightAt");  // lpfg names this one for terrainNormalAt too
+  if (!t) return 0;
+  V3f w(world[0], world[1], world[2]), r;
+  bool hit = what == 0 ? t->heightAt(w, r) : t->normalAt(w, r);
+  if (hit) out[0] = r.x, out[1] = r.y, out[2] = r.z;  // lpfg leaves it as it was on a miss
+  return hit ? 1 : 0;
 }
-void lcjit_terrain_visibility(int, int level, const float*) {
-  noTerrain(level < 0 ? "terrainVisibilityAll" : "terrainVisibilityPatch");
+// No point: every patch (terrainVisibilityAll); else the patch under the point (the level is
+// unused, as in lpfg).
+void lcjit_terrain_visibility(int mode, int, const float* world) {
+  auto* t = terrain(world ? "terrainVisibilityPatch" : "terrainVisibilityAll");
+  if (!t) return;
+  if (world) t->visibilityPatch(VisibilityMode(mode), V3f(world[0], world[1], world[2]));
+  else t->visibilityAll(VisibilityMode(mode));
 }
-void lcjit_terrain_scale(float) { noTerrain("scaleTerrainBy"); }
+void lcjit_terrain_scale(float factor) {
+  if (auto* t = terrain("scaleTerrainBy")) t->scaleBy(factor);
+}
 
 int lcjit_environment(int op) {
   Engine* e = engine();

@@ -113,11 +113,13 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropis
   transcript_ = nullptr;
   for (V3tf& p : userPatch_) p = V3f();
   rings_.clear();
+  frames_.clear();
 }
 
 void Turtle::finish() {
   polygonOn_ = false;
   polygon_.clear();
+  placeInFrames();
 }
 
 void Turtle::rotate(V3f& a, V3f& b, float degrees) {
@@ -605,6 +607,7 @@ void Turtle::executeModule(char* rec) {
             break;
           }
           case __lc_id_Camera: out_->camera = CameraPose{t.position, t.heading, t.up}; break;
+          case __lc_id_Terrain: drawTerrain(param<CameraPosition>(rec, p0<__lc_R_Terrain>())); break;
           default: break;
         }
       }

@@ -20,6 +20,8 @@ namespace lcjit::runtime {
 struct ShapeLibrary;
 struct PatchGrid;
 class BSplineNet;
+struct Image;
+class Terrain;
 
 // What the turtle draws with: the view file's settings and the shapes it names.
 struct TurtleSetup {
@@ -27,6 +29,8 @@ struct TurtleSetup {
   V3f viewDirection{0, 0, -1};            // for screen-facing shapes (polygon lines, CircleFront)
   const ContourStore* contours = nullptr;  // .con/.cset files, ids from 1
   const ShapeLibrary* shapes = nullptr;    // surfaces, meshes of the view file
+  Terrain* terrain = nullptr;                    // the view file's `terrain:` (§10.3), if loaded
+  const std::vector<Image>* textures = nullptr;  // the view file's textures (the terrain grid's colours)
 };
 
 // A generalized-cylinder ring: where the last cylinder point was recorded (manual §5.7).
@@ -149,6 +153,17 @@ class Turtle {
     if (out_) out_->extent.add(p);
   }
   MeshVertex vertex(V3f p, V3f n, float u = 0, float v = 0) const;
+
+  // ---- the Terrain module (TurtleTerrain.cpp). lpfg draws the terrain by multiplying the GL
+  // matrix by the turtle's frame and never restores it: whatever is drawn after it is drawn in
+  // that frame too. A mark records where that starts; finish() moves what follows into it.
+  struct FrameMark {
+    size_t vertices, segments, discs, labels;
+    V3f origin, x, y, z;
+  };
+  void drawTerrain(const CameraPosition& camera);
+  void placeInFrames();
+  std::vector<FrameMark> frames_;
 
   TurtleSetup setup_;
   ViewSettings defaults_;

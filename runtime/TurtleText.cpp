@@ -212,6 +212,7 @@ void describeTurtleCommand(std::string& out, const char* rec, const TurtleState&
     case __lc_id_SetUPrecision: l.call("SetUPrecision", ip(OFF(SetUPrecision, p0))); break;
     case __lc_id_SetVPrecision: l.call("SetVPrecision", ip(OFF(SetVPrecision, p0))); break;
     case __lc_id_Camera: l.name("Camera"); break;
+    case __lc_id_Terrain: l.name("Terrain(camera)"); break;
     case __lc_id_E1: l.call("E1", fp(OFF(E1, p0))); break;
     case __lc_id_E2: l.call("E2", fp(OFF(E2, p0)), fp(OFF(E2, p1))); break;
     default: return;  // not a turtle command lpfg writes

@@ -89,6 +89,17 @@ CameraPosition Views::camera(int id) const {
   return it != views_.end() ? it->second.camera : CameraPosition{};
 }
 
+CameraPosition initialWindowCamera(float viewScale) {
+  CameraPosition c{};
+  c.position = V3f(0, 0, 1);
+  c.lookat = V3f(0, 0, 0);
+  c.head = V3f(0, 0, -1);
+  c.up = V3f(0, 1, 0);
+  c.left = c.head % c.up;
+  c.scale = viewScale;
+  return c;
+}
+
 Mouse& Mouse::instance() {
   static Mouse mouse;
   return mouse;

@@ -72,6 +72,12 @@ class Views {
   std::map<int, View> views_;
 };
 
+// The camera lpfg's window has until it first draws (Projection::Reset): from (0,0,1) towards the
+// origin along −z, up +y, left = dir × up, scale = the view file's `scale:`. lpfg derives the
+// model of its window with it, so a batch picture (lpfg's window picture) does too. (lpfg's
+// batch mode has no view: GetCameraPosition then gives zeros, as here without a camera.)
+CameraPosition initialWindowCamera(float viewScale);
+
 class Mouse {
  public:
   static Mouse& instance();

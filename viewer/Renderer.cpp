@@ -24,6 +24,10 @@
 //    has determinant −1 so the disc is front-facing with its normal pointing away from the viewer
 //    (lit discs therefore get ambient/emission only from a light at the viewer, as in lpfg).
 //  - Textures: GL_MODULATE, GL_NEAREST, v = 0 at the image's bottom row.
+//  - lpfg's terrain (TerrainPatch::draw, TerrainData::draw): a patch sets its own polygon mode
+//    (TriangleRun::fill), and two-sided lighting stays off once a terrain is drawn
+//    (Geometry::oneSidedLighting: back faces of everything else lit with the front normal).
+//    Colours kRgbColor | 0xRRGGBB are drawn unlit as they are (the terrain's grid, glColor3f).
 //  - Labels (GLWidget::renderText): drawn over the picture, left end at the anchor, baseline 2 px
 //    below it, QFont point size = `winfont:` size (96 dpi).
 #include "Renderer.h"
@@ -85,7 +89,11 @@ uniform vec3 uLightDiff[MAX_LIGHTS];
 uniform vec3 uLightSpec[MAX_LIGHTS];
 
 vec4 pal(int row, int ci) { return texelFetch(uPalette, ivec2(clamp(ci, 0, 255), row), 0); }
-vec4 flatColor(int ci) { return uColors[clamp(ci, 0, 255)]; }
+// Indices 0..255, or 0x1RRGGBB: a colour as it is (runtime::kRgbColor).
+vec4 flatColor(int ci) {
+  if (ci >= 0x1000000) return vec4(float((ci >> 16) & 255), float((ci >> 8) & 255), float(ci & 255), 255.0) / 255.0;
+  return uColors[clamp(ci, 0, 255)];
+}
 
 struct Terms { vec3 scene, amb, diff, spec; float alpha; };
 
@@ -141,9 +149,10 @@ out vec3 vEyePos; out vec3 vEyeNormal; flat out int vColor; flat out int vUnlit;
 #endif
 out vec2 vUV;
 uniform mat4 uView, uProj, uPV, uShadowMatrix;
+uniform int uOneSided;  // back faces lit as the front (lpfg after a terrain, see Geometry.h)
 
 void shade(vec3 world, vec3 normal, int ci, bool front) {
-  bool unlit = uLit == 0 || dot(normal, normal) == 0.0;
+  bool unlit = uLit == 0 || dot(normal, normal) == 0.0 || ci >= 0x1000000;
 #if defined(FLAT) || defined(SMOOTH)
   if (unlit) {
     vFront = flatColor(ci); vBack = vFront;
@@ -151,7 +160,7 @@ void shade(vec3 world, vec3 normal, int ci, bool front) {
     vec3 eye = (uView * vec4(world, 1)).xyz;
     vec3 N = normalize(mat3(uView) * normal);
     vFront = litColor(ci, eye, N);
-    vBack = front ? vFront : litColor(ci, eye, -N);
+    vBack = front || uOneSided != 0 ? vFront : litColor(ci, eye, -N);
   }
 #elif defined(SHADOW)
   vEyePos = (uView * vec4(world, 1)).xyz; vEyeNormal = mat3(uView) * normal; vColor = ci; vUnlit = unlit ? 1 : 0;
@@ -236,6 +245,7 @@ in vec2 vUV;
 uniform sampler2D uTexture;
 uniform int uTextured;
 uniform int uForceFront;
+uniform int uOneSided;
 out vec4 oColor;
 void main() {
   bool front = gl_FrontFacing || uForceFront != 0;
@@ -258,7 +268,7 @@ void main() {
         vis += textureProj(uShadowMap, vShadowCoord + vec4(x, y, 0, 0) * 0.0005) < 1.0 ? 0.0 : 1.0;
     vis *= 0.0625;
     vec3 N = normalize(vEyeNormal);
-    if (!front) N = -N;
+    if (!front && uOneSided == 0) N = -N;
     Terms t = lightTerms(vColor, vEyePos, N);
     c = vec4(t.scene + t.amb + t.diff * (vis + (1.0 - vis) * uShadowColor), t.alpha);
     vec4 tex = uTextured != 0 ? texture(uTexture, vUV) : vec4(1);
@@ -417,6 +427,7 @@ struct Renderer::Impl {
   std::vector<runtime::TriangleRun> runs;
   std::vector<DrawBatch> order;
   bool orderComplete = false;  // `order` covers every primitive (else it is not used)
+  bool oneSided = false;       // Geometry::oneSidedLighting
   std::vector<runtime::Disc> discs;
   std::vector<runtime::Label> labels;
   uint32_t indexCount = 0, segmentCount = 0;
@@ -520,6 +531,7 @@ struct Renderer::Impl {
     glBindVertexArray(0);
     indexCount = (uint32_t)g.indices.size();
     runs = g.runs;
+    oneSided = g.oneSidedLighting;
     if (runs.empty() && indexCount) runs.push_back({0, indexCount, -1});
     order = g.order;
     {
@@ -933,7 +945,16 @@ struct Renderer::Impl {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, textured ? textures[it->texture] : 0);
       glUniform1i(texLoc, textured ? 1 : 0);
+      glUniform1i(pass.meshProg->loc("uOneSided"), oneSided && it->fill == runtime::PolygonFill::Default ? 1 : 0);
+      // A run with its own fill (lpfg's terrain patches) switches the polygon mode for itself.
+      const bool ownFill = it->fill != runtime::PolygonFill::Default &&
+                           (it->fill == runtime::PolygonFill::Lines) != pass.wireframe;
+      if (ownFill) {
+        glPolygonMode(GL_FRONT_AND_BACK, pass.wireframe ? GL_FILL : GL_LINE);
+        if (!pass.wireframe) glLineWidth(1);
+      }
       glDrawElements(GL_TRIANGLES, b - a, GL_UNSIGNED_INT, (void*)(size_t(a) * sizeof(uint32_t)));
+      if (ownFill) glPolygonMode(GL_FRONT_AND_BACK, pass.wireframe ? GL_LINE : GL_FILL);
       ++stats->drawCalls;
     }
   }
@@ -1034,6 +1055,7 @@ struct Renderer::Impl {
     useMesh(pass);
     glBindVertexArray(discVao);
     glUniform1i(pass.meshProg->loc("uTextured"), 0);
+    glUniform1i(pass.meshProg->loc("uOneSided"), oneSided ? 1 : 0);
     uint32_t a = discFirstVertex[first], b = discFirstVertex[first + count];
     if (b > a) {
       glDrawArrays(GL_TRIANGLES, a, b - a);

@@ -82,9 +82,10 @@ runtime::Geometry decimated(const runtime::Geometry& g, size_t limit) {
   d.labels = g.labels;
   d.camera = g.camera;
   d.extent = g.extent;
+  d.oneSidedLighting = g.oneSidedLighting;
   for (size_t i = 0; i < g.segments.size(); i += k) d.addSegment(g.segments[i]);
   for (const runtime::TriangleRun& run : g.runs) {
-    d.useTexture(run.texture);
+    d.useTexture(run.texture, run.fill);
     for (uint32_t t = run.firstIndex; t + 2 < run.firstIndex + run.indexCount; t += uint32_t(3 * k))
       d.addTriangle(g.indices[t], g.indices[t + 1], g.indices[t + 2]);
   }

@@ -63,7 +63,12 @@ struct Context {
   const ViewSettings& view;
   std::array<Rgba, 256> colors;  // palette.color(i), looked up once
 
-  const Rgba& color(int index) const { return colors[index < 0 ? 0 : index > 255 ? 255 : index]; }
+  // An index's colour, or an explicit one (kRgbColor).
+  Rgba color(int index) const {
+    if (isRgbColor(index))
+      return {float((index >> 16) & 255) / 255, float((index >> 8) & 255) / 255, float(index & 255) / 255, 1};
+    return colors[index < 0 ? 0 : index > 255 ? 255 : index];
+  }
   const CameraMatrices& camera() const;  // in.camera, else frameView (computed once)
   // Texture `t`'s file as the output should name it (relative to the output's directory when
   // possible); "" when `t` names no file.

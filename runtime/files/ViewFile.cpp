@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "TerrainPatches.h"
 #include "TextLines.h"
 
 #include <algorithm>
@@ -414,8 +415,7 @@ class Parser {
         onOff(arg, vs_.backfaceCulling, "backface culling");
         break;
       case Cmd::Terrain:
-        if (word.empty()) warn(at, "terrain: needs a file name");
-        else vs_.terrain = word;
+        readTerrain(arg);
         break;
       case Cmd::ConcavePolygons:
         onOff(arg, vs_.concavePolygons, "concave polygons");
@@ -647,6 +647,62 @@ class Parser {
     if (a.count >= 4) b.sdiv = a.sdiv, b.tdiv = a.tdiv;
     if (a.count >= 5) b.texture = a.texture;
     vs_.bsurfaces.push_back(b);
+  }
+
+  // lpfg replaces its terrain with every `terrain:` line, so a bad line leaves none.
+  void readTerrain(const char* arg) {
+    const char* at = skipBlanks(arg);
+    vs_.terrain.reset();
+    if (!*at) {
+      warn(at, "terrain: needs a file name");
+      return;
+    }
+    TerrainDeclaration t;
+    const char* p = skipNonBlanks(at);
+    t.file.assign(at, p);
+    // sscanf semantics: values are read in order until one does not convert; %i takes 0x and 0
+    // prefixes.
+    auto scanI = [&](int& v) {
+      const char* start = skipBlanks(p);
+      char* end = nullptr;
+      errno = 0;
+      long x = std::strtol(start, &end, 0);
+      if (end == start) return false;
+      if (errno == ERANGE || x > INT_MAX || x < INT_MIN) x = x < 0 ? INT_MIN : INT_MAX;
+      v = (int)x;
+      p = end;
+      return true;
+    };
+    auto scanWord = [&](std::string& w) {
+      const char* start = skipBlanks(p);
+      if (!*start) return false;
+      p = skipNonBlanks(start);
+      w.assign(start, p);
+      return true;
+    };
+    std::string grid = "off";
+    const char* where[7] = {at, at, at, at, at, at, at};  // each value's column, for warnings
+    for (int i = 0; i < 7; ++i) {
+      where[i] = skipBlanks(p);
+      bool read = i == 0   ? scanI(t.levels)
+                  : i == 1 ? scanFloat(p, t.scale)
+                  : i == 2 ? scanFloat(p, t.distance)
+                  : i == 3 ? scanWord(grid)
+                  : i == 4 ? scanI(t.texture)
+                  : i == 5 ? scanFloat(p, t.uTiling)
+                           : scanFloat(p, t.vTiling);
+      if (!read) break;
+    }
+    t.grid = grid.compare(0, 2, "on") == 0;
+    if (t.levels < 1) return warn(where[0], "terrain: invalid number of levels " + std::to_string(t.levels));
+    if (t.levels > kMaxTerrainLevels)
+      return warn(where[0], "terrain: at most " + std::to_string(kMaxTerrainLevels) + " levels, not " +
+                                std::to_string(t.levels));
+    if (t.scale <= 0) return warn(where[1], "terrain: the scale must be positive");
+    if (t.texture < -1) return warn(where[4], "terrain: invalid texture id " + std::to_string(t.texture));
+    if (t.uTiling < 0) return warn(where[5], "terrain: the U tiling must not be negative");
+    if (t.vTiling < 0) return warn(where[6], "terrain: the V tiling must not be negative");
+    vs_.terrain = std::move(t);
   }
 
   void readMesh(const char* arg) {

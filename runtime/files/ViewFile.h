@@ -87,6 +87,20 @@ struct BSplineDeclaration {
   int sdiv = 0, tdiv = 0;  // 0: not given
   int texture = -1;
 };
+// `terrain: file.patch levels scale offset grid txid UTiling VTiling` (manual §10.3), read as
+// lpfg reads it (sscanf "%s %i %f %f %s %i %f %f": the values that read, the rest keep lpfg's
+// defaults, which are not all the manual's: a missing tiling is 0, not 1). `grid` is on when the
+// word starts with "on". lpfg rejects levels < 1, scale <= 0, a texture id below -1 and a negative
+// tiling.
+struct TerrainDeclaration {
+  std::string file;
+  int levels = 1;
+  float scale = 1;
+  float distance = 1;  // `offset`: the level-of-detail distance factor
+  bool grid = false;
+  int texture = -1;
+  float uTiling = 0, vTiling = 0;
+};
 struct MeshDeclaration {
   std::string file;
   float scale = 1;
@@ -133,7 +147,7 @@ struct ViewSettings {
   std::vector<MeshDeclaration> meshes;
   std::vector<std::string> textures;  // texture ids in order, from 0
   std::vector<BSplineDeclaration> bsurfaces;  // `bsurface:` (B-spline surfaces)
-  std::string terrain;                 // `terrain: file`
+  std::optional<TerrainDeclaration> terrain;  // the last `terrain:` line
 
   std::vector<Tropism> tropisms;
   std::optional<SimpleTropism> simpleTropism;  // `stropism:`

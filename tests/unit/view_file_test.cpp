@@ -432,7 +432,8 @@ TEST(ViewFileExternal, SurfacesMeshesTextures) {
   EXPECT_EQ(vs.textures[1], "leaf.png");
   ASSERT_EQ(vs.bsurfaces.size(), 1u);
   EXPECT_EQ(vs.bsurfaces[0].file, "b.s");
-  EXPECT_EQ(vs.terrain, "ground.ter");
+  ASSERT_TRUE(vs.terrain);
+  EXPECT_EQ(vs.terrain->file, "ground.ter");
   ASSERT_EQ(w.size(), 4u);
   EXPECT_EQ(w[0].line, 6);
   EXPECT_EQ(w[1].line, 7);
@@ -472,6 +473,81 @@ TEST(ViewFileExternal, BSurfaceLines) {
   ASSERT_EQ(w.size(), 5u);
   EXPECT_EQ(w[0].line, 6);
   EXPECT_EQ(w[4].line, 10);
+}
+
+// `terrain: file.patch levels scale offset grid txid UTiling VTiling` (manual §10.3), read with
+// lpfg's sscanf("%s %i %f %f %s %i %f %f"): the values that read, the rest lpfg's defaults.
+TEST(ViewFileExternal, Terrain) {
+  ViewSettings vs = parseClean("terrain: Terrain.patch 5 1 10 on 0 1.0 1.0\n");  // TerrainDemo's line
+  ASSERT_TRUE(vs.terrain);
+  EXPECT_EQ(vs.terrain->file, "Terrain.patch");
+  EXPECT_EQ(vs.terrain->levels, 5);
+  EXPECT_EQ(vs.terrain->scale, 1);
+  EXPECT_EQ(vs.terrain->distance, 10);
+  EXPECT_TRUE(vs.terrain->grid);
+  EXPECT_EQ(vs.terrain->texture, 0);
+  EXPECT_EQ(vs.terrain->uTiling, 1);
+  EXPECT_EQ(vs.terrain->vTiling, 1);
+  // Only the file: lpfg's defaults (the tiling is 0 in lpfg, not the manual's 1).
+  vs = parseClean("terrain: hills.patch\n");
+  ASSERT_TRUE(vs.terrain);
+  EXPECT_EQ(vs.terrain->levels, 1);
+  EXPECT_EQ(vs.terrain->scale, 1);
+  EXPECT_EQ(vs.terrain->distance, 1);
+  EXPECT_FALSE(vs.terrain->grid);
+  EXPECT_EQ(vs.terrain->texture, -1);
+  EXPECT_EQ(vs.terrain->uTiling, 0);
+  EXPECT_EQ(vs.terrain->vTiling, 0);
+  // %i reads 0x and 0 prefixes; "on" is a prefix test; reading stops at the first bad value.
+  vs = parseClean("terrain: h.patch 0x3 2.5 0.5 onward 010 x 3\n");
+  ASSERT_TRUE(vs.terrain);
+  EXPECT_EQ(vs.terrain->levels, 3);
+  EXPECT_EQ(vs.terrain->scale, 2.5f);
+  EXPECT_EQ(vs.terrain->distance, 0.5f);
+  EXPECT_TRUE(vs.terrain->grid);
+  EXPECT_EQ(vs.terrain->texture, 8);
+  EXPECT_EQ(vs.terrain->uTiling, 0);
+  EXPECT_EQ(vs.terrain->vTiling, 0);
+  // The last terrain: line wins.
+  vs = parseClean("terrain: a.patch 2\nterrain: b.patch 3 1 1 off\n");
+  ASSERT_TRUE(vs.terrain);
+  EXPECT_EQ(vs.terrain->file, "b.patch");
+  EXPECT_FALSE(vs.terrain->grid);
+}
+
+TEST(ViewFileExternal, BadTerrainLinesWarnAndLeaveNone) {
+  // lpfg rejects these values (an exception while reading the line); its terrain is then
+  // unusable, so there is none here.
+  std::vector<ViewFileWarning> w;
+  ViewSettings vs = parse("terrain: a.patch 0\n"
+                          "terrain: a.patch 11\n"
+                          "terrain: a.patch 2 0\n"
+                          "terrain: a.patch 2 1 1 on -2\n"
+                          "terrain: a.patch 2 1 1 on 0 -1 1\n"
+                          "terrain: a.patch 2 1 1 on 0 1 -1\n"
+                          "terrain:\n",
+                          w);
+  EXPECT_FALSE(vs.terrain);
+  ASSERT_EQ(w.size(), 7u);
+  EXPECT_EQ(w[0].line, 1);
+  EXPECT_EQ(w[0].column, 18);  // the levels
+  EXPECT_EQ(w[0].message, "terrain: invalid number of levels 0");
+  EXPECT_EQ(w[1].message, "terrain: at most 10 levels, not 11");
+  EXPECT_EQ(w[2].column, 20);  // the scale
+  EXPECT_EQ(w[2].message, "terrain: the scale must be positive");
+  EXPECT_EQ(w[3].column, 27);  // the texture id
+  EXPECT_EQ(w[3].message, "terrain: invalid texture id -2");
+  EXPECT_EQ(w[4].column, 29);
+  EXPECT_EQ(w[4].message, "terrain: the U tiling must not be negative");
+  EXPECT_EQ(w[5].column, 31);
+  EXPECT_EQ(w[5].message, "terrain: the V tiling must not be negative");
+  EXPECT_EQ(w[6].line, 7);
+  EXPECT_EQ(w[6].message, "terrain: needs a file name");
+  // A bad line after a good one: no terrain (lpfg drops the first when it reads the second).
+  w.clear();
+  vs = parse("terrain: a.patch 2\nterrain: a.patch -1\n", w);
+  EXPECT_FALSE(vs.terrain);
+  EXPECT_EQ(w.size(), 1u);
 }
 
 TEST(ViewFileTropisms, TropismTorqueSimple) {

@@ -136,7 +136,7 @@ void lcjit_bsurface_op(int op, int maxRows, int maxColumns, const float* l, int 
                        int* outColumns);
 void lcjit_tablet_status(struct TabletStatus* out);
 // Terrain (§10.3): what = 0 height, 1 normal at world[3], into out[3]; returns whether the
-// terrain was hit. visibility: level -1 means every patch.
+// terrain was hit (out is left alone on a miss). visibility: world null means every patch.
 int lcjit_terrain_query(int what, const float* world, float* out);
 void lcjit_terrain_visibility(int mode, int level, const float* world);
 void lcjit_terrain_scale(float factor);
