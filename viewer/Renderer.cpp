@@ -52,6 +52,7 @@
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
+#include FT_OUTLINE_H
 
 namespace lcjit::viewer {
 
@@ -388,14 +389,17 @@ struct SegmentChunk {
 struct Glyph {
   int x = 0, y = 0, width = 0, height = 0;  // in the atlas
   int left = 0, top = 0;                    // bitmap offset from the pen, y up
-  float advance = 0;  // unhinted: Qt lays the pen out in fractions, each glyph at a whole pixel
+  float advance = 0;  // unhinted: Qt lays the pen out in fractions
 };
+// Each glyph four times, drawn a quarter pixel further right each time: Qt positions light-hinted
+// glyphs to a quarter pixel (its subpixel positions), and the coverage of the edges shows it.
+constexpr int kSubpixelPositions = 4;
 struct GlyphSet {
   int pixelSize = 0;
   bool loaded = false;
   GLuint atlas = 0;
   int atlasSize = 512;
-  Glyph chars[96];
+  Glyph chars[kSubpixelPositions][96];
 };
 
 }  // namespace
@@ -1170,14 +1174,19 @@ struct Renderer::Impl {
     FT_Face face = done.face;
     int size = 256;
     std::vector<unsigned char> bitmap;
-    for (;; size *= 2) {  // shelf-pack the 95 glyphs; a bigger atlas if they do not fit
+    for (;; size *= 2) {  // shelf-pack the glyphs; a bigger atlas if they do not fit
       bitmap.assign(size_t(size) * size, 0);
       int x = 1, y = 1, rowHeight = 0;
       bool fits = true;
-      for (int c = 32; c < 128 && fits; ++c) {
-        Glyph& g = glyphs.chars[c - 32];
+      for (int k = 0; k < 96 * kSubpixelPositions && fits; ++k) {
+        int c = 32 + k % 96, phase = k / 96;
+        if (c == 127) continue;
+        Glyph& g = glyphs.chars[phase][c - 32];
         g = Glyph();
-        if (FT_Load_Char(face, c, FT_LOAD_RENDER | FT_LOAD_TARGET_LIGHT)) continue;
+        if (FT_Load_Char(face, c, FT_LOAD_DEFAULT | FT_LOAD_TARGET_LIGHT)) continue;
+        if (face->glyph->format == FT_GLYPH_FORMAT_OUTLINE)
+          FT_Outline_Translate(&face->glyph->outline, phase * 64 / kSubpixelPositions, 0);
+        if (FT_Render_Glyph(face->glyph, FT_RENDER_MODE_LIGHT)) continue;
         const FT_Bitmap& b = face->glyph->bitmap;
         g.left = face->glyph->bitmap_left;
         g.top = face->glyph->bitmap_top;
@@ -1228,9 +1237,12 @@ struct Renderer::Impl {
       auto col = palette.textColor(l.color);
       for (unsigned char ch : l.text) {
         if (ch < 32 || ch >= 128) ch = '?';
-        const Glyph& g = glyphs.chars[ch - 32];
+        // The pen's whole pixel, and its fraction down to a quarter (Qt's subPixelPositionForX).
+        float whole = std::floor(x);
+        int phase = std::min(kSubpixelPositions - 1, int((x - whole) * kSubpixelPositions));
+        const Glyph& g = glyphs.chars[phase][ch - 32];
         const float n = 1.0f / glyphs.atlasSize;
-        float x0 = std::round(x) + g.left, y0 = y - g.top, x1 = x0 + g.width, y1 = y0 + g.height;
+        float x0 = whole + g.left, y0 = y - g.top, x1 = x0 + g.width, y1 = y0 + g.height;
         float s0 = g.x * n, t0 = g.y * n, s1 = (g.x + g.width) * n, t1 = (g.y + g.height) * n;
         x += g.advance;
         if (g.width == 0) continue;
@@ -1468,8 +1480,9 @@ std::array<int, 4> paneRect(const ViewPane::Rect& r, int w, int h, int border) {
   if (r.left + r.width < 1) x1 -= half;
   if (r.top > 0) y0 += half;
   if (r.top + r.height < 1) y1 -= half;
-  return {int(std::lround(x0)), int(std::lround(y0)), std::max(1, int(std::lround(x1 - x0))),
-          std::max(1, int(std::lround(y1 - y0)))};
+  // Half pixels go down, as Qt's grid layout hands out the odd pixel: to the later view.
+  int ix0 = int(std::floor(x0)), iy0 = int(std::floor(y0)), ix1 = int(std::floor(x1)), iy1 = int(std::floor(y1));
+  return {ix0, iy0, std::max(1, ix1 - ix0), std::max(1, iy1 - iy0)};
 }
 
 }  // namespace lcjit::viewer
