@@ -62,6 +62,29 @@ const Display& display() {
 
 }  // namespace
 
+llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h) {
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.rgba.resize(size_t(w) * h * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const size_t row = size_t(w) * 4;
+  std::vector<uint8_t> tmp(row);
+  for (int y = 0; y < h / 2; ++y) {
+    uint8_t* a = &img.rgba[row * y];
+    uint8_t* b = &img.rgba[row * (h - 1 - y)];
+    std::memcpy(tmp.data(), a, row);
+    std::memcpy(a, b, row);
+    std::memcpy(b, tmp.data(), row);
+  }
+  if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
+  return img;
+}
+
 struct HeadlessRenderer::Impl {
   EGLDisplay dpy = EGL_NO_DISPLAY;
   EGLContext ctx = EGL_NO_CONTEXT;
@@ -72,30 +95,7 @@ struct HeadlessRenderer::Impl {
 
   bool makeCurrent() { return eglMakeCurrent(dpy, surface, surface, ctx); }
 
-  // The framebuffer's w×h pixels, rows top first.
-  llvm::Expected<Image> readImage(int w, int h) {
-    Image img;
-    img.width = w;
-    img.height = h;
-    img.rgba.resize(size_t(w) * h * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    // GL's rows go bottom to top.
-    const size_t row = size_t(w) * 4;
-    std::vector<uint8_t> tmp(row);
-    for (int y = 0; y < h / 2; ++y) {
-      uint8_t* a = &img.rgba[row * y];
-      uint8_t* b = &img.rgba[row * (h - 1 - y)];
-      std::memcpy(tmp.data(), a, row);
-      std::memcpy(a, b, row);
-      std::memcpy(b, tmp.data(), row);
-    }
-    if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
-    return img;
-  }
+  llvm::Expected<Image> readImage(int w, int h) { return readFramebuffer(fbo, w, h); }
 
   llvm::Error ensureFramebuffer(int w, int h) {
     if (fbo && w == width && h == height) {

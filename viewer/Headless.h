@@ -64,6 +64,10 @@ class HeadlessRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
+// The current context's framebuffer `fbo` (colour attachment 0), w×h, read into an Image with its
+// rows turned top first (GL's go bottom to top). Leaves the default framebuffer bound.
+llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h);
+
 // Writes by extension: .png (RGB, or RGBA with `alpha`), .jpg/.jpeg (RGB, `jpegQuality`), .bmp.
 llvm::Error writeImage(const Image& image, const std::string& path, bool alpha = false, int jpegQuality = 95);
 

@@ -775,26 +775,7 @@ llvm::Expected<Image> Window::grabImage() {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return error("rendering: " + m.renderer->lastError());
   }
-  Image img;
-  img.width = w;
-  img.height = h;
-  img.rgba.resize(size_t(w) * h * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, m.fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  const size_t row = size_t(w) * 4;  // GL's rows go bottom to top
-  std::vector<uint8_t> tmp(row);
-  for (int yy = 0; yy < h / 2; ++yy) {
-    uint8_t* a = &img.rgba[row * yy];
-    uint8_t* b = &img.rgba[row * (h - 1 - yy)];
-    std::memcpy(tmp.data(), a, row);
-    std::memcpy(a, b, row);
-    std::memcpy(b, tmp.data(), row);
-  }
-  if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
-  return img;
+  return readFramebuffer(m.fbo, w, h);
 }
 
 llvm::Error Window::saveImage(const std::string& path) {

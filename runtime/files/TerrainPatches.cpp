@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <type_traits>
 
 #include "llvm/Support/MemoryBuffer.h"
 #include "TextLines.h"
@@ -62,21 +63,17 @@ class Tokens {
     return i == t.size();
   }
 
-  llvm::Error number(const char* what, double& out) {
+  // Read in the field's own precision: a float straight from the text (strtof), not via a double.
+  template <typename Real>
+  llvm::Error number(const char* what, Real& out) {
     std::string_view t = next();
     if (auto e = check(t, what)) return e;
     std::string s(t);
     errno = 0;
-    out = std::strtod(s.c_str(), nullptr);
-    if (errno == ERANGE && std::isinf(out)) return error(std::string(what) + " is out of range: " + s);
-    return llvm::Error::success();
-  }
-  llvm::Error number(const char* what, float& out) {
-    std::string_view t = next();
-    if (auto e = check(t, what)) return e;
-    std::string s(t);
-    errno = 0;
-    out = std::strtof(s.c_str(), nullptr);
+    if constexpr (std::is_same_v<Real, float>)
+      out = std::strtof(s.c_str(), nullptr);
+    else
+      out = std::strtod(s.c_str(), nullptr);
     if (errno == ERANGE && std::isinf(out)) return error(std::string(what) + " is out of range: " + s);
     return llvm::Error::success();
   }
