@@ -107,6 +107,7 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropis
     state_.simpleElasticity = view_->simpleTropism->elasticity;
   }
   stack_.clear();
+  volume_ = VolumeState();
   polygonOn_ = false;
   polygon_.clear();
   // The engine reuses its turtles: nothing may carry over (contours change between runs).
@@ -266,6 +267,7 @@ void Turtle::forward(float d, bool draw, bool polygonVertex) {
     extend(t.position);
     return;
   }
+  extendAlongF(before);
   bool cylinders = view_->lineStyle == LineStyle::Cylinder;
   if (cylinders && t.cylinderOn) {
     CylinderPoint here = cylinderHere();
@@ -492,12 +494,14 @@ void Turtle::executeModule(char* rec) {
     case __lc_id_CurrentContour:
       t.contour = t.contour2 = i0();
       t.blend = 0;
+      selectContourExtent(t.contour, t.contour, 0);
       break;
     case __lc_id_BlendedContour: {
       t.contour = param<int>(rec, p0<__lc_R_BlendedContour>());
       t.contour2 = param<int>(rec, p1<__lc_R_BlendedContour>());
       float b = param<float>(rec, offsetof(__lc_R_BlendedContour, p2));
       t.blend = b < 0 ? 0 : b > 1 ? 1 : b;
+      selectContourExtent(t.contour, t.contour2, t.blend);
       break;
     }
     case __lc_id_ContourSides: {
@@ -523,11 +527,19 @@ void Turtle::executeModule(char* rec) {
       if (v >= 0) t.textureVCoeff = v;
       break;
     }
-    case __lc_id_StartGC: startCylinder(); break;
+    case __lc_id_StartGC:
+      volume_.inCylinder = true;
+      volume_.width = t.width;
+      volume_.widthUp = t.widthUp;
+      startCylinder();
+      break;
     case __lc_id_PointGC:
       if (t.cylinderOn) t.cylinder = cylinderHere();
       break;
-    case __lc_id_EndGC: endCylinder(); break;
+    case __lc_id_EndGC:
+      volume_.inCylinder = false;
+      endCylinder();
+      break;
     // ---- surfaces (§5.6)
     case __lc_id_SetUPrecision:
     case __lc_id_SetVPrecision: {

@@ -152,6 +152,19 @@ class Turtle {
   void extend(V3f p) {
     if (out_) out_->extent.add(p);
   }
+  // The bounding box lpfg's view-volume turtle (vvturtle.cpp) gives an F: both ends widened by
+  // the line, a cylinder's by its half-widths times the extent of the last contour selected.
+  void extendAlongF(const TurtleState& before);
+  void selectContourExtent(int id1, int id2, float blend);
+  // What that turtle keeps outside its branch stack (its `]` restores only the base turtle), so
+  // it follows string order across branches: the contour's extent (±L, ±U factors of the
+  // half-widths), whether a generalized cylinder is open, and the width of its last point.
+  struct VolumeState {
+    float leftPos = 1, leftNeg = 1, upPos = 1, upNeg = 1;
+    bool inCylinder = false;
+    float width = 1, widthUp = 1;
+  };
+  VolumeState volume_;
   MeshVertex vertex(V3f p, V3f n, float u = 0, float v = 0) const;
 
   // ---- the Terrain module (TurtleTerrain.cpp). lpfg draws the terrain by multiplying the GL

@@ -57,8 +57,6 @@ void Turtle::drawSegment(const TurtleState& before, float length) {
   switch (view_->lineStyle) {
     case LineStyle::Pixel:
       out_->addSegment({before.position, t.position, t.width, t.color});
-      extend(before.position);
-      extend(t.position);
       break;
     case LineStyle::Polygon: {
       // A flat band facing the viewer, the turtle width wide (model units).
@@ -76,10 +74,6 @@ void Turtle::drawSegment(const TurtleState& before, float length) {
       uint32_t i3 = out_->addVertex(vertex(t.position - s1, n));
       out_->addTriangle(i0, i2, i1);  // counter-clockwise as the viewer sees it
       out_->addTriangle(i0, i3, i2);
-      for (V3f p : {before.position, t.position}) {
-        extend(p + t.left * (t.width / 2));
-        extend(p - t.left * (t.width / 2));
-      }
       break;
     }
     case LineStyle::Cylinder: {
@@ -148,12 +142,62 @@ void Turtle::drawFrustum(const CylinderPoint& a, const CylinderPoint& b, float l
     out_->addTriangle(b0, e0, b1);
     out_->addTriangle(b1, e0, e1);
   }
-  for (const CylinderPoint* c : {&a, &b}) {
-    extend(c->position + c->left * (c->scaleP / 2));
-    extend(c->position - c->left * (c->scaleP / 2));
-    extend(c->position + c->up * (c->scaleQ / 2));
-    extend(c->position - c->up * (c->scaleQ / 2));
+}
+
+void Turtle::extendAlongF(const TurtleState& before) {
+  const TurtleState& t = state_;
+  switch (view_->lineStyle) {
+    case LineStyle::Pixel:
+      extend(before.position);
+      extend(t.position);
+      break;
+    case LineStyle::Polygon:
+      for (const TurtleState* s : {&before, &t}) {
+        extend(s->position + s->left * (0.5f * s->width));
+        extend(s->position - s->left * (0.5f * s->width));
+      }
+      break;
+    case LineStyle::Cylinder: {
+      // Inside a generalized cylinder the start takes the width its last point had.
+      VolumeState& v = volume_;
+      if (!v.inCylinder) {
+        v.width = before.width;
+        v.widthUp = before.widthUp;
+      }
+      auto widen = [&](const TurtleState& s, float w, float wUp) {
+        extend(s.position + s.left * 0.5f * w * v.leftPos);
+        extend(s.position - s.left * 0.5f * w * v.leftNeg);
+        extend(s.position + s.up * 0.5f * wUp * v.upPos);
+        extend(s.position - s.up * 0.5f * wUp * v.upNeg);
+      };
+      widen(before, v.width, v.widthUp);
+      widen(t, t.width, t.widthUp);
+      if (v.inCylinder) {
+        v.width = t.width;
+        v.widthUp = t.widthUp;
+      }
+      break;
+    }
   }
+}
+
+// An unknown id leaves the extent as it was, as in lpfg.
+void Turtle::selectContourExtent(int id1, int id2, float blend) {
+  static const Contour circle = Contour::defaultCircle();
+  auto find = [&](int id) -> const Contour* {
+    if (setup_.contours) return setup_.contours->get(id);
+    return id == 0 ? &circle : nullptr;
+  };
+  const Contour* a = find(id1);
+  const Contour* b = find(id2);
+  if (!a || !b) return;
+  V3f lo = (1.f - blend) * a->extentMin() + blend * b->extentMin();
+  V3f hi = (1.f - blend) * a->extentMax() + blend * b->extentMax();
+  VolumeState& v = volume_;
+  v.leftPos = hi.x > 0.f ? hi.x : 0.f;
+  v.leftNeg = lo.x < 0.f ? -lo.x : 0.f;
+  v.upPos = hi.y > 0.f ? hi.y : 0.f;
+  v.upNeg = lo.y < 0.f ? -lo.y : 0.f;
 }
 
 // `capped cylinders: on`: a fan from the ring's centroid. lpfg faces both caps back along the

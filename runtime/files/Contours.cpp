@@ -555,6 +555,12 @@ llvm::Expected<Contour> Contour::parse(const std::vector<std::string_view>& line
   c.origCpts_ = expanded;
   c.divisions_ = c.fileSamples_.value_or(kDefaultDivisions);
   c.compute();
+  c.extentMin_ = V3f(1e11f, 1e11f, 0);
+  c.extentMax_ = V3f(-1e11f, -1e11f, 0);
+  for (const V3f& v : c.vertex_) {
+    c.extentMin_ = V3f(std::min(c.extentMin_.x, v.x), std::min(c.extentMin_.y, v.y), 0);
+    c.extentMax_ = V3f(std::max(c.extentMax_.x, v.x), std::max(c.extentMax_.y, v.y), 0);
+  }
   return c;
 }
 

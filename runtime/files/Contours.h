@@ -89,6 +89,12 @@ class Contour {
   ContourSamples samples() const { return {vertex_, normal_, closed_}; }
   ContourSamples sampled(int n) const;  // samples at n points, leaving this contour unchanged
 
+  // The extent of the samples the contour had when it was read (lpfg's contour bounding box,
+  // which its view volume uses for generalized cylinders): x and y only, ±1 for the default
+  // circle. Later changes (setDivisions, curveScale …) do not update it, as in lpfg.
+  V3f extentMin() const { return extentMin_; }
+  V3f extentMax() const { return extentMax_; }
+
   // Curve functions (§6.3). t is clamped to [0,1].
   V3f pointAt(float t) const;   // curveX/Y/Z/XY/XYZ
   V3f normalAt(float t) const;  // curveNormal; (0,0,0) for an end-point contour, as in lpfg
@@ -118,6 +124,7 @@ class Contour {
   std::vector<V3f> cpts_, origCpts_;
   std::vector<V3f> vertex_, normal_;
   float arcLen_ = 0;
+  V3f extentMin_{-1, -1, 0}, extentMax_{1, 1, 0};
 };
 
 class ContourStore {

@@ -138,6 +138,9 @@ def main():
     ap.add_argument("--no-pictures", action="store_true")
     ap.add_argument("--env", action="store_true", help="also models with environment programs (.e)")
     ap.add_argument("--timeout", type=int, default=300)
+    ap.add_argument("--frozen-clock", metavar="TIME",
+                    help="derive the strings under `faketime -f TIME` (models that seed rand() with time(0)); "
+                         "pictures use the real clock: lpfg's window does not draw on a frozen one")
     ap.add_argument("--vlab", help="a vlab snapshot (bare git dir): write a manifest of its lpfg objects")
     ap.add_argument("--write-manifest")
     ap.add_argument("--export", help="with --vlab: where to export the objects")
@@ -159,6 +162,7 @@ def main():
         models.append((name, os.path.join(base, folder), cmd))
 
     env = lpfg_env(a.lpfg_prefix)
+    a.clock = ["faketime", "-f", a.frozen_clock] if a.frozen_clock else []
     results = []
     for name, folder, cmd in models:
         args = model_args(cmd)
@@ -173,10 +177,10 @@ def main():
         lp, lc = os.path.join(work, "lpfg"), os.path.join(work, "lcjit")
         fresh_copy(folder, lp)
         fresh_copy(folder, lc)
-        code, log, t_lpfg = run(["lpfg", "-b", "-out", "ref.strb", *args], lp, a.timeout, env)
+        code, log, t_lpfg = run([*a.clock, "lpfg", "-b", "-out", "ref.strb", *args], lp, a.timeout, env)
         open(os.path.join(work, "lpfg.log"), "w").write(log)
         ref_ok = os.path.exists(os.path.join(lp, "ref.strb"))
-        code2, log2, t_lcjit = run([a.lcjit, "-b", "-q", "-out", "out.str", *args], lc, a.timeout)
+        code2, log2, t_lcjit = run([*a.clock, a.lcjit, "-b", "-q", "-out", "out.str", *args], lc, a.timeout)
         open(os.path.join(work, "lcjit.log"), "w").write(log2)
         out_ok = code2 == 0 and os.path.exists(os.path.join(lc, "out.str"))
         row["t"] = "lpfg %.1fs lcjit %.1fs" % (t_lpfg, t_lcjit)

@@ -391,6 +391,31 @@ TEST(TurtleGeometry, ScaledAndBlendedContours) {
   EXPECT_V3(g.vertices[10].position, 0, 1, 1);
 }
 
+// lpfg frames a picture by its view-volume turtle, which widens a cylinder F by the extent of the
+// last contour selected in string order: its `]` does not put that back (vvturtle.cpp). The
+// rectangle spans x in [-1, 3], y in [-1, 1]; with width 2 (half-width 1) along L = (-1, 0, 0)
+// an F from the origin reaches x = -3 (+L side, factor 3) and x = 1 (-L side, factor 1).
+TEST(TurtleGeometry, ViewVolumeWidensByTheLastContourSelected) {
+  fs::path con = scratch() / "rect.con";
+  writeFile(con, "cver 1 3\nname: rect\npoints: 4 12\ntype: cr\nsamples: 1000\n"
+                 "3 1 0 3\n-1 1 0 3\n-1 -1 0 3\n3 -1 0 3\n");
+  const std::string view = "line style: cylinder\n";
+  constexpr double kSampling = 0.02;  // 1000 samples of a 12-long outline may miss a corner
+  Geometry a = draw("extent_branch", "SB CurrentContour(rect) EB SetWidth(2) F(1)", view, {con.string()});
+  EXPECT_V3_NEAR(a.extent.min, -3, 0, -1, kSampling);
+  EXPECT_V3_NEAR(a.extent.max, 1, 1, 1, kSampling);
+  // A blend mixes the extents (max x: 0.5·1 + 0.5·3 = 2); an unknown id changes nothing.
+  Geometry b = draw("extent_blend", "SB BlendedContour(0, rect, 0.5) EB CurrentContour(99) SetWidth(2) F(1)", view,
+                    {con.string()});
+  EXPECT_V3_NEAR(b.extent.min, -2, 0, -1, kSampling);
+  EXPECT_V3_NEAR(b.extent.max, 1, 1, 1, kSampling);
+  // The default circle (id 0) spans ±1.
+  Geometry c = draw("extent_circle", "SB CurrentContour(rect) EB CurrentContour(0) SetWidth(2) F(1)", view,
+                    {con.string()});
+  EXPECT_V3(c.extent.min, -1, 0, -1);
+  EXPECT_V3(c.extent.max, 1, 1, 1);
+}
+
 TEST(TurtleGeometry, ElasticityAndSimpleTropism) {
   // SetElasticity(0, 0) switches the view file's tropism off; Elasticity(0.5) with the simple
   // tropism direction D = (−1,0,0) leans H after each move by s = e·(D·L) = 0.5 towards L.
