@@ -468,23 +468,23 @@ Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g) {
 // ---- allocation in model code
 
 void* modelNew(size_t n) {
-  ModelGuard::checkpoint();
+  ModelGuard::allocating(n);
   return ::operator new(n);
 }
 void* modelNewArray(size_t n) {
-  ModelGuard::checkpoint();
+  ModelGuard::allocating(n);
   return ::operator new[](n);
 }
 void* modelMalloc(size_t n) {
-  ModelGuard::checkpoint();
+  ModelGuard::allocating(n);
   return std::malloc(n);
 }
 void* modelCalloc(size_t n, size_t size) {
-  ModelGuard::checkpoint();
+  ModelGuard::allocating(n * size);
   return std::calloc(n, size);
 }
 void* modelRealloc(void* p, size_t n) {
-  ModelGuard::checkpoint();
+  ModelGuard::allocating(n);
   return std::realloc(p, n);
 }
 
@@ -540,6 +540,27 @@ void ModelGuard::checkpoint() {
   // libgcc with its locks, where the jump must not land.
   for (Region* r = tlRegion; r; r = r->outer)
     if (r->guard->stopRequested() && !r->guard->force_.load(std::memory_order_relaxed)) throw ModelStop{};
+}
+
+void ModelGuard::allocating(size_t bytes) {
+  constexpr size_t kCheckEvery = 4u << 20;  // reading /proc/self/statm costs a few microseconds
+  thread_local size_t sinceCheck = 0;
+  sinceCheck += bytes;
+  if (sinceCheck >= kCheckEvery && tlRegion) {
+    sinceCheck = 0;
+    size_t rss = 0;
+    for (Region* r = tlRegion; r; r = r->outer) {
+      ModelGuard& g = *r->guard;
+      size_t limit = g.limits_.memoryBytes;
+      if (!limit || g.stopRequested()) continue;
+      if (!rss) rss = residentBytes();
+      if (rss > limit) {
+        g.observedBytes_ = rss;
+        g.interrupt(FaultKind::MemoryLimit);
+      }
+    }
+  }
+  checkpoint();
 }
 
 bool ModelGuard::inside() { return tlRegion != nullptr; }

@@ -81,6 +81,10 @@ class ModelGuard {
   // Host functions model code calls: throws ModelStop when the calling thread's guarded run has
   // been asked to stop (and the jump is not being forced yet). Does nothing outside a run.
   static void checkpoint();
+  // The stand-ins for model code's allocations: checkpoint(), and every few megabytes asked for,
+  // the memory limit checked on the calling thread itself, so that a model allocating in a loop
+  // stops near its limit however late the watchdog gets the processor (a busy machine).
+  static void allocating(size_t bytes);
   // Whether the calling thread is inside a guarded run.
   static bool inside();
 
