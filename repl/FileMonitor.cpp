@@ -92,7 +92,9 @@ Action actionForChange(FileKind k, RefreshMode mode) {
     case FileKind::Contour:
     case FileKind::Timeline:
     case FileKind::Parameters: return Action::NewRun;
-    case FileKind::Environment:
+    // Not in lpfg's table (it restarts the program on New L-system only): a saved .e file
+    // restarts the environmental program with the settings it now has.
+    case FileKind::Environment: return Action::NewLsystem;
     case FileKind::Other: return Action::None;
   }
   return Action::None;
@@ -112,7 +114,7 @@ std::set<FileKind> filesReadBy(Action a) {
       out.insert(data.begin(), data.end());
       break;
     case Action::NewLsystem:
-      out = {FileKind::LSystem};
+      out = {FileKind::LSystem, FileKind::Environment};
       out.insert(rendering.begin(), rendering.end());
       out.insert(data.begin(), data.end());
       break;

@@ -45,7 +45,7 @@ enum class FileKind {
   Timeline,     // .tset
   Contour,      // .con (and .cset: a set of contours)
   Parameters,   // .vset
-  Environment,  // .e (not re-read on a change)
+  Environment,  // .e (a change restarts the environmental program: New L-system)
   Other,
 };
 

@@ -156,7 +156,9 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
       f.materials = p;
     } else if (ext == ".con" || ext == ".cset") {
       f.contours.push_back(p);
-    } else if (ext == ".a" || ext == ".e" || ext == ".s") {
+    } else if (ext == ".e") {
+      f.environment = p;
+    } else if (ext == ".a" || ext == ".s") {
       f.other.push_back(p);
     } else if (ext == ".cpp" || ext == ".cc" || ext == ".cxx" || ext == ".C") {
       f.sources.push_back(p);
@@ -229,6 +231,7 @@ std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::Dr
   f.insert(f.end(), files.functions.begin(), files.functions.end());
   f.insert(f.end(), files.contours.begin(), files.contours.end());
   f.insert(f.end(), files.other.begin(), files.other.end());
+  if (!files.environment.empty()) f.push_back(files.environment);
   f.insert(f.end(), drawing.textureFiles.begin(), drawing.textureFiles.end());
   f.insert(f.end(), drawing.shapeFiles.begin(), drawing.shapeFiles.end());
   return f;
@@ -283,6 +286,7 @@ PreparedModel::~PreparedModel() = default;
 Session::~Session() {
   // The engine refers to the model's tables; the model's code must go after it.
   engine_.reset();
+  environment_.reset();
   drawing_.reset();
   code_.reset();
   functions_.reset();
@@ -423,6 +427,17 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   p.code = std::move(*code);
   p.cpp = std::move(cpp->cpp);
   p.bufferName = co.bufferName;
+  // lpfg starts the environmental program once the model has compiled.
+  if (!files.environment.empty() && environmentSettings_.start) {
+    std::vector<runtime::ViewFileWarning> warnings;
+    auto spec = runtime::loadCommSpec(files.environment, warnings);
+    for (auto& w : warnings)
+      p.warnings.push_back(w.file + ":" + std::to_string(w.line) + ":" + std::to_string(w.column) + ": warning: " + w.message);
+    if (!spec) return spec.takeError();
+    auto link = runtime::startChildProgram(*spec, environmentSettings_.program);
+    if (!link) return link.takeError();
+    p.environment = std::move(*link);
+  }
   return p;
 }
 
@@ -458,6 +473,9 @@ llvm::Error Session::install(PreparedModel p) {
     engine_->setLimits(limits_);
     functions_ = std::move(p.functions);  // the old engine, which used the old ones, is gone
   }
+  if (p.what.lsystem) environment_ = std::move(p.environment);  // the old program is stopped
+  engine_->setEnvironment(environment_.get());
+  engine_->setCleanEA20(environmentSettings_.cleanEA20);
   drawing_ = std::move(p.drawing);
   warnings_ = std::move(p.warnings);
   engine_->setTurtleSetup(drawing_->turtleSetup());

@@ -14,6 +14,7 @@
 #include "FileMonitor.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
+#include "ChildProgram.h"
 #include "Engine.h"
 #include "ModelGuard.h"
 #include "llvm/Support/Error.h"
@@ -59,7 +60,8 @@ struct ModelFiles {
   std::string view;                  // .v (lpfg also reads .dr)
   std::string colormap, materials;   // .map / .mat: the last one given wins
   std::vector<std::string> contours;  // .con and .cset, in command-line order
-  std::vector<std::string> other;     // animation (.a), environment (.e): not used in batch mode
+  std::vector<std::string> other;     // animation (.a), surfaces (.s): not used in batch mode
+  std::string environment;            // .e: the environmental program (manual §5.10); the last one wins
   // The model's own C++ translation units (.cpp .cc .cxx), compiled beside it and linked with it,
   // as a research model's lpfg.mak builds them into lsys.so.
   std::vector<std::string> sources;
@@ -127,6 +129,9 @@ struct PreparedModel {
   int changedRules = 0;
   std::vector<std::shared_ptr<jit::ModelCode>> ruleCode;  // where the unchanged ones are, newest first
   std::vector<std::shared_ptr<jit::ModelCode>> sourceCode;  // ModelFiles::sources, compiled
+  // With `what.lsystem`: the environmental program of the .e file, started (null: none). It
+  // replaces the running one when installed, as lpfg restarts it on New L-system.
+  std::unique_ptr<runtime::EnvironmentLink> environment;
   PreparedModel();
   PreparedModel(PreparedModel&&);
   PreparedModel& operator=(PreparedModel&&);
@@ -181,6 +186,14 @@ class Session {
   llvm::Expected<std::string> evaluate(const std::string& input);
   // The limits of every derivation (docs/faults.md): this model's and the next ones'. Static
   // constructors and destructors of the model run behind the same guard and time limit.
+  // Environmental programs (manual §5.10): how they are started and waited for, -cleanEA20, and
+  // whether to start them at all (not for -c or --emit-cpp, which run nothing).
+  struct EnvironmentSettings {
+    runtime::ChildProgramOptions program;
+    bool cleanEA20 = false;
+    bool start = true;
+  };
+  void setEnvironmentSettings(const EnvironmentSettings& settings) { environmentSettings_ = settings; }
   void setLimits(const runtime::EngineLimits& limits);
   const runtime::EngineLimits& limits() const { return limits_; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
@@ -211,6 +224,8 @@ class Session {
   std::atomic<bool> editedLive_{false};
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_
+  std::unique_ptr<runtime::EnvironmentLink> environment_;  // outlives engine_, which calls it
+  EnvironmentSettings environmentSettings_;
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;
   mutable std::mutex cppMutex_;

@@ -72,7 +72,14 @@ int main(int argc, char** argv) {
   app.add_option("--wr", winSizeRel, "(-wr) relative window size")->expected(2)->allow_extra_args(false);
   app.add_flag("--wnb", noBorder, "(-wnb) window without borders");
   app.add_flag("--wnm", noMessageLog, "(-wnm) accepted: lcjit's window has no message log");
-  app.add_flag("--cleanEA20", cleanEA, "(-cleanEA20) accepted");
+  app.add_flag("--cleanEA20", cleanEA,
+               "(-cleanEA20) an EA20 module the environmental program answers has the elements past the answer zeroed");
+  double environmentTimeout = 60;
+  app.add_option("--environment-timeout", environmentTimeout,
+                 "seconds an environmental program (.e) may take to answer one step before it is an error (0: no "
+                 "limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--cn", cn, "(-cn) accepted");
   app.add_flag("--tablet", tablet, "(-tablet) accepted: GetTabletStatus() follows the mouse in any case");
   app.add_flag("--timer,--timed", timer, "(-timer, -timed) accepted: --stats gives lcjit's timings");
@@ -174,6 +181,14 @@ int main(int argc, char** argv) {
   limits.maxModules = maxModules;
   limits.maxMemory = maxMemory;
   (*session)->setLimits(limits);
+  {
+    lcjit::Session::EnvironmentSettings env;
+    env.cleanEA20 = cleanEA;
+    env.program.answerSeconds = environmentTimeout;
+    env.start = !compileOnly && !emitCpp;
+    if (bo.verbose) env.program.log = [](const std::string& line) { std::fprintf(stderr, "lcjit: %s\n", line.c_str()); };
+    (*session)->setEnvironmentSettings(env);
+  }
   // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit.
   lcjit::runtime::interruptModelCodeOnSigint();
   // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in

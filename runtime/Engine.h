@@ -13,6 +13,7 @@
 #include "ModelGuard.h"
 #include "ModuleString.h"
 #include "Random.h"
+#include "Environment.h"
 #include "Turtle.h"
 #include "lcjit/abi.h"
 #include "llvm/Support/Error.h"
@@ -30,6 +31,9 @@ struct EngineHooks {
   std::function<void(const char*)> print;
   // OutputFrame("file.ext") from model code: render or export the current string.
   std::function<void(const char* path)> outputFrame;
+  // Messages about the run that do not stop it ("plant.e: warning: …": an environmental
+  // program's unusable answers). Without it they go to stderr.
+  std::function<void(const std::string&)> warning;
 };
 
 // Runaway growth and runaway code stop the derivation (docs/faults.md).
@@ -50,6 +54,14 @@ class Engine {
   // Environment()/NoEnvironment() (§6.11): whether the environment is ignored.
   void setIgnoreEnvironment(bool ignore) { ignoreEnvironment_ = ignore; }
   bool ignoreEnvironment() const { return ignoreEnvironment_; }
+  // The environmental program (§5.10), or null; it must outlive the runs. At the start of every
+  // step (before StartEach, unless NoEnvironment()) the string is interpreted and each E1, E2
+  // and EA20 the turtle meets is sent with its turtle lines; the answers overwrite the modules'
+  // parameters before the step's productions read them.
+  void setEnvironment(EnvironmentLink* link) { environment_ = link; }
+  EnvironmentLink* environment() const { return environment_; }
+  // -cleanEA20: the elements of an answered EA20 past the answer's values are zeroed.
+  void setCleanEA20(bool clean) { cleanEA20_ = clean; }
   // The context of the rule body running, or null (lcjit_current_ctx).
   __lc_Ctx* activeContext() const { return activeCtx_; }
   Engine(const Engine&) = delete;
@@ -202,7 +214,12 @@ class Engine {
   void decompose(int group);
   void expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
               const std::function<void(const char*)>* sink);
-  void queryPass();
+  // The environmental pass at the start of a step: query modules filled, communication modules
+  // sent and answered.
+  void environmentPass();
+  void communicate(const char* src, size_t pos, size_t n, const Turtle& turtle);
+  void applyAnswers(const std::string& answers);
+  void warn(const std::string& message) const;
 
   size_t scanRight(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const;
   size_t scanLeft(const Scan& sc, size_t& p, __lc_ModuleId want, const uint8_t* skip) const;
@@ -228,7 +245,7 @@ class Engine {
   std::vector<std::unique_ptr<ModuleBuffer>> levels_;  // successor buffers per decomposition level
   std::vector<std::unique_ptr<ModuleBuffer>> copies_;   // expand()'s working copies, by nesting
   size_t copiesInUse_ = 0;
-  std::vector<std::unique_ptr<Turtle>> turtles_;        // interpret()/queryPass(), by nesting
+  std::vector<std::unique_ptr<Turtle>> turtles_;        // interpret()/environmentPass(), by nesting
   size_t turtlesInUse_ = 0;
   struct Reaction {
     float propensity;
@@ -250,6 +267,16 @@ class Engine {
   Match* activeMatch_ = nullptr;
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
   bool ignoreEnvironment_ = false;
+  EnvironmentLink* environment_ = nullptr;
+  bool cleanEA20_ = false;
+  // During environmentPass(): the request being written and the modules it names (by the id
+  // sent, which is the module's byte offset in the string).
+  struct Communication {
+    std::vector<std::string> records;
+    std::map<size_t, __lc_ModuleId> sent;
+  };
+  Communication communication_;
+  bool communicating_ = false;
   TurtleSetup turtleSetup_;
   // The query passes' tropism field, kept from one pass to the next during a run, as lpfg's
   // global tropisms are in a batch run (drawing passes start from the view file).

@@ -35,6 +35,7 @@ enum class FaultKind : int {
   TimeLimit,    // the guarded call ran longer than its time limit
   MemoryLimit,  // the process's memory (or the string's buffers) passed the memory limit
   StringLimit,  // the string passed the module limit
+  Environment,  // the environmental program failed: `what` is the whole message, naming the .e file
 };
 
 struct Fault {

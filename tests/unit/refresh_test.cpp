@@ -70,7 +70,7 @@ TEST_P(ChangeTable, Rows) {
   EXPECT_EQ(actionForChange(FK::Contour, m), Action::NewRun);          // Contour → New run
   EXPECT_EQ(actionForChange(FK::Timeline, m), Action::NewRun);         // Timeline → New run
   EXPECT_EQ(actionForChange(FK::Parameters, m), Action::NewRun);       // Parameters → New run
-  EXPECT_EQ(actionForChange(FK::Environment, m), Action::None);        // not in the table
+  EXPECT_EQ(actionForChange(FK::Environment, m), Action::NewLsystem);  // lcjit: restarts the program
   EXPECT_EQ(actionForChange(FK::Other, m), Action::None);
 }
 INSTANTIATE_TEST_SUITE_P(Monitoring, ChangeTable,
@@ -99,8 +99,9 @@ TEST(MenuTable, FilesReadBy) {
   // (+ the animation and environment files: "re-read all input files").
   EXPECT_EQ(filesReadBy(Action::NewModel),
             unite({{FK::LSystem, FK::View, FK::Animation, FK::Environment}, kColours, kData}));
-  // New L-system: all but the view and animation files.
-  EXPECT_EQ(filesReadBy(Action::NewLsystem), unite({{FK::LSystem}, kColours, kData}));
+  // New L-system: all but the view and animation files (and, in lcjit, the .e file: the
+  // environmental program restarts with it).
+  EXPECT_EQ(filesReadBy(Action::NewLsystem), unite({{FK::LSystem, FK::Environment}, kColours, kData}));
   // New run: colours… and functions…, not the L-system, view or animation files.
   EXPECT_EQ(filesReadBy(Action::NewRun), unite({kColours, kData}));
   // New view: view + colours/surfaces/textures.
@@ -135,7 +136,8 @@ TEST(MenuTable, ActionsForABatch) {
   EXPECT_EQ(actionsForChanges({"c.map", "v.v"}, m), (V{Action::NewView}));
   EXPECT_EQ(actionsForChanges({"c.map", "p.vset"}, m), (V{Action::NewRun}));
   EXPECT_EQ(actionsForChanges({"x.a", "a.l"}, m), (V{Action::NewAnimate, Action::NewLsystem}));
-  EXPECT_EQ(actionsForChanges({"env.e", "notes.txt"}, m), V{});
+  EXPECT_EQ(actionsForChanges({"env.e", "notes.txt"}, m), V{Action::NewLsystem});
+  EXPECT_EQ(actionsForChanges({"notes.txt"}, m), V{});
   EXPECT_EQ(actionsForChanges({"a.l"}, RefreshMode::Explicit), V{});
 }
 
