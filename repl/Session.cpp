@@ -434,7 +434,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     for (auto& w : warnings)
       p.warnings.push_back(w.file + ":" + std::to_string(w.line) + ":" + std::to_string(w.column) + ": warning: " + w.message);
     if (!spec) return spec.takeError();
-    auto link = runtime::startChildProgram(*spec, environmentSettings_.program);
+    auto link = runtime::startEnvironment(*spec, environmentSettings_.program);
     if (!link) return link.takeError();
     p.environment = std::move(*link);
   }

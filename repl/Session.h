@@ -14,7 +14,7 @@
 #include "FileMonitor.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
-#include "ChildProgram.h"
+#include "Builtin.h"
 #include "Engine.h"
 #include "ModelGuard.h"
 #include "llvm/Support/Error.h"

@@ -355,3 +355,77 @@ TEST(EnvironmentFailures, ReloadAndStopLeaveNothingBehind) {
 }
 
 }  // namespace
+
+// ---- the built-in honda81 (vlab environment manual §3.1.1, and vlab's build's rules)
+
+namespace {
+
+runtime::CommSpec hondaSpec(const std::string& specText, const std::string& position = " P: %f %f %f") {
+  std::ofstream("density.spec") << specText;
+  runtime::CommSpec spec;
+  spec.file = "m.e";
+  spec.executable = "honda81 -e m.e density.spec";
+  spec.transport = runtime::CommSpec::Transport::Files;
+  spec.position = position;
+  return spec;
+}
+
+std::string ask(runtime::EnvironmentLink& link, const std::vector<std::string>& records) {
+  auto a = link.exchange(records, 1, [] {});
+  return a ? *a : llvm::toString(a.takeError());
+}
+
+}  // namespace
+
+TEST(BuiltinHonda81, VigorGroupsAndRadius) {
+  Scratch scratch;
+  auto link = runtime::startBuiltinProgram("honda81", hondaSpec("radius: 1\n3d case: on\n"));
+  ASSERT_TRUE(bool(link)) << llvm::toString(link.takeError());
+  // 10 (vigor 0.5) lies within 1 of 20 (0.7): 10 stops, 20 does not. 30 and 40 have equal vigor
+  // and are 0.5 apart: both stop. 50 is in group 1 alone: it goes on. 60 is 1 away from 20 on
+  // the boundary (distance² = 1 ≤ 1): it stops.
+  EXPECT_EQ(ask(**link, {"10 E(0.500000)\n P: 0.000000 0.000000 0.000000\n",
+                         "20 E(0.700000)\n P: 0.500000 0.000000 0.000000\n",
+                         "30 E(1.000000)\n P: 5.000000 0.000000 0.000000\n",
+                         "40 E(1.000000)\n P: 5.000000 0.500000 0.000000\n",
+                         "50 E(0.200000,1.000000)\n P: 0.000000 0.000000 0.000000\n",
+                         "60 E(0.100000)\n P: 0.500000 1.000000 0.000000\n"}),
+            "10 E(0)\n20 E(1)\n30 E(0)\n40 E(0)\n50 E(1)\n60 E(0)\n");
+}
+
+TEST(BuiltinHonda81, FloatArithmeticAndTwoDimensions) {
+  Scratch scratch;
+  // radius 0.1: r² = fl(0.1f·0.1f) = 0.010000001; 0.3f − 0.2f = 0.10000001, squared 0.010000002:
+  // just outside, so no collision, as in vlab's float build (a double computation would collide).
+  auto link = runtime::startBuiltinProgram("honda81", hondaSpec("radius:  0.1\n"));
+  ASSERT_TRUE(bool(link));
+  EXPECT_EQ(ask(**link, {"1 E(0.5)\n P: 0.3 0 0\n", "2 E(0.6)\n P: 0.2 0 0\n"}), "1 E(1)\n2 E(1)\n");
+  // Without `3d case: on` the discs lie in x and z: y does not count.
+  EXPECT_EQ(ask(**link, {"1 E(0.5)\n P: 0 0 0\n", "2 E(0.6)\n P: 0 7 0.05\n"}), "1 E(0)\n2 E(1)\n");
+  // A query without three position numbers gets no answer.
+  auto noPosition = runtime::startBuiltinProgram("honda81", hondaSpec("radius: 1\n", " P: %f %f"));
+  ASSERT_TRUE(bool(noPosition));
+  EXPECT_EQ(ask(**noPosition, {"1 E(0.5)\n P: 0 0\n"}), "");
+}
+
+TEST(BuiltinHonda81, TakesOverWhenNoHonda81IsOnPath) {
+  Scratch scratch;
+  std::string path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  setenv("PATH", (fs::current_path() / "empty").c_str(), 1);
+  std::ofstream("density.spec") << "radius: 0.5\n3d case: on\n";
+  // Two apices 0.3 apart with vigors 0.4 and 0.9: after step 1's exchange the first is 0, the
+  // second 1; step 2 asks again with those vigors: 0 stays dominated by 1 (0 → 0), 1 stays 1.
+  ModelRun r;
+  std::vector<std::string> log;
+  runtime::ChildProgramOptions o;
+  o.log = [&](const std::string& l) { log.push_back(l); };
+  run(r, "derivation length: 2;\naxiom: E1(0.4) f(0.3) E1(0.9);\n",
+      "executable: honda81 -e m.e density.spec\ncommunication type: files\nturtle position: P: %f %f %f\n", o);
+  setenv("PATH", path.c_str(), 1);
+  ASSERT_EQ(r.load(), "");
+  ASSERT_EQ(r.run(), "");
+  EXPECT_EQ(r.values("E1", 1, 0), std::vector<float>{0});
+  EXPECT_EQ(r.values("E1", 1, 1), std::vector<float>{1});
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log[0], "honda81 is not on PATH: lcjit's built-in honda81 answers");
+}
