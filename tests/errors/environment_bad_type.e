@@ -1,0 +1,2 @@
+executable: no_such_env_program -e x.e spec
+communication type: carrier pigeon
