@@ -1,5 +1,6 @@
 // The guard around model code (see ModelGuard.h and docs/faults.md).
 #include "ModelGuard.h"
+#include "Termination.h"
 
 #include <cxxabi.h>
 #include <fcntl.h>
@@ -158,6 +159,7 @@ void chain(int sig, siginfo_t* info, void* uc) {
     dfl.sa_handler = SIG_DFL;
     sigemptyset(&dfl.sa_mask);
     sigaction(sig, &dfl, nullptr);
+    runTerminationCleanups();
     if (info->si_code <= 0 || sig == SIGABRT) raise(sig);
     return;
   }
@@ -497,6 +499,7 @@ void onSigint(int) {
     return;
   }
   // Nothing to interrupt, or the second Ctrl-C: what SIGINT did before.
+  if (gPreviousSigint.sa_handler == SIG_DFL) runTerminationCleanups();
   sigaction(SIGINT, &gPreviousSigint, nullptr);
   raise(SIGINT);
 }

@@ -3,6 +3,9 @@
 // the programs link; docs/environment.md describes them.
 #include "ChildProgram.h"
 
+#include <atomic>
+#include <climits>
+
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -10,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include <fcntl.h>
@@ -20,6 +24,8 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "Termination.h"
 
 namespace lcjit::runtime {
 
@@ -56,6 +62,64 @@ union SemArg {
   struct semid_ds* buf;
   unsigned short* array;
 };
+
+// The programs alive, for the termination handlers (a killed lcjit must not leave a program
+// running, nor the semaphores, the segment or the files, which outlive it): plain values a
+// signal handler may read. A slot is filled before it is marked live, and freed after stop().
+struct LiveChild {
+  std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+  std::atomic<pid_t> pid{-1};
+  std::atomic<int> semId{-1}, shmId{-1};
+  std::atomic<bool> hasFiles{false};
+  char toFile[PATH_MAX], fromFile[PATH_MAX];  // absolute: the handler must not depend on the folder
+};
+LiveChild gLive[16];
+
+void killLiveChildren() {
+  for (LiveChild& c : gLive) {
+    if (c.state.load() != 2) continue;
+    if (pid_t pid = c.pid.load(); pid > 0) {
+      kill(-pid, SIGKILL);  // its process group: what it started too
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+    if (c.hasFiles.load()) {
+      unlink(c.toFile);
+      unlink(c.fromFile);
+    }
+    if (int id = c.shmId.load(); id >= 0) shmctl(id, IPC_RMID, nullptr);
+    if (int id = c.semId.load(); id >= 0) semctl(id, 0, IPC_RMID);
+  }
+}
+
+// A free slot, or nullptr when 16 programs live (they are then not cleaned up by a signal).
+LiveChild* claimLiveSlot() {
+  static std::once_flag registered;
+  std::call_once(registered, [] { atTermination(killLiveChildren); });
+  for (LiveChild& c : gLive) {
+    int expected = 0;
+    if (c.state.compare_exchange_strong(expected, 1)) {
+      c.pid = -1;
+      c.semId = c.shmId = -1;
+      c.hasFiles = false;
+      c.state = 2;
+      return &c;
+    }
+  }
+  return nullptr;
+}
+
+void setLiveFiles(LiveChild* c, const std::string& to, const std::string& from) {
+  if (!c) return;
+  char cwd[PATH_MAX];
+  if (!getcwd(cwd, sizeof cwd)) return;
+  std::string a = std::string(cwd) + "/" + to, b = std::string(cwd) + "/" + from;
+  if (a.size() >= PATH_MAX || b.size() >= PATH_MAX) return;
+  c->hasFiles = false;
+  std::memcpy(c->toFile, a.c_str(), a.size() + 1);
+  std::memcpy(c->fromFile, b.c_str(), b.size() + 1);
+  c->hasFiles = true;
+}
 
 class ChildLink final : public EnvironmentLink {
  public:
@@ -96,6 +160,7 @@ class ChildLink final : public EnvironmentLink {
   int key_ = 0, semId_ = -1, shmId_ = -1;
   char* shm_ = nullptr;
   std::string toFile_, fromFile_;
+  LiveChild* live_ = nullptr;          // this program's entry for the termination handlers
   int toChild_ = -1, fromChild_ = -1;  // pipes
   std::string pending_;                // pipes: read past the last line handled
   // An exchange abandoned half way (a stop request) leaves the program out of step: the next
@@ -127,6 +192,7 @@ llvm::Error ChildLink::ipcSetup() {
     if (errno != EEXIST) return fail(spec_, std::string("cannot create the semaphores: ") + std::strerror(errno));
   }
   if (semId_ < 0) return fail(spec_, "cannot find a free semaphore key");
+  if (live_) live_->semId = semId_;
   unsigned short initial[2] = {0, 1};  // the program sets semaphore 1 to 0 when it is ready
   SemArg arg;
   arg.array = initial;
@@ -134,6 +200,7 @@ llvm::Error ChildLink::ipcSetup() {
   if (spec_.transport == Transport::Memory) {
     shmId_ = shmget(key_ - 1, kToField + kFromField, IPC_CREAT | IPC_EXCL | 0600);
     if (shmId_ < 0) return fail(spec_, std::string("cannot create the shared memory: ") + std::strerror(errno));
+    if (live_) live_->shmId = shmId_;
     void* p = shmat(shmId_, nullptr, 0);
     if (p == reinterpret_cast<void*>(-1))
       return fail(spec_, std::string("cannot attach the shared memory: ") + std::strerror(errno));
@@ -144,6 +211,7 @@ llvm::Error ChildLink::ipcSetup() {
     std::string ext = std::to_string(key_) + ".0";
     toFile_ = ".to_field" + ext;
     fromFile_ = ".from_field" + ext;
+    setLiveFiles(live_, toFile_, fromFile_);
   }
   return llvm::Error::success();
 }
@@ -152,6 +220,7 @@ llvm::Error ChildLink::start() {
   std::vector<std::string> argv = environmentArguments(spec_);
   if (argv.empty()) return fail(spec_, "'executable:' names no program");
   program_ = argv[0];
+  if (!live_) live_ = claimLiveSlot();
   std::string path = findProgram(argv[0]);
   if (path.empty())
     return fail(spec_, "cannot start the environmental program '" + argv[0] + "' (line " +
@@ -177,6 +246,7 @@ llvm::Error ChildLink::start() {
   }());
   pid_ = fork();
   if (pid_ < 0) return fail(spec_, std::string("cannot start a process: ") + std::strerror(errno));
+  if (pid_ > 0 && live_) live_->pid = pid_;
   if (pid_ == 0) {
     // Only async-signal-safe calls from here to exec. Its own process group: a Ctrl-C at the
     // terminal interrupts lcjit's model, not the program.
@@ -440,6 +510,10 @@ void ChildLink::stop() {
   pending_.clear();
   removeIpc();
   pid_ = -1;
+  if (live_) {
+    live_->state = 0;
+    live_ = nullptr;
+  }
 }
 
 void ChildLink::removeIpc() {

@@ -6,3 +6,10 @@ target_link_libraries(lcjit_environment_test PRIVATE lcjit_session GTest::gtest_
 target_compile_definitions(lcjit_environment_test PRIVATE LCJIT_ENV_FIXTURE="$<TARGET_FILE:lcjit_envfixture>")
 add_dependencies(lcjit_environment_test lcjit_envfixture)
 add_test(NAME environment_test COMMAND lcjit_environment_test)
+
+# lcjit ended by a signal while the program computes: nothing left behind (issue 13).
+foreach(case "files;TERM" "memory;HUP" "pipes;TERM" "files;INT;INT" "memory;INT")
+  string(REPLACE ";" "_" label "${case}")
+  add_test(NAME environment.terminated_${label}
+           COMMAND ${CMAKE_CURRENT_LIST_DIR}/../run_env_termination.sh $<TARGET_FILE:lcjit> $<TARGET_FILE:lcjit_envfixture> ${case})
+endforeach()

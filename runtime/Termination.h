@@ -1,0 +1,18 @@
+// What must be undone even when lcjit is ended by a signal: child processes and the system-wide
+// things they share with it (semaphores, shared memory, files) outlive a process that dies.
+#pragma once
+
+namespace lcjit::runtime {
+
+// Registers `cleanup` to run when lcjit is ended by SIGTERM, SIGHUP, SIGQUIT, a second Ctrl-C
+// (interruptModelCodeOnSigint) or a crash outside model code. It runs in a signal handler: only
+// async-signal-safe calls. The first registration installs handlers for those of SIGTERM, SIGHUP
+// and SIGQUIT that would end the process (not ignored, no other handler): they clean up, then end
+// it as the signal would have. At most 8.
+void atTermination(void (*cleanup)());
+
+// Runs the registered cleanups, once (the handlers above call it; so do lcjit's own SIGINT and
+// crash handlers before they let the signal end the process). Async-signal-safe.
+void runTerminationCleanups();
+
+}  // namespace lcjit::runtime
