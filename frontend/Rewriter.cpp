@@ -138,7 +138,8 @@ struct PatternModule {
 struct RuleEntry {
   int kind;
   int groupKind;
-  std::string group;  // C++ expression
+  std::string group;   // C++ expression
+  std::string vgroup;  // C++ expression
   int counts[5];
   int filter;
   std::vector<int> ids;
@@ -297,27 +298,35 @@ class Rewriter {
       block(/*rule=*/false);
       return true;
     }
+    // A section header does not end a group or a view group (lpfg's translator keeps both).
     if ((w == "production" || w == "decomposition" || w == "interpretation" || w == "homomorphism") && isLabel(w.c_str())) {
       next(), next();
       kind_ = w == "production" ? 0 : w == "decomposition" ? 1 : 2;
-      group_ = "0";
-      groupKind_ = 0;
       return true;
     }
-    // lpfg's translator also spells vgroup `window`, and endgroup `endvgroup` or `endwindow`.
+    // lpfg's translator also spells vgroup `window`, and endvgroup `endwindow`.
     if ((w == "group" || w == "ggroup" || w == "vgroup" || w == "window") && peek(2).is(":") &&
         (peek().kind == Token::Number || peek().kind == Token::Identifier)) {
       next();
-      group_ = next().text;
+      std::string id = next().text;
       next();
-      groupKind_ = w == "group" ? 0 : w == "ggroup" ? 1 : 2;
+      if (w == "vgroup" || w == "window") {
+        vgroup_ = id;
+      } else {
+        group_ = id;
+        groupKind_ = w == "group" ? 0 : 1;
+      }
       return true;
     }
     if (w == "endgroup" || w == "endvgroup" || w == "endwindow") {
       next();
       if (atText(";")) next();
-      group_ = "0";
-      groupKind_ = 0;
+      if (w == "endgroup") {
+        group_ = "0";
+        groupKind_ = 0;
+      } else {
+        vgroup_ = "0";
+      }
       return true;
     }
     if (w == "VerifyString" && peek().is(":")) {  // manual §10.4: checked after a batch run
@@ -530,6 +539,7 @@ class Rewriter {
     r.kind = kind_;
     r.groupKind = groupKind_;
     r.group = group_;
+    r.vgroup = vgroup_;
     r.filter = filter_;
     r.line = first.line;
     r.predecessor = predecessor;
@@ -772,7 +782,8 @@ class Rewriter {
     s += "static const __lc_Rule __lc_rules[] = {";
     for (size_t i = 0; i < rules_.size(); ++i) {
       auto& r = rules_[i];
-      s += "{" + std::to_string(r.kind) + ", " + std::to_string(r.groupKind) + ", (int16_t)(" + r.group + ")";
+      s += "{" + std::to_string(r.kind) + ", " + std::to_string(r.groupKind) + ", (int16_t)(" + r.group + "), (int16_t)(" +
+           r.vgroup + ")";
       for (int c : r.counts) s += ", " + std::to_string(c);
       s += ", " + std::to_string(r.filter) + ", __lc_pattern_" + std::to_string(i) + ", " + r.body + ", " + std::to_string(r.line) +
            ", " + cString(r.predecessor) + ", " + cString(r.file) + "},\n";
@@ -815,7 +826,7 @@ class Rewriter {
   int depth_ = 0;
   bool atStatementStart_ = true;
   int kind_ = 0;
-  std::string group_ = "0";
+  std::string group_ = "0", vgroup_ = "0";
   int groupKind_ = 0;
   int ruleGroupKind_ = 0;
   int filter_ = -1;

@@ -528,12 +528,12 @@ class Repl {
     return llvm::Error::success();
   }
 
-  // The model's production groups and their kinds (view groups are the interpretation's).
+  // The model's production groups and their kinds.
   std::map<int, uint8_t> productionGroups() const {
     std::map<int, uint8_t> groups{{0, __lc_NormalGroup}};
     const __lc_Model& m = *session_->model();
     for (uint32_t i = 0; i < m.nRules; ++i)
-      if (m.rules[i].groupKind != __lc_ViewGroup) groups[m.rules[i].group] = m.rules[i].groupKind;
+      if (m.rules[i].kind == __lc_Production) groups[m.rules[i].group] = m.rules[i].groupKind;
     return groups;
   }
 
@@ -565,10 +565,8 @@ class Repl {
       const char* kind = r.kind == __lc_Production      ? "production"
                          : r.kind == __lc_Decomposition ? "decomposition"
                                                         : "interpretation";
-      std::string group = (r.groupKind == __lc_ViewGroup       ? "vgroup "
-                           : r.groupKind == __lc_GillespieGroup ? "ggroup "
-                                                                : "group ") +
-                          std::to_string(r.group);
+      std::string group = (r.groupKind == __lc_GillespieGroup ? "ggroup " : "group ") + std::to_string(r.group);
+      if (r.vgroup != 0) group += ", vgroup " + std::to_string(r.vgroup);
       // The predecessor as written: new left << left < strict > right >> new right.
       const __lc_ModuleId* id = r.pattern;
       auto names = [&](int n) {

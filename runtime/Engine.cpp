@@ -60,6 +60,11 @@ void Engine::swapModel(const __lc_Model& model) {
   index();
 }
 
+static int ruleTableKey(int kind, int group, int vgroup) {
+  // lpfg looks interpretation rules up by production group and view group together.
+  return kind == __lc_Interpretation ? int((uint32_t(uint16_t(group)) << 16) | uint16_t(vgroup)) : group;
+}
+
 void Engine::index() {
   const __lc_Model& model = *model_;
   modules_.setUserModules(model.modules, model.nModules);
@@ -75,7 +80,7 @@ void Engine::index() {
   for (uint32_t i = 0; i < model.nRules; ++i) {
     const __lc_Rule& r = model.rules[i];
     auto add = [&](std::map<int, RuleTable>& t, __lc_ModuleId id) {
-      RuleTable& table = t[r.group];
+      RuleTable& table = t[ruleTableKey(r.kind, r.group, r.vgroup)];
       if (table.size() < modules_.count()) table.resize(modules_.count());
       table[id].push_back(&r);
     };
@@ -347,9 +352,11 @@ bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
 bool Engine::tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft,
                       const Scan& newRight, ModuleBuffer& out, Match& m) {
   __lc_ModuleId id = ModuleTable::idAt(old.s + pos);
+  // Then production group 0's rules (of the same view group, for interpretation rules).
+  const int groupZero = kind == __lc_Interpretation ? ruleTableKey(kind, 0, group & 0xffff) : 0;
   for (int pass = 0; pass < 2; ++pass) {
-    int g = pass == 0 ? group : 0;
-    if (pass == 1 && (!fallback || group == 0)) break;
+    int g = pass == 0 ? group : groupZero;
+    if (pass == 1 && (!fallback || group == groupZero)) break;
     const RuleList* rules = candidates(kind, g, id, false);
     if (!rules) continue;
     for (const __lc_Rule* r : *rules) {
@@ -633,9 +640,10 @@ void Engine::interpretGuarded(const std::function<void(const char*)>& sink, Geom
   turtle.reset(turtleSetup_, geometry);
   turtle.setTranscript(transcript);
   tracking_ = geometry && geometry->trackSources ? geometry : nullptr;
-  // Interpretation rules live in view groups, not derivation groups (manual §4.4, §7.3): the
-  // main view (and the query pass) uses vgroup 0.
-  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, vgroup, nullptr, &turtle,
+  // The rules of the current production group and the view's group (manual §7.3), then those of
+  // production group 0 and the view's group, as lpfg's InterpretString looks them up.
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_,
+         ruleTableKey(__lc_Interpretation, group_, vgroup), nullptr, &turtle,
          sink ? &sink : nullptr);
   turtle.finish();
   tracking_ = nullptr;
@@ -670,7 +678,8 @@ void Engine::environmentPass() {
   communication_.records.clear();
   communication_.sent.clear();
   communicating_ = environment_ != nullptr;
-  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_, 0, nullptr, &turtle, nullptr);
+  expand(__lc_Interpretation, string_.data(), string_.size(), interpretationDepth_,
+         ruleTableKey(__lc_Interpretation, group_, 0), nullptr, &turtle, nullptr);
   communicating_ = false;
   --turtlesInUse_;
   // As in lpfg, a pass that met no communication module does not wake the program.

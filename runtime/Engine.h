@@ -179,6 +179,7 @@ class Engine {
   const RuleList* candidates(int kind, int group, __lc_ModuleId id, bool byLast) const;
   bool matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight, Match& m) const;
   bool applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out);
+  // `group`: the rule table's key (ruleTableKey); `fallback`: then production group 0's rules.
   bool tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
                 ModuleBuffer& out, Match& m);
 

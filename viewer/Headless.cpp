@@ -217,8 +217,12 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
   Renderer& r = *impl_->renderer;
   r.setPalette(palette);
   r.setTextures(textures);
-  for (const ViewPane& pane : panes) {
-    std::array<int, 4> rect = paneRect(pane.rect, options.width, options.height, view.windowBorderSize);
+  std::vector<ViewPane::Rect> placed;
+  for (const ViewPane& pane : panes) placed.push_back(pane.rect);
+  const std::vector<std::array<int, 4>> rects = paneRects(placed, options.width, options.height, view.windowBorderSize);
+  for (size_t i = 0; i < panes.size(); ++i) {
+    const ViewPane& pane = panes[i];
+    const std::array<int, 4>& rect = rects[i];
     r.setGeometry(pane.geometry);
     runtime::CameraMatrices cam = runtime::frameView(view, pane.geometry.framingBounds(), pane.geometry.camera, rect[2],
                                                      rect[3], pane.viewId, options.adjust);

@@ -44,7 +44,7 @@ class HeadlessRenderer {
                                const RenderPalette& palette, const std::vector<TextureImage>& textures,
                                const HeadlessOptions& options = {});
   // Several views in one picture (a multi-view model, §7.3): each view framed in its rectangle
-  // (paneRect), the view file's window border colour between them. options.width/height are
+  // (paneRects), the view file's window border colour between them. options.width/height are
   // the whole picture's.
   llvm::Expected<Image> renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
                                     const RenderPalette& palette, const std::vector<TextureImage>& textures,

@@ -133,8 +133,9 @@ struct ViewPane {
   int viewId = 0;
 };
 
-// A view's rectangle in pixels of a w×h picture: {x0, top y0, width, height}. As lpfg's window
-// lays its views out, the view file's `window border:` width separates views that meet.
-std::array<int, 4> paneRect(const ViewPane::Rect& r, int w, int h, int border);
+// The views' rectangles in pixels of a w×h picture, each {x0, top y0, width, height}, laid out as
+// lpfg's window lays them out (a grid of 100 × 100 cells; the view file's `window border:` width
+// between views that meet; a part of the picture no view covers goes to the views).
+std::vector<std::array<int, 4>> paneRects(const std::vector<ViewPane::Rect>& rects, int w, int h, int border);
 
 }  // namespace lcjit::viewer

@@ -369,7 +369,9 @@ struct Window::Impl {
   // Pane i's rectangle in framebuffer pixels (x0, top y0, width, height).
   std::array<int, 4> paneRect(size_t i) const {
     auto [w, h] = fbSize();
-    return viewer::paneRect(panes[i].rect, w, h, view.windowBorderSize);
+    std::vector<ViewPane::Rect> rects;
+    for (const auto& p : panes) rects.push_back(p.rect);
+    return viewer::paneRects(rects, w, h, view.windowBorderSize)[i];
   }
   runtime::CameraMatrices paneCamera(size_t i, const runtime::ViewAdjustment& a) const {
     auto r = paneRect(i);

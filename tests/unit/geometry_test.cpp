@@ -517,4 +517,37 @@ TEST(TurtleGeometry, ViewGroupsDrawEachView) {
   (void)main;
 }
 
+// lpfg looks an interpretation rule up by production group and view group: the current
+// production group's rules of the view's group, then production group 0's of the same view
+// group, never another view group's (vlab's canalization-MV: the histogram view draws none of the
+// flower view's petals).
+TEST(TurtleGeometry, ViewGroupsDoNotBorrowEachOthersRules) {
+  std::string extra =
+      "module A;\nmodule B;\nStart: { UseView(left); UseView(right); }\n"
+      "group 1:\nB : { produce B; }\nendgroup\n"
+      "interpretation:\nvgroup left:\nA : { produce F(1); }\nvgroup right:\nB : { produce F(2); }\nendvgroup\n"
+      "group 1:\nvgroup left:\nA : { produce F(4); }\nendvgroup\nendgroup\n";
+  draw("viewgroups", "A B", "window: left 0 0 0.5 1\nwindow: right 0.5 0 0.5 1\n", {}, extra);
+  runtime::Engine& engine = session().engine();
+  Geometry left, right;
+  ASSERT_FALSE(bool(engine.interpret(left, 0)));
+  ASSERT_FALSE(bool(engine.interpret(right, 1)));
+  // left: A draws F(1), B has no rule there; right: B draws F(2), A nothing (view 0's rule is not
+  // borrowed).
+  ASSERT_EQ(left.segments.size(), 1u);
+  EXPECT_V3(left.segments[0].to, 0, 1, 0);
+  ASSERT_EQ(right.segments.size(), 1u);
+  EXPECT_V3(right.segments[0].to, 0, 2, 0);
+  // In production group 1, A takes group 1's rule of its view; B falls back to group 0's.
+  engine.useGroup(1);
+  Geometry left1, right1;
+  ASSERT_FALSE(bool(engine.interpret(left1, 0)));
+  ASSERT_FALSE(bool(engine.interpret(right1, 1)));
+  ASSERT_EQ(left1.segments.size(), 1u);
+  EXPECT_V3(left1.segments[0].to, 0, 4, 0);
+  ASSERT_EQ(right1.segments.size(), 1u);
+  EXPECT_V3(right1.segments[0].to, 0, 2, 0);
+  engine.useGroup(0);
+}
+
 }  // namespace

@@ -238,8 +238,29 @@ TEST(Render, ViewsInTheirRectanglesWithBorders) {
   EXPECT_EQ(rgb(*im, 2, 103), kGreen);
   EXPECT_EQ(rgb(*im, 2, 93), kBg);
   EXPECT_EQ(rgb(*im, 2, 106), kBg);
-  std::array<int, 4> r = paneRect(panes[1].rect, 200, 200, 10);
+  std::array<int, 4> r = paneRects({panes[0].rect, panes[1].rect}, 200, 200, 10)[1];
   EXPECT_EQ(r, (std::array<int, 4>{0, 105, 200, 95}));
+}
+
+// lpfg lays views out in a Qt grid of 100 x 100 cells, the border as its spacing, not in exact
+// fractions. Expected rectangles: Qt 5.15's QGridLayout given lpfg's layout (mainwindow.cpp),
+// and lpfg's pictures (FibonacciFlorets: the separator is column 160, not 159 as half a border
+// off 0.4 x 400 would put it).
+TEST(Render, ViewsAreLaidOutAsLpfgsGridLayout) {
+  using R = ViewPane::Rect;
+  using A = std::array<int, 4>;
+  auto split = paneRects({R{0, 0, 0.4f, 1}, R{0.4f, 0, 0.6f, 1}}, 400, 400, 1);
+  EXPECT_EQ(split, (std::vector<A>{{0, 0, 160, 400}, {161, 0, 239, 400}}));
+  // Multiview (vlab): one view above two, a 15-pixel border.
+  auto three = paneRects({R{0, 0, 1, 0.5f}, R{0, 0.5f, 0.5f, 0.5f}, R{0.5f, 0.5f, 0.5f, 0.5f}}, 400, 400, 15);
+  EXPECT_EQ(three, (std::vector<A>{{0, 0, 400, 192}, {0, 207, 192, 193}, {207, 207, 193, 193}}));
+  // In float, 100 x 0.59 is 58.99..., 58 cells, and the second view's 41 cells end at cell 98:
+  // 99 cells share 635 pixels, and the first view is 372 wide, not 0.59 x 640 = 377.
+  auto truncated = paneRects({R{0, 0, 0.59f, 1}, R{0.59f, 0, 0.41f, 1}}, 640, 300, 5);
+  EXPECT_EQ(truncated, (std::vector<A>{{0, 0, 372, 300}, {377, 0, 263, 300}}));
+  // Cells no view covers take no room: a lone half-width view fills the picture.
+  auto lone = paneRects({R{0, 0, 0.5f, 1}}, 300, 200, 3);
+  EXPECT_EQ(lone, (std::vector<A>{{0, 0, 300, 200}}));
 }
 
 TEST(Render, NonSquareImage) {

@@ -87,7 +87,7 @@ std::string sourcePosition(const std::string& cpp, const std::string& text) {
   return "<not found>";
 }
 
-// The entry of rule `index` in __lc_rules, squashed: {kind,groupKind,(int16_t)(group),
+// The entry of rule `index` in __lc_rules, squashed: {kind,groupKind,(int16_t)(group),(int16_t)(vgroup),
 // nNewLeft,nLeft,nStrict,nRight,nNewRight,filter,__lc_pattern_i,__lc_rule_i,line} (without the
 // predecessor text and file that follow: ruleNames() has those).
 std::string ruleEntry(const std::string& cpp, int index) {
@@ -221,7 +221,7 @@ TEST(RewriterRules, ProductionLoadsParametersAndTable) {
   EXPECT_HAS(s, "{{__lc_emit_A(__lc_ctx,x+1);__lc_ctx->produced=1;return;}}}");
   EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_pattern_0[]={103,};");
   // Production (kind 0), normal group 0, strict predecessor of one module, no filter, line 4.
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
 }
 
 TEST(RewriterRules, PredefinedModuleIds) {
@@ -229,7 +229,7 @@ TEST(RewriterRules, PredefinedModuleIds) {
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "__lc_pattern_0[]={103,0,2,1,};");
   EXPECT_HAS(s, "__lc_pattern_1[]={2,};");
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,3,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,3,0,-1,__lc_pattern_0,__lc_rule_0,4}");
   EXPECT_HAS(s, "__lc_emit_f(__lc_ctx,l);__lc_emit_Left(__lc_ctx,1);__lc_emit_Right(__lc_ctx,2);");
   // F's parameter comes from the pattern's second record (index 2 in pattern order).
   EXPECT_HAS(s, "__lc_R_F__lc_r2;__builtin_memcpy(&__lc_r2,__lc_m[2],sizeof__lc_r2);autol=__lc_r2.p0;");
@@ -246,7 +246,7 @@ TEST(RewriterRules, MultiModuleStrictPredecessor) {
   auto r = ok("module A(int), B, C(float);\nderivation length: 1;\naxiom: A(1) B C(2);\nA(n) B C(y): { produce C(n * y); }\n");
   std::string s = squash(r.cpp);
   EXPECT_HAS(s, "__lc_pattern_0[]={103,104,105,};");
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,3,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,3,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
   EXPECT_HAS(s, "__lc_R_A__lc_r0;__builtin_memcpy(&__lc_r0,__lc_m[0],sizeof__lc_r0);auton=__lc_r0.p0;__lc_R_C__lc_r2;__builtin_memcpy(&__lc_r2,__lc_m[2],sizeof__lc_r2);autoy=__lc_r2.p0;");
 }
 
@@ -261,7 +261,7 @@ class RewriterContexts : public ::testing::TestWithParam<ContextCase> {};
 TEST_P(RewriterContexts, CountsAndPattern) {
   const ContextCase& c = GetParam();
   auto r = ok(std::string("module A, B, C, D, E;\nderivation length: 1;\naxiom: A;\n") + c.predecessor + ": { produce; }\n");
-  EXPECT_EQ(ruleEntry(r.cpp, 0), std::string("{0,0,(int16_t)(0),") + c.counts + ",-1,__lc_pattern_0,__lc_rule_0,4}")
+  EXPECT_EQ(ruleEntry(r.cpp, 0), std::string("{0,0,(int16_t)(0),(int16_t)(0),") + c.counts + ",-1,__lc_pattern_0,__lc_rule_0,4}")
       << c.predecessor;
   EXPECT_HAS(squash(r.cpp), std::string("__lc_pattern_0[]={") + c.pattern + "};");
 }
@@ -361,23 +361,26 @@ TEST(RewriterRules, DecompositionInterpretationHomomorphismKinds) {
               "production:\nA(x): { produce A(x); }\n"
               "homomorphism:\nA(x): { produce F(x); }\n");
   EXPECT_EQ(r.ruleCount, 5);
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
-  EXPECT_EQ(ruleEntry(r.cpp, 1), "{1,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
-  EXPECT_EQ(ruleEntry(r.cpp, 2), "{2,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
-  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
-  EXPECT_EQ(ruleEntry(r.cpp, 4), "{2,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{1,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{2,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+  EXPECT_EQ(ruleEntry(r.cpp, 4), "{2,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
 }
 
 // ---- groups and filters
 
-// lpfg's translator takes `window N:` for `vgroup N:`, and `endvgroup`/`endwindow` for `endgroup`.
+// lpfg's translator takes `window N:` for `vgroup N:` and `endwindow` for `endvgroup`.
 TEST(RewriterGroups, WindowIsVgroup) {
   std::string s = squash(ok("module A;\nderivation length: 1;\naxiom: A;\ninterpretation:\nwindow 2:\nA : { produce F(1); }\n"
                             "endwindow\nA : { produce F(2); }\n").cpp);
-  EXPECT_HAS(s, "{2,2,(int16_t)(2),");  // interpretation, view group 2
-  EXPECT_HAS(s, "{2,0,(int16_t)(0),");  // after endwindow: group 0
+  EXPECT_HAS(s, "{2,0,(int16_t)(0),(int16_t)(2),");  // interpretation, view group 2
+  EXPECT_HAS(s, "{2,0,(int16_t)(0),(int16_t)(0),");  // after endwindow: view group 0
 }
 
+// As in lpfg's translator (l2c), the production group and the view group are two settings:
+// `vgroup` does not end a `group`, `endgroup` ends only the group, `endvgroup` only the view
+// group, and a section header (production:, interpretation:…) ends neither.
 TEST(RewriterGroups, GroupGgroupVgroupEndgroup) {
   auto r = ok(std::string(kMinimal) +
               "A(x): { produce A(x); }\n"
@@ -385,14 +388,18 @@ TEST(RewriterGroups, GroupGgroupVgroupEndgroup) {
               "ggroup 3:\nA(x): { propensity x produce A(x); }\n"
               "vgroup 4:\nA(x): { produce A(x); }\n"
               "endgroup\nA(x): { produce A(x); }\n"
-              "group NAMED:\nA(x): { produce A(x); }\nendgroup;\n");
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
-  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(2),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
-  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,1,(int16_t)(3),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
-  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,2,(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
-  EXPECT_EQ(ruleEntry(r.cpp, 4), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
+              "group NAMED:\nA(x): { produce A(x); }\nendgroup;\n"
+              "interpretation:\nA(x): { produce F(x); }\n"
+              "endvgroup\ngroup 5:\ninterpretation:\nA(x): { produce F(x); }\n");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(2),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,1,(int16_t)(3),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_2,__lc_rule_2,8}");
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,1,(int16_t)(3),(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+  EXPECT_EQ(ruleEntry(r.cpp, 4), "{0,0,(int16_t)(0),(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_4,__lc_rule_4,12}");
   // A group named by an identifier (e.g. an enum constant) keeps the expression.
-  EXPECT_EQ(ruleEntry(r.cpp, 5), "{0,0,(int16_t)(NAMED),0,0,1,0,0,-1,__lc_pattern_5,__lc_rule_5,14}");
+  EXPECT_EQ(ruleEntry(r.cpp, 5), "{0,0,(int16_t)(NAMED),(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_5,__lc_rule_5,14}");
+  EXPECT_EQ(ruleEntry(r.cpp, 6), "{2,0,(int16_t)(0),(int16_t)(4),0,0,1,0,0,-1,__lc_pattern_6,__lc_rule_6,17}");
+  EXPECT_EQ(ruleEntry(r.cpp, 7), "{2,0,(int16_t)(5),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_7,__lc_rule_7,21}");
   // propensity: the expression goes to the Propensity pseudo-module, then the successor.
   EXPECT_HAS(squash(r.cpp), "{__lc_emit_Propensity(__lc_ctx,(x));__lc_emit_A(__lc_ctx,x);__lc_ctx->produced=1;}");
 }
@@ -408,11 +415,11 @@ TEST(RewriterGroups, IgnoreAndConsiderCreateFilters) {
   EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_filter_1[]={103,0,1,};");
   EXPECT_HAS(s, "staticconst__lc_Filter__lc_filters[]={{0,2,__lc_filter_0},{1,3,__lc_filter_1},};");
   EXPECT_HAS(s, "__lc_rules,2,__lc_filters,");
-  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
-  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),0,0,1,0,0,0,__lc_pattern_1,__lc_rule_1,6}");
-  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,0,(int16_t)(0),0,0,1,0,0,1,__lc_pattern_2,__lc_rule_2,8}");
+  EXPECT_EQ(ruleEntry(r.cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,4}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,0,__lc_pattern_1,__lc_rule_1,6}");
+  EXPECT_EQ(ruleEntry(r.cpp, 2), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,1,__lc_pattern_2,__lc_rule_2,8}");
   // `ignore: ;` cancels the filter in force.
-  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
+  EXPECT_EQ(ruleEntry(r.cpp, 3), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_3,__lc_rule_3,10}");
 }
 
 TEST(RewriterGroups, NoFilters) {
@@ -465,7 +472,7 @@ TEST(RewriterLines, BodyTokensMapToTheirLineAndColumn) {
   EXPECT_EQ(sourcePosition(r.cpp, "marker_two"), "m.l:8:18");
   EXPECT_EQ(sourcePosition(r.cpp, "marker_three"), "m.l:22:26");
   EXPECT_EQ(sourcePosition(r.cpp, "static void __lc_rule_1("), "m.l:22:1");
-  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),0,0,1,1,0,-1,__lc_pattern_1,__lc_rule_1,22}");
+  EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,1,0,-1,__lc_pattern_1,__lc_rule_1,22}");
 }
 
 TEST(RewriterLines, IncludedFileAndBackToMain) {
@@ -484,7 +491,7 @@ TEST(RewriterLines, IncludedFileAndBackToMain) {
   EXPECT_EQ(sourcePosition(r->cpp, "in_header"), "dir/h.h:1:12");
   EXPECT_EQ(sourcePosition(r->cpp, "header_marker"), "dir/h.h:3:5");
   EXPECT_EQ(sourcePosition(r->cpp, "main_marker"), "m.l:5:10");
-  EXPECT_EQ(ruleEntry(r->cpp, 0), "{0,0,(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,5}");
+  EXPECT_EQ(ruleEntry(r->cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,5}");
 }
 
 TEST(RewriterLines, GeneratedTablesHaveTheirOwnName) {

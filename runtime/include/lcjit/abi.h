@@ -21,12 +21,16 @@ struct __lc_Ctx {
 };
 
 enum __lc_RuleKind : uint8_t { __lc_Production = 0, __lc_Decomposition = 1, __lc_Interpretation = 2 };
-enum __lc_GroupKind : uint8_t { __lc_NormalGroup = 0, __lc_GillespieGroup = 1, __lc_ViewGroup = 2 };
+enum __lc_GroupKind : uint8_t { __lc_NormalGroup = 0, __lc_GillespieGroup = 1 };
 
 struct __lc_Rule {
   uint8_t kind;
   uint8_t groupKind;
+  // The production group (`group N:`, `ggroup N:`) and the view group (`vgroup N:`) in force
+  // where the rule is written; as in lpfg, one does not end the other, and only interpretation
+  // rules look at the view group.
   int16_t group;
+  int16_t vgroup;
   // The predecessor, in source order: new left context, left context, strict predecessor,
   // right context, new right context. `pattern` holds their module ids concatenated.
   uint8_t nNewLeft, nLeft, nStrict, nRight, nNewRight;
