@@ -20,6 +20,7 @@
 #include "PlainErrors.h"
 #include "Repl.h"
 #include "ModelGuard.h"
+#include "Termination.h"
 #include "Window.h"
 #include "Session.h"
 
@@ -173,6 +174,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   files->includeDirs.insert(files->includeDirs.begin(), includeDirs.begin(), includeDirs.end());
+  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
+  // SIGHUP clean up (environmental programs) before lcjit ends. Before anything compiles: LLVM's
+  // handlers then come second (runtime/ModelGuard.cpp, claim).
+  lcjit::runtime::interruptModelCodeOnSigint();
+  lcjit::runtime::installTerminationHandlers();
   auto session = lcjit::Session::create(cacheDir, files->languageStandard);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
@@ -189,8 +195,6 @@ int main(int argc, char** argv) {
     if (bo.verbose) env.program.log = [](const std::string& line) { std::fprintf(stderr, "lcjit: %s\n", line.c_str()); };
     (*session)->setEnvironmentSettings(env);
   }
-  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit.
-  lcjit::runtime::interruptModelCodeOnSigint();
   // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in
   // the background and swapped in (two tiers).
   const bool window = !batch && bo.out.empty() && haveDisplay && !emitCpp && !compileOnly;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdarg>
@@ -207,19 +208,40 @@ void onInterrupt(int sig, siginfo_t* info, void* uc) {
   chain(sig, info, uc);
 }
 
+// Puts `ours` on `sig` unless it is there. LLVM installs handlers of its own the first time the
+// compiler writes a temporary file (a PCH), over ours or before them; its handler, on any signal,
+// then puts back what it found for every signal, the default action if it came first, and a
+// later time limit (SIGUSR2) or crash in model code would end lcjit. So ours are claimed again
+// before each guarded run; LLVM, finding its own registered, does not install them again.
+void claim(int sig, const struct sigaction& ours) {
+  struct sigaction now {};
+  if (sigaction(sig, nullptr, &now) != 0) return;
+  bool same = (now.sa_flags & SA_SIGINFO) == (ours.sa_flags & SA_SIGINFO) &&
+              ((ours.sa_flags & SA_SIGINFO) ? now.sa_sigaction == ours.sa_sigaction : now.sa_handler == ours.sa_handler);
+  if (!same) sigaction(sig, &ours, nullptr);
+}
+
+struct sigaction gSigintAction;
+std::atomic<bool> gSigintClaimed{false};
+
 void installHandlers() {
   static std::once_flag once;
+  // What each signal did before lcjit: where a signal that is not ours goes (chain).
   std::call_once(once, [] {
-    struct sigaction sa {};
-    sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
-    sigemptyset(&sa.sa_mask);
-    sigaddset(&sa.sa_mask, kInterruptSignal);
-    sa.sa_sigaction = onCrash;
-    for (int s : kCrashSignals) sigaction(s, &sa, &gPrevious[s]);
-    sigemptyset(&sa.sa_mask);
-    sa.sa_sigaction = onInterrupt;
-    sigaction(kInterruptSignal, &sa, &gPrevious[kInterruptSignal]);
+    for (int s : kCrashSignals) sigaction(s, nullptr, &gPrevious[s]);
+    sigaction(kInterruptSignal, nullptr, &gPrevious[kInterruptSignal]);
   });
+  struct sigaction sa {};
+  sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
+  sigemptyset(&sa.sa_mask);
+  sigaddset(&sa.sa_mask, kInterruptSignal);
+  sa.sa_sigaction = onCrash;
+  for (int s : kCrashSignals) claim(s, sa);
+  sigemptyset(&sa.sa_mask);
+  sa.sa_sigaction = onInterrupt;
+  claim(kInterruptSignal, sa);
+  if (gSigintClaimed.load()) claim(SIGINT, gSigintAction);
+  reclaimTerminationSignals();
 }
 
 // Every thread that runs model code gets an alternate signal stack: a stack overflow leaves no
@@ -499,7 +521,7 @@ void onSigint(int) {
     return;
   }
   // Nothing to interrupt, or the second Ctrl-C: what SIGINT did before.
-  if (gPreviousSigint.sa_handler == SIG_DFL) runTerminationCleanups();
+  if (gPreviousSigint.sa_handler != SIG_IGN) runTerminationCleanups();
   sigaction(SIGINT, &gPreviousSigint, nullptr);
   raise(SIGINT);
 }
@@ -600,11 +622,16 @@ size_t defaultMemoryLimit() {
 
 void interruptModelCodeOnSigint() {
   Watchdog::get();
-  struct sigaction sa {};
-  sa.sa_handler = onSigint;
-  sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESTART;
-  sigaction(SIGINT, &sa, &gPreviousSigint);
+  static std::once_flag once;
+  std::call_once(once, [] {
+    sigaction(SIGINT, nullptr, &gPreviousSigint);
+    gSigintAction = {};
+    gSigintAction.sa_handler = onSigint;
+    sigemptyset(&gSigintAction.sa_mask);
+    gSigintAction.sa_flags = SA_RESTART;
+    gSigintClaimed = true;
+  });
+  installHandlers();
 }
 
 void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols) {

@@ -105,7 +105,8 @@ class ModelGuard {
 
 // Ctrl-C: while model code runs, SIGINT interrupts it (every guarded run in the process) instead
 // of ending the program; a second Ctrl-C before that run has ended, or one when no model code
-// runs, ends the program as before.
+// runs, ends the program as before. Also installs the guard's other handlers at once: call it
+// before anything compiles, so that LLVM's handlers, installed later, hand signals on to them.
 void interruptModelCodeOnSigint();
 
 // Stand-ins for operator new, new[], malloc, calloc and realloc in JIT'd model code (linked by

@@ -9,6 +9,9 @@ shift 3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
+# A fresh cache: the compile builds its PCH, and LLVM installs its own signal handlers (which
+# must hand the signal on to lcjit's).
+export LCJIT_CACHE_DIR="$work/cache"
 cat >m.l <<'L'
 #include <lpfgall.h>
 derivation length: 2;

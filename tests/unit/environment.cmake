@@ -13,3 +13,5 @@ foreach(case "files;TERM" "memory;HUP" "pipes;TERM" "files;INT;INT" "memory;INT"
   add_test(NAME environment.terminated_${label}
            COMMAND ${CMAKE_CURRENT_LIST_DIR}/../run_env_termination.sh $<TARGET_FILE:lcjit> $<TARGET_FILE:lcjit_envfixture> ${case})
 endforeach()
+add_test(NAME environment.watch_crash_then_fix
+         COMMAND ${CMAKE_CURRENT_LIST_DIR}/../run_watch_env.sh $<TARGET_FILE:lcjit> $<TARGET_FILE:lcjit_envfixture>)
