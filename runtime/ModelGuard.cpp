@@ -213,6 +213,8 @@ void onInterrupt(int sig, siginfo_t* info, void* uc) {
 // then puts back what it found for every signal, the default action if it came first, and a
 // later time limit (SIGUSR2) or crash in model code would end lcjit. So ours are claimed again
 // before each guarded run; LLVM, finding its own registered, does not install them again.
+// (Clang's CrashRecoveryContext, if a compile ever runs under one, installs crash handlers too:
+// a run claiming SIGSEGV during such a compile would take the compile's recovery away.)
 void claim(int sig, const struct sigaction& ours) {
   struct sigaction now {};
   if (sigaction(sig, nullptr, &now) != 0) return;
