@@ -15,17 +15,6 @@
 namespace lcjit {
 namespace {
 
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
-  return ext;
-}
-
-bool isImage(const std::string& path) {
-  std::string ext = lowerExtension(path);
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
-}
-
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -51,7 +40,7 @@ const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
   return *this;
 }
 
-bool isFrameOutput(const std::string& path) { return isImage(path) || runtime::isExportFormat(path); }
+bool isFrameOutput(const std::string& path) { return viewer::isImageFileName(path) || runtime::isExportFormat(path); }
 
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
   std::vector<viewer::ViewPane> panes;
@@ -86,7 +75,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
     times->segments = geometry.segments.size();
   }
   t0 = std::chrono::steady_clock::now();
-  if (isImage(path)) {
+  if (viewer::isImageFileName(path)) {
     if (!renderer_) {
       auto r = viewer::HeadlessRenderer::create();
       if (!r) return r.takeError();

@@ -248,13 +248,28 @@ llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry
   return renderFrame(view, cam, options.render);
 }
 
-llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, int jpegQuality) {
-  if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
-    return error("cannot write " + path + ": empty image");
+namespace {
+
+// The extension of `path`, lower case, without the dot ("" when it has none).
+std::string imageExtension(const std::string& path) {
   std::string ext;
   if (auto dot = path.find_last_of('.'); dot != std::string::npos && path.find_last_of('/') + 1 <= dot)
     ext = path.substr(dot + 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
+  return ext;
+}
+
+}  // namespace
+
+bool isImageFileName(const std::string& path) {
+  const std::string ext = imageExtension(path);
+  return ext == "png" || ext == "jpg" || ext == "jpeg" || ext == "bmp";
+}
+
+llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, int jpegQuality) {
+  if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
+    return error("cannot write " + path + ": empty image");
+  const std::string ext = imageExtension(path);
   const bool png = ext == "png", jpg = ext == "jpg" || ext == "jpeg", bmp = ext == "bmp";
   if (!png && !jpg && !bmp) return error("cannot write " + path + ": unknown image type (use .png, .jpg or .bmp)");
   const int comp = (png && alpha) ? 4 : 3;

@@ -70,6 +70,8 @@ llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h);
 
 // Writes by extension: .png (RGB, or RGBA with `alpha`), .jpg/.jpeg (RGB, `jpegQuality`), .bmp.
 llvm::Error writeImage(const Image& image, const std::string& path, bool alpha = false, int jpegQuality = 95);
+// Whether writeImage writes `path`'s type: .png, .jpg/.jpeg, .bmp (any case).
+bool isImageFileName(const std::string& path);
 
 // One picture to a file: create a context, render, write.
 llvm::Error renderToFile(const runtime::Geometry& geometry, const runtime::ViewSettings& view,

@@ -49,14 +49,6 @@ bool initGlfw() {
   return ok;
 }
 
-std::string lowerExtension(const std::string& path) {
-  size_t dot = path.rfind('.');
-  size_t slash = path.find_last_of("/\\");
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string e = path.substr(dot);
-  for (char& c : e) c = char(std::tolower((unsigned char)c));
-  return e;
-}
 
 // lpfg's internal scale for view 0 (Camera.cpp's rule): the zoom limits apply to it.
 float baseScale(const runtime::ViewSettings& view) {
@@ -95,11 +87,6 @@ runtime::Geometry decimated(const runtime::Geometry& g, size_t limit) {
 const char* kSaveId = "Save as";
 
 }  // namespace
-
-bool isImageFileName(const std::string& path) {
-  std::string e = lowerExtension(path);
-  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp";
-}
 
 enum class Task { Idle, Rotate, Pan, Zoom, Frustum, Roll };
 

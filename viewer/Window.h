@@ -163,6 +163,4 @@ class Window {
   std::unique_ptr<Impl> impl_;
 };
 
-bool isImageFileName(const std::string& path);
-
 }  // namespace lcjit::viewer
