@@ -1,6 +1,8 @@
 // The REPL's text handling (see ReplText.h).
 #include "ReplText.h"
 
+#include "TextLines.h"
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -16,19 +18,6 @@ std::vector<std::string> withPrefix(const std::vector<std::string>& words, std::
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
-}
-
-// The words before the one being completed, split on blanks only (quotes do not matter here).
-std::vector<std::string> wordsBefore(std::string_view text) {
-  std::vector<std::string> words;
-  size_t i = 0;
-  while (i < text.size()) {
-    while (i < text.size() && std::isspace((unsigned char)text[i])) ++i;
-    size_t b = i;
-    while (i < text.size() && !std::isspace((unsigned char)text[i])) ++i;
-    if (i > b) words.emplace_back(text.substr(b, i - b));
-  }
-  return words;
 }
 
 }  // namespace
@@ -114,7 +103,8 @@ Completion complete(std::string_view line, size_t cursor, const CompletionSource
   size_t breakAt = line.substr(0, cursor).find_last_of(kWordBreaks);
   c.start = breakAt == std::string_view::npos ? 0 : breakAt + 1;
   std::string_view word = line.substr(c.start, cursor - c.start);
-  std::vector<std::string> before = wordsBefore(line.substr(0, c.start));
+  // The words before the one being completed, split on blanks only (quotes do not matter here).
+  const std::vector<std::string_view> before = runtime::textfile::words(line.substr(0, c.start));
 
   size_t first = line.find_first_not_of(" \t");
   bool command = first != std::string_view::npos && first < cursor && line[first] == ':';
@@ -126,12 +116,12 @@ Completion complete(std::string_view line, size_t cursor, const CompletionSource
     c.candidates = withPrefix(sources.commands, word);
     return c;
   }
-  const std::string& name = before[0];
+  const std::string_view name = before[0];
   if (name == ":load" || name == ":save") {
     c.candidates = completeFileName(word);
   } else if (name == ":string") {
     // Module names follow --module up to the next option.
-    auto option = std::find_if(before.rbegin(), before.rend(), [](const std::string& w) { return w.rfind("--", 0) == 0; });
+    auto option = std::find_if(before.rbegin(), before.rend(), [](std::string_view w) { return w.substr(0, 2) == "--"; });
     if (!word.empty() && word[0] == '-') c.candidates = withPrefix({"--count", "--from", "--module"}, word);
     else if (option != before.rend() && *option == "--module") c.candidates = withPrefix(sources.modules, word);
   } else if (name == ":set" && before.size() == 1) {

@@ -23,15 +23,8 @@ constexpr size_t kStepsPerSegment = 1000;  // lpfg evaluates each B-spline segme
 constexpr size_t kMaxControlPoints = 20000;  // 2·10^7 curve evaluations at most
 
 std::vector<std::string> tokens(std::string_view s) {
-  std::vector<std::string> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace((unsigned char)s[i])) ++i;
-    size_t b = i;
-    while (i < s.size() && !std::isspace((unsigned char)s[i])) ++i;
-    if (i > b) out.emplace_back(s.substr(b, i - b));
-  }
-  return out;
+  std::vector<std::string_view> w = textfile::words(s);
+  return {w.begin(), w.end()};
 }
 
 bool toFloat(const std::string& s, float* out) {

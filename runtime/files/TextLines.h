@@ -1,5 +1,5 @@
-// Small pieces the text-format readers share: "file:line: error: …" errors, line splitting
-// (CRLF tolerated) and trimming.
+// Small pieces the text-format readers share: "file:line[:column]: error: …" errors, line
+// splitting (CRLF tolerated), trimming and splitting into words.
 #pragma once
 #include <cctype>
 #include <string>
@@ -12,6 +12,11 @@ namespace lcjit::runtime::textfile {
 
 inline llvm::Error fail(const std::string& file, size_t line, const std::string& msg) {
   return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu: error: %s", file.c_str(), line, msg.c_str());
+}
+
+inline llvm::Error failAt(const std::string& file, size_t line, size_t column, const std::string& msg) {
+  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu:%zu: error: %s", file.c_str(), line, column,
+                                 msg.c_str());
 }
 
 // The lines of `text` without their '\n' (and '\r'); no empty last line after a final newline.
@@ -33,6 +38,19 @@ inline std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace((unsigned char)s.front())) s.remove_prefix(1);
   while (!s.empty() && std::isspace((unsigned char)s.back())) s.remove_suffix(1);
   return s;
+}
+
+// The blank-separated words of `s` (views into it).
+inline std::vector<std::string_view> words(std::string_view s) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && std::isspace((unsigned char)s[i])) ++i;
+    size_t b = i;
+    while (i < s.size() && !std::isspace((unsigned char)s[i])) ++i;
+    if (i > b) out.push_back(s.substr(b, i - b));
+  }
+  return out;
 }
 
 // A GNU cpp line marker `# N "file" flags…` or `#line N "file"` (p at the '#'): the next line is
