@@ -691,6 +691,8 @@ void Engine::environmentPass() {
 
 namespace {
 bool isCommunication(__lc_ModuleId id) { return id == __lc_id_E1 || id == __lc_id_E2 || id == __lc_id_EA20; }
+// How many floats a communication module carries.
+size_t valueCount(__lc_ModuleId id) { return id == __lc_id_E1 ? 1 : id == __lc_id_E2 ? 2 : 20; }
 // Where a communication module's floats start in its record (E2's two and EA20's twenty follow).
 size_t parameterOffset(__lc_ModuleId id) {
   return id == __lc_id_E1 ? offsetof(__lc_R_E1, p0) : id == __lc_id_E2 ? offsetof(__lc_R_E2, p0) : offsetof(__lc_R_EA20, p0);
@@ -722,8 +724,7 @@ void Engine::communicate(const char* src, size_t pos, size_t n, const Turtle& tu
   std::snprintf(buf, sizeof buf, "%zu E(", sentId);
   out += buf;
   const char* p = src + pos + parameterOffset(id);
-  const int values = id == __lc_id_E1 ? 1 : id == __lc_id_E2 ? 2 : 20;
-  for (int i = 0; i < values; ++i) {
+  for (size_t i = 0; i < valueCount(id); ++i) {
     float v;
     std::memcpy(&v, p + i * sizeof(float), sizeof v);
     std::snprintf(buf, sizeof buf, i ? ",%f" : "%f", double(v));
@@ -763,20 +764,14 @@ void Engine::applyAnswers(const std::string& answers) {
            "' is not 'ID E(values)': ignored");
       continue;
     }
-    std::vector<float> values;
     size_t close = line.find(')', open);
-    std::string inside = line.substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1);
-    for (size_t f = 0;;) {
-      size_t comma = inside.find(',', f);
-      values.push_back(float(std::atof(inside.substr(f, comma == std::string::npos ? std::string::npos : comma - f).c_str())));
-      if (comma == std::string::npos) break;
-      f = comma + 1;
-    }
+    const std::vector<float> values = communicationValues(
+        std::string_view(line).substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1));
     auto sent = communication_.sent.find(size_t(at));
     const bool known = sent != communication_.sent.end();
     const __lc_ModuleId module = known ? sent->second : __lc_id_E1;
     const char* name = known ? modules_.info(module).name : nullptr;
-    const size_t want = module == __lc_id_E1 ? 1 : module == __lc_id_E2 ? 2 : 20;
+    const size_t want = valueCount(module);
     const bool fits = module == __lc_id_EA20 ? values.size() <= want : values.size() == want;
     if (!known || !fits) {
       warn(file + ": warning: invalid answer from the environmental program for position " + std::to_string(at) +

@@ -14,10 +14,6 @@ namespace lcjit::runtime {
 
 namespace {
 
-llvm::Error fail(const CommSpec& spec, const std::string& message) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", spec.file.c_str(), message.c_str());
-}
-
 // How the program side reads a turtle format: the numbers it holds (`%` conversions, not `%%`,
 // at most three) and the characters before the first '%' (skipped on the line).
 struct FormatShape {
@@ -115,11 +111,11 @@ llvm::Expected<std::unique_ptr<EnvironmentLink>> startHonda81(const CommSpec& sp
   size_t a = 1;
   while (a + 1 < argv.size() && argv[a][0] == '-') a += 2;  // -e FILE (and the like), as the library reads them
   if (a >= argv.size())
-    return fail(spec, "honda81 needs a specification file (radius, 3d case) after its options (line " +
+    return spec.error("honda81 needs a specification file (radius, 3d case) after its options (line " +
                           std::to_string(spec.executableLine) + ")");
   const std::string& specFile = argv[a];
   std::ifstream in(specFile);
-  if (!in) return fail(spec, "honda81 cannot open its specification file '" + specFile + "'");
+  if (!in) return spec.error("honda81 cannot open its specification file '" + specFile + "'");
   float radius = 0;
   bool is3d = false;
   std::string line;
@@ -140,10 +136,9 @@ llvm::Expected<std::unique_ptr<EnvironmentLink>> startHonda81(const CommSpec& sp
   return std::unique_ptr<EnvironmentLink>(std::make_unique<Honda81>(spec, r2, is3d));
 }
 
-std::string baseName(const std::string& path) {
-  size_t slash = path.rfind('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
+// The programs built in, by the name a .e file calls them.
+using BuiltinStart = llvm::Expected<std::unique_ptr<EnvironmentLink>> (*)(const CommSpec&);
+BuiltinStart builtin(const std::string& name) { return name == "honda81" ? startHonda81 : nullptr; }
 
 }  // namespace
 
@@ -158,13 +153,8 @@ bool parseQuery(const std::string& record, const CommSpec& spec, CommunicationQu
   // The module's symbol is one character; its values follow in parentheses, if at all.
   if (open < head.size() && head[open] == '(') {
     size_t close = head.find(')', open);
-    std::string inside = head.substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1);
-    for (size_t f = 0; out.values.size() < 20;) {
-      size_t comma = inside.find(',', f);
-      out.values.push_back(float(std::atof(inside.substr(f, comma == std::string::npos ? std::string::npos : comma - f).c_str())));
-      if (comma == std::string::npos) break;
-      f = comma + 1;
-    }
+    out.values = communicationValues(
+        std::string_view(head).substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1), 20);
   }
   size_t pos = lineEnd == std::string::npos ? record.size() : lineEnd + 1;
   auto read = [&](const std::string& format, CommunicationQuery::Vector& v) {
@@ -188,18 +178,18 @@ bool parseQuery(const std::string& record, const CommSpec& spec, CommunicationQu
 }
 
 llvm::Expected<std::unique_ptr<EnvironmentLink>> startBuiltinProgram(const std::string& name, const CommSpec& spec) {
-  if (name == "honda81") return startHonda81(spec);
-  return fail(spec, "lcjit has no built-in environmental program '" + name + "'");
+  if (BuiltinStart start = builtin(name)) return start(spec);
+  return spec.error("lcjit has no built-in environmental program '" + name + "'");
 }
 
 llvm::Expected<std::unique_ptr<EnvironmentLink>> startEnvironment(const CommSpec& spec,
                                                                   const ChildProgramOptions& options) {
   std::vector<std::string> argv = environmentArguments(spec);
-  if (!argv.empty() && argv[0].find('/') == std::string::npos && findProgram(argv[0]).empty() &&
-      baseName(argv[0]) == "honda81") {
-    if (options.log) options.log(argv[0] + " is not on PATH: lcjit's built-in " + argv[0] + " answers");
-    return startBuiltinProgram(argv[0], spec);
-  }
+  if (!argv.empty() && argv[0].find('/') == std::string::npos && findProgram(argv[0]).empty())
+    if (BuiltinStart start = builtin(argv[0])) {
+      if (options.log) options.log(argv[0] + " is not on PATH: lcjit's built-in " + argv[0] + " answers");
+      return start(spec);
+    }
   return startChildProgram(spec, options);
 }
 

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include <fcntl.h>
@@ -47,8 +48,10 @@ std::string seconds(double s) {
   return buf;
 }
 
-llvm::Error fail(const CommSpec& spec, const std::string& message) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", spec.file.c_str(), message.c_str());
+// A `Control: FLAGS STEP` line ends a transmission: its flags; nothing for any other line.
+std::optional<int> controlFlags(const std::string& line) {
+  if (line.compare(0, 7, "Control") != 0) return std::nullopt;
+  return std::atoi(line.c_str() + std::min<size_t>(8, line.size()));
 }
 
 std::string describeStatus(int status) {
@@ -189,9 +192,9 @@ llvm::Error ChildLink::ipcSetup() {
     key_ = int(((unsigned(getpid()) & 0x3fffffu) << 8) + 4u * unsigned(1 + (counter++ % 62)));
     semId_ = semget(key_, 2, IPC_CREAT | IPC_EXCL | 0600);
     if (semId_ >= 0) break;
-    if (errno != EEXIST) return fail(spec_, std::string("cannot create the semaphores: ") + std::strerror(errno));
+    if (errno != EEXIST) return spec_.error(std::string("cannot create the semaphores: ") + std::strerror(errno));
   }
-  if (semId_ < 0) return fail(spec_, "cannot find a free semaphore key");
+  if (semId_ < 0) return spec_.error("cannot find a free semaphore key");
   if (live_) live_->semId = semId_;
   unsigned short initial[2] = {0, 1};  // the program sets semaphore 1 to 0 when it is ready
   SemArg arg;
@@ -199,11 +202,11 @@ llvm::Error ChildLink::ipcSetup() {
   semctl(semId_, 0, SETALL, arg);
   if (spec_.transport == Transport::Memory) {
     shmId_ = shmget(key_ - 1, kToField + kFromField, IPC_CREAT | IPC_EXCL | 0600);
-    if (shmId_ < 0) return fail(spec_, std::string("cannot create the shared memory: ") + std::strerror(errno));
+    if (shmId_ < 0) return spec_.error(std::string("cannot create the shared memory: ") + std::strerror(errno));
     if (live_) live_->shmId = shmId_;
     void* p = shmat(shmId_, nullptr, 0);
     if (p == reinterpret_cast<void*>(-1))
-      return fail(spec_, std::string("cannot attach the shared memory: ") + std::strerror(errno));
+      return spec_.error(std::string("cannot attach the shared memory: ") + std::strerror(errno));
     shm_ = static_cast<char*>(p);
     std::memset(shm_, 0, kToField + kFromField);
   }
@@ -218,12 +221,12 @@ llvm::Error ChildLink::ipcSetup() {
 
 llvm::Error ChildLink::start() {
   std::vector<std::string> argv = environmentArguments(spec_);
-  if (argv.empty()) return fail(spec_, "'executable:' names no program");
+  if (argv.empty()) return spec_.error("'executable:' names no program");
   program_ = argv[0];
   if (!live_) live_ = claimLiveSlot();
   std::string path = findProgram(argv[0]);
   if (path.empty())
-    return fail(spec_, "cannot start the environmental program '" + argv[0] + "' (line " +
+    return spec_.error("cannot start the environmental program '" + argv[0] + "' (line " +
                            std::to_string(spec_.executableLine) + "): not found" +
                            (argv[0].find('/') == std::string::npos ? " on PATH" : ""));
   if (spec_.transport != Transport::Pipes) {
@@ -234,8 +237,8 @@ llvm::Error ChildLink::start() {
   }
   int in[2] = {-1, -1}, out[2] = {-1, -1}, report[2];
   if (spec_.transport == Transport::Pipes && (pipe2(in, O_CLOEXEC) || pipe2(out, O_CLOEXEC)))
-    return fail(spec_, std::string("cannot create pipes: ") + std::strerror(errno));
-  if (pipe2(report, O_CLOEXEC)) return fail(spec_, std::string("cannot create a pipe: ") + std::strerror(errno));
+    return spec_.error(std::string("cannot create pipes: ") + std::strerror(errno));
+  if (pipe2(report, O_CLOEXEC)) return spec_.error(std::string("cannot create a pipe: ") + std::strerror(errno));
   std::vector<char*> args;
   for (auto& a : argv) args.push_back(a.data());
   args.push_back(nullptr);
@@ -245,7 +248,7 @@ llvm::Error ChildLink::start() {
     return s;
   }());
   pid_ = fork();
-  if (pid_ < 0) return fail(spec_, std::string("cannot start a process: ") + std::strerror(errno));
+  if (pid_ < 0) return spec_.error(std::string("cannot start a process: ") + std::strerror(errno));
   if (pid_ > 0 && live_) live_->pid = pid_;
   if (pid_ == 0) {
     // Only async-signal-safe calls from here to exec. Its own process group: a Ctrl-C at the
@@ -281,7 +284,7 @@ llvm::Error ChildLink::start() {
   if (got == sizeof execErrno) {
     waitpid(pid_, &status_, 0);
     reaped_ = true;
-    return fail(spec_, "cannot start the environmental program '" + path + "': " + std::strerror(execErrno));
+    return spec_.error("cannot start the environmental program '" + path + "': " + std::strerror(execErrno));
   }
   return waitReady();
 }
@@ -297,17 +300,17 @@ llvm::Error ChildLink::waitReady() {
         char c = 0;
         ssize_t n = read(fromChild_, &c, 1);
         if (n == 1 && c == 1) break;
-        if (n == 1) return fail(spec_, name() + " wrote something else than its ready signal (0x01) on its output");
-        if (ended()) return fail(spec_, name() + " " + describeStatus(status_) + " before it was ready");
-        return fail(spec_, name() + " closed its output before it was ready");
+        if (n == 1) return spec_.error(name() + " wrote something else than its ready signal (0x01) on its output");
+        if (ended()) return spec_.error(name() + " " + describeStatus(status_) + " before it was ready");
+        return spec_.error(name() + " closed its output before it was ready");
       }
     } else {
       if (semctl(semId_, 1, GETVAL) == 0) break;
       usleep(5000);
     }
-    if (ended()) return fail(spec_, name() + " " + describeStatus(status_) + " before it was ready");
+    if (ended()) return spec_.error(name() + " " + describeStatus(status_) + " before it was ready");
     if (options_.startSeconds > 0 && secondsSince(since) > options_.startSeconds)
-      return fail(spec_, name() + " was not ready after " + seconds(options_.startSeconds));
+      return spec_.error(name() + " was not ready after " + seconds(options_.startSeconds));
   }
   log(name() + " is ready");
   return llvm::Error::success();
@@ -318,7 +321,7 @@ llvm::Error ChildLink::send(const std::string& text) {
     std::ofstream f(toFile_, std::ios::binary | std::ios::trunc);
     f << text;
     f.close();
-    if (!f) return fail(spec_, "cannot write " + toFile_);
+    if (!f) return spec_.error("cannot write " + toFile_);
   } else {
     std::memcpy(shm_, text.data(), text.size());
     if (text.size() < kToField) shm_[text.size()] = 0;
@@ -334,10 +337,10 @@ llvm::Error ChildLink::waitAnswer(const std::function<void()>& poll, Clock::time
     struct timespec slice {0, 20'000'000};
     if (semtimedop(semId_, &op, 1, &slice) == 0) return llvm::Error::success();
     if (errno != EAGAIN && errno != EINTR)
-      return fail(spec_, std::string("waiting for ") + name() + ": " + std::strerror(errno));
-    if (ended()) return fail(spec_, name() + " " + describeStatus(status_) + " without answering");
+      return spec_.error(std::string("waiting for ") + name() + ": " + std::strerror(errno));
+    if (ended()) return spec_.error(name() + " " + describeStatus(status_) + " without answering");
     if (options_.answerSeconds > 0 && secondsSince(since) > options_.answerSeconds)
-      return fail(spec_, name() + " did not answer within " + seconds(options_.answerSeconds));
+      return spec_.error(name() + " did not answer within " + seconds(options_.answerSeconds));
     poll();
   }
 }
@@ -347,7 +350,7 @@ llvm::Expected<std::string> ChildLink::receive(int& flags) {
   std::string text;
   if (spec_.transport == Transport::Files) {
     std::ifstream f(fromFile_, std::ios::binary);
-    if (!f) return fail(spec_, name() + " wrote no answer file (" + fromFile_ + ")");
+    if (!f) return spec_.error(name() + " wrote no answer file (" + fromFile_ + ")");
     std::stringstream ss;
     ss << f.rdbuf();
     text = ss.str();
@@ -360,14 +363,14 @@ llvm::Expected<std::string> ChildLink::receive(int& flags) {
     size_t end = text.find('\n', start);
     std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
     start = end == std::string::npos ? text.size() : end + 1;
-    if (line.compare(0, 7, "Control") == 0) {
-      flags = std::atoi(line.c_str() + std::min<size_t>(8, line.size()));
+    if (auto f = controlFlags(line)) {
+      flags = *f;
       return records;
     }
     records += line;
     records += '\n';
   }
-  return fail(spec_, name() + "'s answer has no end (no 'Control:' line)");
+  return spec_.error(name() + "'s answer has no end (no 'Control:' line)");
 }
 
 llvm::Expected<std::string> ChildLink::exchange(const std::vector<std::string>& records, int step,
@@ -377,7 +380,7 @@ llvm::Expected<std::string> ChildLink::exchange(const std::vector<std::string>& 
     bool gone = ended() && !outOfStep_;
     int status = status_;
     stop();
-    if (gone) return fail(spec_, name() + " " + describeStatus(status) + " (it is started again when the model is reloaded)");
+    if (gone) return spec_.error(name() + " " + describeStatus(status) + " (it is started again when the model is reloaded)");
     outOfStep_ = false;
     reaped_ = false;
     if (auto e = start()) return std::move(e);
@@ -402,7 +405,7 @@ llvm::Expected<std::string> ChildLink::exchange(const std::vector<std::string>& 
       const size_t room = spec_.transport == Transport::Memory ? kToField - 64 : SIZE_MAX;
       while (next < records.size() && (chunk.empty() || chunk.size() + records[next].size() < room))
         chunk += records[next++];
-      if (chunk.size() >= room) return fail(spec_, "one communication module's record is longer than the shared memory");
+      if (chunk.size() >= room) return spec_.error("one communication module's record is longer than the shared memory");
       const bool last = next == records.size();
       chunk += "Control: " + std::to_string((first ? kFirstChunk : 0) | (last ? kLastChunk : 0)) + " " +
                std::to_string(step) + "\n";
@@ -436,11 +439,11 @@ llvm::Expected<std::string> ChildLink::exchangePipes(const std::string& text, co
     // is empty.
     struct pollfd p[2] = {{fromChild_, POLLIN, 0}, {written < text.size() ? toChild_ : -1, POLLOUT, 0}};
     int r = ::poll(p, 2, 20);
-    if (r < 0 && errno != EINTR) return fail(spec_, std::string("waiting for ") + name() + ": " + std::strerror(errno));
+    if (r < 0 && errno != EINTR) return spec_.error(std::string("waiting for ") + name() + ": " + std::strerror(errno));
     if (p[1].revents & (POLLOUT | POLLERR | POLLHUP)) {
       ssize_t n = write(toChild_, text.data() + written, text.size() - written);
       if (n < 0 && errno != EAGAIN && errno != EINTR)
-        return fail(spec_, name() + " stopped reading its input (" + std::strerror(errno) + ")");
+        return spec_.error(name() + " stopped reading its input (" + std::strerror(errno) + ")");
       if (n > 0) written += size_t(n);
     }
     if (p[0].revents & (POLLIN | POLLHUP | POLLERR)) {
@@ -450,16 +453,15 @@ llvm::Expected<std::string> ChildLink::exchangePipes(const std::string& text, co
         // Its output closes as it dies: give it a moment to be gone, to say how.
         const auto closed = Clock::now();
         while (!ended() && secondsSince(closed) < 1.0) usleep(2000);
-        if (ended()) return fail(spec_, name() + " " + describeStatus(status_) + " without answering");
-        return fail(spec_, name() + " closed its output without answering");
+        if (ended()) return spec_.error(name() + " " + describeStatus(status_) + " without answering");
+        return spec_.error(name() + " closed its output without answering");
       }
       if (n > 0) pending_.append(buf, size_t(n));
       size_t start = 0;
       for (size_t nl; (nl = pending_.find('\n', start)) != std::string::npos; start = nl + 1) {
         std::string line = pending_.substr(start, nl - start);
-        if (line.compare(0, 7, "Control") == 0) {
-          int flags = std::atoi(line.c_str() + std::min<size_t>(8, line.size()));
-          if ((flags & kLastChunk) && written == text.size()) {
+        if (auto flags = controlFlags(line)) {
+          if ((*flags & kLastChunk) && written == text.size()) {
             pending_.erase(0, nl + 1);
             return answers;
           }
@@ -471,9 +473,9 @@ llvm::Expected<std::string> ChildLink::exchangePipes(const std::string& text, co
       pending_.erase(0, start);
     }
     if (ended() && !(p[0].revents & POLLIN))
-      return fail(spec_, name() + " " + describeStatus(status_) + " without answering");
+      return spec_.error(name() + " " + describeStatus(status_) + " without answering");
     if (options_.answerSeconds > 0 && secondsSince(since) > options_.answerSeconds)
-      return fail(spec_, name() + " did not answer within " + seconds(options_.answerSeconds));
+      return spec_.error(name() + " did not answer within " + seconds(options_.answerSeconds));
     poll();
   }
 }

@@ -3,6 +3,7 @@
 // itself, so a command it would not see (one indented, say) is reported rather than guessed at.
 #include "CommSpec.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 
@@ -14,24 +15,6 @@ namespace lcjit::runtime {
 namespace {
 
 using namespace textfile;
-
-llvm::Error errorAt(const std::string& file, size_t line, size_t column, const std::string& message) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu:%zu: error: %s", file.c_str(), line, column,
-                                 message.c_str());
-}
-
-std::vector<std::string_view> words(std::string_view s) {
-  std::vector<std::string_view> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace((unsigned char)s[i])) ++i;
-    size_t j = i;
-    while (j < s.size() && !std::isspace((unsigned char)s[j])) ++j;
-    if (j > i) out.push_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
 
 // A turtle line's format gets three doubles: only floating-point conversions (at most three, as
 // the program reads at most three numbers) and %% are safe. Returns the offset of a bad '%'.
@@ -90,7 +73,7 @@ llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string&
       }
     };
     if (key == "executable") {
-      if (value.empty()) return errorAt(fileName, ln, restColumn, "'executable:' names no program");
+      if (value.empty()) return failAt(fileName, ln, restColumn, "'executable:' names no program");
       spec.executable = std::string(value);
       spec.executableLine = int(ln);
     } else if (key == "communication type") {
@@ -103,11 +86,11 @@ llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string&
       } else if (type == "pipes") {
         spec.transport = CommSpec::Transport::Pipes;
       } else if (type == "sockets") {
-        return errorAt(fileName, ln, valueColumn,
+        return failAt(fileName, ln, valueColumn,
                        "communication type 'sockets' (distributed environments) is not supported: use files, "
                        "memory or pipes");
       } else {
-        return errorAt(fileName, ln, valueColumn,
+        return failAt(fileName, ln, valueColumn,
                        "unknown communication type '" + std::string(type) + "' (expected files, memory or pipes)");
       }
     } else if (key.substr(0, 7) == "turtle ") {
@@ -123,7 +106,7 @@ llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string&
         continue;
       }
       if (auto bad = badFormat(rest))
-        return errorAt(fileName, ln, restColumn + *bad,
+        return failAt(fileName, ln, restColumn + *bad,
                        "a turtle format takes up to three numbers: %f, %g, %e (with a width or precision) or %%");
       *format = std::string(rest);
     } else if (key == "following module") {
@@ -134,13 +117,13 @@ llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string&
       warn(ln, 1, "'" + std::string(key) + ":' is cpfg's (lpfg ignores it too): line ignored");
     } else if (key == "strings only" || key == "binary data") {
       if (value != "off" && value != "no")
-        return errorAt(fileName, ln, 1, "'" + std::string(key) + ":' (cpfg's free-text exchange) is not supported");
+        return failAt(fileName, ln, 1, "'" + std::string(key) + ":' (cpfg's free-text exchange) is not supported");
     } else {
       warn(ln, 1, "unknown command '" + std::string(key) + ":': line ignored");
     }
   }
   if (spec.executable.empty())
-    return errorAt(fileName, lines.empty() ? 1 : lines.size(), 1,
+    return failAt(fileName, lines.empty() ? 1 : lines.size(), 1,
                    "no 'executable:' line (the command that starts the environmental program)");
   return spec;
 }
@@ -151,6 +134,17 @@ llvm::Expected<CommSpec> loadCommSpec(const std::string& path, std::vector<ViewF
     return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
                                    buf.getError().message().c_str());
   return parseCommSpec((*buf)->getBuffer(), path, warnings);
+}
+
+std::vector<float> communicationValues(std::string_view inside, size_t max) {
+  std::vector<float> values;
+  for (size_t f = 0; values.size() < max;) {
+    size_t comma = inside.find(',', f);
+    values.push_back(float(std::atof(std::string(inside.substr(f, comma == std::string_view::npos ? std::string_view::npos : comma - f)).c_str())));
+    if (comma == std::string_view::npos) break;
+    f = comma + 1;
+  }
+  return values;
 }
 
 std::vector<std::string> environmentArguments(const CommSpec& spec) {

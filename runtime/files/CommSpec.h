@@ -5,6 +5,7 @@
 // matter (the transport, the turtle lines the program expects), and lpfg's spellings too.
 // Pure data: runtime/environment/ starts the program and speaks to it.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,6 +30,11 @@ struct CommSpec {
   // `following module: on|yes` — the module after each communication module is sent too.
   bool followingModule = false;
   bool verbose = false;  // `verbose: on|yes`
+
+  // An error about the program this file starts: "FILE: error: message".
+  llvm::Error error(const std::string& message) const {
+    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", file.c_str(), message.c_str());
+  }
 };
 
 // Reads `text` (the file's contents). Missing `executable:` and unusable values are errors
@@ -36,6 +42,11 @@ struct CommSpec {
 llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string& fileName,
                                        std::vector<ViewFileWarning>& warnings);
 llvm::Expected<CommSpec> loadCommSpec(const std::string& path, std::vector<ViewFileWarning>& warnings);
+
+// The values of a communication record's `(v1,v2,…)`, `inside` being the text between the
+// parentheses: each read with atof and kept as a float, as vlab's library and lpfg both read
+// them; at most `max`.
+std::vector<float> communicationValues(std::string_view inside, size_t max = SIZE_MAX);
 
 // The program's argv as vlab's masters build it: the command line split at blanks, with
 // `-e FILE` after the program's name unless the line already names one.
