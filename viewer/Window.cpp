@@ -117,10 +117,13 @@ struct Window::Impl {
     if (panes.empty()) return;
     int ww = 0, wh = 0;
     glfwGetWindowSize(window, &ww, &wh);
-    float rx = ww > 0 ? float(x) / ww : 0, ry = wh > 0 ? float(y) / wh : 0;
+    auto [fw, fh] = fbSize();
+    // The pane whose rectangle (framebuffer pixels, as drawn) holds the pointer.
+    const double fx = ww > 0 ? x * fw / ww : 0, fy = wh > 0 ? y * fh / wh : 0;
+    const auto rects = layoutPanes();
     for (size_t i = 0; i < panes.size(); ++i) {
-      const auto& r = panes[i].rect;
-      if (rx >= r.left && rx < r.left + r.width && ry >= r.top && ry < r.top + r.height && i != activePane) {
+      const auto& r = rects[i];
+      if (fx >= r[0] && fx < r[0] + r[2] && fy >= r[1] && fy < r[1] + r[3] && i != activePane) {
         paneAdjust[activePane] = adjust;
         adjust = paneAdjust[i];
         activePane = i;
@@ -259,7 +262,7 @@ struct Window::Impl {
   // model units per pixel, so the model follows the pointer.
   void panBy(double dx, double dy) {
     // In a multi-view window the pan follows the pointer in the pane being dragged.
-    const runtime::CameraMatrices cam = panes.empty() ? camera : paneCamera(activePane, adjust);
+    const runtime::CameraMatrices cam = panes.empty() ? camera : paneCamera(activePane, adjust, layoutPanes()[activePane]);
     const glm::vec3 left = glm::normalize(glm::cross(cam.viewDirection, cam.up));
     const float upp = cam.unitsPerPixel * pixelRatio();
     adjust.pan -= upp * (float(dy) * cam.up + float(dx) * left);
@@ -353,15 +356,14 @@ struct Window::Impl {
     }
   }
 
-  // Pane i's rectangle in framebuffer pixels (x0, top y0, width, height).
-  std::array<int, 4> paneRect(size_t i) const {
+  // The panes' rectangles in framebuffer pixels (x0, top y0, width, height), as lpfg lays them out.
+  std::vector<std::array<int, 4>> layoutPanes() const {
     auto [w, h] = fbSize();
     std::vector<ViewPane::Rect> rects;
     for (const auto& p : panes) rects.push_back(p.rect);
-    return viewer::paneRects(rects, w, h, view.windowBorderSize)[i];
+    return viewer::paneRects(rects, w, h, view.windowBorderSize);
   }
-  runtime::CameraMatrices paneCamera(size_t i, const runtime::ViewAdjustment& a) const {
-    auto r = paneRect(i);
+  runtime::CameraMatrices paneCamera(size_t i, const runtime::ViewAdjustment& a, const std::array<int, 4>& r) const {
     return runtime::frameView(view, panes[i].bounds, panes[i].pose, r[2], r[3], panes[i].viewId, a);
   }
 
@@ -371,12 +373,13 @@ struct Window::Impl {
     glViewport(0, 0, w, h);
     glClearColor(view.windowBorderColor.r, view.windowBorderColor.g, view.windowBorderColor.b, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const auto rects = layoutPanes();
     for (size_t i = 0; i < panes.size(); ++i) {
-      auto r = paneRect(i);
+      const auto& r = rects[i];
       RenderOptions o;
       o.viewportX = r[0];
       o.viewportY = h - r[1] - r[3];  // GL counts from the bottom
-      panes[i].renderer->draw(view, paneCamera(i, i == activePane ? adjust : paneAdjust[i]), o);
+      panes[i].renderer->draw(view, paneCamera(i, i == activePane ? adjust : paneAdjust[i], r), o);
     }
   }
 
