@@ -332,6 +332,8 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
                  ", and this session compiles " + languageStandard_ + ": start lcjit again for it");
   // The model's own C++ units first: the model links against them. Preprocessed as the model is
   // (their quoted headers become part of the text the object cache keys on), without its macros.
+  // Counted as compile time.
+  const auto unitsStart = std::chrono::steady_clock::now();
   for (const std::string& source : files.sources) {
     frontend::PreprocessOptions spp = pp;
     spp.plainMarkers = true;
@@ -348,6 +350,8 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     if (!unit) return unit.takeError();
     p.sourceCode.push_back(std::move(*unit));
   }
+  const double unitsMs = msSince(unitsStart);
+  t0 = std::chrono::steady_clock::now();
   for (int id = 1; id <= functions->size(); ++id) {
     std::string name(functions->nameOf(id));
     if (!name.empty()) pp.defines.push_back({name, std::to_string(id)});
@@ -394,9 +398,8 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
       uo.shareStateWith = {stateOwners_[0].get()};
       p.ruleCode = ruleCode_;
     }
-    uo.linkAgainst.clear();
+    uo.linkAgainst.clear();  // the kept productions' code (no units of the model's own here)
     for (const auto& c : p.ruleCode) uo.linkAgainst.push_back(c.get());
-    for (const auto& c : p.sourceCode) uo.linkAgainst.push_back(c.get());
     code = compiler_->compile(*unit, uo, &stats);
     if (code) {
       p.incremental = true;
@@ -415,7 +418,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   if (!entry) return entry.takeError();
   auto describe = reinterpret_cast<const __lc_Model* (*)()>(*entry);
   p.model = describe();
-  times.compileMs = msSince(t0);
+  times.compileMs = msSince(t0) + unitsMs;
   times.pchCached = stats.pchCached;
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.productionsCompiled = p.incremental ? p.changedRules : -1;
@@ -535,6 +538,9 @@ void Session::splitRules(const frontend::Rewritten& cpp, std::vector<std::string
 // declarations in the running code, or more than half of the productions changed.
 std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p) {
   std::lock_guard<std::mutex> lock(cppMutex_);
+  // The model's own C++ units are compiled afresh for each version (their globals start over, as
+  // a new lpfg library's do): productions kept from the last version would call its copies.
+  if (!p.sourceCode.empty()) return std::nullopt;
   if (!engine_ || !replDeclarations_.empty() || ruleCode_.empty() || p.rest != runningRest_ ||
       p.rules.size() != runningRules_.size())
     return std::nullopt;

@@ -479,6 +479,45 @@ TEST(SessionIncremental, OnlyChangedProductionsCompileAndStateStartsFresh) {
   fs::remove_all(dir);
 }
 
+// A model with a C++ unit of its own: a reload gives the first run's string again (the unit's
+// globals start over, as a new lpfg library's do), whichever productions the edit changed. The
+// productions an edit leaves alone must not keep calling the previous copy of the unit.
+TEST(SessionIncremental, AModelsOwnUnitStartsOverWithEveryReload) {
+  fs::path dir = fs::temp_directory_path() / ("lcjit-incr-unit-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string path = (dir / "u.l").string(), unit = (dir / "counter.cpp").string();
+  std::ofstream(unit) << "int counted = 0;\nint next() { return ++counted; }\n";
+  auto write = [&](int c) {
+    std::ofstream(path) << "#include <lpfgall.h>\nint next();\nderivation length: 2;\nmodule A(int);\nmodule B(int);\n"
+                           "module C(int);\naxiom: A(0) B(0) C(0);\n"
+                           "A(n) : { produce A(n * 10 + next()); }\nB(n) : { produce B(n + 1); }\n"
+                           "C(n) : { produce C(n + " << c << "); }\n";
+  };
+  write(1);
+  auto session = Session::create();
+  ASSERT_TRUE(bool(session));
+  Session& s = **session;
+  ModelFiles files;
+  files.lsystem = path;
+  files.sources = {unit};
+  PhaseTimes t;
+  {
+    auto e = s.load(files, 0, t);
+    ASSERT_FALSE(bool(e)) << llvm::toString(std::move(e));
+  }
+  ASSERT_FALSE(bool(s.engine().run()));
+  auto text = [&] { return s.engine().text(s.engine().string()); };
+  EXPECT_EQ(text(), "A(12)\nB(2)\nC(2)\n");  // next() gives 1, then 2: 0*10+1, 1*10+2
+  for (int c : {2, 3}) {  // C's body only: A's code is kept
+    write(c);
+    auto e = s.load(files, 0, t, ReloadParts::newLsystem());
+    ASSERT_FALSE(bool(e)) << llvm::toString(std::move(e));
+    ASSERT_FALSE(bool(s.engine().run()));
+    EXPECT_EQ(text(), "A(12)\nB(2)\nC(" + std::to_string(2 * c) + ")\n") << "after the edit to C(n + " << c << ")";
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 
 namespace {
