@@ -335,28 +335,23 @@ bool Engine::inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, c
 bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
   size_t mark = out.size();
   __lc_Ctx ctx{out.raw(), 0, this, &m};
-  Match* saved = activeMatch_;
   const __lc_Rule* savedRule = runningRule_;  // a rule runs inside another through OutputFrame
   __lc_Ctx* savedCtx = activeCtx_;
-  activeMatch_ = &m;
   runningRule_ = &r;
   activeCtx_ = &ctx;
   r.body(&ctx, m.params);
   activeCtx_ = savedCtx;
   runningRule_ = savedRule;
-  activeMatch_ = saved;
   if (!ctx.produced) out.resize(mark);
   return ctx.produced != 0;
 }
 
-bool Engine::tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft,
+bool Engine::tryRules(int kind, int group, int groupZero, const Scan& old, size_t pos, const Scan& newLeft,
                       const Scan& newRight, ModuleBuffer& out, Match& m) {
   __lc_ModuleId id = ModuleTable::idAt(old.s + pos);
-  // Then production group 0's rules (of the same view group, for interpretation rules).
-  const int groupZero = kind == __lc_Interpretation ? ruleTableKey(kind, 0, group & 0xffff) : 0;
   for (int pass = 0; pass < 2; ++pass) {
     int g = pass == 0 ? group : groupZero;
-    if (pass == 1 && (!fallback || group == groupZero)) break;
+    if (pass == 1 && group == groupZero) break;
     const RuleList* rules = candidates(kind, g, id, false);
     if (!rules) continue;
     for (const __lc_Rule* r : *rules) {
@@ -591,6 +586,9 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
       if (sink) (*sink)(rec);
     }
   };
+  // A module no rule of `group` matches tries production group 0's rules (of the same view
+  // group, for interpretation rules), as lpfg does.
+  const int groupZero = kind == __lc_Interpretation ? ruleTableKey(kind, 0, group & 0xffff) : 0;
   size_t pos = 0;
   const bool topLevel = src == string_.data() && !target;
   while (pos < n) {
@@ -598,7 +596,7 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
     if (topLevel && tracking_) tracking_->currentSource = (uint32_t)pos;
     succ.clear();
     Scan newLeft = target ? Scan{target->data(), target->size(), false} : Scan{nullptr, 0, false};
-    bool applied = tryRules(kind, group, true, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
+    bool applied = tryRules(kind, group, groupZero, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
     if (applied && depth > 0) {
       // The successor buffer of this level is reused by deeper levels: work on a copy.
       if (copies_.size() <= copiesInUse_) copies_.push_back(std::make_unique<ModuleBuffer>());
@@ -931,7 +929,8 @@ std::optional<std::string> Engine::guarded(Phase phase, llvm::function_ref<void(
   const Phase savedPhase = phase_;
   const __lc_Rule* savedRule = runningRule_;
   const char* savedCall = runningCall_;
-  Match* savedMatch = activeMatch_;
+  __lc_Ctx* savedCtx = activeCtx_;
+  const bool savedCommunicating = communicating_;
   Geometry* savedTracking = tracking_;
   const size_t copies = copiesInUse_, turtles = turtlesInUse_;
   phase_ = phase;
@@ -941,7 +940,8 @@ std::optional<std::string> Engine::guarded(Phase phase, llvm::function_ref<void(
   phase_ = savedPhase;
   runningRule_ = savedRule;
   runningCall_ = savedCall;
-  activeMatch_ = savedMatch;
+  activeCtx_ = savedCtx;
+  communicating_ = savedCommunicating;
   tracking_ = savedTracking;
   copiesInUse_ = copies;
   turtlesInUse_ = turtles;

@@ -59,7 +59,6 @@ class Engine {
   // and EA20 the turtle meets is sent with its turtle lines; the answers overwrite the modules'
   // parameters before the step's productions read them.
   void setEnvironment(EnvironmentLink* link) { environment_ = link; }
-  EnvironmentLink* environment() const { return environment_; }
   // -cleanEA20: the elements of an answered EA20 past the answer's values are zeroed.
   void setCleanEA20(bool clean) { cleanEA20_ = clean; }
   // The context of the rule body running, or null (lcjit_current_ctx).
@@ -179,8 +178,8 @@ class Engine {
   const RuleList* candidates(int kind, int group, __lc_ModuleId id, bool byLast) const;
   bool matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight, Match& m) const;
   bool applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out);
-  // `group`: the rule table's key (ruleTableKey); `fallback`: then production group 0's rules.
-  bool tryRules(int kind, int group, bool fallback, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
+  // `group`: the rule table's key (ruleTableKey); then `groupZero`'s rules, unless the same.
+  bool tryRules(int kind, int group, int groupZero, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
                 ModuleBuffer& out, Match& m);
 
   // What a fault message says the engine was doing.
@@ -265,7 +264,6 @@ class Engine {
   Rand48 random_, gillespieRandom_;
   double gillespieTime_ = 0;
   const EngineHooks* hooks_ = nullptr;
-  Match* activeMatch_ = nullptr;
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
   bool ignoreEnvironment_ = false;
   EnvironmentLink* environment_ = nullptr;
