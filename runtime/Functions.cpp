@@ -202,8 +202,7 @@ void tabulate(const BSpline& s, int n, std::vector<float>& values,
         low = check;
       if (std::fabs(X - target) <= maxError) break;
     }
-    s.point(check, X, Y);
-    values[i] = Y;
+    values[i] = Y;  // the point at the last `check`
     s.tangent(check, tangents[i][0], tangents[i][1]);
   }
 }

@@ -71,6 +71,7 @@ void Terrain::fill() {
     for (int row = 0; row < side; ++row)
       for (int col = 0; col < side; ++col) loadPatch(levels_[l][size_t(row) * side + col], grids_[l], side, row, col);
   }
+  measureExtent();
 }
 
 // A patch's share of its level's grid: columns (u) by `col`, rows (v) by `row`.
@@ -203,16 +204,22 @@ void Terrain::scaleBy(float factor) {
       p.maxHeight *= factor;
     }
   }
+  measureExtent();
+}
+
+void Terrain::measureExtent() {
+  extent_ = Bounds{};
+  for (const auto& level : levels_) {
+    for (const Patch& p : level) {
+      extent_.add(toFloat(p.topLeft));
+      extent_.add(toFloat(p.bottomRight));
+    }
+  }
 }
 
 void Terrain::addExtent(Bounds& b) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const auto& level : levels_) {
-    for (const Patch& p : level) {
-      b.add(toFloat(p.topLeft));
-      b.add(toFloat(p.bottomRight));
-    }
-  }
+  b.add(extent_);
 }
 
 // ---- drawing -----------------------------------------------------------------------------------

@@ -97,6 +97,7 @@ class Terrain {
   }
   static Node child(Node n, int quadrant);  // 0 NW, 1 NE, 2 SW, 3 SE
   void fill();
+  void measureExtent();
   void loadPatch(Patch& p, const TerrainGrid& grid, int patches, int row, int col);
   std::optional<Node> under(V3d point, Node n, bool drawnCounts);
   bool rayCast(V3f world, V3f& point, V3f& normal);
@@ -109,6 +110,7 @@ class Terrain {
   TerrainDeclaration declaration_;
   std::vector<TerrainGrid> grids_;  // the file's levels, points scaled, coarser ones resampled
   std::vector<std::vector<Patch>> levels_;
+  Bounds extent_;  // of every patch's corners, kept by measureExtent() after fill() and scaleBy()
   float fileWidth_ = 0, width_ = 0;
   std::vector<double> reach_;  // R_l
   V3d camera_;

@@ -941,7 +941,7 @@ struct Renderer::Impl {
     auto it = std::upper_bound(runs.begin(), runs.end(), first,
                                [](uint32_t v, const runtime::TriangleRun& r) { return v < r.firstIndex; });
     if (it != runs.begin()) --it;
-    GLint texLoc = pass.meshProg->loc("uTextured");
+    const GLint texLoc = pass.meshProg->loc("uTextured"), oneSidedLoc = pass.meshProg->loc("uOneSided");
     for (; it != runs.end() && it->firstIndex < end; ++it) {
       uint32_t a = std::max(first, it->firstIndex), b = std::min(end, it->firstIndex + it->indexCount);
       if (a >= b) continue;
@@ -949,7 +949,7 @@ struct Renderer::Impl {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, textured ? textures[it->texture] : 0);
       glUniform1i(texLoc, textured ? 1 : 0);
-      glUniform1i(pass.meshProg->loc("uOneSided"), oneSided && it->fill == runtime::PolygonFill::Default ? 1 : 0);
+      glUniform1i(oneSidedLoc, oneSided && it->fill == runtime::PolygonFill::Default ? 1 : 0);
       // A run with its own fill (lpfg's terrain patches) switches the polygon mode for itself.
       const bool ownFill = it->fill != runtime::PolygonFill::Default &&
                            (it->fill == runtime::PolygonFill::Lines) != pass.wireframe;

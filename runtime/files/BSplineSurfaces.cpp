@@ -314,9 +314,13 @@ BSplinePoint BSplineNet::normal(double u, double v) const {
   if (empty()) return {};
   u = clampParameter(u, rows_);
   v = clampParameter(v, columns_);
+  return normalAt(u, v, point(u, v));
+}
+
+BSplinePoint BSplineNet::normalAt(double u, double v, const BSplinePoint& at) const {
   const double d = 0.05, inv = 1.0 / 0.05;
-  P du = u > 5.0 ? mul(sub(point(u, v), point(u - d, v)), inv) : mul(sub(point(u + d, v), point(u, v)), inv);
-  P dv = v > 5.0 ? mul(sub(point(u, v), point(u, v - d)), inv) : mul(sub(point(u, v + d), point(u, v)), inv);
+  P du = u > 5.0 ? mul(sub(at, point(u - d, v)), inv) : mul(sub(point(u + d, v), at), inv);
+  P dv = v > 5.0 ? mul(sub(at, point(u, v - d)), inv) : mul(sub(point(u, v + d), at), inv);
   du = mul(du, 1 / length(du));
   dv = mul(dv, 1 / length(dv));
   P n = cross(du, dv);
@@ -336,8 +340,9 @@ BSplineNet::Grid BSplineNet::sample(int uDiv, int vDiv) const {
     const double u = 3.0 + i * du;
     for (int j = 0; j <= vDiv; ++j) {
       const double v = 3.0 + j * dv;
-      g.positions.push_back(point(u, v));
-      g.normals.push_back(normal(u, v));
+      const BSplinePoint p = point(u, v);
+      g.positions.push_back(p);
+      g.normals.push_back(normalAt(clampParameter(u, rows_), clampParameter(v, columns_), p));
     }
   }
   return g;

@@ -81,6 +81,9 @@ class BSplineNet {
   static PatchGrid mesh(const Grid& g, int uTex, int vTex);
 
  private:
+  // The normal at clamped (u, v), whose point `at` is: one-sided differences of the surface.
+  BSplinePoint normalAt(double u, double v, const BSplinePoint& at) const;
+
   int rows_ = 0, columns_ = 0;
   std::vector<BSplinePoint> points_;  // row-major
 };
