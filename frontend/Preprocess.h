@@ -12,6 +12,11 @@
 
 namespace lcjit::frontend {
 
+// The C++ model code is compiled as (-std=). lpfg compiles models as gnu++11: gnu++14 adds
+// nothing that breaks them, and C++17/20 would (std::byte, std::lerp ... clash with models' own
+// names under `using namespace std`). A model's lpfg.mak may ask for a newer one.
+inline constexpr const char* kDefaultLanguageStandard = "gnu++14";
+
 struct PreprocessOptions {
   // Searched for `#include "x"` after the including file's own directory, and for `#include <x>`
   // first; their headers are the model's own: expanded in the output.
@@ -24,7 +29,7 @@ struct PreprocessOptions {
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
   // -std= of the model's C++ (as the compile's: __cplusplus and what headers declare).
-  std::string languageStandard = "gnu++14";
+  std::string languageStandard = kDefaultLanguageStandard;
   // Line markers without their include flags: the output is C++ that clang compiles as it is
   // (a model's own .cpp), rather than input to the rewriter.
   bool plainMarkers = false;

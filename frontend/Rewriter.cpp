@@ -381,7 +381,7 @@ class Rewriter {
       const Token& name = next();
       if (name.kind != Token::Identifier) fail(name, "expected a module name after 'module'");
       if (auto* m = findModule(name.text))
-        fail(name, "module '" + name.text + "' is already declared" + (m->id < 103 ? " (it is a predefined module)" : ""));
+        fail(name, "module '" + name.text + "' is already declared" + (m->id < __lc_FirstUserModule ? " (it is a predefined module)" : ""));
       std::vector<std::string> types;
       if (atText("(")) {
         next();
@@ -414,7 +414,7 @@ class Rewriter {
         if (n.kind != Token::Number || v < 0) fail(n, "expected a module id (a number) after '='");
         if (v < nextModuleId_)
           fail(n, "module id " + n.text + " is taken: " +
-                      (v < 103 ? std::string("ids below 103 are the predefined modules'")
+                      (v < __lc_FirstUserModule ? std::string("ids below 103 are the predefined modules'")
                                : "ids up to " + std::to_string(nextModuleId_ - 1) + " are given already"));
         if (v > 60000) fail(n, "module id " + n.text + " is too large (at most 60000)");
         nextModuleId_ = (int)v;
@@ -747,19 +747,16 @@ class Rewriter {
   void emitTables() {
     std::string s = "#line 1 \"<lcjit: generated model tables>\"\n";
     s += "static const __lc_ModuleInfo __lc_user_modules[] = {";
-    // One entry per id from 103; ids skipped by `module X = N;` are nameless and never used.
-    std::map<int, const ModuleDecl*> byId;
-    for (auto& m : userModules_) byId[m.id] = &m;
-    for (int id = 103; id < nextModuleId_; ++id) {
-      auto it = byId.find(id);
-      if (it == byId.end()) {
-        s += "{\"\", 4, 0, nullptr},";
-        continue;
-      }
-      const ModuleDecl& m = *it->second;
+    // One entry per id from the first user module's; ids skipped by `module X = N;` are
+    // nameless and never used. userModules_ is in id order: ids only grow.
+    int id = __lc_FirstUserModule;
+    for (const ModuleDecl& m : userModules_) {
+      for (; id < m.id; ++id) s += "{\"\", 4, 0, nullptr},";
       s += "{\"" + m.name + "\", " + "(uint32_t)sizeof(__lc_R_" + m.name + ")" + ", " +
            std::to_string(m.paramTypes.size()) + ", __lc_fields_" + m.name + "},";
+      id = m.id + 1;
     }
+    for (; id < nextModuleId_; ++id) s += "{\"\", 4, 0, nullptr},";
     if (userModules_.empty()) s += "{nullptr, 0, 0, nullptr}";
     s += "};\n";
     for (size_t i = 0; i < rules_.size(); ++i) {
@@ -796,7 +793,7 @@ class Rewriter {
     for (int id : verify_) s += std::to_string(id) + ",";
     if (verify_.empty()) s += "0";
     s += "};\n";
-    s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(nextModuleId_ - 103) +
+    s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(nextModuleId_ - __lc_FirstUserModule) +
          ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
          ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
          fnOrNull(haveDecompDepth_, "__lc_decomposition_depth") + ", " + fnOrNull(haveInterpDepth_, "__lc_interpretation_depth") +
@@ -822,7 +819,7 @@ class Rewriter {
   Emitter out_;
   std::unordered_map<std::string, ModuleEntry> modules_;
   std::vector<ModuleDecl> userModules_;
-  int nextModuleId_ = 103;
+  int nextModuleId_ = __lc_FirstUserModule;
   int depth_ = 0;
   bool atStatementStart_ = true;
   int kind_ = 0;

@@ -1039,9 +1039,6 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L,
   return support->jd;
 }
 
-// Writes a cache file whole or not at all: a unique temporary beside it, then a rename, so that
-// readers (other processes too) never see a partial one. False when it could not.
-
 // Splits the support module into parts of `perPart` definitions, in order of their demangled
 // names so that related functions (all of __lc_emit_*, one class's members) share a part. Each
 // part is one object file and ORC links an object only when a symbol of it is first looked up,
@@ -1208,8 +1205,6 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   impl->headerDir = llvm::sys::path::parent_path(config.runtimeHeader).str();
   impl->cacheDir = config.cacheDir.empty() ? defaultCacheDir() : config.cacheDir;
   impl->config = std::move(config);
-  if (impl->config.languageStandard.empty())
-    impl->config.languageStandard = "gnu++14";
 
   auto jtmb = orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)

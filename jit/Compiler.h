@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "frontend/Preprocess.h"  // kDefaultLanguageStandard
+
 namespace lcjit::jit {
 
 // A C-linkage host function (or variable) the model code may reference by name.
@@ -28,10 +30,9 @@ struct CompilerConfig {
   std::string cacheDir;
   // Defined explicitly in the JIT so the host binary needs no -rdynamic.
   std::vector<HostSymbol> hostSymbols;
-  // The C++ of model code (-std=). lpfg compiles models as gnu++11: gnu++14 adds nothing that
-  // breaks them, and C++17/20 would (std::byte, std::lerp ... clash with models' own names
-  // under `using namespace std`). A model's lpfg.mak may ask for another.
-  std::string languageStandard = "gnu++14";
+  // The C++ of model code (-std=): frontend::kDefaultLanguageStandard unless a model's lpfg.mak
+  // asks for another.
+  std::string languageStandard = frontend::kDefaultLanguageStandard;
 };
 
 class ModelCode;

@@ -1,7 +1,9 @@
 // See LpfgMak.h.
 #include "LpfgMak.h"
 
+#include <llvm/Support/CommandLine.h>
 #include <llvm/Support/FileSystem.h>
+#include <llvm/Support/StringSaver.h>
 #include <llvm/Support/Program.h>
 
 #include <filesystem>
@@ -14,40 +16,11 @@ namespace fs = std::filesystem;
 namespace {
 llvm::Error error(const std::string& message) { return llvm::createStringError(llvm::inconvertibleErrorCode(), message); }
 
-bool isSource(const std::string& word) {
-  std::string ext = fs::path(word).extension().string();
-  return ext == ".cpp" || ext == ".cc" || ext == ".cxx" || ext == ".C" || ext == ".c++";
-}
 }  // namespace
 
-std::vector<std::string> shellWords(const std::string& line) {
-  std::vector<std::string> words;
-  std::string word;
-  bool inWord = false;
-  char quote = 0;
-  for (size_t i = 0; i < line.size(); ++i) {
-    char c = line[i];
-    if (quote) {
-      if (c == quote) quote = 0;
-      else if (c == '\\' && quote == '"' && i + 1 < line.size()) word += line[++i];
-      else word += c;
-    } else if (c == '\'' || c == '"') {
-      quote = c;
-      inWord = true;
-    } else if (c == '\\' && i + 1 < line.size()) {
-      word += line[++i];
-      inWord = true;
-    } else if (c == ' ' || c == '\t') {
-      if (inWord) words.push_back(std::move(word));
-      word.clear();
-      inWord = false;
-    } else {
-      word += c;
-      inWord = true;
-    }
-  }
-  if (inWord) words.push_back(std::move(word));
-  return words;
+bool isCppSource(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  return ext == ".cpp" || ext == ".cc" || ext == ".cxx" || ext == ".C" || ext == ".c++";
 }
 
 llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& modelDir) {
@@ -92,14 +65,19 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
 
   LpfgMakBuild build;
   auto absolute = [&](const std::string& p) { return (fs::path(p).is_absolute() ? fs::path(p) : dir / p).lexically_normal().string(); };
-  auto addOnce = [](std::vector<std::string>& list, const std::string& item) {
+  auto addOnce = [](auto& list, const auto& item) {
     for (const auto& x : list)
       if (x == item) return;
     list.push_back(item);
   };
   std::ifstream commands(out);
   for (std::string line; std::getline(commands, line);) {
-    std::vector<std::string> words = shellWords(line);
+    // The words of the command as sh reads them (quotes, backslashes).
+    llvm::BumpPtrAllocator arena;
+    llvm::StringSaver saver(arena);
+    llvm::SmallVector<const char*, 32> argv;
+    llvm::cl::TokenizeGNUCommandLine(line, saver, argv);
+    const std::vector<std::string> words(argv.begin(), argv.end());
     bool compiles = false;
     for (const auto& w : words) compiles = compiles || w == "-c";
     if (!compiles) continue;  // the link, or anything else: nothing for lcjit
@@ -110,13 +88,11 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
       else if (w.rfind("-D", 0) == 0 && w.size() > 2) {
         std::string d = w.substr(2);
         size_t eq = d.find('=');
-        std::pair<std::string, std::string> def = eq == std::string::npos ? std::make_pair(d, std::string())
-                                                                          : std::make_pair(d.substr(0, eq), d.substr(eq + 1));
-        bool known = false;
-        for (const auto& x : build.defines) known = known || x == def;
-        if (!known) build.defines.push_back(def);
+        addOnce(build.defines, eq == std::string::npos ? std::make_pair(d, std::string())
+                                                       : std::make_pair(d.substr(0, eq), d.substr(eq + 1)));
       } else if (w.rfind("-std=", 0) == 0) {
-        // C++11 and C++14 are what lcjit compiles anyway (gnu++14); newer ones are asked for.
+        // C++11 and C++14 are what lcjit compiles anyway (kDefaultLanguageStandard); newer ones
+        // are asked for.
         std::string std = w.substr(5);
         bool older = std.find("++98") != std::string::npos || std.find("++03") != std::string::npos ||
                      std.find("++0x") != std::string::npos || std.find("++11") != std::string::npos ||
@@ -124,7 +100,7 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
         build.languageStandard = older ? "" : std;
       } else if (w == "-o" || w == "-MF" || w == "-include") {
         ++i;  // an argument that is no source
-      } else if (isSource(w)) {
+      } else if (isCppSource(w)) {
         addOnce(build.sources, absolute(w));
       }
     }

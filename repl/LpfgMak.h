@@ -25,7 +25,7 @@ struct LpfgMakBuild {
 // nullopt when `modelDir` has no lpfg.mak; an error when make is missing or fails on it.
 llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& modelDir);
 
-// The words of a shell command line (quotes and backslashes as sh reads them).
-std::vector<std::string> shellWords(const std::string& line);
+// A C++ source file by its name: .cpp .cc .cxx .C .c++ (what lpfg.mak and the command line give).
+bool isCppSource(const std::string& path);
 
 }  // namespace lcjit

@@ -160,11 +160,11 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
       f.environment = p;
     } else if (ext == ".a" || ext == ".s") {
       f.other.push_back(p);
-    } else if (ext == ".cpp" || ext == ".cc" || ext == ".cxx" || ext == ".C") {
+    } else if (isCppSource(p)) {
       f.sources.push_back(p);
     } else {
       return error(p + ": error: unknown input file type '" + ext +
-                   "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset, .vset or C++ sources .cpp .cc .cxx)");
+                   "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset, .vset or C++ sources .cpp .cc .cxx .C .c++)");
     }
   }
   if (f.lsystem.empty()) return error("error: no L-system file (.l) given");

@@ -184,8 +184,6 @@ class Session {
   llvm::Error setParameter(const std::string& name, float value);
   // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
   llvm::Expected<std::string> evaluate(const std::string& input);
-  // The limits of every derivation (docs/faults.md): this model's and the next ones'. Static
-  // constructors and destructors of the model run behind the same guard and time limit.
   // Environmental programs (manual §5.10): how they are started and waited for, -cleanEA20, and
   // whether to start them at all (not for -c or --emit-cpp, which run nothing).
   struct EnvironmentSettings {
@@ -194,6 +192,8 @@ class Session {
     bool start = true;
   };
   void setEnvironmentSettings(const EnvironmentSettings& settings) { environmentSettings_ = settings; }
+  // The limits of every derivation (docs/faults.md): this model's and the next ones'. Static
+  // constructors and destructors of the model run behind the same guard and time limit.
   void setLimits(const runtime::EngineLimits& limits);
   const runtime::EngineLimits& limits() const { return limits_; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
