@@ -1,6 +1,8 @@
 // Batch runs and --watch (see Batch.h).
 #include "Batch.h"
 
+#include "Camera.h"
+
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -127,7 +129,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
                  times.pchCached ? "cached PCH" : "PCH built");
   // A picture or a geometry file is what lpfg's window would save: derived with its camera.
   if (!options.out.empty() && isFrameOutput(options.out))
-    runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(session.drawing().view.scale));
+    runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(session.drawing().view, 0)));
   auto t0 = Clock::now();
   if (auto e = engine.run(hooks)) {
     if (stopped && *stopped) {

@@ -340,20 +340,9 @@ class InteractiveModel {
   // The window's camera for GetCameraPosition() and vvScale() (§6.4), view 0.
   void feedCamera() {
     const runtime::CameraMatrices& c = window_.camera();
-    CameraPosition p{};
-    p.position = V3f(c.eye.x, c.eye.y, c.eye.z);
-    p.lookat = V3f(c.lookAt.x, c.lookAt.y, c.lookAt.z);
-    p.head = V3f(c.viewDirection.x, c.viewDirection.y, c.viewDirection.z);
-    p.up = V3f(c.up.x, c.up.y, c.up.z);
-    p.left = p.up % p.head;
-    // lpfg's vvScale(): 1 / its projection scale, the view file's scale (view 0's `view:` scale
-    // if given, else `scale:`) times the user's zoom.
-    const runtime::ViewSettings& view = session_.drawing().view;
-    float viewScale = view.scale;
-    for (const runtime::ViewDefinition& d : view.views)
-      if (d.id == 0 && d.scale) viewScale = *d.scale;
-    p.scale = window_.adjustment().zoom * viewScale;
-    runtime::Views::instance().setCamera(0, p);
+    auto v3 = [](glm::vec3 v) { return V3f(v.x, v.y, v.z); };
+    const float scale = window_.adjustment().zoom / runtime::projectionScale(session_.drawing().view, 0);
+    runtime::Views::instance().setCamera(0, runtime::cameraPosition(v3(c.eye), v3(c.lookAt), v3(c.viewDirection), v3(c.up), scale));
   }
 
   // The window's pointer for GetMouseStatus() (§7.4).

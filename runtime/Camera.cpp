@@ -39,12 +39,14 @@ constexpr float kMinHalfDepth = 0.5f;
 
 glm::vec3 toGlm(V3f v) { return {v.x, v.y, v.z}; }
 
-float internalScale(float fileScale) {
-  if (!(std::fabs(fileScale) > 1e-6f)) return 1.0f / 0.9f;
-  return 1.0f / fileScale;
-}
-
 }  // namespace
+
+float projectionScale(const ViewSettings& view, int viewId) {
+  float scale = std::fabs(view.scale) > 1e-6f ? 1.0f / view.scale : 1.0f / 0.9f;
+  for (const ViewDefinition& d : view.views)
+    if (d.id == viewId && d.scale && std::fabs(*d.scale) > 1e-6f) scale = 1.0f / *d.scale;
+  return scale;
+}
 
 CameraMatrices frameView(const ViewSettings& view, const Bounds& modelBounds, const std::optional<CameraPose>& camera,
                          int width, int height, int viewId, const ViewAdjustment& adjust) {
@@ -53,13 +55,12 @@ CameraMatrices frameView(const ViewSettings& view, const Bounds& modelBounds, co
 
   // Projection::Reset + SetModifiers.
   float fov = 45.0f;
-  float scale = internalScale(view.scale);
+  float scale = projectionScale(view, viewId);
   glm::vec3 dir(0, 0, -1), up(0, 1, 0), pan(0);
   const ViewDefinition* def = nullptr;
   for (const ViewDefinition& d : view.views)
     if (d.id == viewId) def = &d;
   if (def) {
-    if (def->scale && std::fabs(*def->scale) > 1e-6f) scale = 1.0f / *def->scale;
     if (def->fov) fov = *def->fov;
     if (def->pan) pan = toGlm(*def->pan);
     if (def->dir) dir = toGlm(*def->dir);

@@ -36,6 +36,11 @@ struct ViewAdjustment {
   glm::vec3 pan{0};
 };
 
+// lpfg's projection scale of a view (Projection::Reset, SetModifiers): 1 / its `view:` line's
+// scale if it has one, else 1 / the file's `scale:` (1/0.9 for a zero one). The user's zoom
+// divides it; vvScale() is its inverse.
+float projectionScale(const ViewSettings& view, int viewId);
+
 CameraMatrices frameView(const ViewSettings& view, const Bounds& bounds, const std::optional<CameraPose>& camera,
                          int width, int height, int viewId = 0, const ViewAdjustment& adjust = {});
 

@@ -89,15 +89,19 @@ CameraPosition Views::camera(int id) const {
   return it != views_.end() ? it->second.camera : CameraPosition{};
 }
 
-CameraPosition initialWindowCamera(float viewScale) {
+CameraPosition cameraPosition(V3f eye, V3f lookAt, V3f head, V3f up, float scale) {
   CameraPosition c{};
-  c.position = V3f(0, 0, 1);
-  c.lookat = V3f(0, 0, 0);
-  c.head = V3f(0, 0, -1);
-  c.up = V3f(0, 1, 0);
-  c.left = c.head % c.up;
-  c.scale = viewScale;
+  c.position = eye;
+  c.lookat = lookAt;
+  c.head = head;
+  c.up = up;
+  c.left = head % up;
+  c.scale = scale;
   return c;
+}
+
+CameraPosition initialWindowCamera(float viewScale) {
+  return cameraPosition(V3f(0, 0, 1), V3f(0, 0, 0), V3f(0, 0, -1), V3f(0, 1, 0), viewScale);
 }
 
 Mouse& Mouse::instance() {

@@ -72,10 +72,15 @@ class Views {
   std::map<int, View> views_;
 };
 
+// GetCameraPosition()'s answer for a camera, as lpfg's window gives it: left = head × up
+// (Projection's view left), scale = vvScale (the inverse of the view's projection scale, times
+// the user's zoom).
+CameraPosition cameraPosition(V3f eye, V3f lookAt, V3f head, V3f up, float scale);
+
 // The camera lpfg's window has until it first draws (Projection::Reset): from (0,0,1) towards the
-// origin along −z, up +y, left = dir × up, scale = the view file's `scale:`. lpfg derives the
-// model of its window with it, so a batch picture (lpfg's window picture) does too. (lpfg's
-// batch mode has no view: GetCameraPosition then gives zeros, as here without a camera.)
+// origin along −z, up +y, vvScale = `viewScale`. lpfg derives the model of its window with it,
+// so a batch picture (lpfg's window picture) does too. (lpfg's batch mode has no view:
+// GetCameraPosition then gives zeros, as here without a camera.)
 CameraPosition initialWindowCamera(float viewScale);
 
 class Mouse {

@@ -50,14 +50,6 @@ bool initGlfw() {
 }
 
 
-// lpfg's internal scale for view 0 (Camera.cpp's rule): the zoom limits apply to it.
-float baseScale(const runtime::ViewSettings& view) {
-  float scale = std::fabs(view.scale) > 1e-6f ? 1.0f / view.scale : 1.0f / 0.9f;
-  for (const runtime::ViewDefinition& d : view.views)
-    if (d.id == 0 && d.scale && std::fabs(*d.scale) > 1e-6f) scale = 1.0f / *d.scale;
-  return scale;
-}
-
 const char* kMenuId = "lcjit main menu";
 const char* kUserMenuId = "lcjit user menu";
 // Above this many segments + triangles, dragging draws the decimated preview.
@@ -241,7 +233,7 @@ struct Window::Impl {
   }
   // ZoomBy(dy), dy = y − lastY: lpfg's scale ×1.01^dy, clamped to [min zoom, max zoom].
   void zoomBy(double dy) {
-    const float base = baseScale(view);
+    const float base = runtime::projectionScale(view, 0);  // the zoom limits apply to it
     const float lo = std::min(view.minZoom, view.maxZoom), hi = std::max(view.minZoom, view.maxZoom);
     float scale = base / adjust.zoom * std::pow(1.01f, float(dy));
     scale = std::clamp(scale, lo, hi);
