@@ -4,6 +4,8 @@
 // moves, records a polygon vertex, then applies the simple tropism.
 #include "Turtle.h"
 
+#include "Quaternion.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -44,24 +46,6 @@ float radians(float degrees) { return static_cast<float>(degrees * M_PI / 180.0)
 V3f scaledTo(V3f v, float n = 1.0f) {
   float d = n / v.Length();
   return V3f(v.x * d, v.y * d, v.z * d);
-}
-
-struct Quat {
-  float a, x, y, z;
-};
-
-Quat operator*(const Quat& p, const Quat& q) {
-  return {p.a * q.a - (p.x * q.x + p.y * q.y + p.z * q.z), p.a * q.x + q.a * p.x + p.y * q.z - p.z * q.y,
-          p.a * q.y + q.a * p.y + p.z * q.x - p.x * q.z, p.a * q.z + q.a * p.z + p.x * q.y - p.y * q.x};
-}
-
-// lpfg's rotation by a quaternion: q⁻¹·(0,v)·q with q⁻¹ = conj(q)/|q|² (so q need not be a
-// unit quaternion, and the sense is opposite to q·v·q⁻¹).
-V3f rotatedBy(V3f v, const Quat& q) {
-  float n = 1.0f / (q.a * q.a + q.x * q.x + q.y * q.y + q.z * q.z);
-  Quat inv{q.a * n, q.x * -n, q.y * -n, q.z * -n};
-  Quat r = (inv * Quat{0.0f, v.x, v.y, v.z}) * q;
-  return V3f(r.x, r.y, r.z);
 }
 
 // Turns v towards `target` (lpfg's Vector3d::RotateTo, used by torques): by half of

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "TerrainPatches.h"
+#include "Quaternion.h"
 #include "TextLines.h"
 
 #include <algorithm>
@@ -98,20 +99,7 @@ std::string trimmed(std::string_view s) {
   return std::string(s.substr(b, e - b));
 }
 
-// Hamilton quaternions for the deprecated view: form (lpfg: Vector3d::RotateBy(q) = q⁻¹ v q).
-struct Quat {
-  float a, x, y, z;
-};
-Quat mul(const Quat& p, const Quat& q) {
-  return {p.a * q.a - (p.x * q.x + p.y * q.y + p.z * q.z), p.a * q.x + q.a * p.x + p.y * q.z - p.z * q.y,
-          p.a * q.y + q.a * p.y + p.z * q.x - p.x * q.z, p.a * q.z + q.a * p.z + p.x * q.y - p.y * q.x};
-}
-V3f rotateBy(const V3f& v, const Quat& q) {
-  float n = q.a * q.a + q.x * q.x + q.y * q.y + q.z * q.z;
-  Quat inv{q.a / n, -q.x / n, -q.y / n, -q.z / n};
-  Quat r = mul(mul(inv, Quat{0, v.x, v.y, v.z}), q);
-  return {r.x, r.y, r.z};
-}
+// The deprecated view: form's rotations (lpfg: DrawParams, Vector3d::RotateBy).
 Quat axisAngle(float degrees, float ax, float ay, float az) {
   constexpr float kPi = 3.14159265358979f;
   float half = 0.5f * degrees * kPi / 180.0f;
@@ -775,9 +763,9 @@ class Parser {
     const char* q = p;
     if (scanFloats(q, old, 7) == 7) {
       // Deprecated: view: id rx ry rz zoom px py pz.
-      Quat rot = mul(mul(axisAngle(old[0], 1, 0, 0), axisAngle(old[1], 0, 1, 0)), axisAngle(old[2], 0, 0, 1));
-      view.dir = rotateBy(view.dir.value_or(V3f{0, 0, -1}), rot);
-      view.up = rotateBy(view.up.value_or(V3f{0, 1, 0}), rot);
+      Quat rot = axisAngle(old[0], 1, 0, 0) * axisAngle(old[1], 0, 1, 0) * axisAngle(old[2], 0, 0, 1);
+      view.dir = rotatedBy(view.dir.value_or(V3f{0, 0, -1}), rot);
+      view.up = rotatedBy(view.up.value_or(V3f{0, 1, 0}), rot);
       view.pan = V3f{old[4], old[5], old[6]};
       view.shift.reset();  // lpfg sets 0: computed from the bounding box
       if (old[3] == 0) warn(at, "view: zoom 0 ignored");
