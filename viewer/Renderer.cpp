@@ -90,9 +90,9 @@ uniform vec3 uLightDiff[MAX_LIGHTS];
 uniform vec3 uLightSpec[MAX_LIGHTS];
 
 vec4 pal(int row, int ci) { return texelFetch(uPalette, ivec2(clamp(ci, 0, 255), row), 0); }
-// Indices 0..255, or 0x1RRGGBB: a colour as it is (runtime::kRgbColor).
+// Indices 0..255, or RGB_COLOR | 0xRRGGBB: a colour as it is (runtime::kRgbColor).
 vec4 flatColor(int ci) {
-  if (ci >= 0x1000000) return vec4(float((ci >> 16) & 255), float((ci >> 8) & 255), float(ci & 255), 255.0) / 255.0;
+  if (ci >= RGB_COLOR) return vec4(float((ci >> 16) & 255), float((ci >> 8) & 255), float(ci & 255), 255.0) / 255.0;
   return uColors[clamp(ci, 0, 255)];
 }
 
@@ -153,7 +153,7 @@ uniform mat4 uView, uProj, uPV, uShadowMatrix;
 uniform int uOneSided;  // back faces lit as the front (lpfg after a terrain, see Geometry.h)
 
 void shade(vec3 world, vec3 normal, int ci, bool front) {
-  bool unlit = uLit == 0 || dot(normal, normal) == 0.0 || ci >= 0x1000000;
+  bool unlit = uLit == 0 || dot(normal, normal) == 0.0 || ci >= RGB_COLOR;
 #if defined(FLAT) || defined(SMOOTH)
   if (unlit) {
     vFront = flatColor(ci); vBack = vFront;
@@ -756,7 +756,8 @@ struct Renderer::Impl {
     if (&p == &text) {
       p.id = link(std::string("#version 330 core\n") + kTextVS, std::string("#version 330 core\n") + kTextFS, err);
     } else {
-      std::string prelude = std::string("#version 330 core\n") + variantDefine(p.variant) + kCommon;
+      std::string prelude = std::string("#version 330 core\n") + variantDefine(p.variant) +
+                            "#define RGB_COLOR " + std::to_string(runtime::kRgbColor) + "\n" + kCommon;
       const char* body = p.kind == 0 ? kMeshVS : p.kind == 1 ? kSegmentVS : kLineVS;
       p.id = link(prelude + kVaryingsVS + body, prelude + kFS, err);
       GLuint block = glGetUniformBlockIndex(p.id, "Colors");
