@@ -129,10 +129,8 @@ llvm::Expected<CommSpec> parseCommSpec(std::string_view text, const std::string&
 }
 
 llvm::Expected<CommSpec> loadCommSpec(const std::string& path, std::vector<ViewFileWarning>& warnings) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  auto buf = textfile::readFile(path);
+  if (!buf) return buf.takeError();
   return parseCommSpec((*buf)->getBuffer(), path, warnings);
 }
 

@@ -558,10 +558,8 @@ llvm::Expected<Contour> Contour::parse(const std::vector<std::string_view>& line
 }
 
 llvm::Expected<Contour> Contour::load(const std::string& path) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  auto buf = textfile::readFile(path);
+  if (!buf) return buf.takeError();
   auto lines = splitLines((*buf)->getBuffer());
   size_t line = 0;
   auto c = parse(lines, &line, path);
@@ -607,11 +605,10 @@ llvm::Error ContourStore::loadSetText(std::string_view text, const std::string& 
 }
 
 llvm::Error ContourStore::loadSet(const std::string& path) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
+  auto buf = textfile::readFile(path);
   if (!buf) {
     clear();
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+    return buf.takeError();
   }
   return loadSetText((*buf)->getBuffer(), path);
 }

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "llvm/Support/MemoryBuffer.h"
+#include "TextLines.h"
 
 #define TINYOBJLOADER_IMPLEMENTATION
 #include <tiny_obj_loader.h>
@@ -438,10 +439,8 @@ llvm::Expected<MeshData> parsePly(std::string_view bytes, const std::string& fil
 }
 
 llvm::Expected<MeshData> loadMesh(const std::string& path, const MeshLoadOptions& options) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/false);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  auto buf = textfile::readFile(path, /*text=*/false);
+  if (!buf) return buf.takeError();
   std::string_view data = (*buf)->getBuffer();
   const std::string lp = lower(path);
   auto ends = [&](const char* s) { size_t n = std::strlen(s); return lp.size() >= n && lp.compare(lp.size() - n, n, s) == 0; };

@@ -266,10 +266,8 @@ llvm::Expected<BezierSurface> parseSurface(std::string_view text, const std::str
 }
 
 llvm::Expected<BezierSurface> loadSurface(const std::string& path) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  auto buf = textfile::readFile(path);
+  if (!buf) return buf.takeError();
   return parseSurface((*buf)->getBuffer(), path);
 }
 

@@ -169,10 +169,8 @@ llvm::Expected<TerrainPatchFile> parseTerrainPatches(std::string_view text, cons
 }
 
 llvm::Expected<TerrainPatchFile> loadTerrainPatches(const std::string& path, int levels) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  auto buf = textfile::readFile(path);
+  if (!buf) return buf.takeError();
   return parseTerrainPatches((*buf)->getBuffer(), path, levels);
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "llvm/Support/Error.h"
+#include "llvm/Support/MemoryBuffer.h"
 
 namespace lcjit::runtime::textfile {
 
@@ -17,6 +18,16 @@ inline llvm::Error fail(const std::string& file, size_t line, const std::string&
 inline llvm::Error failAt(const std::string& file, size_t line, size_t column, const std::string& msg) {
   return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu:%zu: error: %s", file.c_str(), line, column,
                                  msg.c_str());
+}
+
+// The whole file, or "PATH: error: cannot open file: why". `text`: line ends as the platform's
+// text files have them (false for binary formats).
+inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::string& path, bool text = true) {
+  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/text);
+  if (!buf)
+    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
+                                   buf.getError().message().c_str());
+  return std::move(*buf);
 }
 
 // The lines of `text` without their '\n' (and '\r'); no empty last line after a final newline.

@@ -45,12 +45,12 @@ bool scanFloat(const char*& p, float& v) {
   p = end;
   return true;
 }
-// sscanf("%d")-style.
-bool scanInt(const char*& p, int& v) {
+// sscanf("%d")-style; base 0 is %i's (0x and 0 prefixes).
+bool scanInt(const char*& p, int& v, int base = 10) {
   const char* start = skipBlanks(p);
   char* end = nullptr;
   errno = 0;
-  long x = std::strtol(start, &end, 10);
+  long x = std::strtol(start, &end, base);
   if (end == start) return false;
   if (errno == ERANGE || x > INT_MAX || x < INT_MIN) x = x < 0 ? INT_MIN : INT_MAX;
   v = (int)x;
@@ -648,19 +648,8 @@ class Parser {
     TerrainDeclaration t;
     const char* p = skipNonBlanks(at);
     t.file.assign(at, p);
-    // sscanf semantics: values are read in order until one does not convert; %i takes 0x and 0
-    // prefixes.
-    auto scanI = [&](int& v) {
-      const char* start = skipBlanks(p);
-      char* end = nullptr;
-      errno = 0;
-      long x = std::strtol(start, &end, 0);
-      if (end == start) return false;
-      if (errno == ERANGE || x > INT_MAX || x < INT_MIN) x = x < 0 ? INT_MIN : INT_MAX;
-      v = (int)x;
-      p = end;
-      return true;
-    };
+    // sscanf("%i %f %f %s %i %f %f") semantics: values are read in order until one does not
+    // convert. where[i]: value i's column, for warnings.
     auto scanWord = [&](std::string& w) {
       const char* start = skipBlanks(p);
       if (!*start) return false;
@@ -669,18 +658,11 @@ class Parser {
       return true;
     };
     std::string grid = "off";
-    const char* where[7] = {at, at, at, at, at, at, at};  // each value's column, for warnings
-    for (int i = 0; i < 7; ++i) {
-      where[i] = skipBlanks(p);
-      bool read = i == 0   ? scanI(t.levels)
-                  : i == 1 ? scanFloat(p, t.scale)
-                  : i == 2 ? scanFloat(p, t.distance)
-                  : i == 3 ? scanWord(grid)
-                  : i == 4 ? scanI(t.texture)
-                  : i == 5 ? scanFloat(p, t.uTiling)
-                           : scanFloat(p, t.vTiling);
-      if (!read) break;
-    }
+    const char* where[7] = {at, at, at, at, at, at, at};
+    auto next = [&](int i) { return where[i] = skipBlanks(p), true; };
+    (void)(next(0) && scanInt(p, t.levels, 0) && next(1) && scanFloat(p, t.scale) && next(2) &&
+           scanFloat(p, t.distance) && next(3) && scanWord(grid) && next(4) && scanInt(p, t.texture, 0) && next(5) &&
+           scanFloat(p, t.uTiling) && next(6) && scanFloat(p, t.vTiling));
     t.grid = grid.compare(0, 2, "on") == 0;
     if (t.levels < 1) return warn(where[0], "terrain: invalid number of levels " + std::to_string(t.levels));
     if (t.levels > kMaxTerrainLevels)
