@@ -16,7 +16,6 @@ bool inside(double alpha, double beta, double gamma) {
   return alpha >= 0.0 && alpha <= 1.0 && beta >= 0.0 && beta <= 1.0 && gamma >= 0.0 && gamma <= 1.0;
 }
 
-V3f toFloat(const V3d& v) { return V3f((float)v.x, (float)v.y, (float)v.z); }
 
 // A strip's first four vertices, as offsets from the cell's corner (u, v): A B C D when the
 // diagonal joins A and D, else B A D C.
@@ -122,7 +121,7 @@ std::optional<Terrain::Node> Terrain::under(V3d point, Node n, bool drawnCounts)
 }
 
 bool Terrain::rayCast(V3f world, V3f& point, V3f& normal) {
-  auto node = under(V3d(world.x, world.y, world.z), Node{0, 0, 0}, false);
+  auto node = under(V3d(world), Node{0, 0, 0}, false);
   if (!node) return false;
   const Patch& p = patch(*node);
   world.y = (float)p.maxHeight;
@@ -141,8 +140,8 @@ bool Terrain::rayCast(V3f world, V3f& point, V3f& normal) {
       double S2 = 0.5 * ((P - C) % (P - A)).Length();
       double alpha = S1 / S, beta = S2 / S, gamma = 1 - alpha - beta;
       if (inside(alpha, beta, gamma)) {
-        point = toFloat(P);
-        normal = toFloat(N);
+        point = V3f(P);
+        normal = V3f(N);
         return true;
       }
       // The second triangle (u,v) (u+1,v) (u+1,v+1), tested with the same point.
@@ -154,8 +153,8 @@ bool Terrain::rayCast(V3f world, V3f& point, V3f& normal) {
       beta = S2 / S;
       gamma = 1 - alpha - beta;
       if (inside(alpha, beta, gamma)) {
-        point = toFloat(P);
-        normal = toFloat(N);
+        point = V3f(P);
+        normal = V3f(N);
         return true;
       }
     }
@@ -188,7 +187,7 @@ void Terrain::visibilityAll(VisibilityMode mode) {
 
 void Terrain::visibilityPatch(VisibilityMode mode, V3f world) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (auto node = under(V3d(world.x, world.y, world.z), Node{0, 0, 0}, true)) setMode(*node, mode);
+  if (auto node = under(V3d(world), Node{0, 0, 0}, true)) setMode(*node, mode);
 }
 
 void Terrain::scaleBy(float factor) {
@@ -211,8 +210,8 @@ void Terrain::measureExtent() {
   extent_ = Bounds{};
   for (const auto& level : levels_) {
     for (const Patch& p : level) {
-      extent_.add(toFloat(p.topLeft));
-      extent_.add(toFloat(p.bottomRight));
+      extent_.add(V3f(p.topLeft));
+      extent_.add(V3f(p.bottomRight));
     }
   }
 }
@@ -285,9 +284,9 @@ class Terrain::Writer {
     const Patch& p = *p_;
     size_t k = p.at(u, v);
     MeshVertex m;
-    m.position = toFloat(p.points[k]);
-    m.normal = toFloat(negated ? V3d(-p.normals[k]) : p.normals[k]);
-    m.uv = V2f((float)p.uvs[k].x, (float)p.uvs[k].y);
+    m.position = V3f(p.points[k]);
+    m.normal = V3f(negated ? V3d(-p.normals[k]) : p.normals[k]);
+    m.uv = V2f(p.uvs[k]);
     m.color = color_;
     lastUV_ = m.uv;
     return out_.addVertex(m);
@@ -403,11 +402,11 @@ class Terrain::Writer {
     const V3d m(p.midPoint.x, p.topLeft.y, p.midPoint.z);
     const V3d a = m + 0.95 * (p.topLeft - m), b = m + 0.95 * (p.bottomRight - m);
     const int32_t yellow = lineColor(false), red = lineColor(true);
-    auto line = [&](V3d from, V3d to, bool crack) { out_.addSegment({toFloat(from), toFloat(to), 1, crack ? red : yellow}); };
-    line(V3d(a.x, a.y, a.z), V3d(b.x, a.y, a.z), p.cracks.n);
-    line(V3d(b.x, a.y, a.z), V3d(b.x, b.y, b.z), p.cracks.e);
-    line(V3d(b.x, b.y, b.z), V3d(a.x, b.y, b.z), p.cracks.s);
-    line(V3d(a.x, b.y, b.z), V3d(a.x, a.y, a.z), p.cracks.w);
+    auto line = [&](V3d from, V3d to, bool crack) { out_.addSegment({V3f(from), V3f(to), 1, crack ? red : yellow}); };
+    line(a, V3d(b.x, a.y, a.z), p.cracks.n);
+    line(V3d(b.x, a.y, a.z), b, p.cracks.e);
+    line(b, V3d(a.x, b.y, b.z), p.cracks.s);
+    line(V3d(a.x, b.y, b.z), a, p.cracks.w);
   }
   // Yellow or red times the texel at the last texture coordinate (GL_NEAREST, GL_REPEAT).
   int32_t lineColor(bool red) const {
@@ -449,7 +448,7 @@ void Terrain::draw(const CameraPosition& camera, int color, const Image* texture
   // The camera's point: lpfg moves it along the view direction by the zoom (in floats).
   float s = (V3f(0, 0, 0) - camera.position).Length() * (-1.0f / camera.scale + 1.0f);
   V3f c = camera.position + s * camera.head;
-  camera_ = V3d(c.x, c.y, c.z);
+  camera_ = V3d(c);
   for (auto& level : levels_)
     for (Patch& p : level) p.drawn = false;
   choose(Node{0, 0, 0});

@@ -19,20 +19,14 @@ constexpr int kMinCoarse = 10;  // lpfg's MIN_HEIGHT / MIN_WIDTH
 constexpr double kInitialOffset = 0.000001;  // lpfg's err_tol in the initial net
 constexpr size_t kMaxPoints = size_t(1) << 24;
 
-// lpfg's point arithmetic: c·p per coordinate, sums left to right.
-P mul(const P& p, double c) { return {c * p.x, c * p.y, c * p.z}; }
-P sum(const P& a, const P& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-P sub(const P& a, const P& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-P lin(const P& a, double ca, const P& b, double cb) { return sum(mul(a, ca), mul(b, cb)); }
-P lin(const P& a, double ca, const P& b, double cb, const P& c, double cc) { return sum(lin(a, ca, b, cb), mul(c, cc)); }
-double dot(const P& a, const P& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double length(const P& p) { return std::sqrt(dot(p, p)); }
-P cross(const P& a, const P& b) { return {b.z * a.y - b.y * a.z, b.x * a.z - b.z * a.x, b.y * a.x - b.x * a.y}; }
+// lpfg's weighted sums of points, left to right.
+P lin(const P& a, double ca, const P& b, double cb) { return a * ca + b * cb; }
+P lin(const P& a, double ca, const P& b, double cb, const P& c, double cc) { return lin(a, ca, b, cb) + c * cc; }
 
 // A weighted sum Σ w_k·line[at(k)], left to right.
 template <class At> P weighted(const std::vector<P>& line, const double* w, int n, At at) {
-  P s = mul(line[size_t(at(0))], w[0]);
-  for (int k = 1; k < n; ++k) s = sum(s, mul(line[size_t(at(k))], w[k]));
+  P s = line[size_t(at(0))] * w[0];
+  for (int k = 1; k < n; ++k) s = s + line[size_t(at(k))] * w[k];
   return s;
 }
 
@@ -285,13 +279,13 @@ BSplineNet BSplineNet::add(const BSplineNet& l, const BSplineNet& r) {
   BSplineNet s = a;
   for (int i = 0; i < a.rows_; ++i)
     for (int j = 0; j < a.columns_; ++j)
-      s.at(i, j) = i < b.rows_ && j < b.columns_ ? sum(a.at(i, j), b.at(i, j)) : a.at(i, j);
+      s.at(i, j) = i < b.rows_ && j < b.columns_ ? a.at(i, j) + b.at(i, j) : a.at(i, j);
   return s;
 }
 
 BSplineNet BSplineNet::scaled(double c) const {
   BSplineNet s = *this;
-  for (P& p : s.points_) p = mul(p, c);
+  for (P& p : s.points_) p = p * c;
   return s;
 }
 
@@ -319,13 +313,13 @@ BSplinePoint BSplineNet::normal(double u, double v) const {
 
 BSplinePoint BSplineNet::normalAt(double u, double v, const BSplinePoint& at) const {
   const double d = 0.05, inv = 1.0 / 0.05;
-  P du = u > 5.0 ? mul(sub(at, point(u - d, v)), inv) : mul(sub(point(u + d, v), at), inv);
-  P dv = v > 5.0 ? mul(sub(at, point(u, v - d)), inv) : mul(sub(point(u, v + d), at), inv);
-  du = mul(du, 1 / length(du));
-  dv = mul(dv, 1 / length(dv));
-  P n = cross(du, dv);
-  float l = (float)length(n);
-  n = mul(n, 1 / l);
+  P du = (u > 5.0 ? at - point(u - d, v) : point(u + d, v) - at) * inv;
+  P dv = (v > 5.0 ? at - point(u, v - d) : point(u, v + d) - at) * inv;
+  du = du * (1 / du.Length());
+  dv = dv * (1 / dv.Length());
+  P n = du % dv;
+  float l = (float)n.Length();
+  n = n * double(1 / l);
   // (NaN where a difference vanishes, as in lpfg)
   return n;
 }
@@ -353,7 +347,7 @@ PatchGrid BSplineNet::mesh(const Grid& g, int uTex, int vTex) {
   if (g.positions.empty()) return m;
   m.uDiv = g.uDiv;
   m.vDiv = g.vDiv;
-  auto f = [](const P& p) { return V3f(float(p.x), float(p.y), float(p.z)); };
+  auto f = [](const P& p) { return V3f(p); };
   for (int i = 0; i <= g.uDiv; ++i)
     for (int j = 0; j <= g.vDiv; ++j) {
       size_t k = m.at(i, j);
@@ -366,7 +360,7 @@ PatchGrid BSplineNet::mesh(const Grid& g, int uTex, int vTex) {
       const uint32_t a = uint32_t(m.at(i, j)), b = uint32_t(m.at(i + 1, j)), c = uint32_t(m.at(i + 1, j + 1)),
                      d = uint32_t(m.at(i, j + 1));
       // lpfg: the diagonal (i,j+1)-(i+1,j) when those ends' normals agree more than the other pair's.
-      if (dot(g.normals[d], g.normals[b]) > dot(g.normals[c], g.normals[a]))
+      if (g.normals[d] * g.normals[b] > g.normals[c] * g.normals[a])
         m.indices.insert(m.indices.end(), {d, a, b, d, b, c});
       else
         m.indices.insert(m.indices.end(), {d, a, c, a, b, c});

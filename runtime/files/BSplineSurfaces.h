@@ -30,9 +30,9 @@
 
 namespace lcjit::runtime {
 
-struct BSplinePoint {
-  double x = 0, y = 0, z = 0;
-};
+// lpfg's Vector3d arithmetic is V3td's, operation for operation (products c·p per coordinate,
+// sums left to right).
+using BSplinePoint = V3td;
 
 class BSplineNet {
  public:
