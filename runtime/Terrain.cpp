@@ -240,22 +240,18 @@ void Terrain::choose(Node n) {
   for (int quadrant : {1, 0, 3, 2}) choose(child(n, quadrant));  // NE, NW, SE, SW
 }
 
-void Terrain::markCracks(Node n) {
-  Patch& p = patch(n);
-  if (!p.drawn) {
-    for (int quadrant : {1, 0, 3, 2}) markCracks(child(n, quadrant));
-    return;
-  }
-  p.cracks = Cracks();
-  if (n.level < 2) return;
+Terrain::Cracks Terrain::cracksOf(Node n) const {
+  Cracks c;
+  if (n.level < 2) return c;
   // Only the sides facing away from the siblings can meet a coarser patch: its parent is drawn.
   const int side = 1 << n.level;
   auto parentDrawn = [&](int row, int col) { return patch(Node{n.level - 1, row / 2, col / 2}).drawn; };
   const bool south = n.row & 1, east = n.col & 1;
-  if (!south && n.row > 0) p.cracks.n = parentDrawn(n.row - 1, n.col);
-  if (south && n.row + 1 < side) p.cracks.s = parentDrawn(n.row + 1, n.col);
-  if (!east && n.col > 0) p.cracks.w = parentDrawn(n.row, n.col - 1);
-  if (east && n.col + 1 < side) p.cracks.e = parentDrawn(n.row, n.col + 1);
+  if (!south && n.row > 0) c.n = parentDrawn(n.row - 1, n.col);
+  if (south && n.row + 1 < side) c.s = parentDrawn(n.row + 1, n.col);
+  if (!east && n.col > 0) c.w = parentDrawn(n.row, n.col - 1);
+  if (east && n.col + 1 < side) c.e = parentDrawn(n.row, n.col + 1);
+  return c;
 }
 
 // Turns lpfg's GL calls for one patch into Geometry: triangle strips and triangles with their
@@ -266,8 +262,9 @@ class Terrain::Writer {
   Writer(Geometry& out, int color, int texture, const Image* image, bool grid)
       : out_(out), color_(color), texture_(texture), image_(image), grid_(grid) {}
 
-  void patch(Patch& p) {
+  void patch(const Patch& p, Cracks cracks) {
     if (p.mode == Hidden) return;
+    cracks_ = cracks;
     out_.useTexture(texture_, p.mode == Wireframe ? PolygonFill::Lines
                               : p.mode == Shaded  ? PolygonFill::Solid
                                                   : PolygonFill::Default);
@@ -276,7 +273,6 @@ class Terrain::Writer {
     borders();
     corners();
     if (grid_) gridLines();
-    p.cracks = Cracks();
   }
 
  private:
@@ -309,7 +305,7 @@ class Terrain::Writer {
   // whose normals agree better.
   void solid() {
     const Patch& p = *p_;
-    const Cracks& c = p.cracks;
+    const Cracks& c = cracks_;
     const int v0 = c.n ? 1 : 0, v1 = c.s ? p.numV - 2 : p.numV - 1;
     const int u0 = c.w ? 1 : 0, u1 = c.e ? p.numU - 2 : p.numU - 1;
     bool flipped = false;
@@ -345,7 +341,7 @@ class Terrain::Writer {
   // neighbour has): for each pair of cells, a fan of up to three triangles.
   void borders() {
     const Patch& p = *p_;
-    const Cracks& c = p.cracks;
+    const Cracks& c = cracks_;
     const int U = p.numU, V = p.numV;
     if (c.n) {
       const int v = 0;
@@ -384,7 +380,7 @@ class Terrain::Writer {
   // Where a cracked side meets an uncracked one, the corner cell's missing triangle.
   void corners() {
     const Patch& p = *p_;
-    const Cracks& c = p.cracks;
+    const Cracks& c = cracks_;
     const int U = p.numU, V = p.numV;
     if (c.n && !c.w) triangle(0, 0, 0, 1, 1, 1);
     if (c.n && !c.e) triangle(U - 1, 0, U - 2, 1, U - 1, 1);
@@ -403,10 +399,10 @@ class Terrain::Writer {
     const V3d a = m + 0.95 * (p.topLeft - m), b = m + 0.95 * (p.bottomRight - m);
     const int32_t yellow = lineColor(false), red = lineColor(true);
     auto line = [&](V3d from, V3d to, bool crack) { out_.addSegment({V3f(from), V3f(to), 1, crack ? red : yellow}); };
-    line(a, V3d(b.x, a.y, a.z), p.cracks.n);
-    line(V3d(b.x, a.y, a.z), b, p.cracks.e);
-    line(b, V3d(a.x, b.y, b.z), p.cracks.s);
-    line(V3d(a.x, b.y, b.z), a, p.cracks.w);
+    line(a, V3d(b.x, a.y, a.z), cracks_.n);
+    line(V3d(b.x, a.y, a.z), b, cracks_.e);
+    line(b, V3d(a.x, b.y, b.z), cracks_.s);
+    line(V3d(a.x, b.y, b.z), a, cracks_.w);
   }
   // Yellow or red times the texel at the last texture coordinate (GL_NEAREST, GL_REPEAT).
   int32_t lineColor(bool red) const {
@@ -429,7 +425,8 @@ class Terrain::Writer {
   int color_, texture_;
   const Image* image_;
   bool grid_;
-  Patch* p_ = nullptr;
+  const Patch* p_ = nullptr;
+  Cracks cracks_;  // of the patch being written
   std::vector<uint32_t> strip_;
   V2f lastUV_{0, 0};
 };
@@ -437,7 +434,7 @@ class Terrain::Writer {
 void Terrain::drawPatches(Node n, Writer& w) {
   Patch& p = patch(n);
   if (p.drawn) {
-    w.patch(p);
+    w.patch(p, cracksOf(n));
     return;
   }
   for (int quadrant : {1, 0, 3, 2}) drawPatches(child(n, quadrant), w);
@@ -452,7 +449,6 @@ void Terrain::draw(const CameraPosition& camera, int color, const Image* texture
   for (auto& level : levels_)
     for (Patch& p : level) p.drawn = false;
   choose(Node{0, 0, 0});
-  markCracks(Node{0, 0, 0});
   const bool textured = declaration_.texture >= 0;
   Writer w(out, color, textured ? declaration_.texture : -1, textured ? texture : nullptr, declaration_.grid);
   drawPatches(Node{0, 0, 0}, w);

@@ -83,7 +83,6 @@ class Terrain {
     double maxHeight = 0;
     bool drawn = false;  // chosen by the last draw
     VisibilityMode mode = Shaded;
-    Cracks cracks;
     size_t at(int u, int v) const { return size_t(u) * size_t(numV) + size_t(v); }
   };
   struct Node {
@@ -103,7 +102,8 @@ class Terrain {
   bool rayCast(V3f world, V3f& point, V3f& normal);
   bool split(const Patch& p, int level) const;
   void choose(Node n);
-  void markCracks(Node n);
+  // Which sides of drawn patch n meet a coarser drawn patch (after choose()).
+  Cracks cracksOf(Node n) const;
   void drawPatches(Node n, Writer& w);
   void setMode(Node n, VisibilityMode mode);
 
