@@ -69,6 +69,10 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropis
   state_ = TurtleState();
   field_ = tropisms ? tropisms : &ownField_;
   if (!tropisms) ownField_.initialised = false;
+  for (size_t i = 0; i < view_->tropisms.size() && i < kMaxTropisms; ++i) {
+    const Tropism& tr = view_->tropisms[i];
+    tropismTerms_[i] = {scaled(tr), std::sin(radians(tr.angle)), std::cos(radians(tr.torque ? 0.0f : tr.angle))};
+  }
   if (!field_->initialised) {
     // lpfg adds the view file's tropisms one by one into a global sum (tropismarr.cpp).
     *field_ = TropismField();
@@ -80,7 +84,7 @@ void Turtle::reset(const TurtleSetup& setup, Geometry* out, TropismField* tropis
         field_->twist += scaled(tr) * tr.elasticity;
         field_->twistLength = field_->twist.Length();
       } else {
-        field_->direction += scaled(tr) * std::cos(radians(tr.angle)) * tr.elasticity;
+        field_->direction += tropismTerms_[i].scaled * tropismTerms_[i].cosA * tr.elasticity;
       }
     }
   }
@@ -149,20 +153,18 @@ void Turtle::restoreTropismField() {
   if (tropisms.empty()) return;
   field_->direction = V3f(0, 0, 0);
   for (size_t i = 0; i < tropisms.size() && i < kMaxTropisms; ++i) {
-    const Tropism& tr = tropisms[i];
     field_->elasticity[i] = state_.elasticity[i];
-    field_->direction += scaled(tr) * std::cos(radians(tr.torque ? 0.0f : tr.angle)) * field_->elasticity[i];
+    field_->direction += tropismTerms_[i].scaled * tropismTerms_[i].cosA * field_->elasticity[i];
   }
 }
 
 // SetElasticity & co.: lpfg adds the change to the field rather than summing it again (for a
 // torque too, whose "angle" is 0).
 void Turtle::setElasticity(int i, float e) {
-  const Tropism& tr = view_->tropisms[i];
   float de = e - field_->elasticity[i];
   field_->elasticity[i] = e;
   state_.elasticity[i] = e;
-  field_->direction += scaled(tr) * de * std::cos(radians(tr.torque ? 0.0f : tr.angle));
+  field_->direction += tropismTerms_[i].scaled * de * tropismTerms_[i].cosA;
 }
 
 // Tropisms of the view file, applied before every F/f move (lpfg's Turtle::_AdjustTropisms):
@@ -178,10 +180,9 @@ void Turtle::applyTropisms() {
     const Tropism& tr = tropisms[i];
     if (tr.torque) continue;
     bend = true;
-    float a = radians(tr.angle);
-    float sinA = std::sin(a);
+    const float sinA = tropismTerms_[i].sinA;
     if (sinA != 0.0f) {
-      V3f T = scaled(tr);
+      const V3f& T = tropismTerms_[i].scaled;
       V3f v = cross(t.heading, T);
       float len = v.Length();
       if (len < kEpsilon) {

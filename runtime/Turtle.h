@@ -187,6 +187,13 @@ class Turtle {
   std::vector<TurtleState> stack_;
   TropismField ownField_;
   TropismField* field_ = &ownField_;
+  // Each view-file tropism's T·I, sin A and cos A (cos 0 for a torque), worked out by reset()
+  // rather than at every F, with the same float operations.
+  struct TropismTerms {
+    V3f scaled{0, 0, 0};
+    float sinA = 0, cosA = 1;
+  };
+  std::array<TropismTerms, kMaxTropisms> tropismTerms_{};
 
   struct PolygonVertex {
     V3f position, normal;
