@@ -596,18 +596,23 @@ float clampUnit(float v) {
   if (!(v >= 0.0f)) return 0.0f;
   return v > 1.0f ? 1.0f : v;
 }
-}  // namespace
 
-// Linear interpolation in lpfg's table, with lpfg's float arithmetic.
-float FunctionStore::evalCurve(const Entry& e, float v) {
-  v = clampUnit(v);
-  const size_t n = e.samples.size();
+// Linear interpolation at v in [0,1] in one of lpfg's tables, with lpfg's float arithmetic:
+// `mix(w1, i, w2, i + 1)` weighs entries i and i+1; the last entry at the end.
+template <class Table, class Mix>
+auto interpolate(const Table& table, float v, Mix mix) -> std::decay_t<decltype(table[0])> {
+  const size_t n = table.size();
   const float index = v * static_cast<float>(n - 1);
   const size_t i = static_cast<size_t>(index);
-  if (i >= n - 1) return e.samples[n - 1];
+  if (i >= n - 1) return table[n - 1];
   const float w1 = 1 - index + static_cast<float>(i);
   const float w2 = index - static_cast<float>(i);
-  return w1 * e.samples[i] + w2 * e.samples[i + 1];
+  return mix(w1, table[i], w2, table[i + 1]);
+}
+}  // namespace
+
+float FunctionStore::evalCurve(const Entry& e, float v) {
+  return interpolate(e.samples, clampUnit(v), [](float w1, float a, float w2, float b) { return w1 * a + w2 * b; });
 }
 
 // The range that tfunc and funcTangent map through. pfunc overwrites it (lpfg's side effect);
@@ -621,15 +626,10 @@ float FunctionStore::toUnit(const Entry& e, float x) {
 std::array<float, 2> FunctionStore::funcTangent(int id, float x) const {
   const Entry* e = curve(id);
   if (!e) return {0.0f, 0.0f};
-  const float v = clampUnit(toUnit(*e, x));
-  const size_t n = e->tangents.size();
-  const float index = v * static_cast<float>(n - 1);
-  const size_t i = static_cast<size_t>(index);
-  if (i >= n - 1) return e->tangents[n - 1];
-  const float w1 = 1 - index + static_cast<float>(i);
-  const float w2 = index - static_cast<float>(i);
-  return {w1 * e->tangents[i][0] + w2 * e->tangents[i + 1][0],
-          w1 * e->tangents[i][1] + w2 * e->tangents[i + 1][1]};
+  using T = std::array<float, 2>;
+  return interpolate(e->tangents, clampUnit(toUnit(*e, x)), [](float w1, const T& a, float w2, const T& b) {
+    return T{w1 * a[0] + w2 * b[0], w1 * a[1] + w2 * b[1]};
+  });
 }
 
 float FunctionStore::func(int id, float x) const {

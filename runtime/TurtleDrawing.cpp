@@ -8,6 +8,10 @@
 namespace lcjit::runtime {
 namespace {
 
+// A surface's divisions: the turtle's (SetUPrecision & co.) if set, else the surface's own, else
+// lpfg's default.
+int precision(int turtle, int own = 0) { return turtle ? turtle : own ? own : kDefaultSurfaceDivisions; }
+
 constexpr float kEpsilon = 1e-5f;
 constexpr float kPi = 3.14159265358979323846f;
 
@@ -454,8 +458,7 @@ void Turtle::addGrid(const PatchGrid& grid, bool world, V3f scale, int texture) 
 void Turtle::drawSurface(int id, V3f scale) {
   if (!setup_.shapes || id < 0 || id >= (int)setup_.shapes->surfaces.size()) return;  // lpfg: message, ignored
   const ShapeLibrary::Surface& s = setup_.shapes->surfaces[id];
-  int u = state_.uPrecision ? state_.uPrecision : s.sdiv ? s.sdiv : kDefaultSurfaceDivisions;
-  int v = state_.vPrecision ? state_.vPrecision : s.tdiv ? s.tdiv : kDefaultSurfaceDivisions;
+  int u = precision(state_.uPrecision, s.sdiv), v = precision(state_.vPrecision, s.tdiv);
   for (size_t k = 0; k < s.surface.patches.size(); ++k) {
     addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, state_.textureSet ? state_.texture : s.texture);
     for (const V3f& p : s.surface.patches[k].points) extend(inFrame(p, scale * s.scale));
@@ -497,8 +500,7 @@ void Turtle::drawBSurface(int id, float scale) {
   const ShapeLibrary::BSpline& b = setup_.shapes->bsplines[id];
   extendByNet(b.net, scale);
   int texture = b.texture < (int)view_->textures.size() ? b.texture : -1;
-  int u = state_.uPrecision ? state_.uPrecision : b.sdiv ? b.sdiv : kDefaultSurfaceDivisions;
-  int v = state_.vPrecision ? state_.vPrecision : b.tdiv ? b.tdiv : kDefaultSurfaceDivisions;
+  int u = precision(state_.uPrecision, b.sdiv), v = precision(state_.vPrecision, b.tdiv);
   addGrid(BSplineNet::mesh(b.grid(u, v), u, v), false, V3f(scale, scale, scale), texture);
 }
 
@@ -507,8 +509,7 @@ void Turtle::drawDynamicBSurface(const float* points, int maxRows, int maxColumn
   BSplineNet net = bsplineFromRecord(points, maxRows, maxColumns, rows, columns);
   if (net.empty()) return;
   extendByNet(net, 1);
-  int u = state_.uPrecision ? state_.uPrecision : kDefaultSurfaceDivisions;
-  int v = state_.vPrecision ? state_.vPrecision : kDefaultSurfaceDivisions;
+  int u = precision(state_.uPrecision), v = precision(state_.vPrecision);
   addGrid(BSplineNet::mesh(net.sample(u, v), u, v), false, V3f(1, 1, 1), -1);
 }
 
@@ -516,8 +517,7 @@ void Turtle::drawDynamicBSurface(const float* points, int maxRows, int maxColumn
 void Turtle::drawPatch(const V3tf (&points)[16], bool turtleFrame) {
   SurfaceObj patch;
   for (int i = 0; i < 16; ++i) patch.points[i] = points[i];
-  int u = state_.uPrecision ? state_.uPrecision : kDefaultSurfaceDivisions;
-  int v = state_.vPrecision ? state_.vPrecision : kDefaultSurfaceDivisions;
+  int u = precision(state_.uPrecision), v = precision(state_.vPrecision);
   addGrid(tessellatePatch(patch, u, v), !turtleFrame, V3f(1, 1, 1), -1);
   for (const V3f& p : points) extend(turtleFrame ? inFrame(p, V3f(1, 1, 1)) : p);
 }
