@@ -179,65 +179,42 @@ BSplineNet::BSplineNet(int rows, int columns) {
       at(i, j) = {(float)i / rows - 0.5 + kInitialOffset, (float)j / columns - 0.5 + kInitialOffset, 0};
 }
 
+void BSplineNet::mapLines(bool downRows, const std::function<std::vector<P>(const std::vector<P>&)>& f) {
+  const int lines = downRows ? columns_ : rows_, length = downRows ? rows_ : columns_;
+  std::vector<std::vector<P>> out(static_cast<size_t>(lines));
+  std::vector<P> line(static_cast<size_t>(length));
+  for (int k = 0; k < lines; ++k) {
+    for (int m = 0; m < length; ++m) line[size_t(m)] = downRows ? at(m, k) : at(k, m);
+    out[size_t(k)] = f(line);
+  }
+  const int newLength = out.empty() ? 0 : int(out[0].size());
+  (downRows ? rows_ : columns_) = newLength;
+  points_.assign(size_t(lines) * size_t(newLength), P{});
+  for (int k = 0; k < lines; ++k)
+    for (int m = 0; m < newLength; ++m) (downRows ? at(m, k) : at(k, m)) = out[size_t(k)][size_t(m)];
+}
+
 bool BSplineNet::refineRows() {
   if (rows_ < 4 || columns_ <= 0) return false;
-  std::vector<std::vector<P>> columnsOut;
-  for (int j = 0; j < columns_; ++j) {
-    std::vector<P> line;
-    for (int i = 0; i < rows_; ++i) line.push_back(at(i, j));
-    columnsOut.push_back(refineLine(line, true));
-  }
-  const int rows = int(columnsOut[0].size());
-  std::vector<P> pts(size_t(rows) * size_t(columns_));
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < columns_; ++j) pts[size_t(i) * size_t(columns_) + size_t(j)] = columnsOut[size_t(j)][size_t(i)];
-  rows_ = rows;
-  points_ = std::move(pts);
+  mapLines(true, [](const std::vector<P>& l) { return refineLine(l, true); });
   return true;
 }
 
 bool BSplineNet::refineColumns() {
   if (columns_ < 4 || rows_ <= 0) return false;
-  std::vector<P> pts;
-  int columns = 0;
-  for (int i = 0; i < rows_; ++i) {
-    std::vector<P> line(points_.begin() + ptrdiff_t(i) * columns_, points_.begin() + ptrdiff_t(i + 1) * columns_);
-    std::vector<P> r = refineLine(line, false);
-    columns = int(r.size());
-    pts.insert(pts.end(), r.begin(), r.end());
-  }
-  columns_ = columns;
-  points_ = std::move(pts);
+  mapLines(false, [](const std::vector<P>& l) { return refineLine(l, false); });
   return true;
 }
 
 bool BSplineNet::coarsenRows() {
   if ((rows_ + 3) / 2 < kMinCoarse || columns_ <= 0) return false;
-  const int rows = (rows_ + 3) / 2;
-  std::vector<P> pts(size_t(rows) * size_t(columns_));
-  for (int j = 0; j < columns_; ++j) {
-    std::vector<P> line;
-    for (int i = 0; i < rows_; ++i) line.push_back(at(i, j));
-    std::vector<P> c = coarsenLine(line);
-    for (int i = 0; i < rows; ++i) pts[size_t(i) * size_t(columns_) + size_t(j)] = c[size_t(i)];
-  }
-  rows_ = rows;
-  points_ = std::move(pts);
+  mapLines(true, coarsenLine);
   return true;
 }
 
 bool BSplineNet::coarsenColumns() {
   if ((columns_ + 3) / 2 < kMinCoarse || rows_ <= 0) return false;
-  std::vector<P> pts;
-  int columns = 0;
-  for (int i = 0; i < rows_; ++i) {
-    std::vector<P> line(points_.begin() + ptrdiff_t(i) * columns_, points_.begin() + ptrdiff_t(i + 1) * columns_);
-    std::vector<P> c = coarsenLine(line);
-    columns = int(c.size());
-    pts.insert(pts.end(), c.begin(), c.end());
-  }
-  columns_ = columns;
-  points_ = std::move(pts);
+  mapLines(false, coarsenLine);
   return true;
 }
 
@@ -246,24 +223,20 @@ void BSplineNet::resize(int rows, int columns, bool* stuck) {
   auto refuse = [&] {
     if (stuck) *stuck = true;
   };
-  if (rows < rows_ || columns < columns_) {
-    while (rows < rows_ && rows >= kMinCoarse)
-      if (!coarsenRows()) {
-        refuse();
-        break;
-      }
-    while (columns < columns_ && columns >= kMinCoarse)
-      if (!coarsenColumns()) {
-        refuse();
-        break;
-      }
-  }
-  if (rows > rows_ || columns > columns_) {
-    while (rows >= 2 * rows_ - 3)
-      if (!refineRows()) break;
-    while (columns >= 2 * columns_ - 3)
-      if (!refineColumns()) break;
-  }
+  while (rows < rows_ && rows >= kMinCoarse)
+    if (!coarsenRows()) {
+      refuse();
+      break;
+    }
+  while (columns < columns_ && columns >= kMinCoarse)
+    if (!coarsenColumns()) {
+      refuse();
+      break;
+    }
+  while (rows >= 2 * rows_ - 3)
+    if (!refineRows()) break;
+  while (columns >= 2 * columns_ - 3)
+    if (!refineColumns()) break;
 }
 
 BSplineNet BSplineNet::add(const BSplineNet& l, const BSplineNet& r) {

@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "Surfaces.h"  // PatchGrid
+#include <functional>
+
 #include "llvm/Support/Error.h"
 #include "lcjit/vectors.h"
 
@@ -81,6 +83,9 @@ class BSplineNet {
   static PatchGrid mesh(const Grid& g, int uTex, int vTex);
 
  private:
+  // Replaces each column (`downRows`: the points down the rows) or each row by f of it; f gives
+  // every line the same new length.
+  void mapLines(bool downRows, const std::function<std::vector<BSplinePoint>(const std::vector<BSplinePoint>&)>& f);
   // The normal at clamped (u, v), whose point `at` is: one-sided differences of the surface.
   BSplinePoint normalAt(double u, double v, const BSplinePoint& at) const;
 
