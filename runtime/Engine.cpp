@@ -821,13 +821,13 @@ void Engine::beginGuarded() {
     model_->start();
   }
   calling("the derivation length");
-  length_ = model_->derivationLength ? model_->derivationLength() : 0;
+  length_ = modelDerivationLength();
   calling("the ring L-system statement");
-  ring_ = model_->ringLsystem && model_->ringLsystem() != 0;
+  ring_ = modelRingLsystem();
   calling("the decomposition depth");
-  decompositionDepth_ = model_->decompositionDepth ? model_->decompositionDepth() : 1;
+  decompositionDepth_ = modelDecompositionDepth();
   calling("the interpretation depth");
-  interpretationDepth_ = model_->interpretationDepth ? model_->interpretationDepth() : 1;
+  interpretationDepth_ = modelInterpretationDepth();
   stopRequested_ = false;
   {
     // Whatever a Start block nproduce'd is not part of the axiom here: the buffer is fresh.

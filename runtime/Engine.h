@@ -51,6 +51,13 @@ class Engine {
   // and productions in the same order) takes over; the string and the derivation go on.
   void swapModel(const __lc_Model& model);
   const __lc_Model& model() const { return *model_; }
+  // The model's `derivation length:` (0 without one), decomposition and interpretation depths
+  // (1 without), and whether it is a ring L-system: evaluated now (they are expressions; the
+  // engine takes them after Start, DerivationLength() & co. whenever model code asks).
+  int modelDerivationLength() const { return model_->derivationLength ? model_->derivationLength() : 0; }
+  int modelDecompositionDepth() const { return model_->decompositionDepth ? model_->decompositionDepth() : 1; }
+  int modelInterpretationDepth() const { return model_->interpretationDepth ? model_->interpretationDepth() : 1; }
+  bool modelRingLsystem() const { return model_->ringLsystem && model_->ringLsystem() != 0; }
   // Environment()/NoEnvironment() (§6.11): whether the environment is ignored.
   void setIgnoreEnvironment(bool ignore) { ignoreEnvironment_ = ignore; }
   bool ignoreEnvironment() const { return ignoreEnvironment_; }

@@ -206,12 +206,11 @@ void lcjit_user_menu_clear() { lcjit::runtime::UserMenu::instance().clear(); }
 int lcjit_model_value(int what) {
   Engine* e = engine();
   if (!e) return 0;
-  const __lc_Model& m = e->model();
   switch (what) {
-    case 0: return m.derivationLength ? m.derivationLength() : 0;
-    case 1: return m.decompositionDepth ? m.decompositionDepth() : 1;
-    case 2: return m.interpretationDepth ? m.interpretationDepth() : 1;
-    default: return m.ringLsystem && m.ringLsystem() ? 1 : 0;
+    case 0: return e->modelDerivationLength();
+    case 1: return e->modelDecompositionDepth();
+    case 2: return e->modelInterpretationDepth();
+    default: return e->modelRingLsystem() ? 1 : 0;
   }
 }
 
