@@ -1,6 +1,6 @@
 // L+C → C++ rewriting (see Rewriter.h). A single pass over the token stream: top-level L+C
 // statements become functions and table entries, C++ passes through at its original position.
-#include "Rewriter.h"
+#include "frontend/Rewriter.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,8 +9,8 @@
 #include <optional>
 #include <unordered_map>
 
-#include "Lexer.h"
-#include "lcjit/abi.h"
+#include "frontend/Lexer.h"
+#include "runtime/include/lcjit/abi.h"
 
 namespace lcjit::frontend {
 namespace {
@@ -38,7 +38,7 @@ std::unordered_map<std::string, ModuleEntry> predefinedModules() {
     if (!cur.empty()) out.push_back(cur);
     return out;
   };
-#include "lcjit/stdmods.def"
+#include "runtime/include/lcjit/stdmods.def"
 #undef LCJIT_MODULE
   return m;
 }

@@ -4,7 +4,7 @@
 // key per call and calls a handler with each whole line. libedit leaves raw mode before calling
 // the handler, so a command runs — and prints — with the terminal as usual, and it shows the next
 // prompt only after the handler returns.
-#include "LineReader.h"
+#include "repl/LineReader.h"
 
 // clang-format off
 #include <cstdio>  // editline/readline.h uses FILE without including it
@@ -24,7 +24,7 @@
 #include <system_error>
 #include <vector>
 
-#include "Engine.h"
+#include "runtime/Engine.h"
 
 namespace lcjit::repl {
 namespace {

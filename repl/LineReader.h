@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "ReplText.h"
+#include "repl/ReplText.h"
 
 namespace lcjit::runtime {
 class Engine;

@@ -6,7 +6,7 @@
 // GLFW wants them. While the window is open a helper thread watches stdin, only to wake the
 // window's event wait when a key arrives. The price: while a command runs (a long :run), the
 // window does not redraw.
-#include "Repl.h"
+#include "repl/Repl.h"
 
 #include <poll.h>
 #include <pthread.h>
@@ -28,18 +28,21 @@
 #include <set>
 #include <thread>
 
-#include "Drawing.h"
-#include "Engine.h"
-#include "FileMonitor.h"
-#include "Frame.h"
-#include "Functions.h"
-#include "LineReader.h"
-#include "PlainErrors.h"
-#include "ReplText.h"
-#include "Session.h"
-#include "Window.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/FileMonitor.h"
+#include "app/Frame.h"
+#include "runtime/Functions.h"
+#include "repl/LineReader.h"
+#include "app/PlainErrors.h"
+#include "repl/ReplText.h"
+#include "app/Session.h"
+#include "viewer/Window.h"
 
-namespace lcjit {
+namespace lcjit::repl {
+// The REPL drives the application's Session and reuses its modes' pieces.
+using namespace lcjit::app;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -738,4 +741,4 @@ int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options) 
   return repl.run(inputs);
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::repl

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace lcjit {
+namespace lcjit::repl {
 
 struct ReplOptions {
   int optLevel = 1;
@@ -22,4 +22,4 @@ struct ReplOptions {
 // and the input was not a terminal (so that a script's failure shows).
 int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options);
 
-}  // namespace lcjit
+}  // namespace lcjit::repl

@@ -1,7 +1,7 @@
 // The REPL's text handling (see ReplText.h).
-#include "ReplText.h"
+#include "repl/ReplText.h"
 
-#include "TextLines.h"
+#include "runtime/files/TextLines.h"
 
 #include <algorithm>
 #include <cctype>

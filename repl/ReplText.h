@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
+#include <llvm/Support/Error.h>
 
 namespace lcjit::repl {
 

@@ -1,7 +1,7 @@
 // The derivation engine (see Engine.h). Matching follows lpfg (manual appendix 9): the strict
 // predecessor matches exactly; right context skips lateral branches and ignored modules; left
 // context steps out of branches and over whole sibling branches; SB/EB are always considered.
-#include "Engine.h"
+#include "runtime/Engine.h"
 
 #include <algorithm>
 
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "Functions.h"
+#include "runtime/Functions.h"
 
 namespace lcjit::runtime {
 namespace {

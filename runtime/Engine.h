@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "ModelGuard.h"
-#include "ModuleString.h"
-#include "Random.h"
-#include "Environment.h"
-#include "Turtle.h"
-#include "lcjit/abi.h"
-#include "llvm/Support/Error.h"
+#include "runtime/ModelGuard.h"
+#include "runtime/ModuleString.h"
+#include "runtime/Random.h"
+#include "runtime/Environment.h"
+#include "runtime/turtle/Turtle.h"
+#include "runtime/include/lcjit/abi.h"
+#include <llvm/Support/Error.h>
 
 namespace lcjit::runtime {
 

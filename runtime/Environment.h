@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "files/CommSpec.h"
+#include <llvm/Support/Error.h>
+#include "runtime/files/CommSpec.h"
 
 namespace lcjit::runtime {
 

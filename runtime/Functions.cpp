@@ -1,6 +1,6 @@
 // Parsers for lpfg's function files and the sampled B-spline evaluation behind
 // func/pfunc/tfunc/val. Numerics follow lpfg (lpfg/function.h, function.cpp).
-#include "Functions.h"
+#include "runtime/Functions.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Support/MemoryBuffer.h>

@@ -1,5 +1,5 @@
 // Host functions for model code: each forwards to the engine that is running the model.
-#include "HostFunctions.h"
+#include "runtime/HostFunctions.h"
 
 #include <array>
 #include <utility>
@@ -11,11 +11,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "Engine.h"
-#include "Functions.h"
-#include "Shapes.h"
-#include "Terrain.h"
-#include "WindowInput.h"
+#include "runtime/Engine.h"
+#include "runtime/Functions.h"
+#include "runtime/turtle/Shapes.h"
+#include "runtime/Terrain.h"
+#include "runtime/WindowInput.h"
 
 using lcjit::runtime::Engine;
 

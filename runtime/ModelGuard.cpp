@@ -1,6 +1,6 @@
 // The guard around model code (see ModelGuard.h and docs/faults.md).
-#include "ModelGuard.h"
-#include "Termination.h"
+#include "runtime/ModelGuard.h"
+#include "runtime/Termination.h"
 
 #include <cxxabi.h>
 #include <fcntl.h>

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "llvm/ADT/STLFunctionalExtras.h"
+#include <llvm/ADT/STLFunctionalExtras.h>
 
 namespace lcjit::runtime {
 

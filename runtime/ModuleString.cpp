@@ -1,5 +1,5 @@
 // Module buffers, descriptors and the text form of modules (see ModuleString.h).
-#include "ModuleString.h"
+#include "runtime/ModuleString.h"
 
 #include <charconv>
 #include <algorithm>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "lcjit/abi.h"
+#include "runtime/include/lcjit/abi.h"
 
 namespace lcjit::runtime {
 

@@ -1,5 +1,5 @@
 // The termination handlers: run the cleanups, then let the signal do what it did before.
-#include "Termination.h"
+#include "runtime/Termination.h"
 
 #include <atomic>
 #include <csignal>

@@ -1,11 +1,11 @@
 // The terrain of the view file (see Terrain.h). Arithmetic follows lpfg's types and order
 // (doubles for the terrain, floats for the camera point), so that the model functions give lpfg's
 // bits.
-#include "Terrain.h"
+#include "runtime/Terrain.h"
 
 #include <cmath>
 
-#include "files/Images.h"
+#include "runtime/files/Images.h"
 
 namespace lcjit::runtime {
 

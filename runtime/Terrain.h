@@ -39,10 +39,10 @@
 #include <string>
 #include <vector>
 
-#include "Geometry.h"
-#include "files/TerrainPatches.h"
-#include "files/ViewFile.h"
-#include "lcjit/types.h"
+#include "runtime/turtle/Geometry.h"
+#include "runtime/files/TerrainPatches.h"
+#include "runtime/files/ViewFile.h"
+#include "runtime/include/lcjit/types.h"
 
 namespace lcjit::runtime {
 

@@ -1,5 +1,5 @@
 // The window input model code reads (see WindowInput.h).
-#include "WindowInput.h"
+#include "runtime/WindowInput.h"
 
 namespace lcjit::runtime {
 

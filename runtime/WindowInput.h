@@ -3,7 +3,7 @@
 // mouse status (GetMouseStatus). Model code runs on the derivation thread and the window on the
 // main thread, hence the locks. In batch mode nothing feeds them: neutral values.
 #pragma once
-#include "lcjit/types.h"
+#include "runtime/include/lcjit/types.h"
 #include <map>
 #include <mutex>
 #include <string>

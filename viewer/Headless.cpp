@@ -1,4 +1,4 @@
-#include "Headless.h"
+#include "viewer/Headless.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
-#include "stb_image_write.h"
+#include <stb_image_write.h>
 
 namespace lcjit::viewer {
 

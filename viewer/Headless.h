@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "llvm/Support/Error.h"
+#include <llvm/Support/Error.h>
 
-#include "Renderer.h"
+#include "viewer/Renderer.h"
 
 namespace lcjit::viewer {
 

@@ -30,7 +30,7 @@
 //    Colours kRgbColor | 0xRRGGBB are drawn unlit as they are (the terrain's grid, glColor3f).
 //  - Labels (GLWidget::renderText): drawn over the picture, left end at the anchor, baseline 2 px
 //    below it, QFont point size = `winfont:` size (96 dpi).
-#include "Renderer.h"
+#include "viewer/Renderer.h"
 
 #include <algorithm>
 #include <cmath>

@@ -24,10 +24,10 @@
 #include <string>
 #include <vector>
 
-#include "Camera.h"
-#include "Geometry.h"
-#include "files/Palette.h"
-#include "files/ViewFile.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/turtle/Geometry.h"
+#include "runtime/files/Palette.h"
+#include "runtime/files/ViewFile.h"
 
 namespace lcjit::viewer {
 

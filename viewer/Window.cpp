@@ -6,7 +6,7 @@
 // driving the window cannot move). Mouse drags follow lpfg's tasks (viewtask.cpp): the task is
 // chosen when the button goes down, from the button and the modifiers, and each cursor motion
 // applies its delta at once, so a drag gives the same view whatever the frame rate.
-#include "Window.h"
+#include "viewer/Window.h"
 
 #include <algorithm>
 #include <array>
@@ -21,9 +21,9 @@
 #include <GLFW/glfw3.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "imgui.h"
-#include "backends/imgui_impl_glfw.h"
-#include "backends/imgui_impl_opengl3.h"
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
 
 namespace lcjit::viewer {
 namespace {

@@ -24,13 +24,13 @@
 #include <utility>
 #include <vector>
 
-#include "llvm/Support/Error.h"
+#include <llvm/Support/Error.h>
 
-#include "Camera.h"
-#include "Geometry.h"
-#include "Headless.h"  // Image, writeImage
-#include "Renderer.h"
-#include "files/ViewFile.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/turtle/Geometry.h"
+#include "viewer/Headless.h"  // Image, writeImage
+#include "viewer/Renderer.h"
+#include "runtime/files/ViewFile.h"
 
 namespace lcjit::viewer {
 

@@ -1,7 +1,7 @@
 // The built-in programs and the program side's reading of a record. honda81's rules (its
 // specification file, which queries it keeps, the float arithmetic and its order) are the facts
 // of vlab's build, measured against it; docs/environment.md lists them.
-#include "Builtin.h"
+#include "runtime/environment/Builtin.h"
 
 #include <climits>
 #include <cstdio>

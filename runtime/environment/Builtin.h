@@ -5,7 +5,7 @@
 #pragma once
 #include <memory>
 
-#include "ChildProgram.h"
+#include "runtime/environment/ChildProgram.h"
 
 namespace lcjit::runtime {
 

@@ -1,7 +1,7 @@
 // The child-process link. The protocol facts (who creates what, the semaphores' turn-taking, the
 // chunking of long transmissions, the exit request) follow vlab's libs/comm, whose slave side
 // the programs link; docs/environment.md describes them.
-#include "ChildProgram.h"
+#include "runtime/environment/ChildProgram.h"
 
 #include <atomic>
 #include <climits>
@@ -26,7 +26,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "Termination.h"
+#include "runtime/Termination.h"
 
 namespace lcjit::runtime {
 

@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "Environment.h"
+#include "runtime/Environment.h"
 
 namespace lcjit::runtime {
 

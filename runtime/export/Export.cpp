@@ -1,7 +1,7 @@
-#include "Export.h"
+#include "runtime/export/Export.h"
 
-#include "ExportCommon.h"
-#include "ExportFormats.h"
+#include "runtime/export/ExportCommon.h"
+#include "runtime/export/ExportFormats.h"
 
 namespace lcjit::runtime {
 

@@ -27,11 +27,11 @@
 #include <string_view>
 #include <vector>
 
-#include "Camera.h"
-#include "Geometry.h"
-#include "files/Palette.h"
-#include "files/ViewFile.h"
-#include "llvm/Support/Error.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/turtle/Geometry.h"
+#include "runtime/files/Palette.h"
+#include "runtime/files/ViewFile.h"
+#include <llvm/Support/Error.h>
 
 namespace lcjit::runtime {
 

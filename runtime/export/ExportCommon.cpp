@@ -1,4 +1,4 @@
-#include "ExportCommon.h"
+#include "runtime/export/ExportCommon.h"
 
 #include <cerrno>
 #include <cmath>

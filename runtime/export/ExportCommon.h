@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "Export.h"
+#include "runtime/export/Export.h"
 
 namespace lcjit::runtime::exporting {
 

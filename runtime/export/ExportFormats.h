@@ -1,6 +1,6 @@
 // Internal to the exporters: one writer per format.
 #pragma once
-#include "ExportCommon.h"
+#include "runtime/export/ExportCommon.h"
 
 namespace lcjit::runtime::exporting {
 

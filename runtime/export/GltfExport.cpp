@@ -7,8 +7,8 @@
 
 #include <tiny_gltf.h>
 
-#include "ExportCommon.h"
-#include "ExportFormats.h"
+#include "runtime/export/ExportCommon.h"
+#include "runtime/export/ExportFormats.h"
 
 namespace lcjit::runtime::exporting {
 namespace {

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ExportCommon.h"
-#include "ExportFormats.h"
+#include "runtime/export/ExportCommon.h"
+#include "runtime/export/ExportFormats.h"
 
 namespace lcjit::runtime::exporting {
 namespace {

@@ -1,7 +1,7 @@
 // The animation file (.a, manual §8.1). Keywords, defaults and tolerance follow lpfg's AnimParam
 // (animparam.cpp, configfile.cpp): a keyword is matched as a prefix of the line, numbers are read
 // the way sscanf("%d") reads them, flags are exactly `on` or `off` followed only by blanks.
-#include "AnimationFile.h"
+#include "runtime/files/AnimationFile.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "TextLines.h"
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
 

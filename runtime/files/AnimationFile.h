@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ViewFile.h"  // ViewFileWarning
+#include "runtime/files/ViewFile.h"  // ViewFileWarning
 
 namespace lcjit::runtime {
 

@@ -1,13 +1,13 @@
 // B-spline surfaces: see BSplineSurfaces.h. The formulas and their order of evaluation are lpfg's
 // (facts read from its source); the code is lcjit's.
-#include "BSplineSurfaces.h"
+#include "runtime/files/BSplineSurfaces.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/MemoryBuffer.h>
 
 namespace lcjit::runtime {
 namespace {

@@ -24,11 +24,11 @@
 #include <string_view>
 #include <vector>
 
-#include "Surfaces.h"  // PatchGrid
+#include "runtime/files/Surfaces.h"  // PatchGrid
 #include <functional>
 
-#include "llvm/Support/Error.h"
-#include "lcjit/vectors.h"
+#include <llvm/Support/Error.h>
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

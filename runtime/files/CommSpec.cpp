@@ -1,14 +1,14 @@
 // The .e reader. Commands are matched as vlab's communication library matches them: the text up
 // to the first colon (or tab) at the start of the line, exactly. The program reads this file
 // itself, so a command it would not see (one indented, say) is reported rather than guessed at.
-#include "CommSpec.h"
+#include "runtime/files/CommSpec.h"
 
 #include <cstdlib>
 #include <cstring>
 #include <optional>
 
-#include "llvm/Support/MemoryBuffer.h"
-#include "TextLines.h"
+#include <llvm/Support/MemoryBuffer.h>
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
 

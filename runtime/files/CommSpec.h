@@ -11,8 +11,8 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "ViewFile.h"  // ViewFileWarning
+#include <llvm/Support/Error.h>
+#include "runtime/files/ViewFile.h"  // ViewFileWarning
 
 namespace lcjit::runtime {
 

@@ -1,6 +1,6 @@
 // Contours: see Contours.h. Follows lpfg's contour reader and sampler (facts, not code).
-#include "Contours.h"
-#include "TextLines.h"
+#include "runtime/files/Contours.h"
+#include "runtime/files/TextLines.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/MemoryBuffer.h>
 
 namespace lcjit::runtime {
 namespace {

@@ -1,9 +1,9 @@
 // Texture images: see Images.h. PNG/JPEG through stb_image; SGI .rgb by the reader below.
-#include "Images.h"
+#include "runtime/files/Images.h"
 
 #include <cstring>
 
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/MemoryBuffer.h>
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC

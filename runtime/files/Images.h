@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "llvm/Support/Error.h"
+#include <llvm/Support/Error.h>
 
 namespace lcjit::runtime {
 

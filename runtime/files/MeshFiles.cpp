@@ -1,5 +1,5 @@
 // Mesh files: see MeshFiles.h. OBJ through tinyobjloader; PLY by the reader below.
-#include "MeshFiles.h"
+#include "runtime/files/MeshFiles.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,8 +9,8 @@
 #include <sstream>
 #include <tuple>
 
-#include "llvm/Support/MemoryBuffer.h"
-#include "TextLines.h"
+#include <llvm/Support/MemoryBuffer.h>
+#include "runtime/files/TextLines.h"
 
 #define TINYOBJLOADER_IMPLEMENTATION
 #include <tiny_obj_loader.h>

@@ -20,8 +20,8 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "lcjit/vectors.h"
+#include <llvm/Support/Error.h>
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

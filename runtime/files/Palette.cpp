@@ -1,12 +1,12 @@
 // Colormap (.map) and materials (.mat) files; formats from the vlab tools manual §3 and §4.4,
 // behaviour checked against lpfg (colormap.h/.cpp, material.h/.cpp, materialset.cpp, glenv.cpp).
-#include "Palette.h"
+#include "runtime/files/Palette.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <system_error>
 
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/MemoryBuffer.h>
 
 namespace lcjit::runtime {
 

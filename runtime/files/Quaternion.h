@@ -2,7 +2,7 @@
 // rotations and the view file's deprecated `view:` angles rotate vectors the same way, with the
 // same float operations.
 #pragma once
-#include "lcjit/vectors.h"
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

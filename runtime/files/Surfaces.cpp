@@ -1,13 +1,13 @@
 // Bézier surfaces: see Surfaces.h. Follows lpfg's surface reader and patch tessellation (facts).
-#include "Surfaces.h"
-#include "TextLines.h"
+#include "runtime/files/Surfaces.h"
+#include "runtime/files/TextLines.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/MemoryBuffer.h>
 
 namespace lcjit::runtime {
 namespace {

@@ -33,9 +33,9 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "lcjit/types.h"
-#include "lcjit/vectors.h"
+#include <llvm/Support/Error.h>
+#include "runtime/include/lcjit/types.h"
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

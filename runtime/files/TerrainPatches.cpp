@@ -1,5 +1,5 @@
 // Terrain .patch files (see TerrainPatches.h).
-#include "TerrainPatches.h"
+#include "runtime/files/TerrainPatches.h"
 
 #include <cerrno>
 #include <climits>
@@ -8,8 +8,8 @@
 #include <string>
 #include <type_traits>
 
-#include "llvm/Support/MemoryBuffer.h"
-#include "TextLines.h"
+#include <llvm/Support/MemoryBuffer.h>
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
 

@@ -27,8 +27,8 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "lcjit/vectors.h"
+#include <llvm/Support/Error.h>
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

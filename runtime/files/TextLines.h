@@ -6,8 +6,8 @@
 #include <string_view>
 #include <vector>
 
-#include "llvm/Support/Error.h"
-#include "llvm/Support/MemoryBuffer.h"
+#include <llvm/Support/Error.h>
+#include <llvm/Support/MemoryBuffer.h>
 
 namespace lcjit::runtime::textfile {
 

@@ -2,13 +2,13 @@
 // DrawParams (drawparam.cpp) and the readers it calls (lightsrc.cpp, tropism.cpp, surface.cpp,
 // mesh.h, winparams.cpp, tropismdata.cpp): numbers are read the way lpfg's sscanf/ReadFloats
 // read them, a command lpfg rejects is left out with a warning, everything else still applies.
-#include "ViewFile.h"
+#include "runtime/files/ViewFile.h"
 
 #include <cstdio>
 
-#include "TerrainPatches.h"
-#include "Quaternion.h"
-#include "TextLines.h"
+#include "runtime/files/TerrainPatches.h"
+#include "runtime/files/Quaternion.h"
+#include "runtime/files/TextLines.h"
 
 #include <algorithm>
 #include <cctype>

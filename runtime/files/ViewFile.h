@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "lcjit/vectors.h"
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

@@ -1,7 +1,7 @@
 // The animation file reader (manual §8.1, lpfg's animparam.cpp) and the frame schedule (§1.2.3).
 #include <gtest/gtest.h>
 
-#include "AnimationFile.h"
+#include "runtime/files/AnimationFile.h"
 
 using namespace lcjit::runtime;
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "BSplineSurfaces.h"
+#include "runtime/files/BSplineSurfaces.h"
 
 using namespace lcjit::runtime;
 

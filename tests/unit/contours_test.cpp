@@ -2,12 +2,12 @@
 // curve functions, blending and error handling.
 #include <gtest/gtest.h>
 
-#include "test_vectors.h"
+#include "tests/unit/test_vectors.h"
 
 #include <cmath>
 #include <string>
 
-#include "Contours.h"
+#include "runtime/files/Contours.h"
 
 using namespace lcjit::runtime;
 

@@ -14,12 +14,13 @@
 #include <sys/sem.h>
 #include <unistd.h>
 
-#include "ChildProgram.h"
-#include "Engine.h"
-#include "Session.h"
-#include "files/CommSpec.h"
+#include "runtime/environment/ChildProgram.h"
+#include "runtime/Engine.h"
+#include "app/Session.h"
+#include "runtime/files/CommSpec.h"
 
 using namespace lcjit;
+using namespace lcjit::app;
 namespace fs = std::filesystem;
 
 namespace {

@@ -19,7 +19,7 @@
 #include <tiny_obj_loader.h>
 #include <tiny_gltf.h>
 
-#include "Export.h"
+#include "runtime/export/Export.h"
 
 using namespace lcjit::runtime;
 namespace fs = std::filesystem;

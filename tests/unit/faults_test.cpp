@@ -17,11 +17,12 @@
 #include <future>
 #include <thread>
 
-#include "Engine.h"
-#include "ModelGuard.h"
-#include "Session.h"
+#include "runtime/Engine.h"
+#include "runtime/ModelGuard.h"
+#include "app/Session.h"
 
 using namespace lcjit;
+using namespace lcjit::app;
 namespace fs = std::filesystem;
 
 namespace {

@@ -1,8 +1,4 @@
-# Unit tests for runtime/Functions (lpfg function files); include()d after
-# runtime/functions.cmake and enable_testing().
-if(NOT TARGET GTest::gtest_main)
-  find_package(GTest REQUIRED)
-endif()
+# Unit tests for runtime/Functions (lpfg function files).
 add_executable(functions_test ${CMAKE_SOURCE_DIR}/tests/unit/functions_test.cpp)
 target_link_libraries(functions_test PRIVATE lcjit_functions GTest::gtest_main)
 target_compile_definitions(functions_test PRIVATE

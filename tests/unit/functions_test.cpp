@@ -1,6 +1,6 @@
 // Tests for runtime/Functions: lpfg's .func/.fset/.tset/.vset readers and the
 // func/pfunc/tfunc/val evaluators, against values derived outside this code.
-#include "Functions.h"
+#include "runtime/Functions.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // against values computed by hand from the manual's §5 and lpfg's placement rules.
 #include <gtest/gtest.h>
 
-#include "test_vectors.h"
+#include "tests/unit/test_vectors.h"
 
 #include <cmath>
 #include <filesystem>
@@ -11,11 +11,12 @@
 #include <memory>
 #include <string>
 
-#include "Drawing.h"
-#include "Engine.h"
-#include "Session.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/Session.h"
 
 using namespace lcjit;
+using namespace lcjit::app;
 using lcjit::runtime::Geometry;
 
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "Images.h"
+#include "runtime/files/Images.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC

@@ -1,7 +1,5 @@
 # Unit tests for jit/ (lcjit_jit) and frontend/Preprocess (lcjit_preprocess); include()d from
 # tests/CMakeLists.txt. One ctest entry per binary: the jit tests share one freshly built PCH.
-find_package(GTest REQUIRED)
-
 add_executable(lcjit_jit_test "${CMAKE_CURRENT_LIST_DIR}/jit_test.cpp")
 target_link_libraries(lcjit_jit_test PRIVATE lcjit_jit GTest::gtest_main)
 target_compile_definitions(lcjit_jit_test PRIVATE

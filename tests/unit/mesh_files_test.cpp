@@ -2,7 +2,7 @@
 // coordinates, colours and error handling.
 #include <gtest/gtest.h>
 
-#include "test_vectors.h"
+#include "tests/unit/test_vectors.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "MeshFiles.h"
+#include "runtime/files/MeshFiles.h"
 
 using namespace lcjit::runtime;
 

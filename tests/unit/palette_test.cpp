@@ -7,7 +7,7 @@
 #include <fstream>
 #include <vector>
 
-#include "files/Palette.h"
+#include "runtime/files/Palette.h"
 
 using namespace lcjit::runtime;
 

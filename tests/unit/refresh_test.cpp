@@ -10,9 +10,10 @@
 #include <fstream>
 #include <thread>
 
-#include "FileMonitor.h"
+#include "app/FileMonitor.h"
 
 using namespace lcjit;
+using namespace lcjit::app;
 namespace fs = std::filesystem;
 using FK = FileKind;
 

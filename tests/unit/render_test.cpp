@@ -1,4 +1,4 @@
-// Framing (runtime/Camera.cpp), the renderer and headless rendering (viewer/): synthetic
+// Framing (runtime/turtle/Camera.cpp), the renderer and headless rendering (viewer/): synthetic
 // geometry rendered offscreen through EGL, pixels checked at known places.
 #include <gtest/gtest.h>
 
@@ -9,12 +9,12 @@
 #include <filesystem>
 #include <random>
 
-#include "Camera.h"
-#include "Headless.h"
+#include "runtime/turtle/Camera.h"
+#include "viewer/Headless.h"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_STATIC
-#include "stb_image.h"
+#include <stb_image.h>
 
 using namespace lcjit;
 using namespace lcjit::runtime;

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "ReplText.h"
+#include "repl/ReplText.h"
 
 using namespace lcjit::repl;
 namespace fs = std::filesystem;

@@ -11,13 +11,14 @@
 #include <future>
 #include <thread>
 
-#include "Drawing.h"
-#include "Engine.h"
-#include "PlainErrors.h"
-#include "Session.h"
-#include "WindowInput.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/PlainErrors.h"
+#include "app/Session.h"
+#include "runtime/WindowInput.h"
 
 using namespace lcjit;
+using namespace lcjit::app;
 namespace fs = std::filesystem;
 
 namespace {

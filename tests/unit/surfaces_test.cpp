@@ -2,7 +2,7 @@
 // tessellation (positions, normals, texture coordinates) and error handling.
 #include <gtest/gtest.h>
 
-#include "test_vectors.h"
+#include "tests/unit/test_vectors.h"
 
 #include <cmath>
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "Surfaces.h"
+#include "runtime/files/Surfaces.h"
 
 using namespace lcjit::runtime;
 

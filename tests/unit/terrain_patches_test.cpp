@@ -6,7 +6,7 @@
 #include <chrono>
 #include <string>
 
-#include "TerrainPatches.h"
+#include "runtime/files/TerrainPatches.h"
 
 using namespace lcjit::runtime;
 

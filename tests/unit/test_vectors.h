@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "lcjit/vectors.h"
+#include "runtime/include/lcjit/vectors.h"
 
 inline testing::AssertionResult Near3(V3f v, float x, float y, float z, float tol) {
   if (std::fabs(v.x - x) <= tol && std::fabs(v.y - y) <= tol && std::fabs(v.z - z) <= tol)

@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "files/ViewFile.h"
+#include "runtime/files/ViewFile.h"
 
 using namespace lcjit::runtime;
 

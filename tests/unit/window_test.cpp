@@ -21,8 +21,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "Camera.h"
-#include "Window.h"
+#include "runtime/turtle/Camera.h"
+#include "viewer/Window.h"
 
 using namespace lcjit;
 using namespace lcjit::runtime;

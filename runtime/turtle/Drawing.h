@@ -5,13 +5,13 @@
 #include <string>
 #include <vector>
 
-#include "Shapes.h"
-#include "Terrain.h"
-#include "Turtle.h"
-#include "files/Contours.h"
-#include "files/Images.h"
-#include "files/Palette.h"
-#include "files/ViewFile.h"
+#include "runtime/turtle/Shapes.h"
+#include "runtime/Terrain.h"
+#include "runtime/turtle/Turtle.h"
+#include "runtime/files/Contours.h"
+#include "runtime/files/Images.h"
+#include "runtime/files/Palette.h"
+#include "runtime/files/ViewFile.h"
 
 namespace lcjit::runtime {
 

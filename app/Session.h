@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "FileMonitor.h"
+#include "app/FileMonitor.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
-#include "Builtin.h"
-#include "Engine.h"
-#include "ModelGuard.h"
-#include "llvm/Support/Error.h"
+#include "runtime/environment/Builtin.h"
+#include "runtime/Engine.h"
+#include "runtime/ModelGuard.h"
+#include <llvm/Support/Error.h>
 
 struct __lc_Model;
 
@@ -31,7 +31,7 @@ class FunctionStore;
 struct DrawingFiles;
 }  // namespace lcjit::runtime
 
-namespace lcjit {
+namespace lcjit::app {
 
 struct PhaseTimes {
   double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0, interpretMs = 0, renderMs = 0;
@@ -247,4 +247,4 @@ class Session {
 // overridable with LCJIT_RUNTIME_INCLUDE.
 std::string runtimeIncludeDir();
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "Geometry.h"
-#include "ModuleString.h"
-#include "files/Contours.h"
-#include "files/ViewFile.h"
-#include "lcjit/types.h"
-#include "lcjit/vectors.h"
+#include "runtime/turtle/Geometry.h"
+#include "runtime/ModuleString.h"
+#include "runtime/files/Contours.h"
+#include "runtime/files/ViewFile.h"
+#include "runtime/include/lcjit/types.h"
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

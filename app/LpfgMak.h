@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace lcjit {
+namespace lcjit::app {
 
 struct LpfgMakBuild {
   std::vector<std::string> sources;      // absolute paths, in the makefile's order
@@ -28,4 +28,4 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
 // A C++ source file by its name: .cpp .cc .cxx .C .c++ (what lpfg.mak and the command line give).
 bool isCppSource(const std::string& path);
 
-}  // namespace lcjit
+}  // namespace lcjit::app

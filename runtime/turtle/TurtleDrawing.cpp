@@ -2,8 +2,8 @@
 // or labels in the Geometry, with lpfg's placement rules, and grows lpfg's bounding box.
 #include <cmath>
 
-#include "Shapes.h"
-#include "Turtle.h"
+#include "runtime/turtle/Shapes.h"
+#include "runtime/turtle/Turtle.h"
 
 namespace lcjit::runtime {
 namespace {

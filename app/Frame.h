@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "Renderer.h"
-#include "llvm/Support/Error.h"
+#include "viewer/Renderer.h"
+#include <llvm/Support/Error.h>
 
 namespace lcjit::runtime {
 class Engine;
@@ -18,7 +18,7 @@ namespace lcjit::viewer {
 class HeadlessRenderer;
 }
 
-namespace lcjit {
+namespace lcjit::app {
 
 bool isFrameOutput(const std::string& path);
 
@@ -59,4 +59,4 @@ class FrameWriter {
   RenderLook look_;
 };
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -1,18 +1,18 @@
 // Pictures of the model (see Frame.h).
-#include "Frame.h"
+#include "app/Frame.h"
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 
-#include "Camera.h"
-#include "Drawing.h"
-#include "Engine.h"
-#include "Headless.h"
-#include "WindowInput.h"
-#include "export/Export.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "viewer/Headless.h"
+#include "runtime/WindowInput.h"
+#include "runtime/export/Export.h"
 
-namespace lcjit {
+namespace lcjit::app {
 namespace {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -105,4 +105,4 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   return llvm::Error::success();
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

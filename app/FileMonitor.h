@@ -24,7 +24,7 @@
 #include <string_view>
 #include <vector>
 
-namespace lcjit {
+namespace lcjit::app {
 
 enum class RefreshMode { Explicit, Continuous, Triggered };
 // "expl"/"explicit", "cont"/"continuous", "trig"/"triggered" (lpfg's -rmode values).
@@ -126,4 +126,4 @@ class FileMonitor {
   std::vector<std::string> takeReady(Clock::time_point now);
 };
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -4,14 +4,14 @@
 #pragma once
 #include <string>
 
-#include "FileMonitor.h"
-#include "Session.h"
+#include "app/FileMonitor.h"
+#include "app/Session.h"
 
 namespace lcjit::viewer {
 struct WindowOptions;
 }
 
-namespace lcjit {
+namespace lcjit::app {
 
 struct InteractiveOptions {
   int optLevel = 1;
@@ -30,4 +30,4 @@ struct InteractiveOptions {
 int runInteractive(Session& session, const ModelFiles& files, const viewer::WindowOptions& window,
                    const InteractiveOptions& options);
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -6,9 +6,9 @@
 #include <mutex>
 #include <vector>
 
-#include "files/BSplineSurfaces.h"
-#include "files/MeshFiles.h"
-#include "files/Surfaces.h"
+#include "runtime/files/BSplineSurfaces.h"
+#include "runtime/files/MeshFiles.h"
+#include "runtime/files/Surfaces.h"
 
 namespace lcjit::runtime {
 

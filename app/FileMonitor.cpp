@@ -1,5 +1,5 @@
 // Refresh policy (manual §1.2.2, §1.3) and the inotify file watcher. See FileMonitor.h.
-#include "FileMonitor.h"
+#include "app/FileMonitor.h"
 
 #include <poll.h>
 #include <sys/inotify.h>
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <filesystem>
 
-namespace lcjit {
+namespace lcjit::app {
 
 namespace fs = std::filesystem;
 
@@ -328,4 +328,4 @@ std::vector<std::string> FileMonitor::poll(int timeoutMs) {
   }
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

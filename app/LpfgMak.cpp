@@ -1,5 +1,5 @@
 // See LpfgMak.h.
-#include "LpfgMak.h"
+#include "app/LpfgMak.h"
 
 #include <llvm/Support/CommandLine.h>
 #include <llvm/Support/FileSystem.h>
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace lcjit {
+namespace lcjit::app {
 namespace fs = std::filesystem;
 
 namespace {
@@ -108,4 +108,4 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
   return build;
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

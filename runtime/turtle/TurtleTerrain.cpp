@@ -1,8 +1,8 @@
 // The Terrain module (manual §10.3): the view file's terrain drawn in the turtle's frame, as
 // lpfg's screen turtle draws it (see Turtle.h, Terrain.h).
-#include "Terrain.h"
-#include "Turtle.h"
-#include "files/Images.h"
+#include "runtime/Terrain.h"
+#include "runtime/turtle/Turtle.h"
+#include "runtime/files/Images.h"
 
 namespace lcjit::runtime {
 

@@ -4,11 +4,11 @@
 #pragma once
 #include <string>
 
-namespace lcjit {
+namespace lcjit::app {
 
 // `diagnostics`: `FILE:LINE:COL: error: MESSAGE` lines (and any others). Returns the plain
 // sentences, then "(what the compiler said:)" and `diagnostics`; `diagnostics` alone when no
 // line is an error in a user file.
 std::string inPlainLanguage(const std::string& diagnostics);
 
-}  // namespace lcjit
+}  // namespace lcjit::app

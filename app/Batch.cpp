@@ -1,7 +1,7 @@
 // Batch runs and --watch (see Batch.h).
-#include "Batch.h"
+#include "app/Batch.h"
 
-#include "Camera.h"
+#include "runtime/turtle/Camera.h"
 
 #include <poll.h>
 #include <sys/eventfd.h>
@@ -17,15 +17,15 @@
 #include <thread>
 #include <utility>
 
-#include "Background.h"
-#include "Drawing.h"
-#include "Engine.h"
-#include "FileMonitor.h"
-#include "Frame.h"
-#include "PlainErrors.h"
-#include "WindowInput.h"
+#include "app/Background.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/FileMonitor.h"
+#include "app/Frame.h"
+#include "app/PlainErrors.h"
+#include "runtime/WindowInput.h"
 
-namespace lcjit {
+namespace lcjit::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -304,4 +304,4 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
   }
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

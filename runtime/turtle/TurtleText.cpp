@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "Turtle.h"
+#include "runtime/turtle/Turtle.h"
 
 namespace lcjit::runtime {
 namespace {

@@ -19,7 +19,7 @@
 //    half height is minHeight·scale and the half width follows the window's ratio; else the half
 //    width is minWidth·scale. Perspective: fov' = 2·atan(scale·tan(fov/2)) is the vertical fov in
 //    the first case, the horizontal one in the second.
-#include "Camera.h"
+#include "runtime/turtle/Camera.h"
 
 #include <optional>
 

@@ -7,8 +7,8 @@
 
 #include <glm/glm.hpp>
 
-#include "Geometry.h"
-#include "files/ViewFile.h"
+#include "runtime/turtle/Geometry.h"
+#include "runtime/files/ViewFile.h"
 
 namespace lcjit::runtime {
 

@@ -2,9 +2,9 @@
 // from its source): Left turns H towards L about U, Up turns H towards U about L, RollR turns L
 // towards U about H; `corrected rotation: off` flips Up/Down/RollL/RollR. F applies tropisms,
 // moves, records a polygon vertex, then applies the simple tropism.
-#include "Turtle.h"
+#include "runtime/turtle/Turtle.h"
 
-#include "Quaternion.h"
+#include "runtime/files/Quaternion.h"
 
 #include <cmath>
 #include <cstring>

@@ -4,9 +4,9 @@
 #pragma once
 #include <string>
 
-#include "Session.h"
+#include "app/Session.h"
 
-namespace lcjit {
+namespace lcjit::app {
 
 struct BatchOptions {
   std::string out;  // -out: string (.str/.txt), binary string (.strb) or a picture/geometry file
@@ -30,4 +30,4 @@ int runBatch(Session& session, const ModelFiles& files, const BatchOptions& opti
 // `first`: the first load's phase times. Runs until the process is stopped.
 int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes first);
 
-}  // namespace lcjit
+}  // namespace lcjit::app

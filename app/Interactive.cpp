@@ -2,7 +2,7 @@
 // thread, so the window keeps redrawing (and rotating) while a model derives; the window shows
 // each picture the worker finishes. While the worker runs, the model is the worker's: menu items
 // that would touch it wait (they are greyed out).
-#include "Interactive.h"
+#include "app/Interactive.h"
 
 #include <algorithm>
 #include <atomic>
@@ -15,18 +15,18 @@
 #include <sstream>
 #include <thread>
 
-#include "Background.h"
-#include "Drawing.h"
-#include "Engine.h"
-#include "Frame.h"
-#include "PlainErrors.h"
-#include "WindowInput.h"
-#include "Window.h"
-#include "Camera.h"
-#include "lcjit/modules.h"
-#include "files/AnimationFile.h"
+#include "app/Background.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/Frame.h"
+#include "app/PlainErrors.h"
+#include "runtime/WindowInput.h"
+#include "viewer/Window.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/include/lcjit/modules.h"
+#include "runtime/files/AnimationFile.h"
 
-namespace lcjit {
+namespace lcjit::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -531,4 +531,4 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
   return 0;
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -11,18 +11,18 @@
 #include <string>
 #include <vector>
 
-#include "CLI/CLI.hpp"
-#include "Drawing.h"
-#include "Engine.h"
-#include "Batch.h"
-#include "Frame.h"
-#include "Interactive.h"
-#include "PlainErrors.h"
-#include "Repl.h"
-#include "ModelGuard.h"
-#include "Termination.h"
-#include "Window.h"
-#include "Session.h"
+#include <CLI/CLI.hpp>
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "app/Batch.h"
+#include "app/Frame.h"
+#include "app/Interactive.h"
+#include "app/PlainErrors.h"
+#include "repl/Repl.h"
+#include "runtime/ModelGuard.h"
+#include "runtime/Termination.h"
+#include "viewer/Window.h"
+#include "app/Session.h"
 
 namespace {
 
@@ -44,7 +44,7 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
 int main(int argc, char** argv) {
   CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
   bool batch = false, animate = false, compileOnly = false, emitCpp = false, watch = false, lab = false;
-  lcjit::BatchOptions bo;  // what a batch run does: the options below fill it in
+  lcjit::app::BatchOptions bo;  // what a batch run does: the options below fill it in
   std::string rmode, dll, libPath;
   lcjit::runtime::EngineLimits limits;
   uint64_t maxModules = limits.maxModules, maxMemory = limits.maxMemory;
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
 
   // A subcommand, so that lpfg's own command line stays as it is without it.
   CLI::App* repl = app.add_subcommand("repl", "a prompt for commands and C++ run in the loaded model (docs/repl.md)");
-  lcjit::ReplOptions replOptions;
+  lcjit::repl::ReplOptions replOptions;
   std::vector<int> replSize;
   std::vector<std::string> replInputs;
   repl->add_option("-O", replOptions.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
 
   if (*repl) {
     if (replSize.size() == 2) replOptions.width = replSize[0], replOptions.height = replSize[1];
-    return lcjit::runRepl(replInputs, replOptions);
+    return lcjit::repl::runRepl(replInputs, replOptions);
   }
 
   const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
@@ -156,19 +156,19 @@ int main(int argc, char** argv) {
     }
     if (rmode.empty()) rmode = "cont";
     if (!batch && haveDisplay && !model.empty()) {  // the window, the watcher and the REPL
-      lcjit::ReplOptions lab;
+      lcjit::repl::ReplOptions lab;
       lab.lab = true;
       lab.labFolder = std::filesystem::path(model).parent_path().string();
       if (winSize.size() == 2) lab.width = (int)winSize[0], lab.height = (int)winSize[1];
       if (app.count("-O")) lab.optLevel = bo.optLevel;
-      return lcjit::runRepl(inputs, lab);
+      return lcjit::repl::runRepl(inputs, lab);
     }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
       if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + ".png";
     }
   }
-  auto files = lcjit::classifyInputs(inputs);
+  auto files = lcjit::app::classifyInputs(inputs);
   if (!files) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
     return 1;
@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
   // handlers then come second (runtime/ModelGuard.cpp, claim).
   lcjit::runtime::interruptModelCodeOnSigint();
   lcjit::runtime::installTerminationHandlers();
-  auto session = lcjit::Session::create(cacheDir, files->languageStandard);
+  auto session = lcjit::app::Session::create(cacheDir, files->languageStandard);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
   limits.maxMemory = maxMemory;
   (*session)->setLimits(limits);
   {
-    lcjit::Session::EnvironmentSettings env;
+    lcjit::app::Session::EnvironmentSettings env;
     env.cleanEA20 = cleanEA;
     env.program.answerSeconds = environmentTimeout;
     env.start = !compileOnly && !emitCpp;
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   // Edits are coming: every compile sets up the next one's front end ahead.
   const bool watchedWindow = window && !rmode.empty() && rmode != "expl";
   (*session)->setEditedLive(watch || watchedWindow);
-  lcjit::PhaseTimes times;
+  lcjit::app::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.
     if (auto e = (*session)->load(*files, bo.optLevel, times)) llvm::consumeError(std::move(e));
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
   }
   if (auto e = (*session)->load(*files, bo.optLevel, times)) {
     std::string text = llvm::toString(std::move(e));
-    std::fprintf(stderr, "%s\n", lab ? lcjit::inPlainLanguage(lcjit::withSourceLines(text)).c_str() : text.c_str());
+    std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(lcjit::app::withSourceLines(text)).c_str() : text.c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
@@ -223,16 +223,16 @@ int main(int argc, char** argv) {
       if (winPosRel.size() == 2) w.relX = winPosRel[0], w.relY = winPosRel[1];
       w.borderless = noBorder;
       w.title = "lcjit: " + std::filesystem::path(files->lsystem).filename().string();
-      lcjit::InteractiveOptions io;
+      lcjit::app::InteractiveOptions io;
       io.optLevel = bo.optLevel;
       io.betterTier = bo.betterTier;
       io.plainErrors = lab;
       io.quiet = bo.quiet;
-      if (!rmode.empty()) io.refresh = *lcjit::parseRefreshMode(rmode);
+      if (!rmode.empty()) io.refresh = *lcjit::app::parseRefreshMode(rmode);
       io.animate = animate;
       io.verbose = bo.verbose;
       io.debug = bo.debug;
-      return lcjit::runInteractive(**session, *files, w, io);
+      return lcjit::app::runInteractive(**session, *files, w, io);
     }
     // No display: show the model as a picture beside it instead.
     bo.out = std::filesystem::path(files->lsystem).stem().string() + ".png";
@@ -240,6 +240,6 @@ int main(int argc, char** argv) {
   }
   if (winSize.size() == 2) bo.width = (int)winSize[0], bo.height = (int)winSize[1];
   bo.plainErrors = lab;
-  if (watch) return lcjit::watchBatch(**session, *files, bo, times);
-  return lcjit::runBatch(**session, *files, bo, times);
+  if (watch) return lcjit::app::watchBatch(**session, *files, bo, times);
+  return lcjit::app::runBatch(**session, *files, bo, times);
 }

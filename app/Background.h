@@ -10,7 +10,7 @@
 #include <optional>
 #include <vector>
 
-namespace lcjit {
+namespace lcjit::app {
 
 template <class T>
 class Background {
@@ -51,4 +51,4 @@ class Background {
   std::vector<std::future<T>> abandoned_;
 };
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -1,5 +1,5 @@
 // Plain-language compile errors (see PlainErrors.h).
-#include "PlainErrors.h"
+#include "app/PlainErrors.h"
 
 #include <filesystem>
 #include <regex>
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-namespace lcjit {
+namespace lcjit::app {
 namespace {
 
 // The clang and lcjit messages a beginner meets most, and what they mean in L+C terms. $1 is the
@@ -83,4 +83,4 @@ std::string inPlainLanguage(const std::string& diagnostics) {
   return plain + "(what the compiler said:)\n" + diagnostics;
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "lcjit/vectors.h"
+#include "runtime/include/lcjit/vectors.h"
 
 namespace lcjit::runtime {
 

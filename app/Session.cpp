@@ -1,6 +1,6 @@
 // Loading a model (see Session.h).
-#include "Session.h"
-#include "LpfgMak.h"
+#include "app/Session.h"
+#include "app/LpfgMak.h"
 
 #include <cctype>
 #include <chrono>
@@ -12,15 +12,15 @@
 #include <sstream>
 #include <mutex>
 
-#include "Drawing.h"
-#include "Engine.h"
-#include "Functions.h"
-#include "HostFunctions.h"
+#include "runtime/turtle/Drawing.h"
+#include "runtime/Engine.h"
+#include "runtime/Functions.h"
+#include "runtime/HostFunctions.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "jit/Compiler.h"
 
-namespace lcjit {
+namespace lcjit::app {
 namespace {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -710,4 +710,4 @@ llvm::Error Session::setParameter(const std::string& name, float value) {
   return llvm::Error::success();
 }
 
-}  // namespace lcjit
+}  // namespace lcjit::app
