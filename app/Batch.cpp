@@ -24,12 +24,12 @@
 #include "app/Frame.h"
 #include "app/PlainErrors.h"
 #include "runtime/WindowInput.h"
+#include "jit/Elapsed.h"
 
 namespace lcjit::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using jit::Clock;
 
 // -dtf/-dtfes files go to the working folder (lpfg runs in the object's folder, so the same place
 // for its users) rather than beside a model that may live in a read-only tree.
@@ -140,7 +140,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     report(std::move(e));
     return 1;
   }
-  times.deriveMs = msSince(t0);
+  times.deriveMs = jit::msSince(t0);
   if (!options.out.empty())
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
       report(std::move(e));
@@ -280,7 +280,7 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     BatchOptions quietRun = options;
     quietRun.stats = false;
     int status = run(quietRun, times);
-    double totalMs = msSince(t0);
+    double totalMs = jit::msSince(t0);
     std::string compiled = !parts->lsystem     ? "re-read"
                            : times.objectCached ? fmtMs("-O%d code from the cache in %.1f ms", session.optLevel(), times.compileMs)
                                                 : fmtMs("compiled -O%d in %.1f ms", session.optLevel(), times.compileMs) +

@@ -11,15 +11,9 @@
 #include "viewer/Headless.h"
 #include "runtime/WindowInput.h"
 #include "runtime/export/Export.h"
+#include "jit/Elapsed.h"
 
 namespace lcjit::app {
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
   if (source_ == &d) return *this;
@@ -70,7 +64,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return e;
   if (times) {
-    times->interpretMs = msSince(t0);
+    times->interpretMs = jit::msSince(t0);
     times->triangles = geometry.triangleCount();
     times->segments = geometry.segments.size();
   }
@@ -101,7 +95,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
     in.height = height_;
     if (auto e = runtime::exportGeometry(path, in)) return e;
   }
-  if (times) times->renderMs = msSince(t0);
+  if (times) times->renderMs = jit::msSince(t0);
   return llvm::Error::success();
 }
 

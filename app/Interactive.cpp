@@ -20,6 +20,7 @@
 #include "runtime/Engine.h"
 #include "app/Frame.h"
 #include "app/PlainErrors.h"
+#include "jit/Elapsed.h"
 #include "runtime/WindowInput.h"
 #include "viewer/Window.h"
 #include "runtime/turtle/Camera.h"
@@ -29,7 +30,7 @@
 namespace lcjit::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using jit::Clock;
 
 class InteractiveModel {
  public:
@@ -168,7 +169,7 @@ class InteractiveModel {
       auto p = session_.prepare(files_, options_.optLevel, r.times, what);
       if (p) r.model = std::move(*p);
       else r.error = llvm::toString(p.takeError());
-      r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      r.ms = jit::msSince(t0);
       return r;
     };
     if (what.lsystem) return compile_.start(job);

@@ -14,7 +14,6 @@ namespace lcjit::app {
 namespace fs = std::filesystem;
 
 namespace {
-llvm::Error error(const std::string& message) { return llvm::createStringError(llvm::inconvertibleErrorCode(), message); }
 
 }  // namespace
 
@@ -28,13 +27,13 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
   fs::path makefile = dir / "lpfg.mak";
   if (!fs::exists(makefile)) return std::nullopt;
   auto make = llvm::sys::findProgramByName("make");
-  if (!make) return error(makefile.string() + ": error: lcjit reads lpfg.mak with make, which is not installed");
+  if (!make) return llvm::createStringError(makefile.string() + ": error: lcjit reads lpfg.mak with make, which is not installed");
 
   // make -n in a scratch folder that links everything of the model's and has the lsys.ii lpfg's
   // translator would have made: -B prints every command, up to date or not.
   llvm::SmallString<128> scratch;
   if (auto ec = llvm::sys::fs::createUniqueDirectory("lcjit-lpfgmak", scratch))
-    return error(makefile.string() + ": error: no scratch folder to read it in: " + ec.message());
+    return llvm::createStringError(makefile.string() + ": error: no scratch folder to read it in: " + ec.message());
   struct Cleanup {
     std::string dir;
     ~Cleanup() {
@@ -59,7 +58,7 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
     std::ifstream e(err);
     std::stringstream text;
     text << e.rdbuf();
-    return error(makefile.string() + ": error: make -n could not read it" +
+    return llvm::createStringError(makefile.string() + ": error: make -n could not read it" +
                  (text.str().empty() ? (errorText.empty() ? "" : ": " + errorText) : ":\n" + text.str()));
   }
 

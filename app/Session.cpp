@@ -19,15 +19,11 @@
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "jit/Compiler.h"
+#include "jit/Elapsed.h"
 
 namespace lcjit::app {
 namespace {
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-llvm::Error error(const std::string& msg) { return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", msg.c_str()); }
 
 // A file named in the view file: relative to the view file's folder, else as given (lpfg runs in
 // the object's folder).
@@ -136,9 +132,9 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
   ModelFiles f;
   for (const auto& p : paths) {
     std::string ext = std::filesystem::path(p).extension().string();
-    if (!std::filesystem::exists(p)) return error(p + ": error: no such file");
+    if (!std::filesystem::exists(p)) return llvm::createStringError(p + ": error: no such file");
     if (ext == ".l") {
-      if (!f.lsystem.empty()) return error(p + ": error: more than one L-system file (" + f.lsystem + " and " + p + ")");
+      if (!f.lsystem.empty()) return llvm::createStringError(p + ": error: more than one L-system file (" + f.lsystem + " and " + p + ")");
       f.lsystem = p;
     } else if (ext == ".func") {
       f.functions.push_back(p);
@@ -163,11 +159,11 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
     } else if (isCppSource(p)) {
       f.sources.push_back(p);
     } else {
-      return error(p + ": error: unknown input file type '" + ext +
+      return llvm::createStringError(p + ": error: unknown input file type '" + ext +
                    "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset, .vset or C++ sources .cpp .cc .cxx .C .c++)");
     }
   }
-  if (f.lsystem.empty()) return error("error: no L-system file (.l) given");
+  if (f.lsystem.empty()) return llvm::createStringError("error: no L-system file (.l) given");
   // lpfg builds a model whose folder has an lpfg.mak with it: its sources, flags and -std.
   auto mak = readLpfgMak(std::filesystem::path(f.lsystem).parent_path().string());
   if (!mak) return mak.takeError();
@@ -273,7 +269,7 @@ std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guarded
                        : fault.kind == runtime::FaultKind::Crash || fault.kind == runtime::FaultKind::Abort
                            ? "crashed"
                            : "was stopped";
-    return error(file + ": a static constructor or destructor " + verb + ": " + fault.what);
+    return llvm::createStringError(file + ": a static constructor or destructor " + verb + ": " + fault.what);
   };
 }
 
@@ -328,7 +324,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   pp.includeDirs = files.includeDirs;
   pp.languageStandard = languageStandard_;
   if (!files.languageStandard.empty() && files.languageStandard != languageStandard_)
-    return error(files.lsystem + ": error: the model's lpfg.mak asks for -std=" + files.languageStandard +
+    return llvm::createStringError(files.lsystem + ": error: the model's lpfg.mak asks for -std=" + files.languageStandard +
                  ", and this session compiles " + languageStandard_ + ": start lcjit again for it");
   // The model's own C++ units first: the model links against them. Preprocessed as the model is
   // (their quoted headers become part of the text the object cache keys on), without its macros.
@@ -350,7 +346,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     if (!unit) return unit.takeError();
     p.sourceCode.push_back(std::move(*unit));
   }
-  const double unitsMs = msSince(unitsStart);
+  const double unitsMs = jit::msSince(unitsStart);
   t0 = std::chrono::steady_clock::now();
   for (int id = 1; id <= functions->size(); ++id) {
     std::string name(functions->nameOf(id));
@@ -370,12 +366,12 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   if (!text) return text.takeError();
   p.preprocess = pp;
   p.lsystem = files.lsystem;
-  times.preprocessMs = msSince(t0);
+  times.preprocessMs = jit::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
   auto cpp = frontend::rewrite(*text, files.lsystem);
   if (!cpp) return cpp.takeError();
-  times.rewriteMs = msSince(t0);
+  times.rewriteMs = jit::msSince(t0);
   {
     std::lock_guard<std::mutex> lock(cppMutex_);
     cpp_ = cpp->cpp;
@@ -407,7 +403,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
       // A compile error is the user's, and a full compile would say the same; anything else
       // (the old code not there to link with) is lcjit's problem: compile it all instead.
       std::string message = llvm::toString(code.takeError());
-      if (message.find("JIT link failed") == std::string::npos) return error(message);
+      if (message.find("JIT link failed") == std::string::npos) return llvm::createStringError(message);
       p.changedRules = 0;
       p.ruleCode.clear();
     }
@@ -418,7 +414,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   if (!entry) return entry.takeError();
   auto describe = reinterpret_cast<const __lc_Model* (*)()>(*entry);
   p.model = describe();
-  times.compileMs = msSince(t0) + unitsMs;
+  times.compileMs = jit::msSince(t0) + unitsMs;
   times.pchCached = stats.pchCached;
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.productionsCompiled = p.incremental ? p.changedRules : -1;
@@ -426,7 +422,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   times.frontendBegunAhead = stats.frontendBegunAhead;
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
-  if (p.model->abiVersion != __lc_AbiVersion) return error("internal error: model ABI version mismatch");
+  if (p.model->abiVersion != __lc_AbiVersion) return llvm::createStringError("internal error: model ABI version mismatch");
   p.code = std::move(*code);
   p.cpp = std::move(cpp->cpp);
   p.bufferName = co.bufferName;
@@ -590,7 +586,7 @@ std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
     t.code = std::move(*code);
     t.generation = generation;
     t.optLevel = optLevel;
-    t.compileMs = msSince(t0);
+    t.compileMs = jit::msSince(t0);
     t.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
     return t;
   };
@@ -620,7 +616,7 @@ bool Session::installTier(BetterTier tier) {
 // the model's state. A declaration's unit becomes the running code: new productions take part in
 // the next step and new globals live there.
 llvm::Expected<std::string> Session::evaluate(const std::string& input) {
-  if (!engine_) return error("error: no model is loaded");
+  if (!engine_) return llvm::createStringError("error: no model is loaded");
   std::string text = input;
   while (!text.empty() && std::isspace((unsigned char)text.back())) text.pop_back();
   size_t start = text.find_first_not_of(" \t\r\n");
@@ -693,7 +689,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     auto run = reinterpret_cast<void (*)()>(*fn);
     runtime::Fault fault = engine_->runModelCode([&] { run(); });  // model code too: Ctrl-C stops it
     std::string printed = runtime::takeReplOutput();
-    if (fault) return error("<repl>: error: " + fault.what);
+    if (fault) return llvm::createStringError("<repl>: error: " + fault.what);
     return printed;
   }
   // The form the input looks most like decides which diagnostics are shown: a definition that
@@ -702,11 +698,11 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
                                      errors[1].find("not allowed here") == std::string::npos
                                  ? errors[1]
                                  : errors[0];
-  return error(shown);
+  return llvm::createStringError(shown);
 }
 
 llvm::Error Session::setParameter(const std::string& name, float value) {
-  if (!functions_ || !functions_->setParameter(name, value)) return error("error: no .vset parameter '" + name + "'");
+  if (!functions_ || !functions_->setParameter(name, value)) return llvm::createStringError("error: no .vset parameter '" + name + "'");
   return llvm::Error::success();
 }
 

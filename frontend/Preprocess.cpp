@@ -4,6 +4,7 @@
 // (clang's -fkeep-system-includes): the C++ compile includes them, mostly from its PCH.
 #include "frontend/Preprocess.h"
 #include "frontend/CacheFiles.h"
+#include "frontend/ClangDiagnostics.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticOptions.h>
@@ -36,10 +37,6 @@
 namespace lcjit::frontend {
 
 namespace {
-
-llvm::Error makeError(const llvm::Twine& msg) {
-  return llvm::make_error<llvm::StringError>(msg, llvm::inconvertibleErrorCode());
-}
 
 bool isHSpace(char c) { return c == ' ' || c == '\t' || c == '\f' || c == '\v'; }
 
@@ -98,44 +95,6 @@ public:
 private:
   mutable std::mutex mutex_;
   std::map<std::string, std::string> originals_;
-};
-
-// Collects errors (and the notes attached to them) as `FILE:LINE:COL: error: MESSAGE` lines.
-class DiagCollector : public clang::DiagnosticConsumer {
-public:
-  void HandleDiagnostic(clang::DiagnosticsEngine::Level level, const clang::Diagnostic& info) override {
-    clang::DiagnosticConsumer::HandleDiagnostic(level, info);
-    const char* kind = nullptr;
-    switch (level) {
-    case clang::DiagnosticsEngine::Error:
-    case clang::DiagnosticsEngine::Fatal:
-      kind = "error";
-      lastWasError_ = true;
-      break;
-    case clang::DiagnosticsEngine::Note:
-      if (!lastWasError_)
-        return;
-      kind = "note";
-      break;
-    default:
-      lastWasError_ = false;
-      return;
-    }
-    llvm::raw_string_ostream os(text);
-    if (info.getLocation().isValid() && info.hasSourceManager()) {
-      const clang::SourceManager& sm = info.getSourceManager();
-      clang::PresumedLoc pl = sm.getPresumedLoc(sm.getFileLoc(info.getLocation()));
-      if (pl.isValid())
-        os << pl.getFilename() << ':' << pl.getLine() << ':' << pl.getColumn() << ": ";
-    }
-    llvm::SmallString<256> msg;
-    info.FormatDiagnostic(msg);
-    os << kind << ": " << msg << '\n';
-  }
-  std::string text;
-
-private:
-  bool lastWasError_ = false;
 };
 
 class PrintToStringAction : public clang::PreprocessorFrontendAction {
@@ -316,7 +275,7 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
   DiagCollector dc;
   auto inv = makeInvocation(args, dc);
   if (!inv)
-    return makeError(dc.text.empty() ? std::string("error: invalid preprocessor options") : dc.text);
+    return llvm::createStringError(dc.text.empty() ? std::string("error: invalid preprocessor options") : dc.text);
   inv->getFrontendOpts().DisableFree = false;
   inv->getDiagnosticOpts().ShowCarets = false;
   if (macros) {
@@ -339,7 +298,7 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
     std::string text = dc.text.empty() ? "error: preprocessing '" + args.back() + "' failed\n" : dc.text;
     while (!text.empty() && text.back() == '\n')
       text.pop_back();
-    return makeError(text);
+    return llvm::createStringError(text);
   }
   return run;
 }
@@ -435,7 +394,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   if (!options.mainText) {
     auto probe = llvm::MemoryBuffer::getFile(lsystemPath, /*IsText=*/true);
     if (!probe)
-      return makeError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
+      return llvm::createStringError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
   }
 
   std::vector<std::string> args = baseArguments(options.languageStandard);

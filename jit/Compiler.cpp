@@ -2,6 +2,8 @@
 // the runtime header. See docs in Compiler.h and /work/shared/notes/jit-latency-study.md.
 #include "jit/Compiler.h"
 #include "frontend/CacheFiles.h"
+#include "frontend/ClangDiagnostics.h"
+#include "jit/Elapsed.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticFrontend.h>
@@ -79,6 +81,7 @@
 namespace lcjit::jit {
 
 namespace orc = llvm::orc;
+using frontend::DiagCollector;
 
 // The driver derives the resource dir and the GCC installation from argv[0]; Debian's clang 19
 // lives here (packages clang-19 / libclang-common-19-dev), and the host toolchain must match.
@@ -88,61 +91,6 @@ static constexpr const char* kResourceDir = LCJIT_CLANG_RESOURCE_DIR;
 static constexpr const char* kPlaceholderInput = "lcjit-input.cpp";
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-llvm::Error makeError(const llvm::Twine& msg) {
-  return llvm::make_error<llvm::StringError>(msg, llvm::inconvertibleErrorCode());
-}
-
-// Collects errors (and the notes attached to them) as `FILE:LINE:COL: error: MESSAGE` lines.
-// PresumedLoc honours `#line`, so errors point at the user's .l file.
-class DiagCollector : public clang::DiagnosticConsumer {
-public:
-  void HandleDiagnostic(clang::DiagnosticsEngine::Level level, const clang::Diagnostic& info) override {
-    clang::DiagnosticConsumer::HandleDiagnostic(level, info);
-    const char* kind = nullptr;
-    switch (level) {
-    case clang::DiagnosticsEngine::Error:
-    case clang::DiagnosticsEngine::Fatal:
-      kind = "error";
-      lastWasError_ = true;
-      break;
-    case clang::DiagnosticsEngine::Note:
-      if (!lastWasError_)
-        return;
-      kind = "note";
-      break;
-    default:
-      lastWasError_ = false;
-      return;
-    }
-    unsigned id = info.getID();
-    if ((id >= clang::diag::DIAG_START_SERIALIZATION && id < clang::diag::DIAG_START_LEX) ||
-        id == clang::diag::err_fe_unable_to_load_pch)
-      pchProblem = true;
-
-    llvm::raw_string_ostream os(text);
-    if (info.getLocation().isValid() && info.hasSourceManager()) {
-      const clang::SourceManager& sm = info.getSourceManager();
-      clang::PresumedLoc pl = sm.getPresumedLoc(sm.getFileLoc(info.getLocation()));
-      if (pl.isValid())
-        os << pl.getFilename() << ':' << pl.getLine() << ':' << pl.getColumn() << ": ";
-    }
-    llvm::SmallString<256> msg;
-    info.FormatDiagnostic(msg);
-    os << kind << ": " << msg << '\n';
-  }
-
-  std::string text;
-  bool pchProblem = false;
-
-private:
-  bool lastWasError_ = false;
-};
 
 // Records LLVM back-end errors (e.g. bad inline asm) instead of LLVMContext's default of exit(1).
 struct BackendDiagHandler : llvm::DiagnosticHandler {
@@ -167,7 +115,7 @@ llvm::Error callCatching(Fn fn, const char* who) {
   try {
     return fn();
   } catch (...) {
-    return makeError(llvm::Twine("a ") + who + " threw an exception");
+    return llvm::createStringError(llvm::Twine("a ") + who + " threw an exception");
   }
 }
 
@@ -833,7 +781,7 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   opts.CC1Args = &L.cc1Args;
   std::unique_ptr<clang::CompilerInvocation> inv = clang::createInvocation(argv, std::move(opts));
   if (!inv)
-    return makeError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
+    return llvm::createStringError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
   inv->getFrontendOpts().DisableFree = false; // createInvocation leaves it on: ~6 MB leak per compile
   inv->getCodeGenOpts().DisableFree = false;  // and this one: clang's back end buried a TargetMachine (~28 KB) per compile
   inv->getLangOpts().PCHInstantiateTemplates = true;
@@ -1035,7 +983,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L,
   std::shared_ptr<Support> support = startSupport(L, pchPath);
   support->ready.wait();
   if (!support->jd)
-    return makeError(support->error);
+    return llvm::createStringError(support->error);
   return support->jd;
 }
 
@@ -1129,7 +1077,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
     if (executeClang(inv, action, dc))
       module = action.takeModule();
     if (!module)
-      return makeError("lcjit: cannot compile the runtime header's support code from " + pchPath + ":\n" +
+      return llvm::createStringError("lcjit: cannot compile the runtime header's support code from " + pchPath + ":\n" +
                        trimTrailingNewlines(dc.text));
     gatherInitializers(*module);
     // always_inline callees (libstdc++'s allocators) go
@@ -1176,7 +1124,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
       std::string cause = trimTrailingNewlines(state->takeSessionErrors());
       llvm::consumeError(linked.takeError());
       llvm::sys::fs::remove(cachePath);
-      return makeError("lcjit: cannot link the runtime header's support code: " + cause);
+      return llvm::createStringError("lcjit: cannot link the runtime header's support code: " + cause);
     }
   }
   if (auto err = J.initialize(*jd))
@@ -1197,9 +1145,9 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   });
 
   if (config.runtimeHeader.empty() || !llvm::sys::path::is_absolute(config.runtimeHeader))
-    return makeError("lcjit: runtimeHeader must be an absolute path, got '" + config.runtimeHeader + "'");
+    return llvm::createStringError("lcjit: runtimeHeader must be an absolute path, got '" + config.runtimeHeader + "'");
   if (!llvm::sys::fs::is_regular_file(config.runtimeHeader))
-    return makeError("lcjit: runtime header '" + config.runtimeHeader + "' not found");
+    return llvm::createStringError("lcjit: runtime header '" + config.runtimeHeader + "' not found");
 
   auto impl = std::make_unique<Impl>();
   impl->headerDir = llvm::sys::path::parent_path(config.runtimeHeader).str();
@@ -1339,7 +1287,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   };
   int level = options.optLevel;
   if (level < 0 || level > 2)
-    return makeError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(level));
+    return llvm::createStringError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(level));
   std::string bufferName = options.bufferName.empty() ? std::string("model.cpp") : options.bufferName;
   LevelSetup& L = impl_->levels[level];
   std::vector<std::shared_ptr<detail::Dylib>> stateOwners, linked;
@@ -1443,7 +1391,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         continue;
       }
       finish();
-      return makeError(trimTrailingNewlines(fr.diagnostics));
+      return llvm::createStringError(trimTrailingNewlines(fr.diagnostics));
     }
 
     auto t1 = Clock::now();
@@ -1479,7 +1427,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       if (!backendErrors->empty())
         msg = trimTrailingNewlines(*backendErrors);  // the real cause (e.g. bad inline asm)
       finish();
-      return makeError(msg);
+      return llvm::createStringError(msg);
     }
     fresh.object = std::move(*bytes);
     object = std::make_shared<const CachedObject>(std::move(fresh));
@@ -1543,7 +1491,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     state.takeSessionErrors();
     st.codegenMs += msSince(t3);
     finish();
-    return makeError(demangleMentions(msg));
+    return llvm::createStringError(demangleMentions(msg));
   };
 
   state.takeSessionErrors();

@@ -38,6 +38,7 @@
 #include "repl/ReplText.h"
 #include "app/Session.h"
 #include "viewer/Window.h"
+#include "jit/Elapsed.h"
 
 namespace lcjit::repl {
 // The REPL drives the application's Session and reuses its modes' pieces.
@@ -45,17 +46,12 @@ using namespace lcjit::app;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using jit::Clock;
 using Args = std::vector<std::string>;
 
 constexpr const char* kPrompt = "lcjit> ";
 constexpr const char* kMorePrompt = "...> ";  // C++ whose brackets are still open
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-llvm::Error error(const std::string& message) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", message.c_str());
-}
 
 std::string plural(size_t n, const std::string& word) { return std::to_string(n) + " " + word + (n == 1 ? "" : "s"); }
 
@@ -155,7 +151,7 @@ class Repl {
       // A shown window is drawn between keys; watched files are looked at ten times a second.
       auto status = reader_.poll(window_ ? 0 : watching_ ? 100 : -1);
       if (status == repl::LineReader::Status::End) {
-        if (!pendingCpp_.empty()) report(error("error: the input ended inside C++ with unclosed brackets"));
+        if (!pendingCpp_.empty()) report(llvm::createStringError("error: the input ended inside C++ with unclosed brackets"));
         break;
       }
       if (status == repl::LineReader::Status::Interrupted) {
@@ -241,14 +237,14 @@ class Repl {
     if (!words) return report(words.takeError());
     const std::string& name = words->front();
     auto it = std::find_if(commands().begin(), commands().end(), [&](const Command& c) { return name == c.name; });
-    if (it == commands().end()) return report(error("error: unknown command '" + name + "' (:help lists them)"));
-    if (it->needsModel && !session_->loaded()) return report(error("error: no model is loaded (:load [files] model.l)"));
+    if (it == commands().end()) return report(llvm::createStringError("error: unknown command '" + name + "' (:help lists them)"));
+    if (it->needsModel && !session_->loaded()) return report(llvm::createStringError("error: no model is loaded (:load [files] model.l)"));
     report((this->*(it->run))(Args(words->begin() + 1, words->end())));
   }
 
   void evaluate(const std::string& cpp) {
     if (!session_->loaded())
-      return report(error("error: no model is loaded: C++ typed here is compiled against one (:load [files] model.l)"));
+      return report(llvm::createStringError("error: no model is loaded: C++ typed here is compiled against one (:load [files] model.l)"));
     repl::LineReader::setInterruptible(&engine());  // Ctrl-C stops C++ that does not return
     auto value = session_->evaluate(cpp);
     repl::LineReader::setInterruptible(nullptr);
@@ -301,7 +297,7 @@ class Repl {
     if (auto e = session_->load(files_, options_.optLevel, times, parts)) {
       std::string message = llvm::toString(std::move(e));
       if (session_->loaded()) message += "\nlcjit: keeping the model loaded before (" + loadedFiles_.lsystem + ")";
-      return error(message);
+      return llvm::createStringError(message);
     }
     loadedFiles_ = files_;
     loadedCurrent_ = true;
@@ -355,7 +351,7 @@ class Repl {
   // ---- commands
 
   llvm::Error cmdLoad(const Args& args) {
-    if (args.empty()) return error("error: usage: :load [files] model.l");
+    if (args.empty()) return llvm::createStringError("error: usage: :load [files] model.l");
     auto files = classifyInputs(args);
     if (!files) return files.takeError();
     files_ = *files;
@@ -366,31 +362,31 @@ class Repl {
   }
 
   llvm::Error cmdReload(const Args& args) {
-    if (!args.empty()) return error("error: usage: :reload");
-    if (files_.lsystem.empty()) return error("error: nothing to reload (:load [files] model.l)");
+    if (!args.empty()) return llvm::createStringError("error: usage: :reload");
+    if (files_.lsystem.empty()) return llvm::createStringError("error: nothing to reload (:load [files] model.l)");
     return load(ReloadParts::all(), session_->loaded() ? engine().stepNo() : 0, "reloaded");
   }
 
   llvm::Error cmdStep(const Args& args) {
     std::optional<long> n = 1;
     if (args.size() == 1) n = parseInt(args[0]);
-    if (args.size() > 1 || !n || *n < 1) return error("error: usage: :step [N], N > 0");
+    if (args.size() > 1 || !n || *n < 1) return llvm::createStringError("error: usage: :step [N], N > 0");
     if (engine().ended())
-      return error("error: the derivation is over (step " + std::to_string(engine().stepNo()) + "); :rewind starts again");
+      return llvm::createStringError("error: the derivation is over (step " + std::to_string(engine().stepNo()) + "); :rewind starts again");
     deriveTo((int)std::min<long>(engine().stepNo() + *n, INT_MAX));
     printStatus();
     return llvm::Error::success();
   }
 
   llvm::Error cmdRun(const Args& args) {
-    if (!args.empty()) return error("error: usage: :run");
+    if (!args.empty()) return llvm::createStringError("error: usage: :run");
     deriveTo(INT_MAX);
     printStatus();
     return llvm::Error::success();
   }
 
   llvm::Error cmdRewind(const Args& args) {
-    if (!args.empty()) return error("error: usage: :rewind");
+    if (!args.empty()) return llvm::createStringError("error: usage: :rewind");
     begin();
     printStatus();
     return llvm::Error::success();
@@ -405,18 +401,18 @@ class Repl {
         size_t j = i + 1;
         for (; j < args.size() && args[j].rfind("--", 0) != 0; ++j) {
           int id = table.find(args[j]);
-          if (id < 0) return error("error: no module named '" + args[j] + "'");
+          if (id < 0) return llvm::createStringError("error: no module named '" + args[j] + "'");
           only.insert((__lc_ModuleId)id);
         }
-        if (j == i + 1) return error("error: --module needs module names");
+        if (j == i + 1) return llvm::createStringError("error: --module needs module names");
         i = j - 1;
       } else if ((args[i] == "--from" || args[i] == "--count") && i + 1 < args.size()) {
         auto n = parseInt(args[i + 1]);
-        if (!n || *n < 0) return error("error: " + args[i] + " needs a number, not '" + args[i + 1] + "'");
+        if (!n || *n < 0) return llvm::createStringError("error: " + args[i] + " needs a number, not '" + args[i + 1] + "'");
         (args[i] == "--from" ? from : count) = *n;
         ++i;
       } else {
-        return error("error: usage: :string [--module NAME…] [--from I] [--count N]");
+        return llvm::createStringError("error: usage: :string [--module NAME…] [--from I] [--count N]");
       }
     }
     const runtime::ModuleBuffer& s = engine().string();
@@ -450,13 +446,13 @@ class Repl {
 
   llvm::Error cmdModule(const Args& args) {
     auto index = args.size() == 1 ? parseInt(args[0]) : std::nullopt;
-    if (!index) return error("error: usage: :module I");
+    if (!index) return llvm::createStringError("error: usage: :module I");
     const runtime::ModuleTable& table = engine().modules();
     const runtime::ModuleBuffer& s = engine().string();
     size_t p = 0;
     for (long i = 0; p < s.size() && i < *index; ++i) p = table.next(s.data(), p);
     if (*index < 0 || p >= s.size())
-      return error("error: the string has " + plural(engine().moduleCount(), "module") + ", from 0");
+      return llvm::createStringError("error: the string has " + plural(engine().moduleCount(), "module") + ", from 0");
     const char* rec = s.data() + p;
     const __lc_ModuleInfo& m = table.info(runtime::ModuleTable::idAt(rec));
     std::string text;
@@ -483,9 +479,9 @@ class Repl {
       if (!any) std::printf("(no .vset parameters)\n");
       return llvm::Error::success();
     }
-    if (args.size() != 2) return error("error: usage: :set NAME VALUE");
+    if (args.size() != 2) return llvm::createStringError("error: usage: :set NAME VALUE");
     auto value = parseFloat(args[1]);
-    if (!value) return error("error: '" + args[1] + "' is not a number");
+    if (!value) return llvm::createStringError("error: '" + args[1] + "' is not a number");
     if (auto e = session_->setParameter(args[0], *value)) return e;
     std::printf("%s = %g\n", args[0].c_str(), *value);
     int at = engine().stepNo();
@@ -496,22 +492,22 @@ class Repl {
   }
 
   llvm::Error cmdTime(const Args& args) {
-    if (!args.empty()) return error("error: usage: :time");
+    if (!args.empty()) return llvm::createStringError("error: usage: :time");
     auto t0 = Clock::now();
     begin();
     deriveTo(INT_MAX);
-    double deriveMs = msSince(t0);
+    double deriveMs = jit::msSince(t0);
     t0 = Clock::now();
     runtime::Geometry geometry;
     if (auto e = engine().interpret(geometry)) return e;
-    double interpretMs = msSince(t0);
+    double interpretMs = jit::msSince(t0);
     std::printf("derived %s in %.2f ms, interpreted in %.2f ms: %s\n", plural(engine().stepNo(), "step").c_str(),
                 deriveMs, interpretMs, plural(engine().moduleCount(), "module").c_str());
     return llvm::Error::success();
   }
 
   llvm::Error cmdSave(const Args& args) {
-    if (args.size() != 1) return error("error: usage: :save FILE");
+    if (args.size() != 1) return llvm::createStringError("error: usage: :save FILE");
     const std::string& path = args[0];
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
@@ -522,9 +518,9 @@ class Repl {
     } else if (ext == ".str" || ext == ".txt") {
       std::ofstream out(path, std::ios::binary);
       out << engine().text(engine().string());
-      if (!out) return error(path + ": error: cannot write file");
+      if (!out) return llvm::createStringError(path + ": error: cannot write file");
     } else {
-      return error("error: " + path +
+      return llvm::createStringError("error: " + path +
                    ": unknown kind of file (.str .strb, .png .jpg .bmp, .obj .ply .stl .gltf .glb .svg .ps .eps .pov)");
     }
     std::printf("wrote %s\n", path.c_str());
@@ -550,16 +546,16 @@ class Repl {
       return llvm::Error::success();
     }
     auto g = args.size() == 1 ? parseInt(args[0]) : std::nullopt;
-    if (!g) return error("error: usage: :group [N]");
+    if (!g) return llvm::createStringError("error: usage: :group [N]");
     if (!groups.count((int)*g))
-      return error("error: the model has no production group " + args[0] + " (its groups: " + list + ")");
+      return llvm::createStringError("error: the model has no production group " + args[0] + " (its groups: " + list + ")");
     engine().useGroup((int)*g);
     std::printf("group %ld from the next step\n", *g);
     return llvm::Error::success();
   }
 
   llvm::Error cmdProductions(const Args& args) {
-    if (!args.empty()) return error("error: usage: :productions");
+    if (!args.empty()) return llvm::createStringError("error: usage: :productions");
     const __lc_Model& m = *session_->model();
     const runtime::ModuleTable& table = engine().modules();
     if (m.nRules == 0) std::printf("(no rules)\n");
@@ -591,7 +587,7 @@ class Repl {
 
   llvm::Error cmdWatch(const Args& args) {
     if (args.size() > 1 || (args.size() == 1 && args[0] != "on" && args[0] != "off"))
-      return error("error: usage: :watch [on|off]");
+      return llvm::createStringError("error: usage: :watch [on|off]");
     if (args.size() == 1) {
       watching_ = args[0] == "on";
       session_->setEditedLive(watching_);
@@ -605,12 +601,12 @@ class Repl {
 
   llvm::Error cmdView(const Args& args) {
     if (args.size() == 1 && args[0] == "close") {
-      if (!window_) return error("error: no window is open");
+      if (!window_) return llvm::createStringError("error: no window is open");
       closeView();
       std::printf("window closed\n");
       return llvm::Error::success();
     }
-    if (!args.empty()) return error("error: usage: :view [close]");
+    if (!args.empty()) return llvm::createStringError("error: usage: :view [close]");
     if (window_) {
       std::printf("the window is open\n");
       return llvm::Error::success();
@@ -620,7 +616,7 @@ class Repl {
     w.height = options_.height;
     w.title = "lcjit repl: " + std::filesystem::path(loadedFiles_.lsystem).filename().string();
     auto window = viewer::Window::create(w);
-    if (!window) return error("error: " + llvm::toString(window.takeError()));
+    if (!window) return llvm::createStringError("error: " + llvm::toString(window.takeError()));
     window_ = std::move(*window);
     waker_ = std::make_unique<InputWaker>();
     refreshView();
@@ -629,21 +625,21 @@ class Repl {
   }
 
   llvm::Error cmdHelp(const Args& args) {
-    if (args.size() > 1) return error("error: usage: :help [COMMAND]");
+    if (args.size() > 1) return llvm::createStringError("error: usage: :help [COMMAND]");
     bool found = false;
     for (const Command& c : commands()) {
       if (!args.empty() && args[0] != c.name && ":" + args[0] != c.name) continue;
       std::printf("%s%s%s\n      %s\n", c.name, *c.args ? " " : "", c.args, c.help);
       found = true;
     }
-    if (!found) return error("error: unknown command '" + args[0] + "'");
+    if (!found) return llvm::createStringError("error: unknown command '" + args[0] + "'");
     if (args.empty())
       std::printf("Any other line is C++, compiled against the loaded model and run: an expression prints its value.\n");
     return llvm::Error::success();
   }
 
   llvm::Error cmdQuit(const Args& args) {
-    if (!args.empty()) return error("error: usage: :quit");
+    if (!args.empty()) return llvm::createStringError("error: usage: :quit");
     quit_ = true;
     return llvm::Error::success();
   }

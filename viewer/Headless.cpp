@@ -16,10 +16,6 @@ namespace lcjit::viewer {
 
 namespace {
 
-llvm::Error error(const std::string& message) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", message.c_str());
-}
-
 std::string eglErrorText(const char* what) {
   char buf[128];
   std::snprintf(buf, sizeof buf, "%s (EGL error 0x%x)", what, (unsigned)eglGetError());
@@ -81,7 +77,7 @@ llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h) {
     std::memcpy(a, b, row);
     std::memcpy(b, tmp.data(), row);
   }
-  if (GLenum e = glGetError(); e != GL_NO_ERROR) return error("OpenGL error " + std::to_string(e) + " reading the picture");
+  if (GLenum e = glGetError(); e != GL_NO_ERROR) return llvm::createStringError("OpenGL error " + std::to_string(e) + " reading the picture");
   return img;
 }
 
@@ -105,7 +101,7 @@ struct HeadlessRenderer::Impl {
     GLint maxSize = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
     if (w <= 0 || h <= 0 || w > maxSize || h > maxSize)
-      return error("image size " + std::to_string(w) + "x" + std::to_string(h) + " not supported (at most " +
+      return llvm::createStringError("image size " + std::to_string(w) + "x" + std::to_string(h) + " not supported (at most " +
                    std::to_string(maxSize) + ")");
     if (!fbo) {
       glGenFramebuffers(1, &fbo);
@@ -120,7 +116,7 @@ struct HeadlessRenderer::Impl {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return error("offscreen framebuffer incomplete");
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return llvm::createStringError("offscreen framebuffer incomplete");
     width = w;
     height = h;
     return llvm::Error::success();
@@ -146,10 +142,10 @@ HeadlessRenderer::~HeadlessRenderer() = default;
 
 llvm::Expected<std::unique_ptr<HeadlessRenderer>> HeadlessRenderer::create() {
   const Display& d = display();
-  if (d.display == EGL_NO_DISPLAY) return error("headless rendering: " + d.problem);
+  if (d.display == EGL_NO_DISPLAY) return llvm::createStringError("headless rendering: " + d.problem);
   auto impl = std::make_unique<Impl>();
   impl->dpy = d.display;
-  if (!eglBindAPI(EGL_OPENGL_API)) return error(eglErrorText("headless rendering: no desktop OpenGL through EGL"));
+  if (!eglBindAPI(EGL_OPENGL_API)) return llvm::createStringError(eglErrorText("headless rendering: no desktop OpenGL through EGL"));
 
   const bool surfacelessContext = epoxy_has_egl_extension(d.display, "EGL_KHR_surfaceless_context");
   const bool noConfig = epoxy_has_egl_extension(d.display, "EGL_KHR_no_config_context");
@@ -160,7 +156,7 @@ llvm::Expected<std::unique_ptr<HeadlessRenderer>> HeadlessRenderer::create() {
     EGLint n = 0;
     if (!eglChooseConfig(d.display, attrs, &config, 1, &n) || n < 1) config = nullptr;
   }
-  if (!config && !(noConfig && surfacelessContext)) return error("headless rendering: no suitable EGL config");
+  if (!config && !(noConfig && surfacelessContext)) return llvm::createStringError("headless rendering: no suitable EGL config");
   EGLConfig ctxConfig = config ? config : EGL_NO_CONFIG_KHR;
   const EGLint core33[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
@@ -170,14 +166,14 @@ llvm::Expected<std::unique_ptr<HeadlessRenderer>> HeadlessRenderer::create() {
     impl->ctx = eglCreateContext(d.display, ctxConfig, EGL_NO_CONTEXT, attrs);
     if (impl->ctx != EGL_NO_CONTEXT) break;
   }
-  if (impl->ctx == EGL_NO_CONTEXT) return error(eglErrorText("headless rendering: cannot create an OpenGL 3.3 context"));
+  if (impl->ctx == EGL_NO_CONTEXT) return llvm::createStringError(eglErrorText("headless rendering: cannot create an OpenGL 3.3 context"));
   if (!surfacelessContext) {
     const EGLint pb[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
     impl->surface = eglCreatePbufferSurface(d.display, config, pb);
-    if (impl->surface == EGL_NO_SURFACE) return error(eglErrorText("headless rendering: cannot create a pbuffer"));
+    if (impl->surface == EGL_NO_SURFACE) return llvm::createStringError(eglErrorText("headless rendering: cannot create a pbuffer"));
   }
-  if (!impl->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
-  if (epoxy_gl_version() < 33) return error("headless rendering: OpenGL 3.3 needed, the context has " +
+  if (!impl->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
+  if (epoxy_gl_version() < 33) return llvm::createStringError("headless rendering: OpenGL 3.3 needed, the context has " +
                                             std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10));
   impl->renderer = std::make_unique<Renderer>();
   return std::unique_ptr<HeadlessRenderer>(new HeadlessRenderer(std::move(impl)));
@@ -196,11 +192,11 @@ std::string HeadlessRenderer::glRenderer() const {
 
 llvm::Expected<Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings& view,
                                                    const runtime::CameraMatrices& camera, const RenderOptions& options) {
-  if (!impl_->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
+  if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   if (llvm::Error e = impl_->ensureFramebuffer(camera.width, camera.height)) return e;
   Renderer& r = *impl_->renderer;
   r.draw(view, camera, options);
-  if (!r.lastError().empty()) return error("rendering: " + r.lastError());
+  if (!r.lastError().empty()) return llvm::createStringError("rendering: " + r.lastError());
   return impl_->readImage(camera.width, camera.height);
 }
 
@@ -208,7 +204,7 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
                                                    const RenderPalette& palette,
                                                    const std::vector<TextureImage>& textures,
                                                    const HeadlessOptions& options) {
-  if (!impl_->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
+  if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   if (llvm::Error e = impl_->ensureFramebuffer(options.width, options.height)) return e;
   glViewport(0, 0, options.width, options.height);
   glDisable(GL_SCISSOR_TEST);
@@ -230,7 +226,7 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
     o.viewportX = rect[0];
     o.viewportY = options.height - rect[1] - rect[3];  // GL counts from the bottom
     r.draw(view, cam, o);
-    if (!r.lastError().empty()) return error("rendering: " + r.lastError());
+    if (!r.lastError().empty()) return llvm::createStringError("rendering: " + r.lastError());
   }
   return impl_->readImage(options.width, options.height);
 }
@@ -238,7 +234,7 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
 llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
                                               const RenderPalette& palette, const std::vector<TextureImage>& textures,
                                               const HeadlessOptions& options) {
-  if (!impl_->makeCurrent()) return error(eglErrorText("headless rendering: cannot make the context current"));
+  if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   Renderer& r = *impl_->renderer;
   r.setPalette(palette);
   r.setTextures(textures);
@@ -268,10 +264,10 @@ bool isImageFileName(const std::string& path) {
 
 llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, int jpegQuality) {
   if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
-    return error("cannot write " + path + ": empty image");
+    return llvm::createStringError("cannot write " + path + ": empty image");
   const std::string ext = imageExtension(path);
   const bool png = ext == "png", jpg = ext == "jpg" || ext == "jpeg", bmp = ext == "bmp";
-  if (!png && !jpg && !bmp) return error("cannot write " + path + ": unknown image type (use .png, .jpg or .bmp)");
+  if (!png && !jpg && !bmp) return llvm::createStringError("cannot write " + path + ": unknown image type (use .png, .jpg or .bmp)");
   const int comp = (png && alpha) ? 4 : 3;
   std::vector<uint8_t> rgb;
   const uint8_t* data = image.rgba.data();
@@ -288,7 +284,7 @@ llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, 
   if (png) ok = stbi_write_png(path.c_str(), image.width, image.height, comp, data, image.width * comp);
   else if (jpg) ok = stbi_write_jpg(path.c_str(), image.width, image.height, comp, data, std::clamp(jpegQuality, 1, 100));
   else ok = stbi_write_bmp(path.c_str(), image.width, image.height, comp, data);
-  if (!ok) return error("cannot write " + path);
+  if (!ok) return llvm::createStringError("cannot write " + path);
   return llvm::Error::success();
 }
 

@@ -28,10 +28,6 @@
 namespace lcjit::viewer {
 namespace {
 
-llvm::Error error(const std::string& message) {
-  return llvm::make_error<llvm::StringError>(message, llvm::inconvertibleErrorCode());
-}
-
 std::string& glfwLastError() {
   static std::string e;
   return e;
@@ -402,7 +398,7 @@ Window::~Window() = default;
 
 llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
   if (!initGlfw())
-    return error("cannot open a window: " + (glfwLastError().empty() ? std::string("glfwInit failed") : glfwLastError()) +
+    return llvm::createStringError("cannot open a window: " + (glfwLastError().empty() ? std::string("glfwInit failed") : glfwLastError()) +
                  " (is DISPLAY set?)");
   int width = o.width, height = o.height;
   int x = -1, y = -1;
@@ -437,13 +433,13 @@ llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 0);
     win = glfwCreateWindow(width, height, o.title.c_str(), nullptr, nullptr);
   }
-  if (!win) return error("cannot open a window: " + glfwLastError());
+  if (!win) return llvm::createStringError("cannot open a window: " + glfwLastError());
   auto impl = std::make_unique<Impl>();
   impl->window = win;
   glfwMakeContextCurrent(win);
   if (epoxy_gl_version() < 33) {
     std::string v = std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10);
-    return error("the window's OpenGL context is " + v + ", 3.3 is needed");
+    return llvm::createStringError("the window's OpenGL context is " + v + ", 3.3 is needed");
   }
   if (x >= 0 && y >= 0) glfwSetWindowPos(win, x, y);
   glfwSwapInterval(o.vsync ? 1 : 0);
@@ -748,7 +744,7 @@ llvm::Expected<Image> Window::grabImage() {
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.depthRb);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      return error("cannot create the offscreen framebuffer for the picture");
+      return llvm::createStringError("cannot create the offscreen framebuffer for the picture");
     }
     m.fboW = w;
     m.fboH = h;
@@ -757,13 +753,13 @@ llvm::Expected<Image> Window::grabImage() {
   m.drawScene();
   if (m.hasScene && !m.renderer->lastError().empty()) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return error("rendering: " + m.renderer->lastError());
+    return llvm::createStringError("rendering: " + m.renderer->lastError());
   }
   return readFramebuffer(m.fbo, w, h);
 }
 
 llvm::Error Window::saveImage(const std::string& path) {
-  if (!isImageFileName(path)) return error("cannot save the picture as " + path + ": use .png, .jpg, .jpeg or .bmp");
+  if (!isImageFileName(path)) return llvm::createStringError("cannot save the picture as " + path + ": use .png, .jpg, .jpeg or .bmp");
   llvm::Expected<Image> img = grabImage();
   if (!img) return img.takeError();
   return writeImage(*img, path);

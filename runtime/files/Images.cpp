@@ -1,5 +1,6 @@
 // Texture images: see Images.h. PNG/JPEG through stb_image; SGI .rgb by the reader below.
 #include "runtime/files/Images.h"
+#include "runtime/files/TextLines.h"
 
 #include <cstring>
 
@@ -22,10 +23,6 @@
 namespace lcjit::runtime {
 namespace {
 
-llvm::Error fail(const std::string& name, const std::string& msg) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", name.c_str(), msg.c_str());
-}
-
 uint16_t be16(const uint8_t* p) { return uint16_t((p[0] << 8) | p[1]); }
 uint32_t be32(const uint8_t* p) { return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | p[3]; }
 
@@ -35,24 +32,24 @@ constexpr size_t kMaxPixels = size_t(1) << 28;
 
 llvm::Expected<Image> decodeSgi(const uint8_t* d, size_t size, const std::string& name) {
   constexpr size_t kHeader = 512;
-  if (size < kHeader) return fail(name, "truncated SGI image header");
-  if (be16(d) != 474) return fail(name, "not an SGI image (bad magic number)");
+  if (size < kHeader) return textfile::fail(name, 0, "truncated SGI image header");
+  if (be16(d) != 474) return textfile::fail(name, 0, "not an SGI image (bad magic number)");
   const int storage = d[2], bpc = d[3];
   const int dimension = be16(d + 4);
   size_t xs = be16(d + 6), ys = be16(d + 8), zs = be16(d + 10);
-  if (storage != 0 && storage != 1) return fail(name, "unknown SGI storage format " + std::to_string(storage));
-  if (bpc != 1 && bpc != 2) return fail(name, "unsupported SGI bytes per channel " + std::to_string(bpc));
+  if (storage != 0 && storage != 1) return textfile::fail(name, 0, "unknown SGI storage format " + std::to_string(storage));
+  if (bpc != 1 && bpc != 2) return textfile::fail(name, 0, "unsupported SGI bytes per channel " + std::to_string(bpc));
   if (dimension == 1) {
     ys = 1;
     zs = 1;
   } else if (dimension == 2) {
     zs = 1;
   } else if (dimension != 3) {
-    return fail(name, "invalid SGI dimension " + std::to_string(dimension));
+    return textfile::fail(name, 0, "invalid SGI dimension " + std::to_string(dimension));
   }
-  if (xs == 0 || ys == 0 || zs == 0) return fail(name, "empty SGI image");
-  if (zs > 4) return fail(name, "SGI images with " + std::to_string(zs) + " channels are not supported");
-  if (xs * ys > kMaxPixels) return fail(name, "SGI image too large");
+  if (xs == 0 || ys == 0 || zs == 0) return textfile::fail(name, 0, "empty SGI image");
+  if (zs > 4) return textfile::fail(name, 0, "SGI images with " + std::to_string(zs) + " channels are not supported");
+  if (xs * ys > kMaxPixels) return textfile::fail(name, 0, "SGI image too large");
 
   Image img;
   img.width = int(xs);
@@ -62,7 +59,7 @@ llvm::Expected<Image> decodeSgi(const uint8_t* d, size_t size, const std::string
   const size_t rowBytes = xs * size_t(bpc);
 
   if (storage == 0) {
-    if (size < kHeader + rowBytes * ys * zs) return fail(name, "truncated SGI image data");
+    if (size < kHeader + rowBytes * ys * zs) return textfile::fail(name, 0, "truncated SGI image data");
     for (size_t z = 0; z < zs; ++z)
       for (size_t y = 0; y < ys; ++y) {
         const uint8_t* src = d + kHeader + (z * ys + y) * rowBytes;
@@ -71,22 +68,22 @@ llvm::Expected<Image> decodeSgi(const uint8_t* d, size_t size, const std::string
       }
   } else {
     const size_t tab = ys * zs;
-    if (size < kHeader + tab * 8) return fail(name, "truncated SGI RLE tables");
-    if (xs * ys * zs > (size - kHeader) * 127) return fail(name, "SGI RLE image larger than its data allows");
+    if (size < kHeader + tab * 8) return textfile::fail(name, 0, "truncated SGI RLE tables");
+    if (xs * ys * zs > (size - kHeader) * 127) return textfile::fail(name, 0, "SGI RLE image larger than its data allows");
     for (size_t z = 0; z < zs; ++z)
       for (size_t y = 0; y < ys; ++y) {
         const size_t row = y + z * ys;
         const size_t start = be32(d + kHeader + row * 4);
         const size_t len = be32(d + kHeader + tab * 4 + row * 4);
         if (start > size || len > size - start)
-          return fail(name, "SGI RLE row " + std::to_string(y) + " of channel " + std::to_string(z) +
+          return textfile::fail(name, 0, "SGI RLE row " + std::to_string(y) + " of channel " + std::to_string(z) +
                                 " lies outside the file");
         const uint8_t* p = d + start;
         const uint8_t* end = p + len;
         uint8_t* dst = &planes[(z * ys + y) * xs];
         size_t x = 0;
         auto bad = [&] {
-          return fail(name, "corrupt SGI RLE data in row " + std::to_string(y) + " of channel " + std::to_string(z));
+          return textfile::fail(name, 0, "corrupt SGI RLE data in row " + std::to_string(y) + " of channel " + std::to_string(z));
         };
         while (true) {
           if (p + bpc > end) return bad();
@@ -126,14 +123,14 @@ llvm::Expected<Image> decodeSgi(const uint8_t* d, size_t size, const std::string
 
 llvm::Expected<Image> decodeImage(const uint8_t* data, size_t size, const std::string& name) {
   if (size >= 2 && be16(data) == 474) return decodeSgi(data, size, name);
-  if (size == 0) return fail(name, "empty image file");
-  if (size > size_t(INT32_MAX)) return fail(name, "image file too large");
+  if (size == 0) return textfile::fail(name, 0, "empty image file");
+  if (size > size_t(INT32_MAX)) return textfile::fail(name, 0, "image file too large");
   int w = 0, h = 0, comp = 0;
   if (!stbi_info_from_memory(data, int(size), &w, &h, &comp))
-    return fail(name, std::string("cannot decode image: ") + stbi_failure_reason());
-  if (w <= 0 || h <= 0 || size_t(w) * size_t(h) > kMaxPixels) return fail(name, "image too large");
+    return textfile::fail(name, 0, std::string("cannot decode image: ") + stbi_failure_reason());
+  if (w <= 0 || h <= 0 || size_t(w) * size_t(h) > kMaxPixels) return textfile::fail(name, 0, "image too large");
   unsigned char* px = stbi_load_from_memory(data, int(size), &w, &h, &comp, 4);
-  if (!px) return fail(name, std::string("cannot decode image: ") + stbi_failure_reason());
+  if (!px) return textfile::fail(name, 0, std::string("cannot decode image: ") + stbi_failure_reason());
   Image img;
   img.width = w;
   img.height = h;
@@ -148,7 +145,7 @@ llvm::Expected<Image> decodeImage(const uint8_t* data, size_t size, const std::s
 
 llvm::Expected<Image> loadImage(const std::string& path) {
   auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/false);
-  if (!buf) return fail(path, "cannot open file: " + buf.getError().message());
+  if (!buf) return textfile::fail(path, 0, "cannot open file: " + buf.getError().message());
   const auto& b = **buf;
   return decodeImage(reinterpret_cast<const uint8_t*>(b.getBufferStart()), b.getBufferSize(), path);
 }

@@ -18,12 +18,7 @@
 namespace lcjit::runtime {
 namespace {
 
-llvm::Error fail(const std::string& file, size_t line, const std::string& msg) {
-  if (line == 0)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", file.c_str(), msg.c_str());
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu: error: %s", file.c_str(), line,
-                                 msg.c_str());
-}
+using textfile::fail;
 
 // Applies scale/contact, computes bounds and (unless taken from the file) lpfg's smooth normals.
 // posId[v]: the file position vertex v came from (normals are shared per file position).

@@ -11,8 +11,10 @@
 
 namespace lcjit::runtime::textfile {
 
+// "FILE:LINE: error: MSG"; line 0: an error of the whole file, "FILE: error: MSG".
 inline llvm::Error fail(const std::string& file, size_t line, const std::string& msg) {
-  return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%zu: error: %s", file.c_str(), line, msg.c_str());
+  if (line == 0) return llvm::createStringError(file + ": error: " + msg);
+  return llvm::createStringError(file + ":" + std::to_string(line) + ": error: " + msg);
 }
 
 inline llvm::Error failAt(const std::string& file, size_t line, size_t column, const std::string& msg) {
@@ -24,9 +26,7 @@ inline llvm::Error failAt(const std::string& file, size_t line, size_t column, c
 // text files have them (false for binary formats).
 inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::string& path, bool text = true) {
   auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/text);
-  if (!buf)
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file: %s", path.c_str(),
-                                   buf.getError().message().c_str());
+  if (!buf) return fail(path, 0, "cannot open file: " + buf.getError().message());
   return std::move(*buf);
 }
 
