@@ -8,7 +8,10 @@
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
+#include "viewer/ImageFiles.h"
+#if LCJIT_HAVE_RENDERING
 #include "viewer/Headless.h"
+#endif
 #include "runtime/WindowInput.h"
 #include "runtime/export/Export.h"
 #include "jit/Elapsed.h"
@@ -70,6 +73,10 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   }
   t0 = std::chrono::steady_clock::now();
   if (viewer::isImageFileName(path)) {
+#if !LCJIT_HAVE_RENDERING
+    return llvm::createStringError("cannot write " + path + ": this lcjit was built without pictures "
+                                   "(LCJIT_WITH_RENDERING=OFF); strings, -dtf and the exports (.obj, .gltf, .svg …) work");
+#else
     if (!renderer_) {
       auto r = viewer::HeadlessRenderer::create();
       if (!r) return r.takeError();
@@ -85,6 +92,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
                                 : renderer_->renderPanes(*panes, drawing.view, look.palette, look.textures, options);
     if (!image) return image.takeError();
     if (auto e = viewer::writeImage(*image, path)) return e;
+#endif
   } else {
     runtime::ExportInput in;
     in.geometry = &geometry;

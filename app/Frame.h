@@ -1,7 +1,7 @@
 // Pictures of the model: `-out FILE` and OutputFrame("FILE") from model code. The extension
-// chooses: .png/.jpg/.jpeg/.bmp render headless through EGL with the viewer's renderer; .obj,
-// .ply, .stl, .gltf, .glb, .svg, .ps, .eps and .pov go through the exporters. Every output is
-// the same interpreted Geometry framed by the same camera.
+// chooses: .png/.jpg/.jpeg/.bmp render headless through EGL with the viewer's renderer (in a build
+// with LCJIT_WITH_RENDERING); .obj, .ply, .stl, .gltf, .glb, .svg, .ps, .eps and .pov go through
+// the exporters. Every output is the same interpreted Geometry framed by the same camera.
 #pragma once
 #include <memory>
 #include <string>
@@ -55,8 +55,10 @@ class FrameWriter {
 
  private:
   int width_, height_;
+#if LCJIT_HAVE_RENDERING
   std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused
   RenderLook look_;
+#endif
 };
 
 }  // namespace lcjit::app

@@ -16,12 +16,14 @@
 #include "runtime/Engine.h"
 #include "app/Batch.h"
 #include "app/Frame.h"
-#include "app/Interactive.h"
 #include "app/PlainErrors.h"
 #include "repl/Repl.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
+#if LCJIT_HAVE_WINDOW
+#include "app/Interactive.h"
 #include "viewer/Window.h"
+#endif
 #include "app/Session.h"
 
 namespace {
@@ -133,12 +135,17 @@ int main(int argc, char** argv) {
     return lcjit::repl::runRepl(replInputs, replOptions);
   }
 
-  const bool haveDisplay = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
+  // A build without the window behaves as with no display; one without pictures shows the model
+  // as its string instead.
+  const bool haveDisplay = LCJIT_HAVE_WINDOW && (std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"));
+  const char* shownAs = LCJIT_HAVE_RENDERING ? ".png" : ".str";
   if (inputs.empty()) {
     for (const char* f : {"tree.l", "tree.v", "tree.mat"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
-    if (bo.out.empty()) bo.out = "tree.png";
+    if (bo.out.empty()) bo.out = std::string("tree") + shownAs;
     batch = true;
-    if (!bo.quiet) std::fprintf(stderr, "lcjit: no model given; rendering the built-in example %s\n", inputs[0].c_str());
+    if (!bo.quiet)
+      std::fprintf(stderr, "lcjit: no model given; %s the built-in example %s\n",
+                   LCJIT_HAVE_RENDERING ? "rendering" : "deriving", inputs[0].c_str());
   }
 
   for (auto& dir : includeDirs) dir = std::filesystem::absolute(dir).lexically_normal().string();
@@ -165,7 +172,7 @@ int main(int argc, char** argv) {
     }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
-      if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + ".png";
+      if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + shownAs;
     }
   }
   auto files = lcjit::app::classifyInputs(inputs);
@@ -215,6 +222,7 @@ int main(int argc, char** argv) {
   }
   if (emitCpp || compileOnly) return 0;
   if (!batch && bo.out.empty()) {
+#if LCJIT_HAVE_WINDOW
     if (haveDisplay) {
       lcjit::viewer::WindowOptions w;
       if (winSize.size() == 2) w.width = (int)winSize[0], w.height = (int)winSize[1];
@@ -234,9 +242,12 @@ int main(int argc, char** argv) {
       io.debug = bo.debug;
       return lcjit::app::runInteractive(**session, *files, w, io);
     }
+#endif
     // No display: show the model as a picture beside it instead.
-    bo.out = std::filesystem::path(files->lsystem).stem().string() + ".png";
-    if (!bo.quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", bo.out.c_str());
+    bo.out = std::filesystem::path(files->lsystem).stem().string() + shownAs;
+    if (!bo.quiet)
+      std::fprintf(stderr, "lcjit: %s; writing %s\n", LCJIT_HAVE_WINDOW ? "no display" : "this build has no window",
+                   bo.out.c_str());
   }
   if (winSize.size() == 2) bo.width = (int)winSize[0], bo.height = (int)winSize[1];
   bo.plainErrors = lab;

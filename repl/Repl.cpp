@@ -1,32 +1,24 @@
 // The REPL (see Repl.h).
 //
 // One thread does the work: the line reader hands over whole lines, and between keys the loop
-// polls the watched files and draws the :view window. So the model (Session, Engine) is only
-// touched from this thread and needs no lock, and every GLFW call is on the main thread, where
-// GLFW wants them. While the window is open a helper thread watches stdin, only to wake the
-// window's event wait when a key arrives. The price: while a command runs (a long :run), the
-// window does not redraw.
+// polls the watched files and draws the :view window (ReplView.h). So the model (Session,
+// Engine) is only touched from this thread and needs no lock. The price: while a command runs
+// (a long :run), the window does not redraw.
 #include "repl/Repl.h"
 
-#include <poll.h>
-#include <pthread.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <climits>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <set>
-#include <thread>
 
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
@@ -37,7 +29,7 @@
 #include "app/PlainErrors.h"
 #include "repl/ReplText.h"
 #include "app/Session.h"
-#include "viewer/Window.h"
+#include "repl/ReplView.h"
 #include "jit/Elapsed.h"
 
 namespace lcjit::repl {
@@ -70,54 +62,6 @@ std::optional<float> parseFloat(const std::string& s) {
   return v;
 }
 
-// Wakes the window's event wait (Window::waitEvents) when stdin has input, so that the window
-// sleeps while nothing happens and a typed key is still handled at once.
-class InputWaker {
- public:
-  InputWaker() : thread_([this] { loop(); }) {}
-  ~InputWaker() {
-    {
-      std::lock_guard<std::mutex> l(mutex_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-  // The main thread has read the input there was: watch for more.
-  void consumed() {
-    {
-      std::lock_guard<std::mutex> l(mutex_);
-      waiting_ = false;
-    }
-    cv_.notify_all();
-  }
-
- private:
-  void loop() {
-    sigset_t all;
-    sigfillset(&all);
-    pthread_sigmask(SIG_BLOCK, &all, nullptr);  // Ctrl-C is the main thread's
-    std::unique_lock<std::mutex> l(mutex_);
-    while (!stop_) {
-      l.unlock();
-      pollfd p{STDIN_FILENO, POLLIN, 0};
-      int n = ::poll(&p, 1, 100);
-      l.lock();
-      if (n <= 0 || stop_) continue;
-      waiting_ = true;
-      viewer::Window::wake();
-      // stdin stays readable until the main thread reads it; an end of input stays readable for
-      // good, hence the time limit.
-      cv_.wait_for(l, std::chrono::milliseconds(100), [this] { return !waiting_ || stop_; });
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  bool stop_ = false, waiting_ = false;
-  std::thread thread_;
-};
-
 class Repl {
  public:
   Repl(std::unique_ptr<Session> session, const ReplOptions& options)
@@ -149,7 +93,7 @@ class Repl {
     while (!quit_) {
       std::fflush(stdout);  // all of it shows before the wait: a script may wait for it
       // A shown window is drawn between keys; watched files are looked at ten times a second.
-      auto status = reader_.poll(window_ ? 0 : watching_ ? 100 : -1);
+      auto status = reader_.poll(view_.isOpen() ? 0 : watching_ ? 100 : -1);
       if (status == repl::LineReader::Status::End) {
         if (!pendingCpp_.empty()) report(llvm::createStringError("error: the input ended inside C++ with unclosed brackets"));
         break;
@@ -158,12 +102,12 @@ class Repl {
         pendingCpp_.clear();
         reader_.setPrompt(kPrompt);
       }
-      if (waker_) waker_->consumed();
+      view_.inputConsumed();
       if (quit_) break;
       pollWatch();
       pumpView();
     }
-    closeView();
+    view_.close();
     return failed_ && !reader_.interactive() ? 1 : 0;
   }
 
@@ -251,7 +195,7 @@ class Repl {
     engine().clearCancel();  // an interrupt of the input must not cancel the next step
     if (!value) return report(value.takeError());
     if (!value->empty()) std::printf("%s\n", value->c_str());
-    viewDirty_ = true;  // a statement may have changed what the model draws
+    view_.markChanged();  // a statement may have changed what the model draws
   }
 
   repl::Completion complete(std::string_view line, size_t cursor) const {
@@ -307,7 +251,7 @@ class Repl {
       begin();
       deriveTo(rerunTo);
     }
-    viewDirty_ = true;
+    view_.markChanged();
     printStatus();
     return llvm::Error::success();
   }
@@ -315,7 +259,7 @@ class Repl {
   void begin() {
     engine().begin(hooks_);
     if (engine().faulted()) report(engine().takeFault());  // Start or the axiom: model code
-    viewDirty_ = true;
+    view_.markChanged();
   }
 
   // Derives until step `target` or the end of the derivation (then End runs); Ctrl-C stops it.
@@ -338,7 +282,7 @@ class Repl {
     }
     repl::LineReader::setInterruptible(nullptr);
     e.clearCancel();
-    viewDirty_ = true;
+    view_.markChanged();
   }
 
   void printStatus() {
@@ -601,25 +545,19 @@ class Repl {
 
   llvm::Error cmdView(const Args& args) {
     if (args.size() == 1 && args[0] == "close") {
-      if (!window_) return llvm::createStringError("error: no window is open");
-      closeView();
+      if (!view_.isOpen()) return llvm::createStringError("error: no window is open");
+      view_.close();
       std::printf("window closed\n");
       return llvm::Error::success();
     }
     if (!args.empty()) return llvm::createStringError("error: usage: :view [close]");
-    if (window_) {
+    if (view_.isOpen()) {
       std::printf("the window is open\n");
       return llvm::Error::success();
     }
-    viewer::WindowOptions w;
-    w.width = options_.width;
-    w.height = options_.height;
-    w.title = "lcjit repl: " + std::filesystem::path(loadedFiles_.lsystem).filename().string();
-    auto window = viewer::Window::create(w);
-    if (!window) return llvm::createStringError("error: " + llvm::toString(window.takeError()));
-    window_ = std::move(*window);
-    waker_ = std::make_unique<InputWaker>();
-    refreshView();
+    const std::string title = "lcjit repl: " + std::filesystem::path(loadedFiles_.lsystem).filename().string();
+    if (auto e = view_.open(options_.width, options_.height, title))
+      return llvm::createStringError("error: " + llvm::toString(std::move(e)));
     std::printf("window open: it shows the string after every command (:view close closes it)\n");
     return llvm::Error::success();
   }
@@ -672,37 +610,16 @@ class Repl {
 
   // ---- :view
 
-  void closeView() {
-    waker_.reset();  // before the window: it wakes the window's event loop
-    window_.reset();
-  }
-
-  void refreshView() {
-    const runtime::DrawingFiles& d = session_->drawing();
-    runtime::Geometry geometry;
-    report(engine().interpret(geometry));  // what was drawn before the fault still shows
-    const RenderLook& look = look_.of(d);
-    window_->setScene(geometry, d.view, look.palette, look.textures, viewer::Window::Framing::Refit);
-    viewDirty_ = false;
-  }
-
   // Draws a frame of the window and sleeps until a window event or a key (at most 0.1 s).
   void pumpView() {
-    if (!window_) return;
-    if (viewDirty_) refreshView();
-    viewer::MenuActions actions;
-    bool close = false;
-    actions.exit = [&] { close = true; };
-    actions.saveName = std::filesystem::path(loadedFiles_.lsystem).stem().string() + ".png";
-    actions.saveAs = [this](const std::string& path) {
-      reader_.interject([&] { report(frames_.write(path, engine(), session_->drawing())); });
-    };
-    if (!window_->frame(actions) || close) {
-      closeView();
-      reader_.interject([] { std::printf("window closed\n"); });
-      return;
-    }
-    window_->waitEvents(0.1);
+    if (!view_.isOpen()) return;
+    const bool open = view_.pump({engine(), session_->drawing(),
+                                  std::filesystem::path(loadedFiles_.lsystem).stem().string() + ".png",
+                                  [this](const std::string& path) {
+                                    reader_.interject([&] { report(frames_.write(path, engine(), session_->drawing())); });
+                                  },
+                                  [this](llvm::Error e) { report(std::move(e)); }});
+    if (!open) reader_.interject([] { std::printf("window closed\n"); });
   }
 
   std::unique_ptr<Session> session_;
@@ -718,10 +635,7 @@ class Repl {
   FileMonitor monitor_;
   bool watching_ = false;
   size_t watched_ = 0;
-  std::unique_ptr<viewer::Window> window_;
-  std::unique_ptr<InputWaker> waker_;
-  RenderLook look_;
-  bool viewDirty_ = false;  // the string or the model changed since the window last drew it
+  ReplView view_;
 };
 
 }  // namespace

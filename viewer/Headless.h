@@ -1,7 +1,7 @@
 // Headless rendering: an EGL context with no window system (Mesa's surfaceless platform, else the
 // default display with a 1×1 pbuffer), an offscreen framebuffer of W×H with depth, the Renderer,
-// glReadPixels, and image files (.png, .jpg/.jpeg, .bmp by extension, stb_image_write). Works with
-// no X display and no GPU (llvmpipe).
+// glReadPixels; the pictures go to files through ImageFiles.h. Works with no X display and no GPU
+// (llvmpipe).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -11,19 +11,10 @@
 
 #include <llvm/Support/Error.h>
 
+#include "viewer/ImageFiles.h"
 #include "viewer/Renderer.h"
 
 namespace lcjit::viewer {
-
-// RGBA8, rows top to bottom (row 0 is the top of the picture).
-struct Image {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgba;
-  std::array<uint8_t, 4> pixel(int x, int y) const {
-    const uint8_t* p = &rgba[(size_t(y) * width + x) * 4];
-    return {p[0], p[1], p[2], p[3]};
-  }
-};
 
 struct HeadlessOptions {
   int width = 800, height = 800;
@@ -67,11 +58,6 @@ class HeadlessRenderer {
 // The current context's framebuffer `fbo` (colour attachment 0), w×h, read into an Image with its
 // rows turned top first (GL's go bottom to top). Leaves the default framebuffer bound.
 llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h);
-
-// Writes by extension: .png (RGB, or RGBA with `alpha`), .jpg/.jpeg (RGB, `jpegQuality`), .bmp.
-llvm::Error writeImage(const Image& image, const std::string& path, bool alpha = false, int jpegQuality = 95);
-// Whether writeImage writes `path`'s type: .png, .jpg/.jpeg, .bmp (any case).
-bool isImageFileName(const std::string& path);
 
 // One picture to a file: create a context, render, write.
 llvm::Error renderToFile(const runtime::Geometry& geometry, const runtime::ViewSettings& view,

@@ -30,6 +30,12 @@
 //    Colours kRgbColor | 0xRRGGBB are drawn unlit as they are (the terrain's grid, glColor3f).
 //  - Labels (GLWidget::renderText): drawn over the picture, left end at the anchor, baseline 2 px
 //    below it, QFont point size = `winfont:` size (96 dpi).
+//
+// Sections, in order (each begins with a `// ----` rule; Impl's parts with `// --- Name`):
+//   Shaders · Shader programs · Renderer::Impl: GL objects and uploads (setGeometry, setTextures,
+//   uploadPalette, lights, discs) · --- Drawing ranges (triangles, segments as lines or quads,
+//   discs, painter's order) · --- Shadows · --- Labels · --- The frame (draw: passes, clipping,
+//   shadow map, labels) · Label fonts and the Renderer's public face · Multi-view layout.
 #include "viewer/Renderer.h"
 
 #include <algorithm>
@@ -307,6 +313,9 @@ void main() {
 }
 )";
 
+// ---------------------------------------------------------------------------------------------
+// Shader programs (compile, link, one per variant)
+
 struct Program {
   GLuint id = 0;
   int kind = 0, variant = 0;  // kind: 0 mesh, 1 segment quads, 2 segment lines
@@ -403,6 +412,9 @@ struct GlyphSet {
 };
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Renderer::Impl: GL objects, uploads of the geometry, palette and textures
 
 struct Renderer::Impl {
   bool initialized = false;
@@ -1424,6 +1436,9 @@ struct Renderer::Impl {
   }
 };
 
+// ---------------------------------------------------------------------------------------------
+// Label fonts (fontconfig) and the Renderer's public face
+
 std::string labelFontFile(const ViewSettings& view) {
   // The face Qt draws lpfg's labels with: fontconfig's match for the family, weight and slant
   // (Times is Nimbus Roman where the URW fonts are installed, else DejaVu Serif).
@@ -1472,6 +1487,9 @@ void Renderer::setPalette(const RenderPalette& palette) {
 void Renderer::draw(const ViewSettings& view, const CameraMatrices& camera, const RenderOptions& options) {
   impl_->draw(view, camera, options);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Multi-view layout (paneRects)
 
 namespace {
 

@@ -6,6 +6,12 @@
 // driving the window cannot move). Mouse drags follow lpfg's tasks (viewtask.cpp): the task is
 // chosen when the button goes down, from the button and the modifiers, and each cursor motion
 // applies its delta at once, so a drag gives the same view whatever the frame rate.
+//
+// Sections, in order: GLFW set-up and the preview's decimation · Window::Impl (state, panes and
+// their cameras; `--- lpfg's view tasks`: rotate, roll, zoom, frustum, pan; mouse input; drawing
+// the scene and the panes; Save As) · Window::create (GLFW window, GL context, ImGui, callbacks) ·
+// setScene / setViews · frame(): one frame with the main menu, the user menu and the dialogs ·
+// grabImage / saveImage · inject* (input from GLFW or a test) · depth picking (takePointer).
 #include "viewer/Window.h"
 
 #include <algorithm>
@@ -380,7 +386,7 @@ struct Window::Impl {
     } else if (actions.saveAs) {
       actions.saveAs(path);
     } else {
-      saveError = "cannot save " + path + ": not an image (.png .jpg .jpeg .bmp)";
+      saveError = "cannot save " + path + ": not an image (" + std::string(kImageFileTypes) + ")";
     }
     if (!saveError.empty()) std::fprintf(stderr, "lcjit: %s\n", saveError.c_str());
   }
@@ -759,7 +765,7 @@ llvm::Expected<Image> Window::grabImage() {
 }
 
 llvm::Error Window::saveImage(const std::string& path) {
-  if (!isImageFileName(path)) return llvm::createStringError("cannot save the picture as " + path + ": use .png, .jpg, .jpeg or .bmp");
+  if (!isImageFileName(path)) return llvm::createStringError("cannot save the picture as " + path + ": use " + kImageFileTypes);
   llvm::Expected<Image> img = grabImage();
   if (!img) return img.takeError();
   return writeImage(*img, path);

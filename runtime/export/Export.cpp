@@ -1,3 +1,5 @@
+// Exporters' entry point (see Export.h): the format chosen by extension, the input resolved once
+// (palette, view, camera), then the format's writer.
 #include "runtime/export/Export.h"
 
 #include "runtime/export/ExportCommon.h"

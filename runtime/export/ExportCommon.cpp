@@ -1,3 +1,5 @@
+// What every exporter shares (see ExportCommon.h): buffered writing, the resolved input, the mesh
+// with camera-facing discs, and names.
 #include "runtime/export/ExportCommon.h"
 
 #include <cerrno>

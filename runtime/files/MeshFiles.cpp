@@ -145,7 +145,6 @@ class PlyBody {
   PlyBody(std::string_view data, PlyFormat f, size_t firstLine) : d_(data), f_(f), line_(firstLine) {}
 
   size_t line() const { return line_; }
-  size_t remaining() const { return d_.size() - pos_; }
 
   // Binary: reads one value of type t. Ascii: reads the next token of the current line.
   bool read(PlyType t, double* out) {

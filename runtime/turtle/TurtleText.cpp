@@ -30,7 +30,6 @@ struct Line {
     out += ')';
   }
   void append(float v, bool& first) { sep(first); fmt("%f", (double)v); }
-  void append(double v, bool& first) { sep(first); fmt("%f", v); }
   void append(int v, bool& first) {
     sep(first);
     out += std::to_string(v);

@@ -9,6 +9,13 @@ set(LCJIT_REPL_DIR ${CMAKE_CURRENT_LIST_DIR}/../repl)
 file(GLOB LCJIT_REPL_SCRIPTS CONFIGURE_DEPENDS ${LCJIT_REPL_DIR}/*.in ${LCJIT_REPL_DIR}/*.drive)
 foreach(script ${LCJIT_REPL_SCRIPTS})
   get_filename_component(name ${script} NAME_WE)
+  # :view and --lab open the window; :save writes pictures.
+  if((name STREQUAL "view" OR name STREQUAL "lab") AND NOT LCJIT_WITH_WINDOW)
+    continue()
+  endif()
+  if(name STREQUAL "save" AND NOT LCJIT_WITH_RENDERING)
+    continue()
+  endif()
   set(command ${CMAKE_CURRENT_LIST_DIR}/../run_repl.sh $<TARGET_FILE:lcjit> ${LCJIT_REPL_DIR} ${name})
   if(name STREQUAL "view" OR name STREQUAL "lab")
     # The window needs an X server.
