@@ -25,6 +25,7 @@
 #include "app/PlainErrors.h"
 #include "runtime/WindowInput.h"
 #include "jit/Elapsed.h"
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {
@@ -59,7 +60,7 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
   if (ext == ".strb" || ext == ".bin") return engine.writeBinary(out);
   std::ofstream f(out, std::ios::binary);
   f << engine.text(engine.string());
-  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", out.c_str());
+  if (!f) return runtime::textfile::fail(out, 0, "cannot write file");
   return llvm::Error::success();
 }
 

@@ -26,6 +26,7 @@
 #include "runtime/turtle/Camera.h"
 #include "runtime/include/lcjit/modules.h"
 #include "runtime/files/AnimationFile.h"
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {
@@ -334,7 +335,7 @@ class InteractiveModel {
     v.scale = session_.drawing().view.scale * window_.adjustment().zoom;
     std::ofstream out(path);
     out << runtime::viewLine(v);
-    if (!out) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", path.c_str());
+    if (!out) return runtime::textfile::fail(path, 0, "cannot write file");
     return llvm::Error::success();
   }
 

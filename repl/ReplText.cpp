@@ -38,7 +38,7 @@ llvm::Expected<std::vector<std::string>> splitWords(std::string_view line) {
       }
       size_t close = line.find('"', i + 1);
       if (close == std::string_view::npos)
-        return llvm::createStringError(llvm::inconvertibleErrorCode(), "error: missing closing quote");
+        return llvm::createStringError("error: missing closing quote");
       w.append(line.substr(i + 1, close - i - 1));
       i = close + 1;
     }

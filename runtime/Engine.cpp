@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "runtime/Functions.h"
+#include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
 namespace {
@@ -628,7 +629,7 @@ llvm::Error Engine::interpret(const std::function<void(const char*)>& sink, Geom
                               int vgroup) {
   CurrentScope scope(this);
   if (auto message = guarded(Phase::Interpret, [&] { interpretGuarded(sink, geometry, transcript, vgroup); }))
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", message->c_str());
+    return llvm::createStringError(*message);
   return llvm::Error::success();
 }
 
@@ -957,7 +958,7 @@ void Engine::fail(std::string message) {
 
 llvm::Error Engine::takeFault() {
   if (!fault_) return llvm::Error::success();
-  auto e = llvm::createStringError(llvm::inconvertibleErrorCode(), "%s", fault_->c_str());
+  auto e = llvm::createStringError(*fault_);
   fault_.reset();
   return e;
 }
@@ -1041,9 +1042,9 @@ std::string Engine::text(const ModuleBuffer& str) const {
 
 llvm::Error Engine::writeBinary(const std::string& path) const {
   std::ofstream f(path, std::ios::binary);
-  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot write file", path.c_str());
+  if (!f) return textfile::fail(path, 0, "cannot write file");
   f.write(string_.data(), (std::streamsize)string_.size());
-  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: write failed", path.c_str());
+  if (!f) return textfile::fail(path, 0, "write failed");
   return llvm::Error::success();
 }
 

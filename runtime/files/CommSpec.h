@@ -12,6 +12,8 @@
 #include <vector>
 
 #include <llvm/Support/Error.h>
+
+#include "runtime/files/TextLines.h"
 #include "runtime/files/ViewFile.h"  // ViewFileWarning
 
 namespace lcjit::runtime {
@@ -33,7 +35,7 @@ struct CommSpec {
 
   // An error about the program this file starts: "FILE: error: message".
   llvm::Error error(const std::string& message) const {
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: %s", file.c_str(), message.c_str());
+    return textfile::fail(file, 0, message);
   }
 };
 
