@@ -1,5 +1,6 @@
 // In-process C++ -> native code compiler for generated model code: Clang 19 as a library
 // (with a cached precompiled runtime header) feeding one long-lived LLVM ORC LLJIT.
+// How it works, and the measurements behind it: docs/jit.md.
 #pragma once
 
 #include <llvm/ADT/StringRef.h>

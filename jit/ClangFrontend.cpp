@@ -1,0 +1,205 @@
+// The Clang front end of ClangFrontend.h: each level's invocation from the driver's command line,
+// the two-halved front-end run, and the quick tiers' next front end begun ahead.
+#include "jit/ClangFrontend.h"
+#include "jit/CompilerImpl.h"
+
+#include <clang/Basic/DiagnosticOptions.h>
+#include <clang/Basic/LangStandard.h>
+#include <clang/Basic/Stack.h>
+#include <clang/Frontend/Utils.h>
+#include <clang/Lex/PreprocessorOptions.h>
+#include <llvm/IR/DiagnosticHandler.h>
+#include <llvm/IR/DiagnosticInfo.h>
+#include <llvm/IR/DiagnosticPrinter.h>
+#include <llvm/Support/raw_ostream.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+namespace lcjit::jit {
+
+namespace {
+
+// The driver derives the resource dir and the GCC installation from argv[0]; Debian's clang 19
+// lives here (packages clang-19 / libclang-common-19-dev), and the host toolchain must match.
+constexpr const char* kClangPath = LCJIT_CLANG_EXECUTABLE;
+constexpr const char* kResourceDir = LCJIT_CLANG_RESOURCE_DIR;
+// Name given to the driver for the (placeholder) input; the real buffer replaces it per compile.
+constexpr const char* kPlaceholderInput = "lcjit-input.cpp";
+
+// Records LLVM back-end errors (e.g. bad inline asm) instead of LLVMContext's default of exit(1).
+struct BackendDiagHandler : llvm::DiagnosticHandler {
+  explicit BackendDiagHandler(std::shared_ptr<std::string> out) : out(std::move(out)) {}
+  bool handleDiagnostics(const llvm::DiagnosticInfo& di) override {
+    if (di.getSeverity() == llvm::DS_Error) {
+      llvm::raw_string_ostream os(*out);
+      llvm::DiagnosticPrinterRawOStream dp(os);
+      os << "error: ";
+      di.print(dp);
+      os << '\n';
+    }
+    return true;
+  }
+  std::shared_ptr<std::string> out;
+};
+
+}  // namespace
+
+bool executeClang(std::shared_ptr<clang::CompilerInvocation> inv, clang::FrontendAction& action,
+                  frontend::DiagCollector& dc) {
+  clang::CompilerInstance ci;
+  ci.setInvocation(std::move(inv));
+  ci.createDiagnostics(&dc, false);
+  return ci.ExecuteAction(action) && dc.getNumErrors() == 0;
+}
+
+Frontend::Frontend(std::shared_ptr<clang::CompilerInvocation> base, std::string pchPath, bool pchFallback,
+                   const std::string& runtimeHeader, std::string bufferName, size_t capacity)
+    : pchPath(std::move(pchPath)), pchFallback(pchFallback), bufferName(std::move(bufferName)), capacity(capacity),
+      base(std::move(base)), runtimeHeader(runtimeHeader) {}
+
+Frontend::~Frontend() {
+  if (begun)
+    action->EndSourceFile();
+}
+
+bool Frontend::begin() {
+  text = std::make_unique<char[]>(capacity + 1);
+  std::memset(text.get(), ' ', capacity);
+  text[capacity] = '\0';
+  auto inv = std::make_shared<clang::CompilerInvocation>(*base);
+  auto& fo = inv->getFrontendOpts();
+  fo.Inputs.clear();
+  fo.Inputs.emplace_back(bufferName, clang::InputKind(clang::Language::CXX));
+  fo.OutputFile.clear();
+  fo.DisableFree = false;
+  auto& ppo = inv->getPreprocessorOpts();
+  remapped = llvm::MemoryBuffer::getMemBuffer(llvm::StringRef(text.get(), capacity), bufferName,
+                                              /*RequiresNullTerminator=*/true);
+  ppo.RetainRemappedFileBuffers = true;  // ours
+  ppo.addRemappedFile(bufferName, remapped.get());
+  if (pchFallback)
+    ppo.Includes.push_back(runtimeHeader);
+  else
+    ppo.ImplicitPCHInclude = pchPath;
+  inv->getCodeGenOpts().MainFileName = bufferName;
+  ctx = std::make_unique<llvm::LLVMContext>();
+  backendErrors = std::make_shared<std::string>();
+  ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
+  ci = std::make_unique<clang::CompilerInstance>();
+  ci->setInvocation(inv);
+  ci->createDiagnostics(&dc, false);
+  action = std::make_unique<clang::EmitLLVMOnlyAction>(ctx.get());
+  // What CompilerInstance::ExecuteAction does, up to the parse.
+  if (!action->PrepareToExecute(*ci) || !ci->createTarget())
+    return false;
+  begun = action->BeginSourceFile(*ci, ci->getFrontendOpts().Inputs[0]);
+  return begun && dc.getNumErrors() == 0;
+}
+
+Frontend::Result Frontend::finish(llvm::StringRef source) {
+  Result r;
+  r.backendErrors = backendErrors;
+  if (begun && dc.getNumErrors() == 0) {
+    std::memcpy(text.get(), source.data(), std::min(source.size(), capacity));
+    if (llvm::Error err = action->Execute())
+      dc.text += "error: " + llvm::toString(std::move(err)) + "\n";
+    action->EndSourceFile();
+    begun = false;
+  }
+  r.pchProblem = dc.pchProblem;
+  if (dc.getNumErrors() != 0 || !dc.text.empty()) {
+    r.diagnostics = dc.text.empty() ? std::string("error: compilation failed\n") : dc.text;
+    return r;
+  }
+  r.module = action->takeModule();
+  if (!r.module) {
+    r.diagnostics = "error: compilation produced no module\n";
+    return r;
+  }
+  r.ctx = std::move(ctx);
+  return r;
+}
+
+llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
+  if (L.base)
+    return llvm::Error::success();
+  std::vector<std::string> args = {kClangPath,
+                                   // gnu++14 unless the model asks (CompilerConfig).
+                                   "-std=" + config.languageStandard,
+                                   "-w",
+                                   // g++ warns about narrowing in braces; clang refuses it.
+                                   "-Wno-c++11-narrowing",
+                                   "-O" + std::to_string(level),
+                                   "-march=native",
+                                   // lpfg builds models with g++ -O3 for the x86-64 baseline, which
+                                   // has no fused multiply-add: a*b+c is rounded twice there, so
+                                   // it must be here too, or the last bits (and, through
+                                   // thresholds, whole strings) differ from lpfg's.
+                                   "-ffp-contract=off",
+                                   "-fpch-instantiate-templates",
+                                   "-resource-dir",
+                                   kResourceDir,
+                                   "-I",
+                                   headerDir};
+  // Level 0 (the quick tier) without library builtins: with them, clang looks up every builtin
+  // name (printf, sqrt, memcpy ...) in the PCH before Sema exists and then deserializes each
+  // declaration it finds, ~2 ms of every compile. Unoptimised code gains nothing from them.
+  if (level == 0)
+    args.push_back("-fno-builtin");
+  for (const auto& d : config.includeDirs) {
+    args.push_back("-I");
+    args.push_back(d);
+  }
+  args.insert(args.end(), {"-c", kPlaceholderInput, "-o", "lcjit-output.o"});
+  std::vector<const char*> argv;
+  for (const auto& a : args)
+    argv.push_back(a.c_str());
+
+  frontend::DiagCollector dc;
+  clang::CreateInvocationOptions opts;
+  opts.Diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
+  opts.CC1Args = &L.cc1Args;
+  std::unique_ptr<clang::CompilerInvocation> inv = clang::createInvocation(argv, std::move(opts));
+  if (!inv)
+    return llvm::createStringError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
+  inv->getFrontendOpts().DisableFree = false; // createInvocation leaves it on: ~6 MB leak per compile
+  inv->getCodeGenOpts().DisableFree = false;  // and this one: clang's back end buried a TargetMachine (~28 KB) per compile
+  inv->getLangOpts().PCHInstantiateTemplates = true;
+  // IR passes run in runIRPipeline so that their time is measured and level 1 can differ.
+  inv->getCodeGenOpts().DisableLLVMPasses = true;
+  // Otherwise ExecuteAction prints "N errors generated." to stderr.
+  inv->getDiagnosticOpts().ShowCarets = false;
+  L.base = std::shared_ptr<clang::CompilerInvocation>(std::move(inv));
+  return llvm::Error::success();
+}
+
+std::unique_ptr<Frontend> Compiler::Impl::takeAhead(LevelSetup& L, const LevelSetup& used,
+                                                     const std::string& bufferName, size_t size) {
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (!L.ahead.valid() || L.ahead.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    return nullptr;
+  std::unique_ptr<Frontend> fe = L.ahead.get();
+  if (!fe || fe->bufferName != bufferName || fe->pchPath != used.pchPath || fe->pchFallback != used.pchFallback ||
+      fe->capacity < size)
+    return nullptr;
+  return fe;
+}
+
+void Compiler::Impl::beginAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName, size_t size) {
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (L.ahead.valid())
+    return;
+  size_t capacity = std::max(kAheadCapacity, 2 * size);
+  L.ahead = std::async(std::launch::async, [base = used.base, pch = used.pchPath, fallback = used.pchFallback,
+                                            header = config.runtimeHeader, bufferName, capacity] {
+    clang::noteBottomOfStack();
+    auto fe = std::make_unique<Frontend>(base, pch, fallback, header, bufferName, capacity);
+    if (!fe->begin())
+      fe.reset();  // the compile that would have used it finds out why on its own
+    return fe;
+  });
+}
+
+}  // namespace lcjit::jit

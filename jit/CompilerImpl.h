@@ -1,0 +1,126 @@
+// Compiler's private state (Compiler::Impl), for the files of jit/ that define its parts: each
+// member says which. compile() and its stages are in Compiler.cpp; the design is in docs/jit.md.
+#pragma once
+
+#include "jit/ClangFrontend.h"
+#include "jit/Compiler.h"
+#include "jit/Elapsed.h"
+#include "jit/ObjectCache.h"
+#include "jit/OrcState.h"
+
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
+#include <llvm/IR/Module.h>
+#include <llvm/Support/Error.h>
+
+#include <array>
+#include <cstddef>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lcjit::jit {
+
+// Level 0 builds its PCH with clang's -fpch-codegen: the runtime header's inline functions and
+// the templates the PCH instantiated are compiled once, into a support object loaded into its
+// own JITDylib, and every model compiled against that PCH links to it instead of emitting its
+// own copies. At -O0 nothing is inlined, so those copies were most of a small model's object
+// (sunflower: 51 functions, 24 its own) and of its instruction selection time. Higher levels
+// keep their own copies, which they inline.
+inline bool pchCodegen(int level) { return level == 0; }
+
+// Diagnostics end in a newline; an Error's message should not.
+inline std::string trimTrailingNewlines(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r'))
+    s.pop_back();
+  return s;
+}
+
+struct Compiler::Impl {
+  CompilerConfig config;
+  std::string headerDir;
+  std::string cacheDir;
+  orc::JITTargetMachineBuilder jtmb{llvm::Triple()};
+  std::shared_ptr<detail::JitState> state;
+  std::array<LevelSetup, 3> levels;
+
+  // compile()'s stages, in order (Compiler.cpp). A Job is one compile: its inputs and what each
+  // stage hands to the next.
+  struct Job;
+  llvm::Error setUp(Job& job);
+  std::shared_ptr<const CachedObject> reusedObject(Job& job);
+  llvm::Expected<Frontend::Result> parse(Job& job);
+  llvm::Error optimize(Job& job, llvm::Module& module, CachedObject& fresh);
+  llvm::Error generateCode(Job& job, Frontend::Result& ir, CachedObject& fresh);
+  std::shared_ptr<const CachedObject> cacheObject(Job& job, CachedObject fresh);
+  llvm::Expected<orc::JITDylib*> supportCode(const Job& job);
+  llvm::Expected<orc::JITDylib*> newDylib(const Job& job, orc::JITDylib* support);
+  llvm::Expected<std::shared_ptr<detail::Dylib>> load(Job& job, orc::JITDylib& JD, Clock::time_point loadStart);
+
+  // Instruction selection at `level`, with the level's kept TargetMachine (OrcState.cpp).
+  llvm::Expected<std::string> emitObject(llvm::Module& m, int level);
+
+  // Objects of recent compiles by key, newest last (a reload of unchanged source, a tier swap
+  // back and forth); older ones come from the disk cache (ObjectCache.cpp).
+  std::mutex objectsMutex;
+  std::vector<std::pair<std::string, std::shared_ptr<const CachedObject>>> objects;
+  static constexpr size_t kObjectsInMemory = 16;
+  static constexpr size_t kObjectsOnDisk = 256;
+  std::shared_ptr<const CachedObject> findObject(const std::string& key, bool& fromDisk);
+  void keepObject(const std::string& key, std::shared_ptr<const CachedObject> object);
+  // Writes the object to the disk cache (temporary file + rename, as for the PCH) and, every so
+  // many stores (listing the folder is not free), keeps the cache to its newest kObjectsOnDisk
+  // entries. Failures only cost a later compile.
+  void storeObject(const std::string& key, const CachedObject& object);
+
+  // The level's invocation, set up once (ClangFrontend.cpp).
+  llvm::Error setupLevel(LevelSetup& L, int level);
+
+  // The PCH of each level (Pch.cpp).
+  std::string pchKey(const LevelSetup& L, int level);
+  // Makes sure L has a usable PCH (or falls back); reports whether one from disk was reused.
+  void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
+  bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics);
+  static constexpr size_t kPchsKept = 3;
+  static void prunePchs(const std::string& built);
+
+  // The JITDylib holding the support object of the -fpch-codegen PCH at pchPath: loaded from
+  // the cache (pchPath + ".o") or compiled from the PCH and stored there first.
+  // Building it takes ~0.4 s and loading it ~3 ms, so the first compile against a PCH starts
+  // it on another thread (startSupport) and only waits for it (supportDylib) before linking
+  // (SupportObjects.cpp).
+  struct Support {
+    std::shared_future<void> ready;
+    orc::JITDylib* jd = nullptr;
+    std::string error;
+  };
+  std::shared_ptr<Support> startSupport(const LevelSetup& L, const std::string& pchPath);
+  llvm::Expected<orc::JITDylib*> supportDylib(const LevelSetup& L, const std::string& pchPath);
+  llvm::Expected<orc::JITDylib*> loadSupport(std::shared_ptr<clang::CompilerInvocation> base,
+                                             const std::string& pchPath, unsigned number);
+  static constexpr size_t kSupportPartSize = 32;
+  std::mutex supportMutex;
+  std::map<std::string, std::shared_ptr<Support>> supports;
+  unsigned supportsStarted = 0;
+
+  // The quick tiers' front end begun ahead (Frontend) if there is one that fits this compile;
+  // a mismatched or failed one is dropped (ClangFrontend.cpp).
+  std::unique_ptr<Frontend> takeAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName,
+                                      size_t size);
+  // Begins the next front end of a quick tier on another thread, unless one is under way.
+  void beginAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName, size_t size);
+  static constexpr size_t kAheadCapacity = 64 * 1024;
+
+  ~Impl() {
+    for (auto& [path, support] : supports)
+      support->ready.wait();
+    for (auto& L : levels)
+      if (L.ahead.valid())
+        L.ahead.wait();
+  }
+};
+
+}  // namespace lcjit::jit

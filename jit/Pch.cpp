@@ -1,0 +1,168 @@
+// The precompiled runtime header, one per opt level: its key, building it into the disk cache,
+// pruning old ones, and making sure a compile has one (or falls back to the header as text).
+#include "frontend/CacheFiles.h"
+#include "jit/CompilerImpl.h"
+#include "jit/Elapsed.h"
+
+#include <clang/Basic/Version.h>
+#include <clang/Frontend/FrontendActions.h>
+#include <llvm/ADT/SmallString.h>
+#include <llvm/ADT/StringExtras.h>
+#include <llvm/Config/llvm-config.h>
+#include <llvm/Support/FileSystem.h>
+#include <llvm/Support/Path.h>
+#include <llvm/Support/SHA256.h>
+#include <llvm/Support/raw_ostream.h>
+#include <llvm/TargetParser/Host.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <utility>
+#include <unistd.h>
+
+namespace lcjit::jit {
+
+// Hash of everything a PCH depends on: the runtime header's directory tree (content), the
+// compiler version, the full cc1 command line (opt level, -D, target CPU + features).
+std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
+  llvm::SHA256 h;
+  h.update(clang::getClangFullVersion());
+  h.update(LLVM_VERSION_STRING);
+  h.update(config.runtimeHeader);
+  for (const auto& a : L.cc1Args) {
+    // The working directory reaches the cc1 line but not the PCH; keep it out of the key so the
+    // cache is shared between directories.
+    if (llvm::StringRef(a).starts_with("-fdebug-compilation-dir") ||
+        llvm::StringRef(a).starts_with("-fcoverage-compilation-dir"))
+      continue;
+    h.update(a);
+    h.update(llvm::StringRef("\0", 1));
+  }
+  h.update(llvm::sys::getHostCPUName());
+  if (pchCodegen(level))
+    h.update(llvm::StringRef("pch-codegen"));
+  frontend::hashDirectoryTree(h, headerDir);
+  auto digest = h.final();
+  std::string hex = llvm::toHex(digest, /*LowerCase=*/true).substr(0, 24);
+  std::string stem = llvm::sys::path::stem(config.runtimeHeader).str();
+  return stem + "-O" + std::to_string(level) + "-" + hex + ".pch";
+}
+
+bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics) {
+  std::error_code ec = llvm::sys::fs::create_directories(cacheDir);
+  if (ec) {
+    diagnostics = "cannot create cache directory '" + cacheDir + "': " + ec.message();
+    return false;
+  }
+  // Unique temp name in the same directory, then rename: readers never see a partial file even
+  // when several processes (ctest -j) build the same PCH at once.
+  llvm::SmallString<256> tmp;
+  int fd = -1;
+  ec = llvm::sys::fs::createUniqueFile(finalPath + ".tmp-%%%%%%%%", fd, tmp);
+  if (ec) {
+    diagnostics = "cannot create a temporary file in '" + cacheDir + "': " + ec.message();
+    return false;
+  }
+  ::close(fd);
+
+  auto inv = std::make_shared<clang::CompilerInvocation>(*L.base);
+  auto& fo = inv->getFrontendOpts();
+  fo.Inputs.clear();
+  fo.Inputs.emplace_back(config.runtimeHeader,
+                         clang::InputKind(clang::Language::CXX, clang::InputKind::Source, false,
+                                          clang::InputKind::HeaderUnit_None, /*HD=*/true));
+  fo.OutputFile = std::string(tmp);
+  fo.ProgramAction = clang::frontend::GeneratePCH;
+  fo.DisableFree = false;
+  if (pchCodegen(level))
+    inv->getLangOpts().ModulesCodegen = true;
+
+  frontend::DiagCollector dc;
+  clang::GeneratePCHAction action;
+  bool ok = executeClang(inv, action, dc);
+  if (ok) {
+    // A support object beside it belongs to the PCH it replaces; a JITDylib loaded from that one
+    // stays with the models already linked to it.
+    llvm::sys::fs::remove(finalPath + ".o");
+    {
+      std::lock_guard<std::mutex> lock(supportMutex);
+      if (auto it = supports.find(finalPath); it != supports.end()) {
+        it->second->ready.wait();
+        supports.erase(it);
+      }
+    }
+    ec = llvm::sys::fs::rename(tmp, finalPath);
+    if (ec) {
+      dc.text += "cannot move the PCH into place: " + ec.message() + "\n";
+      ok = false;
+    }
+  }
+  if (!ok)
+    llvm::sys::fs::remove(tmp);
+  else
+    prunePchs(finalPath);
+  diagnostics = dc.text;
+  return ok;
+}
+
+// Each runtime-header version (and each checkout) gets its own ~9 MB PCH per level; keep the
+// newest kPchsKept of a level beside a new one. A process still using a removed one keeps its
+// mapping; one about to use it rebuilds it (compile()'s retry).
+void Compiler::Impl::prunePchs(const std::string& built) {
+  namespace fs = std::filesystem;
+  std::string name = fs::path(built).filename().string();  // STEM-O<level>-<hash>.pch
+  std::string prefix = name.substr(0, name.rfind('-') + 1);
+  std::vector<std::pair<fs::file_time_type, fs::path>> same;
+  std::error_code ec;
+  for (fs::directory_iterator it(fs::path(built).parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
+    std::string other = it->path().filename().string();
+    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && other.find(".tmp-") == std::string::npos)
+      same.emplace_back(it->last_write_time(ec), it->path());
+  }
+  if (same.size() <= kPchsKept)
+    return;
+  std::sort(same.begin(), same.end());
+  for (size_t i = 0; i + kPchsKept < same.size(); ++i)
+    if (same[i].second.filename() != name) {
+      fs::remove(same[i].second, ec);
+      fs::remove(same[i].second.string() + ".o", ec);  // its support object, if any
+    }
+}
+
+void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st) {
+  if (L.pchFallback)
+    return;
+  if (L.pchReady && !forceRebuild) {
+    st.pchCached = true;
+    return;
+  }
+  auto t0 = Clock::now();
+  // Recomputed here (not cached) so that a runtime header edited while we run gets a new key.
+  std::string path = cacheDir + "/" + pchKey(L, level);
+  L.pchPath = path;
+  if (!forceRebuild && llvm::sys::fs::exists(path)) {
+    // Validity is checked by the compile that uses it; a stale or corrupt file comes back here
+    // with forceRebuild.
+    L.pchReady = true;
+    st.pchCached = true;
+    st.pchBuildMs += msSince(t0);
+    return;
+  }
+  if (L.ahead.valid())
+    L.ahead.get();  // begun on the PCH being replaced
+  std::string diags;
+  if (buildPch(L, level, path, diags)) {
+    L.pchReady = true;
+    st.pchCached = false;
+  } else {
+    // Still compile, just slower; if the header itself is broken the model compile reports it.
+    L.pchFallback = true;
+    L.pchReady = false;
+    if (std::getenv("LCJIT_VERBOSE"))
+      llvm::errs() << "lcjit: PCH build failed, including the runtime header as text:\n" << diags;
+  }
+  st.pchBuildMs += msSince(t0);
+}
+
+}  // namespace lcjit::jit
