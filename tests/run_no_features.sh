@@ -3,7 +3,7 @@
 # asked for what it lacks, it says so by name and fails; everything else works as in a full build.
 # Usage: run_no_features.sh LCJIT EXAMPLES_DIR pictures|window
 set -u
-lcjit=$1 examples=$2 what=$3
+lcjit=$(realpath "$1") examples=$(realpath "$2") what=$3
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
