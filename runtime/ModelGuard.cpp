@@ -5,6 +5,7 @@
 #include <cxxabi.h>
 #include <fcntl.h>
 #include <link.h>
+#include <malloc.h>
 #include <poll.h>
 #include <pthread.h>
 #include <setjmp.h>
@@ -31,6 +32,12 @@
 
 namespace lcjit::runtime {
 
+// A thread's ModelStops: how many are alive (thrown and not yet destroyed: unwinding, or caught
+// by a handler that has not let go), and how many were ever thrown.
+struct StopCounts {
+  std::atomic<int> alive{0}, thrown{0};
+};
+
 // The watchdog reaches into ModelGuard's state through this (ModelGuard.h keeps it private).
 struct GuardInternals {
   static std::atomic<int>& stop(ModelGuard& g) { return g.stop_; }
@@ -39,6 +46,11 @@ struct GuardInternals {
   static uint64_t& thread(ModelGuard& g) { return g.thread_; }
   static int64_t& deadline(ModelGuard& g) { return g.deadlineNs_; }
   static std::atomic<int64_t>& stopSince(ModelGuard& g) { return g.stopSinceNs_; }
+  static std::atomic<int64_t>& stopCpu(ModelGuard& g) { return g.stopCpuNs_; }
+  static int& tid(ModelGuard& g) { return g.tid_; }
+  static clockid_t& cpuClock(ModelGuard& g) { return g.cpuClock_; }
+  static const StopCounts*& stops(ModelGuard& g) { return g.stops_; }
+  static std::atomic<int>& stopsThrownAtStop(ModelGuard& g) { return g.stopsThrownAtStop_; }
   static std::atomic<bool>& running(ModelGuard& g) { return g.running_; }
   static int64_t& forceSince(ModelGuard& g) { return g.forceSinceNs_; }
   static std::atomic<size_t>& observed(ModelGuard& g) { return g.observedBytes_; }
@@ -51,8 +63,16 @@ namespace {
 constexpr int kCrashSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 constexpr int kInterruptSignal = SIGUSR2;
 // An interrupt is cooperative first (the engine and the host functions check, and unwind); only
-// a thread still inside after the grace period is made to jump.
+// a thread still inside after a grace period is made to jump. The grace is the thread's own CPU
+// time, not the clock's: on a busy machine a thread may wait long for the processor, and a jump
+// while it unwinds would skip the destructors that free what the model holds. kGraceNs of CPU
+// time once asked; kUnwindGraceNs while the first ModelStop thrown since is alive (unwinding, or
+// a handler of the model's own that has caught it and not let go; a second one means the model
+// caught the first and went on); and a thread that sleeps (in a system call: it uses no CPU time)
+// is made to jump after kBlockedGraceNs on the clock.
 constexpr int64_t kGraceNs = 5'000'000;
+constexpr int64_t kUnwindGraceNs = 2'000'000'000;
+constexpr int64_t kBlockedGraceNs = 100'000'000;
 // Then SIGUSR2 every kForceTickNs until it lands in JIT'd code; after kForceAnywhereNs, wherever
 // it lands.
 constexpr int64_t kForceTickNs = 250'000;
@@ -60,11 +80,29 @@ constexpr int64_t kForceAnywhereNs = 1'000'000'000;
 constexpr int64_t kTickNs = 2'000'000;     // watchdog period while model code runs
 constexpr int64_t kLingerNs = 200'000'000;  // keep ticking this long after the last run ended
 
-int64_t nowNs() {
+int64_t nsOf(clockid_t clock) {
   timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
+  if (clock_gettime(clock, &t) != 0) return 0;
   return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
 }
+int64_t nowNs() { return nsOf(CLOCK_MONOTONIC); }
+
+// Whether thread `tid` of this process is asleep or waiting ('S', 'D', …), not running or
+// runnable ('R'): /proc/self/task/TID/stat's state field.
+bool threadAsleep(int tid) {
+  char path[64], buf[256];
+  std::snprintf(path, sizeof path, "/proc/self/task/%d/stat", tid);
+  int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  ssize_t n = read(fd, buf, sizeof buf - 1);
+  close(fd);
+  if (n <= 0) return false;
+  buf[n] = 0;
+  const char* paren = std::strrchr(buf, ')');  // the name may hold spaces and parentheses
+  return paren && paren[1] == ' ' && paren[2] != 'R';
+}
+
+thread_local StopCounts tlStops;
 
 // One guarded run on one thread. Signals jump to the innermost; the handler fills in what it saw.
 struct Region {
@@ -297,6 +335,9 @@ class Watchdog {
       if (GI::depth(g)++ > 0) return;  // nested: the outermost run's registration stands
       int64_t now = nowNs();
       GI::thread(g) = uint64_t(pthread_self());
+      GI::tid(g) = int(gettid());
+      if (pthread_getcpuclockid(pthread_self(), &GI::cpuClock(g)) != 0) GI::cpuClock(g) = CLOCK_THREAD_CPUTIME_ID;
+      GI::stops(g) = &tlStops;
       GI::stop(g).store(0);
       GI::force(g).store(false);
       GI::stopSince(g) = 0;
@@ -352,9 +393,24 @@ class Watchdog {
     return w;
   }
 
+  // Async-signal-safe (clock_gettime is).
   static void requestStop(ModelGuard& g, FaultKind why, int64_t now) {
     int none = 0;
-    if (GI::stop(g).compare_exchange_strong(none, int(why))) GI::stopSince(g).store(now);
+    if (GI::stop(g).compare_exchange_strong(none, int(why))) {
+      GI::stopsThrownAtStop(g).store(GI::stops(g)->thrown.load(std::memory_order_relaxed));
+      GI::stopCpu(g).store(nsOf(GI::cpuClock(g)));
+      GI::stopSince(g).store(now);
+    }
+  }
+
+  // Whether the grace of a stopped run is over (see kGraceNs).
+  static bool graceOver(ModelGuard& g, int64_t since, int64_t now) {
+    int64_t cpu = nsOf(GI::cpuClock(g)) - GI::stopCpu(g).load();
+    const StopCounts& s = *GI::stops(g);
+    bool unwinding = s.alive.load(std::memory_order_relaxed) > 0 &&
+                     s.thrown.load(std::memory_order_relaxed) - GI::stopsThrownAtStop(g).load() <= 1;
+    if (cpu >= (unwinding ? kUnwindGraceNs : kGraceNs)) return true;
+    return now >= since + kBlockedGraceNs && threadAsleep(GI::tid(g));
   }
 
   void loop() {
@@ -383,7 +439,7 @@ class Watchdog {
           }
           // stopSince may lag stop_ by a moment (interrupt() sets them one after the other).
           int64_t since = GI::stopSince(*g).load();
-          if (GI::stop(*g).load() && since && now >= since + kGraceNs) {
+          if (GI::stop(*g).load() && since && graceOver(*g, since, now)) {
             if (!GI::force(*g).load()) {
               refreshHostCode();
               GI::forceSince(*g) = now;
@@ -532,11 +588,20 @@ void onSigint(int) {
 
 // ---- ModelGuard
 
+ModelStop::ModelStop() {
+  tlStops.alive.fetch_add(1, std::memory_order_relaxed);
+  tlStops.thrown.fetch_add(1, std::memory_order_relaxed);
+}
+ModelStop::ModelStop(const ModelStop&) { tlStops.alive.fetch_add(1, std::memory_order_relaxed); }
+ModelStop::~ModelStop() { tlStops.alive.fetch_sub(1, std::memory_order_relaxed); }
+
 ModelGuard::~ModelGuard() = default;
 
 Fault ModelGuard::run(llvm::function_ref<void()> fn) {
   installHandlers();
   ensureAltStack();
+  // A jump out of an unwinding leaves its ModelStop behind, never destroyed: start the count anew.
+  if (!tlRegion) tlStops.alive.store(0, std::memory_order_relaxed);
   Watchdog& w = Watchdog::get();
   w.enter(*this);
   Region region;
@@ -554,6 +619,9 @@ Fault ModelGuard::run(llvm::function_ref<void()> fn) {
     fault = asked ? stopFault(asked, *this, observedBytes_.load()) : signalFault(region);
   }
   w.leave(*this);
+  // What the stopped run freed goes back to the system: the limit is on resident memory, and
+  // malloc keeps freed memory for itself, so the next run would start at the limit.
+  if (fault.kind == FaultKind::MemoryLimit) malloc_trim(0);
   return fault;
 }
 

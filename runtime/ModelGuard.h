@@ -16,6 +16,7 @@
 // resident memory against the memory limit.
 #pragma once
 #include <atomic>
+#include <ctime>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -46,8 +47,14 @@ struct Fault {
 
 // Thrown by the host (engine loops, host functions, model code's operator new) when the guarded
 // call has been asked to stop: unwinding runs the destructors a jump would skip. Deliberately not
-// a std::exception, so that model code's catch (std::exception&) does not swallow it.
-struct ModelStop {};
+// a std::exception, so that model code's catch (std::exception&) does not swallow it. It counts
+// itself, so that the watchdog gives a thread unwinding from its first one the time to finish
+// (freeing what the model holds) rather than jumping out of its destructors.
+struct ModelStop {
+  ModelStop();
+  ModelStop(const ModelStop&);
+  ~ModelStop();
+};
 
 struct GuardLimits {
   double timeSeconds = 0;   // per guarded call; 0: none
@@ -58,6 +65,8 @@ struct GuardLimits {
 size_t defaultMemoryLimit();
 // The process's resident memory (/proc/self/statm), in bytes.
 size_t residentBytes();
+
+struct StopCounts;  // a thread's ModelStops (ModelGuard.cpp)
 
 class ModelGuard {
  public:
@@ -96,9 +105,14 @@ class ModelGuard {
   std::atomic<bool> force_{false};  // the watchdog asks the SIGUSR2 handler to jump
   std::atomic<bool> running_{false};       // inside run() (the outermost)
   std::atomic<int64_t> stopSinceNs_{0};   // when stop_ was set
+  std::atomic<int64_t> stopCpuNs_{0};     // the running thread's CPU time then
   // Set under the watchdog's lock.
   int depth_ = 0;  // nesting of run() on its thread
   uint64_t thread_ = 0;  // pthread_t of the running thread
+  int tid_ = 0;                               // its kernel id (/proc/self/task/TID)
+  clockid_t cpuClock_ = CLOCK_THREAD_CPUTIME_ID;  // its CPU-time clock
+  const StopCounts* stops_ = nullptr;  // its ModelStops
+  std::atomic<int> stopsThrownAtStop_{0};  // how many it had thrown when stop_ was set
   int64_t deadlineNs_ = 0, forceSinceNs_ = 0;
   std::atomic<size_t> observedBytes_{0};  // the resident memory that tripped the memory limit
 };
