@@ -249,6 +249,8 @@ llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cach
   return s;
 }
 
+const std::string& Session::cacheWarning() const { return compiler_->cacheWarning(); }
+
 void Session::setLimits(const runtime::EngineLimits& limits) {
   limits_ = limits;
   if (engine_) engine_->setLimits(limits);

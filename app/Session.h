@@ -145,6 +145,9 @@ class Session {
   static llvm::Expected<std::unique_ptr<Session>> create(const std::string& cacheDir = "",
                                                          const std::string& languageStandard = "");
   ~Session();
+  // Why the cache folder asked for is not used (it is not the user's alone), or "": a warning
+  // for the user (jit::Compiler::cacheWarning).
+  const std::string& cacheWarning() const;
 
   // Reads input files, compiles the model; on error the previous model (if any) stays loaded.
   // With `what` less than all, only those files are re-read and the rest carries over: without

@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  if (!(*session)->cacheWarning().empty()) std::fprintf(stderr, "lcjit: warning: %s\n", (*session)->cacheWarning().c_str());
   limits.maxModules = maxModules;
   limits.maxMemory = maxMemory;
   (*session)->setLimits(limits);

@@ -5,7 +5,15 @@
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/raw_ostream.h>
 
+#include <llvm/Support/Path.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
@@ -25,6 +33,39 @@ bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
     return false;
   }
   return true;
+}
+
+llvm::Error useAsCacheFolder(const std::string& dir) {
+  auto refuse = [&](const std::string& why) { return llvm::createStringError("the cache folder '" + dir + "' " + why); };
+  struct stat st {};
+  if (::lstat(dir.c_str(), &st) != 0) {
+    if (errno != ENOENT) return refuse(std::string("cannot be read: ") + std::strerror(errno));
+    std::string parent = llvm::sys::path::parent_path(dir).str();
+    if (!parent.empty())
+      if (std::error_code ec = llvm::sys::fs::create_directories(parent))
+        return refuse("cannot be made: " + ec.message());
+    // Created here, so it is ours and private; another process may have made it meanwhile.
+    if (::mkdir(dir.c_str(), 0700) != 0 && errno != EEXIST) return refuse(std::string("cannot be made: ") + std::strerror(errno));
+    if (::lstat(dir.c_str(), &st) != 0) return refuse(std::string("cannot be read: ") + std::strerror(errno));
+  }
+  if (S_ISLNK(st.st_mode)) return refuse("is a symbolic link");
+  if (!S_ISDIR(st.st_mode)) return refuse("is not a folder");
+  if (st.st_uid != ::geteuid()) return refuse("belongs to another user (uid " + std::to_string(st.st_uid) + ")");
+  if (st.st_mode & (S_IWGRP | S_IWOTH)) return refuse("is writable by others (chmod go-w to use it)");
+  return llvm::Error::success();
+}
+
+llvm::Expected<std::string> privateCacheFolder() {
+  const char* tmp = std::getenv("TMPDIR");
+  std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/lcjit-cache-XXXXXX";
+  if (!::mkdtemp(pattern.data()))  // mode 0700, a name no one can guess
+    return llvm::createStringError("cannot make a private cache folder from '" + pattern + "': " + std::strerror(errno));
+  return pattern;
+}
+
+void removeCacheFolder(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
 
 void hashDirectoryTree(llvm::SHA256& h, const std::string& dir) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <llvm/ADT/StringRef.h>
+#include <llvm/Support/Error.h>
 #include <llvm/Support/SHA256.h>
 
 #include <string>
@@ -12,6 +13,17 @@ namespace lcjit::frontend {
 // Writes `bytes` to a temporary file beside `path` and renames it into place, so that a reader
 // never sees a partial file; false (and nothing written) on failure.
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes);
+
+// A cache folder lcjit may trust: what is in it is loaded and run as the user, so it must be the
+// user's alone. Creates `dir` (mode 0700, parents as needed) when it is missing; then it must be a
+// directory, not a symbolic link, owned by the user, and writable by no one else. Otherwise an
+// error saying why (a planted object file would run as the user: finding 009).
+llvm::Error useAsCacheFolder(const std::string& dir);
+
+// A fresh folder of this process's own (mode 0700, an unpredictable name in $TMPDIR or /tmp),
+// for the caches when no trusted one can be had; the caller removes it (removeCacheFolder).
+llvm::Expected<std::string> privateCacheFolder();
+void removeCacheFolder(const std::string& dir);
 
 // Adds every regular file under `dir` (names and contents, in name order) to `h`: what a cache
 // entry made from the runtime headers depends on.

@@ -93,6 +93,7 @@ private:
 Compiler::Compiler(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Compiler::~Compiler() = default;
 const std::string& Compiler::cacheDir() const { return impl_->cacheDir; }
+const std::string& Compiler::cacheWarning() const { return impl_->cacheWarning; }
 
 llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config) {
   static std::once_flag targetsOnce;
@@ -110,6 +111,16 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   auto impl = std::make_unique<Impl>();
   impl->headerDir = llvm::sys::path::parent_path(config.runtimeHeader).str();
   impl->cacheDir = config.cacheDir.empty() ? defaultCacheDir() : config.cacheDir;
+  // Objects in the cache are loaded and run: only a folder that is the user's alone is trusted.
+  if (auto err = frontend::useAsCacheFolder(impl->cacheDir)) {
+    impl->cacheWarning = llvm::toString(std::move(err)) +
+                         "; this run keeps its compiled code in a private folder, removed when it ends";
+    auto own = frontend::privateCacheFolder();
+    if (!own)
+      return own.takeError();
+    impl->cacheDir = *own;
+    impl->privateCache = true;
+  }
   impl->config = std::move(config);
 
   auto jtmb = orc::JITTargetMachineBuilder::detectHost();

@@ -27,7 +27,9 @@ struct CompilerConfig {
   std::string runtimeHeader;
   // Extra -I directories for model compiles (the runtime header's directory is added first).
   std::vector<std::string> includeDirs;
-  // PCH cache directory. Empty: $LCJIT_CACHE_DIR, else $XDG_CACHE_HOME/lcjit, else ~/.cache/lcjit.
+  // PCH cache directory. Empty: $LCJIT_CACHE_DIR, else $XDG_CACHE_HOME/lcjit, else ~/.cache/lcjit,
+  // else /tmp/lcjit-cache-UID. Used only when it is the user's alone; else a private folder of
+  // this process's (cacheWarning() says why).
   std::string cacheDir;
   // Defined explicitly in the JIT so the host binary needs no -rdynamic.
   std::vector<HostSymbol> hostSymbols;
@@ -131,6 +133,9 @@ public:
 
   // The resolved cache directory.
   const std::string& cacheDir() const;
+  // Why the configured (or default) cache folder is not used, when it is not: it is not the
+  // user's alone (frontend::useAsCacheFolder). Empty when it is used.
+  const std::string& cacheWarning() const;
 
   struct Impl;
 

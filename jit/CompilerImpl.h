@@ -2,6 +2,7 @@
 // member says which. compile() and its stages are in Compiler.cpp; the design is in docs/jit.md.
 #pragma once
 
+#include "frontend/CacheFiles.h"
 #include "jit/ClangFrontend.h"
 #include "jit/Compiler.h"
 #include "jit/Elapsed.h"
@@ -43,6 +44,8 @@ struct Compiler::Impl {
   CompilerConfig config;
   std::string headerDir;
   std::string cacheDir;
+  std::string cacheWarning;   // why the configured cache folder is not used
+  bool privateCache = false;  // cacheDir is this process's own, removed with the Compiler
   orc::JITTargetMachineBuilder jtmb{llvm::Triple()};
   std::shared_ptr<detail::JitState> state;
   std::array<LevelSetup, 3> levels;
@@ -120,6 +123,8 @@ struct Compiler::Impl {
     for (auto& L : levels)
       if (L.ahead.valid())
         L.ahead.wait();
+    if (privateCache)
+      frontend::removeCacheFolder(cacheDir);
   }
 };
 

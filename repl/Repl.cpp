@@ -647,6 +647,7 @@ int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options) 
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  if (!(*session)->cacheWarning().empty()) std::fprintf(stderr, "lcjit: warning: %s\n", (*session)->cacheWarning().c_str());
   Repl repl(std::move(*session), options);
   return repl.run(inputs);
 }
