@@ -344,7 +344,9 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     so.plainUnit = true;
     so.bufferName = source;
     so.runModelCode = guardedStatics(source);
-    auto unit = compiler_->compile(*text, so);
+    jit::CompileStats unitStats;
+    auto unit = compiler_->compile(*text, so, &unitStats);
+    for (const std::string& n : unitStats.notes) p.warnings.push_back("lcjit: " + n);
     if (!unit) return unit.takeError();
     p.sourceCode.push_back(std::move(*unit));
   }
@@ -411,6 +413,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     }
   }
   if (!p.incremental) code = compiler_->compile(cpp->cpp, co, &stats);
+  for (const std::string& n : stats.notes) p.warnings.push_back("lcjit: " + n);
   if (!code) return code.takeError();
   auto entry = (*code)->lookup(frontend::kModelEntry);
   if (!entry) return entry.takeError();

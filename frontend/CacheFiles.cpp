@@ -1,6 +1,7 @@
 // See CacheFiles.h.
 #include "frontend/CacheFiles.h"
 
+#include <llvm/ADT/StringExtras.h>
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/raw_ostream.h>
@@ -33,6 +34,32 @@ bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
     return false;
   }
   return true;
+}
+
+namespace {
+constexpr llvm::StringLiteral kChecked = "lcjit-sha256 ";
+std::string sha256Hex(llvm::StringRef bytes) { return llvm::toHex(llvm::SHA256::hash(llvm::arrayRefFromStringRef(bytes)), true); }
+}  // namespace
+
+bool writeCheckedCacheFile(const std::string& path, llvm::StringRef bytes) {
+  return writeCacheFile(path, (kChecked + sha256Hex(bytes) + "\n").str() + bytes.str());
+}
+
+CheckedRead readCheckedCacheFile(const std::string& path) {
+  CheckedRead r;
+  auto file = llvm::MemoryBuffer::getFile(path, /*IsText=*/false, /*RequiresNullTerminator=*/false);
+  if (!file) return r;
+  llvm::StringRef text = (*file)->getBuffer();
+  // Another version's file (no checksum line): not loaded, and overwritten by the next store.
+  if (!text.consume_front(kChecked)) return r;
+  auto [sum, bytes] = text.split('\n');
+  if (sum.size() == 64 && sum == sha256Hex(bytes)) {
+    r.bytes = bytes.str();
+    return r;
+  }
+  r.problem = "it is damaged (its checksum does not match)";
+  llvm::sys::fs::remove(path);
+  return r;
 }
 
 llvm::Error useAsCacheFolder(const std::string& dir) {

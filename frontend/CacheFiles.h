@@ -6,6 +6,7 @@
 #include <llvm/Support/Error.h>
 #include <llvm/Support/SHA256.h>
 
+#include <optional>
 #include <string>
 
 namespace lcjit::frontend {
@@ -13,6 +14,15 @@ namespace lcjit::frontend {
 // Writes `bytes` to a temporary file beside `path` and renames it into place, so that a reader
 // never sees a partial file; false (and nothing written) on failure.
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes);
+
+// Cache files whose contents are loaded and run (object code) carry a SHA-256 of themselves,
+// checked when read: a file damaged on disk is never loaded (finding 008).
+bool writeCheckedCacheFile(const std::string& path, llvm::StringRef bytes);
+struct CheckedRead {
+  std::optional<std::string> bytes;  // the contents, when the file is there and whole
+  std::string problem;               // a file that was there and damaged (now deleted): why
+};
+CheckedRead readCheckedCacheFile(const std::string& path);
 
 // A cache folder lcjit may trust: what is in it is loaded and run as the user, so it must be the
 // user's alone. Creates `dir` (mode 0700, parents as needed) when it is missing; then it must be a

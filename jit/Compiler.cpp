@@ -166,39 +166,59 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (job.beginNext)
       impl_->beginAhead(impl_->levels[job.level], job.used, job.bufferName, cppSource.size());
   });
-  if (!job.object) {
-    // parse → the module, its LLVMContext and where its back end reports errors.
-    auto ir = impl_->parse(job);
-    if (!ir)
-      return job.report(ir.takeError());
-    // optimize → the module rewritten and optimised; the globals it owns, in `fresh`.
-    CachedObject fresh;
-    if (auto err = impl_->optimize(job, *ir->module, fresh))
-      return job.report(std::move(err));
-    // generateCode → the object code and its anchor, in `fresh`.
-    if (auto err = impl_->generateCode(job, *ir, fresh))
-      return job.report(std::move(err));
-    // cacheObject → the object, also kept for an identical later compile.
-    job.object = impl_->cacheObject(job, std::move(fresh));
-  }
+  // A reused object that does not load (damaged in memory or on disk, made by a broken build) is
+  // forgotten and the source compiled: once.
+  for (bool again = false;; again = true) {
+    if (!job.object) {
+      // parse → the module, its LLVMContext and where its back end reports errors.
+      auto ir = impl_->parse(job);
+      if (!ir)
+        return job.report(ir.takeError());
+      // optimize → the module rewritten and optimised; the globals it owns, in `fresh`.
+      CachedObject fresh;
+      if (auto err = impl_->optimize(job, *ir->module, fresh))
+        return job.report(std::move(err));
+      // generateCode → the object code and its anchor, in `fresh`.
+      if (auto err = impl_->generateCode(job, *ir, fresh))
+        return job.report(std::move(err));
+      job.object = std::make_shared<const CachedObject>(std::move(fresh));
+    }
 
-  auto loadStart = Clock::now();
-  // supportCode → the JITDylib of the runtime header's code at level 0 (waited for before the
-  // JIT's lock: loading it takes that lock).
-  auto support = impl_->supportCode(job);
-  if (!support)
-    return job.report(support.takeError());
-  std::unique_lock<std::mutex> jitLock(impl_->state->mutex);
-  // newDylib → an empty JITDylib that looks up the versions this one uses, then the runtime.
-  auto jd = impl_->newDylib(job, *support);
-  if (!jd)
-    return jd.takeError();
-  // load → the object linked in it, the model's globals recorded and constructed.
-  auto dylib = job.report(impl_->load(job, **jd, loadStart));
-  if (!dylib)
-    return dylib.takeError();
-  jitLock.unlock();  // ~Dylib takes it
-  return std::unique_ptr<ModelCode>(new ModelCode(std::move(*dylib)));
+    auto loadStart = Clock::now();
+    // supportCode → the JITDylib of the runtime header's code at level 0 (waited for before the
+    // JIT's lock: loading it takes that lock).
+    auto support = impl_->supportCode(job);
+    if (!support)
+      return job.report(support.takeError());
+    std::unique_lock<std::mutex> jitLock(impl_->state->mutex);
+    // newDylib → an empty JITDylib that looks up the versions this one uses, then the runtime.
+    auto jd = impl_->newDylib(job, *support);
+    if (!jd)
+      return jd.takeError();
+    // load → the object linked in it, the model's globals recorded and constructed.
+    auto dylib = impl_->load(job, **jd, loadStart);
+    jitLock.unlock();  // ~Dylib takes it
+    const bool reused = job.stats.object != CompileStats::ObjectFrom::Compiled;
+    if (!dylib && reused && !again) {
+      std::string why = llvm::toString(dylib.takeError());
+      const bool fromDisk = job.stats.object == CompileStats::ObjectFrom::Disk;
+      impl_->dropObject(job.key);
+      job.object = nullptr;
+      job.stats.object = CompileStats::ObjectFrom::Compiled;
+      job.stats.notes.push_back(cacheNote(fromDisk ? impl_->objectPath(job.key) : "(kept in memory)",
+                                          "it would not load (" + why + ")"));
+      continue;
+    }
+    if (!dylib) {
+      if (again)  // the source fails as the reused object did: the cache was not the cause
+        job.stats.notes.pop_back();
+      return job.report(dylib.takeError());
+    }
+    // cacheObject → an object compiled here that loaded, kept for an identical later compile.
+    if (!reused)
+      impl_->cacheObject(job);
+    return std::unique_ptr<ModelCode>(new ModelCode(std::move(*job.report(std::move(dylib)))));
+  }
 }
 
 // Under the level's lock: the level's invocation (set up on first use), its PCH made sure of and,
@@ -228,7 +248,10 @@ std::shared_ptr<const CachedObject> Compiler::Impl::reusedObject(Job& job) {
   if (!job.options.useObjectCache)
     return nullptr;
   bool fromDisk = false;
-  std::shared_ptr<const CachedObject> object = findObject(job.key, fromDisk);
+  std::string problem;
+  std::shared_ptr<const CachedObject> object = findObject(job.key, fromDisk, problem);
+  if (!problem.empty())
+    job.stats.notes.push_back(cacheNote(objectPath(job.key), problem));
   if (object)
     job.stats.object = fromDisk ? CompileStats::ObjectFrom::Disk : CompileStats::ObjectFrom::Memory;
   return object;
@@ -320,21 +343,19 @@ llvm::Error Compiler::Impl::generateCode(Job& job, Frontend::Result& ir, CachedO
   return llvm::Error::success();
 }
 
-// The fresh object, kept in memory and in the disk cache if the options allow it.
-std::shared_ptr<const CachedObject> Compiler::Impl::cacheObject(Job& job, CachedObject fresh) {
-  auto object = std::make_shared<const CachedObject>(std::move(fresh));
+// The object compiled here, kept in memory and in the disk cache if the options allow it.
+void Compiler::Impl::cacheObject(Job& job) {
   if (job.options.useObjectCache) {
-    keepObject(job.key, object);
-    storeObject(job.key, *object);
+    keepObject(job.key, job.object);
+    storeObject(job.key, *job.object);
   }
-  return object;
 }
 
 // At level 0 against a PCH: the JITDylib of the PCH's support code, once it is ready. Else none.
-llvm::Expected<orc::JITDylib*> Compiler::Impl::supportCode(const Job& job) {
+llvm::Expected<orc::JITDylib*> Compiler::Impl::supportCode(Job& job) {
   if (!pchCodegen(job.level) || job.used.pchFallback || job.options.plainUnit)
     return nullptr;
-  return supportDylib(job.used, job.used.pchPath);
+  return supportDylib(job.used, job.used.pchPath, &job.stats.notes);
 }
 
 // A fresh JITDylib for this version, looking up the versions whose functions it calls, then

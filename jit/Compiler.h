@@ -83,6 +83,8 @@ struct CompileStats {
   bool frontendBegunAhead = false;  // the front end was set up before the source came (quick tiers)
   // The object code came from the cache (no front end, optimisation or instruction selection).
   enum class ObjectFrom { Compiled, Memory, Disk } object = ObjectFrom::Compiled;
+  // For the user: cache files that were damaged or would not load, deleted and compiled again.
+  std::vector<std::string> notes;
 };
 
 namespace detail {

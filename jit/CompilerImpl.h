@@ -33,6 +33,12 @@ namespace lcjit::jit {
 // keep their own copies, which they inline.
 inline bool pchCodegen(int level) { return level == 0; }
 
+// A note for the user about a cache file that was deleted and made again.
+inline std::string cacheNote(const std::string& file, const std::string& problem) {
+  return "note: the cached compiled code " + file + " was not used: " + problem +
+         "; it was deleted and the model compiled again (lcjit's cache folder may be deleted at any time)";
+}
+
 // Diagnostics end in a newline; an Error's message should not.
 inline std::string trimTrailingNewlines(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r'))
@@ -58,8 +64,8 @@ struct Compiler::Impl {
   llvm::Expected<Frontend::Result> parse(Job& job);
   llvm::Error optimize(Job& job, llvm::Module& module, CachedObject& fresh);
   llvm::Error generateCode(Job& job, Frontend::Result& ir, CachedObject& fresh);
-  std::shared_ptr<const CachedObject> cacheObject(Job& job, CachedObject fresh);
-  llvm::Expected<orc::JITDylib*> supportCode(const Job& job);
+  void cacheObject(Job& job);
+  llvm::Expected<orc::JITDylib*> supportCode(Job& job);
   llvm::Expected<orc::JITDylib*> newDylib(const Job& job, orc::JITDylib* support);
   llvm::Expected<std::shared_ptr<detail::Dylib>> load(Job& job, orc::JITDylib& JD, Clock::time_point loadStart);
 
@@ -72,7 +78,11 @@ struct Compiler::Impl {
   std::vector<std::pair<std::string, std::shared_ptr<const CachedObject>>> objects;
   static constexpr size_t kObjectsInMemory = 16;
   static constexpr size_t kObjectsOnDisk = 256;
-  std::shared_ptr<const CachedObject> findObject(const std::string& key, bool& fromDisk);
+  // `problem`: a disk entry that was there and damaged (deleted now), why.
+  std::shared_ptr<const CachedObject> findObject(const std::string& key, bool& fromDisk, std::string& problem);
+  // Forgets the entry in memory and on disk (it would not load).
+  void dropObject(const std::string& key);
+  std::string objectPath(const std::string& key) const { return cacheDir + "/objects/" + key + ".o"; }
   void keepObject(const std::string& key, std::shared_ptr<const CachedObject> object);
   // Writes the object to the disk cache (temporary file + rename, as for the PCH) and, every so
   // many stores (listing the folder is not free), keeps the cache to its newest kObjectsOnDisk
@@ -99,11 +109,14 @@ struct Compiler::Impl {
     std::shared_future<void> ready;
     orc::JITDylib* jd = nullptr;
     std::string error;
+    std::string note;  // a damaged cache file it replaced, for the next compile to report
   };
   std::shared_ptr<Support> startSupport(const LevelSetup& L, const std::string& pchPath);
-  llvm::Expected<orc::JITDylib*> supportDylib(const LevelSetup& L, const std::string& pchPath);
+  // `notes`: gets the support's note, once.
+  llvm::Expected<orc::JITDylib*> supportDylib(const LevelSetup& L, const std::string& pchPath,
+                                              std::vector<std::string>* notes = nullptr);
   llvm::Expected<orc::JITDylib*> loadSupport(std::shared_ptr<clang::CompilerInvocation> base,
-                                             const std::string& pchPath, unsigned number);
+                                             const std::string& pchPath, unsigned number, std::string& note);
   static constexpr size_t kSupportPartSize = 32;
   std::mutex supportMutex;
   std::map<std::string, std::shared_ptr<Support>> supports;

@@ -5,6 +5,7 @@
 #include "jit/CompilerImpl.h"
 
 #include <llvm/ADT/StringExtras.h>
+#include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/SHA256.h>
 
@@ -77,7 +78,8 @@ std::string objectKey(llvm::StringRef pchPath, llvm::StringRef unitKind, llvm::S
   return llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 32) + "-O" + std::to_string(level);
 }
 
-std::shared_ptr<const CachedObject> Compiler::Impl::findObject(const std::string& key, bool& fromDisk) {
+std::shared_ptr<const CachedObject> Compiler::Impl::findObject(const std::string& key, bool& fromDisk,
+                                                              std::string& problem) {
   fromDisk = false;
   {
     std::lock_guard<std::mutex> lock(objectsMutex);
@@ -85,13 +87,13 @@ std::shared_ptr<const CachedObject> Compiler::Impl::findObject(const std::string
       if (k == key)
         return object;
   }
-  auto file = llvm::MemoryBuffer::getFile(cacheDir + "/objects/" + key + ".o", /*IsText=*/false,
-                                          /*RequiresNullTerminator=*/false);
-  if (!file)
+  frontend::CheckedRead file = frontend::readCheckedCacheFile(objectPath(key));
+  problem = file.problem;
+  if (!file.bytes)
     return nullptr;
-  auto object = deserialize((*file)->getBuffer());
+  auto object = deserialize(*file.bytes);
   if (!object)
-    return nullptr;  // a foreign or truncated file: compile again (and overwrite it)
+    return nullptr;  // a foreign file: compile again (and overwrite it)
   fromDisk = true;
   auto shared = std::make_shared<const CachedObject>(std::move(*object));
   keepObject(key, shared);
@@ -106,13 +108,21 @@ void Compiler::Impl::keepObject(const std::string& key, std::shared_ptr<const Ca
     objects.erase(objects.begin());
 }
 
+void Compiler::Impl::dropObject(const std::string& key) {
+  {
+    std::lock_guard<std::mutex> lock(objectsMutex);
+    std::erase_if(objects, [&](auto& e) { return e.first == key; });
+  }
+  llvm::sys::fs::remove(objectPath(key));
+}
+
 void Compiler::Impl::storeObject(const std::string& key, const CachedObject& object) {
   static std::atomic<unsigned> stores{0};
   namespace fs = std::filesystem;
   const std::string dir = cacheDir + "/objects";
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (!frontend::writeCacheFile(dir + "/" + key + ".o", serialize(object)))
+  if (!frontend::writeCheckedCacheFile(objectPath(key), serialize(object)))
     return;
   if (stores++ % 32 != 0)
     return;

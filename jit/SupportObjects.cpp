@@ -94,7 +94,7 @@ std::shared_ptr<Compiler::Impl::Support> Compiler::Impl::startSupport(const Leve
     support = std::make_shared<Support>();
     support->ready = std::async(std::launch::async, [this, s = support.get(), base = L.base, pchPath,
                                                      number = supportsStarted++] {
-                       auto jd = loadSupport(base, pchPath, number);
+                       auto jd = loadSupport(base, pchPath, number, s->note);
                        if (jd)
                          s->jd = *jd;
                        else
@@ -104,20 +104,31 @@ std::shared_ptr<Compiler::Impl::Support> Compiler::Impl::startSupport(const Leve
   return support;
 }
 
-llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L, const std::string& pchPath) {
+llvm::Expected<orc::JITDylib*> Compiler::Impl::supportDylib(const LevelSetup& L, const std::string& pchPath,
+                                                            std::vector<std::string>* notes) {
   std::shared_ptr<Support> support = startSupport(L, pchPath);
   support->ready.wait();
+  if (notes) {
+    std::lock_guard<std::mutex> lock(supportMutex);
+    if (!support->note.empty())
+      notes->push_back(std::move(support->note));
+    support->note.clear();
+  }
   if (!support->jd)
     return llvm::createStringError(support->error);
   return support->jd;
 }
 
 llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang::CompilerInvocation> base,
-                                                           const std::string& pchPath, unsigned number) {
+                                                           const std::string& pchPath, unsigned number,
+                                                           std::string& note) {
   std::string cachePath = pchPath + ".o";
   std::optional<std::vector<std::string>> parts;
-  if (auto file = llvm::MemoryBuffer::getFile(cachePath, /*IsText=*/false, /*RequiresNullTerminator=*/false))
-    parts = deserializeParts((*file)->getBuffer());
+  frontend::CheckedRead file = frontend::readCheckedCacheFile(cachePath);
+  if (!file.problem.empty())
+    note = cacheNote(cachePath, file.problem);
+  if (file.bytes)
+    parts = deserializeParts(*file.bytes);
   bool fresh = !parts;
   if (fresh) {
     // The PCH as the input: clang emits what it marked for codegen (as `clang -c x.pch`).
@@ -148,11 +159,11 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
         return object.takeError();
       parts->push_back(std::move(*object));
     }
-    frontend::writeCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
+    frontend::writeCheckedCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
   }
 
   auto& J = *state->jit;
-  std::lock_guard<std::mutex> jitLock(state->mutex);
+  std::unique_lock<std::mutex> jitLock(state->mutex);
   auto jd = J.createJITDylib("lcjit.support." + std::to_string(number));
   if (!jd)
     return jd.takeError();
@@ -169,8 +180,18 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
       if (!symbols->SymbolFlags.empty())
         oneOfEach.add(symbols->SymbolFlags.begin()->first);
     }
-    if (auto err = J.addObjectFile(*jd, std::move(buffer)))
-      return std::move(err);
+    if (auto err = J.addObjectFile(*jd, std::move(buffer))) {
+      if (fresh)
+        return std::move(err);
+      // A cached part that will not load: build the support code afresh, once.
+      std::string why = llvm::toString(std::move(err));
+      if (auto e = J.getExecutionSession().removeJITDylib(*jd))
+        llvm::consumeError(std::move(e));
+      jitLock.unlock();
+      llvm::sys::fs::remove(cachePath);
+      note = cacheNote(cachePath, "it would not load (" + why + ")");
+      return loadSupport(std::move(base), pchPath, number, note);
+    }
   }
   // A freshly built support links every part once, so that a problem shows here rather than as
   // a bad call from the first model that uses the part.

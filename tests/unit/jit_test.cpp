@@ -813,11 +813,13 @@ TEST(JitCacheTest, O0ModelsLinkTheHeadersSupportObject) {
         found.push_back(e.path());
     return found;
   };
+  // The format line, after the checksum line that every cache file of code starts with.
   auto header = [](const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
-    std::string first;
-    std::getline(in, first);
-    return first;
+    std::string checksum, format;
+    std::getline(in, checksum);
+    std::getline(in, format);
+    return checksum.rfind("lcjit-sha256 ", 0) == 0 && checksum.size() == 13 + 64 ? format : "no checksum: " + checksum;
   };
   {
     auto c = makeCompiler(dir);
