@@ -14,6 +14,7 @@
 #include <llvm/Support/Error.h>
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <future>
 #include <map>
@@ -96,7 +97,9 @@ struct Compiler::Impl {
   std::string pchKey(const LevelSetup& L, int level);
   // Makes sure L has a usable PCH (or falls back); reports whether one from disk was reused.
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
-  bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics);
+  // `writeFailed`: built, but the file could not be written (a full disk).
+  bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics, bool& writeFailed);
+  std::atomic<bool> pchWriteWarned{false};  // the user was told once
   static constexpr size_t kPchsKept = 3;
   static void prunePchs(const std::string& built);
 

@@ -5,7 +5,11 @@
 #include "jit/Elapsed.h"
 
 #include <clang/Basic/Version.h>
+#include <clang/Frontend/CompilerInstance.h>
 #include <clang/Frontend/FrontendActions.h>
+#include <clang/Frontend/MultiplexConsumer.h>
+#include <clang/Lex/PreprocessorOptions.h>
+#include <clang/Serialization/ASTWriter.h>
 #include <llvm/ADT/SmallString.h>
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Config/llvm-config.h>
@@ -22,6 +26,42 @@
 #include <unistd.h>
 
 namespace lcjit::jit {
+
+namespace {
+
+// GeneratePCHAction with the PCH written to memory instead of the output file: clang's output
+// streams end the process (report_fatal_error) when a write fails, and a full disk must only
+// cost the cache (finding 010). The caller writes the bytes with its own checks.
+class PchToMemoryAction : public clang::GeneratePCHAction {
+public:
+  explicit PchToMemoryAction(llvm::SmallVectorImpl<char>& bytes) : bytes_(bytes) {}
+
+protected:
+  std::unique_ptr<clang::ASTConsumer> CreateASTConsumer(clang::CompilerInstance& CI, llvm::StringRef inFile) override {
+    std::string sysroot;
+    if (!ComputeASTConsumerArguments(CI, sysroot))
+      return nullptr;
+    const clang::FrontendOptions& fo = CI.getFrontendOpts();
+    if (!fo.RelocatablePCH)
+      sysroot.clear();
+    // The name the PCH records as its own: where the bytes will be written.
+    const std::string outputFile = fo.OutputFile;
+    auto buffer = std::make_shared<clang::PCHBuffer>();
+    std::vector<std::unique_ptr<clang::ASTConsumer>> consumers;
+    consumers.push_back(std::make_unique<clang::PCHGenerator>(
+        CI.getPreprocessor(), CI.getModuleCache(), outputFile, sysroot, buffer, fo.ModuleFileExtensions,
+        CI.getPreprocessorOpts().AllowPCHWithCompilerErrors, fo.IncludeTimestamps, fo.BuildingImplicitModule,
+        +CI.getLangOpts().CacheGeneratedPCH));
+    consumers.push_back(CI.getPCHContainerWriter().CreatePCHContainerGenerator(
+        CI, inFile.str(), outputFile, std::make_unique<llvm::raw_svector_ostream>(bytes_), buffer));
+    return std::make_unique<clang::MultiplexConsumer>(std::move(consumers));
+  }
+
+private:
+  llvm::SmallVectorImpl<char>& bytes_;
+};
+
+}  // namespace
 
 // Hash of everything a PCH depends on: the runtime header's directory tree (content), the
 // compiler version, the full cc1 command line (opt level, -D, target CPU + features).
@@ -49,38 +89,29 @@ std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
   return stem + "-O" + std::to_string(level) + "-" + hex + ".pch";
 }
 
-bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics) {
+bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics,
+                              bool& writeFailed) {
   std::error_code ec = llvm::sys::fs::create_directories(cacheDir);
   if (ec) {
     diagnostics = "cannot create cache directory '" + cacheDir + "': " + ec.message();
     return false;
   }
-  // Unique temp name in the same directory, then rename: readers never see a partial file even
-  // when several processes (ctest -j) build the same PCH at once.
-  llvm::SmallString<256> tmp;
-  int fd = -1;
-  ec = llvm::sys::fs::createUniqueFile(finalPath + ".tmp-%%%%%%%%", fd, tmp);
-  if (ec) {
-    diagnostics = "cannot create a temporary file in '" + cacheDir + "': " + ec.message();
-    return false;
-  }
-  ::close(fd);
-
   auto inv = std::make_shared<clang::CompilerInvocation>(*L.base);
   auto& fo = inv->getFrontendOpts();
   fo.Inputs.clear();
   fo.Inputs.emplace_back(config.runtimeHeader,
                          clang::InputKind(clang::Language::CXX, clang::InputKind::Source, false,
                                           clang::InputKind::HeaderUnit_None, /*HD=*/true));
-  fo.OutputFile = std::string(tmp);
+  fo.OutputFile = finalPath;
   fo.ProgramAction = clang::frontend::GeneratePCH;
   fo.DisableFree = false;
   if (pchCodegen(level))
     inv->getLangOpts().ModulesCodegen = true;
 
   frontend::DiagCollector dc;
-  clang::GeneratePCHAction action;
-  bool ok = executeClang(inv, action, dc);
+  llvm::SmallVector<char, 0> bytes;
+  PchToMemoryAction action(bytes);
+  bool ok = executeClang(inv, action, dc) && !bytes.empty();
   if (ok) {
     // A support object beside it belongs to the PCH it replaces; a JITDylib loaded from that one
     // stays with the models already linked to it.
@@ -92,15 +123,15 @@ bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& final
         supports.erase(it);
       }
     }
-    ec = llvm::sys::fs::rename(tmp, finalPath);
-    if (ec) {
-      dc.text += "cannot move the PCH into place: " + ec.message() + "\n";
+    // Through a temporary file and a rename: readers never see a partial file even when several
+    // processes (ctest -j) build the same PCH at once. A failed write (a full disk) leaves nothing.
+    if (!frontend::writeCacheFile(finalPath, llvm::StringRef(bytes.data(), bytes.size()))) {
+      dc.text += "cannot write the PCH to '" + finalPath + "' (is the disk full?)\n";
+      writeFailed = true;
       ok = false;
     }
   }
-  if (!ok)
-    llvm::sys::fs::remove(tmp);
-  else
+  if (ok)
     prunePchs(finalPath);
   diagnostics = dc.text;
   return ok;
@@ -152,13 +183,17 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
   if (L.ahead.valid())
     L.ahead.get();  // begun on the PCH being replaced
   std::string diags;
-  if (buildPch(L, level, path, diags)) {
+  bool writeFailed = false;
+  if (buildPch(L, level, path, diags, writeFailed)) {
     L.pchReady = true;
     st.pchCached = false;
   } else {
     // Still compile, just slower; if the header itself is broken the model compile reports it.
     L.pchFallback = true;
     L.pchReady = false;
+    if (writeFailed && !pchWriteWarned.exchange(true))
+      st.notes.push_back("warning: the precompiled runtime header cannot be written to the cache folder " + cacheDir +
+                         " (is the disk full?): compiling without it, which is slower");
     if (std::getenv("LCJIT_VERBOSE"))
       llvm::errs() << "lcjit: PCH build failed, including the runtime header as text:\n" << diags;
   }
