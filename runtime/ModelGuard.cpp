@@ -42,6 +42,7 @@ struct StopCounts {
 struct GuardInternals {
   static std::atomic<int>& stop(ModelGuard& g) { return g.stop_; }
   static std::atomic<bool>& force(ModelGuard& g) { return g.force_; }
+  static std::atomic<bool>& forceAsleep(ModelGuard& g) { return g.forceAsleep_; }
   static int& depth(ModelGuard& g) { return g.depth_; }
   static uint64_t& thread(ModelGuard& g) { return g.thread_; }
   static int64_t& deadline(ModelGuard& g) { return g.deadlineNs_; }
@@ -73,8 +74,11 @@ constexpr int kInterruptSignal = SIGUSR2;
 constexpr int64_t kGraceNs = 5'000'000;
 constexpr int64_t kUnwindGraceNs = 2'000'000'000;
 constexpr int64_t kBlockedGraceNs = 100'000'000;
-// Then SIGUSR2 every kForceTickNs until it lands in JIT'd code; after kForceAnywhereNs, wherever
-// it lands.
+// Then SIGUSR2 every kForceTickNs until it lands in JIT'd code. Never in host code while it runs:
+// a jump out of lcjit's or libc's code (a vector growing, malloc) leaves their data half changed
+// (finding 013: a double free); host loops check for a stop themselves instead. Only a thread
+// that has been asleep in a system call for kForceAnywhereNs (a model blocked in read()) is
+// jumped out of wherever it sleeps.
 constexpr int64_t kForceTickNs = 250'000;
 constexpr int64_t kForceAnywhereNs = 1'000'000'000;
 constexpr int64_t kTickNs = 2'000'000;     // watchdog period while model code runs
@@ -230,9 +234,9 @@ void onInterrupt(int sig, siginfo_t* info, void* uc) {
       ModelGuard& g = *x->guard;
       if (!GI::force(g).load(std::memory_order_acquire)) continue;
       uintptr_t pc = pcOf(uc);
-      // Inside libc or the host the thread may hold a lock (malloc's, stdio's): wait for it to
-      // come back to model code, but not forever.
-      if (inHostCode(pc) && nowNs() - GI::forceSince(g) < kForceAnywhereNs) break;
+      // Inside libc or the host the thread may hold a lock (malloc's, stdio's) or be half way
+      // through changing data: wait for it to come back to model code, unless it sleeps.
+      if (inHostCode(pc) && !GI::forceAsleep(g).load(std::memory_order_acquire)) break;
       r->signo = sig;
       r->pc = pc;
       r->stopKind = GI::stop(g).load();
@@ -340,6 +344,7 @@ class Watchdog {
       GI::stops(g) = &tlStops;
       GI::stop(g).store(0);
       GI::force(g).store(false);
+      GI::forceAsleep(g).store(false);
       GI::stopSince(g) = 0;
       GI::observed(g) = 0;
       GI::running(g).store(true);
@@ -361,6 +366,7 @@ class Watchdog {
     lastActiveNs_ = nowNs();
     GI::running(g).store(false);
     GI::force(g).store(false);
+    GI::forceAsleep(g).store(false);
     GI::stop(g).store(0);
   }
 
@@ -445,6 +451,8 @@ class Watchdog {
               GI::forceSince(*g) = now;
               GI::force(*g).store(true, std::memory_order_release);
             }
+            GI::forceAsleep(*g).store(now - GI::forceSince(*g) >= kForceAnywhereNs && threadAsleep(GI::tid(*g)),
+                                      std::memory_order_release);
             // Under the lock: the thread is still inside its run (leave() waits), so it exists.
             pthread_kill(pthread_t(GI::thread(*g)), kInterruptSignal);
             forcing = true;

@@ -103,6 +103,7 @@ class ModelGuard {
   GuardLimits limits_;
   std::atomic<int> stop_{0};       // FaultKind asked for, 0 = none
   std::atomic<bool> force_{false};  // the watchdog asks the SIGUSR2 handler to jump
+  std::atomic<bool> forceAsleep_{false};  // … out of host code too: the thread sleeps in a system call
   std::atomic<bool> running_{false};       // inside run() (the outermost)
   std::atomic<int64_t> stopSinceNs_{0};   // when stop_ was set
   std::atomic<int64_t> stopCpuNs_{0};     // the running thread's CPU time then

@@ -2,6 +2,7 @@
 // or labels in the Geometry, with lpfg's placement rules, and grows lpfg's bounding box.
 #include <cmath>
 
+#include "runtime/ModelGuard.h"
 #include "runtime/turtle/Shapes.h"
 #include "runtime/turtle/Turtle.h"
 
@@ -297,6 +298,7 @@ void Turtle::drawSphere(float r) {
   out_->useTexture(-1);
   uint32_t first = (uint32_t)out_->vertices.size();
   for (int j = 0; j <= stacks; ++j) {
+    ModelGuard::checkpoint();  // a stop asked for ends a big sphere here (never a forced jump)
     float rho = kPi * (float)j / (float)stacks;
     for (int i = 0; i <= slices; ++i) {
       float theta = 2 * kPi * (float)(i % slices) / (float)slices;
@@ -305,12 +307,14 @@ void Turtle::drawSphere(float r) {
     }
   }
   uint32_t row = (uint32_t)slices + 1;
-  for (int j = 0; j < stacks; ++j)
+  for (int j = 0; j < stacks; ++j) {
+    ModelGuard::checkpoint();
     for (int i = 0; i < slices; ++i) {
       uint32_t a = first + j * row + i, b = a + 1, c = a + row, d = c + 1;
       if (j > 0) out_->addTriangle(a, b, c);
       if (j < stacks - 1) out_->addTriangle(b, d, c);
     }
+  }
   extend(t.position - V3f(r, r, r));
   extend(t.position + V3f(r, r, r));
 }
@@ -447,6 +451,7 @@ void Turtle::addGrid(const PatchGrid& grid, bool world, V3f scale, int texture) 
   out_->useTexture(texture);
   uint32_t first = (uint32_t)out_->vertices.size();
   for (size_t i = 0; i < grid.positions.size(); ++i) {
+    if (i % 4096 == 0) ModelGuard::checkpoint();
     V3f p = world ? grid.positions[i] : inFrame(grid.positions[i], scale);
     V2f uv = i < grid.uvs.size() ? grid.uvs[i] : V2f();
     out_->addVertex(vertex(p, turn(grid.normals[i]), uv.x, uv.y));
@@ -460,6 +465,7 @@ void Turtle::drawSurface(int id, V3f scale) {
   const ShapeLibrary::Surface& s = setup_.shapes->surfaces[id];
   int u = precision(state_.uPrecision, s.sdiv), v = precision(state_.vPrecision, s.tdiv);
   for (size_t k = 0; k < s.surface.patches.size(); ++k) {
+    ModelGuard::checkpoint();
     addGrid(s.surface.tessellate(k, u, v), false, scale * s.scale, state_.textureSet ? state_.texture : s.texture);
     for (const V3f& p : s.surface.patches[k].points) extend(inFrame(p, scale * s.scale));
   }

@@ -347,6 +347,29 @@ TEST_F(Faults, EndInterpretationAndStaticConstructor) {
 
 // The guard only takes faults of the thread inside it: a crash elsewhere still ends the process
 // with its signal (the handlers chain to what was there before).
+// A stop asked for while host code runs inside a guarded call (the turtle's loops, the
+// exporters) is never forced: a jump out of host code would leave its data half changed (finding
+// 013: a vector reallocating, then a double free). The host loop ends on its own, or at a
+// checkpoint. Here it runs 1.2 s past a 5 ms time limit (the old rule jumped out after 1 s).
+TEST(FaultGuard, HostCodeIsNeverJumpedOutOf) {
+  runtime::ModelGuard guard;
+  guard.setLimits({0.005, 0});
+  volatile bool finished = false;
+  runtime::Fault fault = guard.run([&] {
+    auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1200);
+    while (std::chrono::steady_clock::now() < end) {
+    }
+    finished = true;
+  });
+  EXPECT_TRUE(finished) << "the host loop was jumped out of: " << fault.what;
+  // At a checkpoint the stop that was asked for ends the call, as the time limit.
+  fault = guard.run([&] {
+    auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < end) runtime::ModelGuard::checkpoint();
+  });
+  EXPECT_EQ(fault.kind, runtime::FaultKind::TimeLimit) << fault.what;
+}
+
 TEST(FaultGuard, CrashesOutsideModelCodeStillCrash) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   runtime::ModelGuard guard;
