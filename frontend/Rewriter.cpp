@@ -50,6 +50,86 @@ struct RewriteError {
 
 bool isIdentChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
 
+// Clang's parser (and this rewriter) recurse once per bracket, per operator in prefix position,
+// per right-associative operator (=, ?:) and per statement inside a statement (if, else if,
+// while, for…). A model nested deeper than the compiling thread's stack allows would end lcjit,
+// and with it a live session (finding 001: 2,000 '!' in one expression, 8,000 nested ifs). So
+// before anything parses, each statement's nesting is measured token by token: the depth is the
+// open brackets plus, at every bracket level, the nesting operators and statements since that
+// level's last ';' or ','. Deeper than kMaxNesting is an error at the token that goes too deep;
+// clang managed ~1,500 nested '!' on an 8 MB stack, so 1,000 leaves room for the rest.
+constexpr int kMaxBrackets = 256;  // clang's -fbracket-depth default
+constexpr int kMaxNesting = 1000;
+
+bool isNestingKeyword(const std::string& s) {
+  static const std::set<std::string> kWords = {"if", "while", "for", "do", "switch", "case", "default",
+                                               "return", "sizeof", "alignof", "new", "delete", "throw", "co_await",
+                                               "co_yield", "co_return", "typeid", "noexcept", "decltype"};
+  return kWords.count(s) != 0;
+}
+bool isPrefixOperator(const std::string& s) {
+  static const std::set<std::string> kOps = {"!", "~", "-", "+", "*", "&", "++", "--", "&&", "::"};
+  return kOps.count(s) != 0;
+}
+bool isRightAssociative(const std::string& s) {
+  static const std::set<std::string> kOps = {"=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>=", "?", ":"};
+  return kOps.count(s) != 0;
+}
+
+void checkNesting(const Lexed& lx) {
+  struct Level {
+    int chain = 0;      // nesting tokens since this level's last ';' or ','
+    int lastChain = 0;  // the chain its last ';' ended: an 'else' continues it
+  };
+  std::vector<Level> levels(1);
+  int depth = 0;  // the sum of the open levels' chains and the brackets
+  const Token* prev = nullptr;
+  auto deeper = [&](const Token& t) {
+    ++levels.back().chain;
+    if (++depth > kMaxNesting)
+      throw RewriteError{t, "this nests more than " + std::to_string(kMaxNesting) +
+                                " operators, brackets or statements inside one another: too deep to compile"};
+  };
+  for (const Token& t : lx.tokens) {
+    if (t.kind == Token::End) break;
+    if (t.kind == Token::Directive) continue;
+    const std::string& s = t.text;
+    const bool punct = t.kind == Token::Punct;
+    if (punct && (s == "(" || s == "[" || s == "{")) {
+      if ((int)levels.size() > kMaxBrackets)
+        throw RewriteError{t, "brackets nest more than " + std::to_string(kMaxBrackets) + " deep"};
+      deeper(t);
+      levels.emplace_back();
+    } else if (punct && (s == ")" || s == "]" || s == "}")) {
+      if (levels.size() > 1) {
+        depth -= levels.back().chain + 1;
+        levels.pop_back();
+        --levels.back().chain;  // the bracket itself
+      }
+      if (s == "}") {  // a compound statement ends a statement as ';' does
+        levels.back().lastChain = levels.back().chain;
+        depth -= levels.back().chain;
+        levels.back().chain = 0;
+      }
+    } else if (punct && (s == ";" || s == ",")) {
+      levels.back().lastChain = s == ";" ? levels.back().chain : 0;
+      depth -= levels.back().chain;
+      levels.back().chain = 0;
+    } else if (t.kind == Token::Identifier && s == "else") {
+      depth += levels.back().lastChain - levels.back().chain;  // back inside its if
+      levels.back().chain = levels.back().lastChain;
+    } else if ((t.kind == Token::Identifier && isNestingKeyword(s)) || (punct && isRightAssociative(s))) {
+      deeper(t);
+    } else if (punct && isPrefixOperator(s)) {
+      // In prefix position: after an operator or an opening bracket, or at the start.
+      bool prefix = !prev || (prev->kind == Token::Punct && prev->text != ")" && prev->text != "]" && prev->text != "}") ||
+                    (prev->kind == Token::Identifier && isNestingKeyword(prev->text));
+      if (prefix) deeper(t);
+    }
+    prev = &t;
+  }
+}
+
 // Writes C++ while tracking the source position it corresponds to, so that user tokens keep
 // their line (and, where possible, column) under #line directives.
 class Emitter {
@@ -842,6 +922,7 @@ llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::st
   Lexed lx = lex(preprocessed, mainFile);
   std::vector<std::string> files = lx.files;
   try {
+    checkNesting(lx);
     Rewriter r(std::move(lx));
     return r.run();
   } catch (const RewriteError& e) {

@@ -53,5 +53,11 @@ grep -q 'the run stopped for the change' err.txt || fail "the stuck run was not 
 grep -q 'reload 6 (grow.l): .*its run stopped for a newer change' err.txt || fail "reload 6 not reported as stopped"
 grep -q 'interrupted' err.txt && fail "the stop was reported as an error"
 wait_for 'A(125)' out.str
+# A save nested too deep for the compiler's stack (finding 001: it ended the session): an error
+# at its line, and the session goes on with the last good model.
+printf 'static int deep(int x) { return %sx; }\n' "$(printf '!%.0s' $(seq 1 2500))" >> grow.l
+wait_for 'reload 8 (grow.l) failed; the last good model stays' err.txt
+grep -q 'grow.l:[0-9]*:[0-9]*: error: this nests more than 1000' err.txt || fail "no error at the deep line"
+grep -q 'A(125)' out.str || fail "the deep save changed the output"
 kill -0 $pid || fail "lcjit --watch exited"
 echo ok
