@@ -345,6 +345,7 @@ class Rewriter {
     }
     if (w == "maximum" && peek().is("depth") && peek(2).is(":")) {
       next(), next(), next();
+      if (atText("-") && peek().kind == Token::Number) fail(cur(), "the maximum depth must be at least 0");
       bool interp = kind_ == 2;
       (interp ? haveInterpDepth_ : haveDecompDepth_) = true;
       expressionFunction(interp ? "static int __lc_interpretation_depth() { return (int)("

@@ -570,10 +570,12 @@ bool Engine::deriveGillespie(int group) {
 // Decomposition and interpretation: recursive per module, one module at a time (lpfg advances
 // by one even after a multi-module match). When the depth is exhausted the original module stays.
 void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
-                    const std::function<void(const char*)>* sink) {
-  if (levels_.size() <= (size_t)depth) levels_.resize(depth + 1);
-  if (!levels_[depth]) levels_[depth] = std::make_unique<ModuleBuffer>();
-  ModuleBuffer& succ = *levels_[depth];
+                    const std::function<void(const char*)>* sink, size_t level) {
+  // One successor buffer per level the recursion reaches, not per level the depth allows: a
+  // `maximum depth` of a billion costs nothing until decomposition goes that deep (finding 002).
+  if (levels_.size() <= level) levels_.resize(level + 1);
+  if (!levels_[level]) levels_[level] = std::make_unique<ModuleBuffer>();
+  ModuleBuffer& succ = *levels_[level];
   Scan old{src, n, ring_ && kind == __lc_Decomposition};
   Match m;
   m.forward = true;
@@ -604,7 +606,7 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
       ModuleBuffer& local = *copies_[copiesInUse_++];
       local.clear();
       local.append(succ.data(), succ.size());
-      expand(kind, local.data(), local.size(), depth - 1, group, target, turtle, sink);
+      expand(kind, local.data(), local.size(), depth - 1, group, target, turtle, sink, level + 1);
       --copiesInUse_;
     } else {
       emit(src + pos);
@@ -825,10 +827,11 @@ void Engine::beginGuarded() {
   length_ = modelDerivationLength();
   calling("the ring L-system statement");
   ring_ = modelRingLsystem();
+  // A negative depth (an expression; a literal one is a compile error) decomposes nothing.
   calling("the decomposition depth");
-  decompositionDepth_ = modelDecompositionDepth();
+  decompositionDepth_ = std::max(0, modelDecompositionDepth());
   calling("the interpretation depth");
-  interpretationDepth_ = modelInterpretationDepth();
+  interpretationDepth_ = std::max(0, modelInterpretationDepth());
   stopRequested_ = false;
   {
     // Whatever a Start block nproduce'd is not part of the axiom here: the buffer is fresh.

@@ -219,8 +219,9 @@ class Engine {
   bool deriveBackward(int group);
   bool deriveGillespie(int group);
   void decompose(int group);
+  // `depth`: the levels it may still go down; `level`: how far down it is (its buffer's index).
   void expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
-              const std::function<void(const char*)>* sink);
+              const std::function<void(const char*)>* sink, size_t level = 0);
   // The environmental pass at the start of a step: query modules filled, communication modules
   // sent and answered.
   void environmentPass();
