@@ -295,11 +295,15 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     if (status == 2)
       std::fprintf(stderr, "lcjit: reload %d (%s): %s; its run stopped for a newer change\n", reload, names.c_str(),
                    compiled.c_str());
+    else if (status == 1)  // the run's error is above; what it would have written was not (finding 016)
+      std::fprintf(stderr, "lcjit: reload %d (%s): %s; the run failed after %d steps%s%s; %.1f ms in all\n", reload,
+                   names.c_str(), compiled.c_str(), session.engine().stepsDone(),
+                   options.out.empty() ? "" : ", nothing written: ", options.out.empty() ? "" : (options.out + " is the last good run's").c_str(),
+                   totalMs);
     else
       std::fprintf(stderr, "lcjit: reload %d (%s): %s, derived %d steps in %.1f ms%s%s; %.1f ms in all\n", reload,
                    names.c_str(), compiled.c_str(), session.engine().stepsDone(), times.deriveMs,
                    options.out.empty() ? "" : ", wrote ", options.out.c_str(), totalMs);
-    if (status == 1) std::fprintf(stderr, "lcjit: reload %d: the run failed\n", reload);
     if (parts->lsystem) startTier();
     watchInputs();  // the view file may name new surfaces, meshes or textures
   }

@@ -59,5 +59,15 @@ printf 'static int deep(int x) { return %sx; }\n' "$(printf '!%.0s' $(seq 1 2500
 wait_for 'reload 8 (grow.l) failed; the last good model stays' err.txt
 grep -q 'grow.l:[0-9]*:[0-9]*: error: this nests more than 1000' err.txt || fail "no error at the deep line"
 grep -q 'A(125)' out.str || fail "the deep save changed the output"
+# A save whose run crashes: the log says the run failed and that nothing was written (finding 016:
+# it said "wrote out.str").
+sed -i '$d' grow.l
+wait_for 'reload 9 ' err.txt
+sed -i 's/total += x;/total += x; { volatile int* p = nullptr; *p = 1; }/' grow.l
+wait_for 'reload 10 ' err.txt
+grep -q 'reload 10 (grow.l): .*; the run failed after [0-9]* steps, nothing written: out.str is the last good run' err.txt \
+  || fail "reload 10's log does not say that the run failed and nothing was written"
+grep -q 'reload 10 (grow.l): .*wrote out.str' err.txt && fail "reload 10 claims to have written out.str"
+grep -q 'A(125)' out.str || fail "the failed run changed the output"
 kill -0 $pid || fail "lcjit --watch exited"
 echo ok
