@@ -51,7 +51,12 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
     pp.cacheDir = cacheDir;
     auto text = frontend::preprocess(files.view, pp);
     if (!text) {
-      warn(text.takeError());
+      // Nothing of it is used, and the model still runs: its messages are warnings (finding 019).
+      std::string why = llvm::toString(text.takeError());
+      for (size_t at = why.find(": error: "); at != std::string::npos; at = why.find(": error: ", at))
+        why.replace(at, 9, ": warning: ");
+      warnings.push_back(why);
+      warnings.push_back(files.view + ": warning: the view file could not be read; the model is drawn with the default view");
     } else {
       std::vector<runtime::ViewFileWarning> w;
       d->view = runtime::parseViewFile(*text, files.view, w);

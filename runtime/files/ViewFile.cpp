@@ -178,6 +178,7 @@ class Parser {
 
   void run(std::string_view text) {
     size_t pos = 0;
+    const size_t warningsBefore = warnings_.size();
     while (pos <= text.size()) {
       size_t nl = text.find('\n', pos);
       if (nl == std::string_view::npos) nl = text.size();
@@ -186,6 +187,15 @@ class Parser {
       handleLine(raw);
       if (nl == text.size()) break;
       pos = nl + 1;
+    }
+    // Not one command in it (a binary file, another program's file given as the view file): one
+    // warning at its first line rather than one per line of garbage (finding 019).
+    if (commands_ == 0 && unrecognized_ > 1) {
+      ViewFileWarning first = warnings_[firstUnrecognized_];
+      warnings_.resize(warningsBefore);
+      warnings_.push_back({first.file, first.line, first.column,
+                           "this is not a view file: none of its " + std::to_string(unrecognized_) +
+                               " lines is a view-file command; it is ignored"});
     }
   }
 
@@ -198,6 +208,8 @@ class Parser {
   size_t indent_ = 0;  // how many leading blanks were removed (for columns)
   int lpfgWindows_ = 0;  // lpfg's window list length, for its view id check (see checkViewId)
   int lastViewId_ = -1;  // the view: on the previous command line, for item continuation lines
+  int commands_ = 0, unrecognized_ = 0;  // lines read as commands, and lines that are not
+  size_t firstUnrecognized_ = 0;          // the first one's warning
   std::set<std::string> surfaceLines_, meshLines_;
 
   void warn(const char* at, const std::string& message) {
@@ -220,7 +232,7 @@ class Parser {
     for (const auto& c : kCommands) {
       size_t len = std::strlen(c.label);
       if (std::strncmp(s, c.label, len) == 0) {
-        if (c.cmd != Cmd::Preproc) lastViewId_ = -1;
+        if (c.cmd != Cmd::Preproc) lastViewId_ = -1, ++commands_;
         dispatch(c.cmd, s + len);
         return;
       }
@@ -234,7 +246,12 @@ class Parser {
       return;
     }
     lastViewId_ = -1;
-    warn(s, "unrecognized command: " + (text_.size() > 60 ? text_.substr(0, 60) + "..." : text_));
+    if (unrecognized_++ == 0) firstUnrecognized_ = warnings_.size();
+    // Shown as text: bytes that are not printable ASCII become '?'.
+    std::string shown = text_.size() > 60 ? text_.substr(0, 60) + "..." : text_;
+    for (char& c : shown)
+      if ((unsigned char)c < 32 || (unsigned char)c > 126) c = '?';
+    warn(s, "unrecognized command: " + shown);
   }
 
   // ---- small value readers --------------------------------------------------------------------

@@ -662,7 +662,8 @@ TEST(ViewFileLineMarkers, WarningsMapToSourceFiles) {
 
 TEST(ViewFileLineMarkers, LineDirectiveAndNoFileName) {
   std::vector<ViewFileWarning> w;
-  parse("#line 40 \"dir/my view.v\"\nbogus\n# 7\n\nbogus again\n#pragma once\nbogus 3\n", w);
+  // (A command last: a file with none is one warning, AFileWithNoCommandIsOneWarning.)
+  parse("#line 40 \"dir/my view.v\"\nbogus\n# 7\n\nbogus again\n#pragma once\nbogus 3\nscale: 1\n", w);
   ASSERT_EQ(w.size(), 3u);
   EXPECT_EQ(w[0].file, "dir/my view.v");
   EXPECT_EQ(w[0].line, 40);
@@ -741,4 +742,26 @@ TEST(ViewFileWrite, ViewLineReadsBack) {
   EXPECT_FLOAT_EQ(s.views[0].pan->x, 0.25f);
   EXPECT_FLOAT_EQ(*s.views[0].scale, 1.5f);
   EXPECT_FALSE(s.views[0].fov.has_value());
+}
+
+// A file with no view-file command at all (finding 019: random bytes gave a warning per line,
+// raw bytes and all): one warning, at its first line.
+TEST(ViewFileWarnings, AFileWithNoCommandIsOneWarning) {
+  std::vector<ViewFileWarning> w;
+  ViewSettings vs = parse("abc\x01\x7f def\nxyz 1 2\n\nq!\n", w);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].line, 1);
+  EXPECT_EQ(w[0].column, 1);
+  EXPECT_EQ(w[0].message, "this is not a view file: none of its 3 lines is a view-file command; it is ignored");
+  EXPECT_EQ(vs.renderMode, ViewSettings().renderMode);
+}
+
+// With a command in it, each bad line is its own warning, shown as text: bytes that are not
+// printable ASCII become '?'.
+TEST(ViewFileWarnings, UnprintableBytesAreShownAsQuestionMarks) {
+  std::vector<ViewFileWarning> w;
+  parse("scale: 2\nab\x01\xff" "c\n", w);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].line, 2);
+  EXPECT_EQ(w[0].message, "unrecognized command: ab??c");
 }

@@ -1,0 +1,3 @@
+scale: 2
+bad 12abc
+#garbage here
