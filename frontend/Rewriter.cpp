@@ -322,6 +322,9 @@ class Rewriter {
     const std::string& w = t.text;
     if (w == "module" && peek().kind == Token::Identifier) return moduleDeclaration(), true;
     if (w == "derivation" && peek().is("length") && peek(2).is(":")) {
+      if (haveDerivationLength_)  // finding 003: a C++ redefinition of lcjit's own name, before
+        fail(t, "'derivation length:' is given twice (first on line " + std::to_string(derivationLengthAt_.line) + ")");
+      derivationLengthAt_ = t;
       next(), next(), next();
       haveDerivationLength_ = true;
       expressionFunction("static int __lc_derivation_length() { return (int)(", "derivation length");
@@ -389,7 +392,13 @@ class Rewriter {
     if ((w == "group" || w == "ggroup" || w == "vgroup" || w == "window") && peek(2).is(":") &&
         (peek().kind == Token::Number || peek().kind == Token::Identifier)) {
       next();
-      std::string id = next().text;
+      const Token& number = next();
+      std::string id = number.text;
+      // A number as C++ reads it (0x…, 0… octal) that fits an int: else the error would come from
+      // the generated tables, with no line of the model (finding 004).
+      int value = 0;
+      if (number.kind == Token::Number && llvm::StringRef(id).getAsInteger(0, value))
+        fail(number, "'" + id + "' is not a " + w + " number (an int: decimal, 0x… or 0… octal)");
       next();
       if (w == "vgroup" || w == "window") {
         vgroup_ = id;
@@ -913,6 +922,7 @@ class Rewriter {
   std::vector<RuleEntry> rules_;
   std::vector<std::pair<size_t, size_t>> ruleSpans_;  // rules_[i]'s function in the output
   std::set<std::string> controls_;
+  Token derivationLengthAt_;  // the first derivation length statement
   bool haveAxiom_ = false, haveDerivationLength_ = false, haveRing_ = false, haveDecompDepth_ = false,
        haveInterpDepth_ = false;
 };
@@ -922,13 +932,23 @@ class Rewriter {
 llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile) {
   Lexed lx = lex(preprocessed, mainFile);
   std::vector<std::string> files = lx.files;
+  // What is missing at the end of the file is reported just after its last token (line 1 of an
+  // empty file), not on a line past its end (finding 020).
+  Token endAt = lx.tokens.back();
+  endAt.line = 1, endAt.col = 1;
+  for (auto it = lx.tokens.rbegin(); it != lx.tokens.rend(); ++it)
+    if (it->kind != Token::End && it->kind != Token::Directive && it->file == lx.tokens.back().file) {
+      endAt.line = it->line, endAt.col = it->col + (int)it->text.size();
+      break;
+    }
   try {
     checkNesting(lx);
     Rewriter r(std::move(lx));
     return r.run();
   } catch (const RewriteError& e) {
-    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%d:%d: error: %s", files[e.at.file].c_str(), e.at.line,
-                                   e.at.col, e.message.c_str());
+    const Token& at = e.at.kind == Token::End ? endAt : e.at;
+    return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%d:%d: error: %s", files[at.file].c_str(), at.line,
+                                   at.col, e.message.c_str());
   }
 }
 

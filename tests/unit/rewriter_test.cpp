@@ -565,13 +565,14 @@ TEST(RewriterErrors, ModuleDeclarations) {
 }
 
 TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
-  // Reported at the end of the input.
+  // Reported just after the last token of the input (finding 020: not on a line past its end).
   EXPECT_EQ(err("module A(float);\nderivation length: 1;\nA(x): { produce A(x); }\n"),
-            "m.l:4:1: error: the model has no 'axiom:' statement");
-  EXPECT_EQ(err("module A(float);\naxiom: A(1);\n"), "m.l:3:1: error: the model has no 'derivation length:' statement");
+            "m.l:3:24: error: the model has no 'axiom:' statement");
+  EXPECT_EQ(err("module A(float);\naxiom: A(1);\n"), "m.l:2:13: error: the model has no 'derivation length:' statement");
+  EXPECT_EQ(err(""), "m.l:1:1: error: the model has no 'axiom:' statement");
   EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A;\nAxiom: A A;\n"), "m.l:4:1: error: the model has more than one axiom");
-  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A\n"), "m.l:4:1: error: expected ';' after the module list");
-  EXPECT_EQ(err("module A;\naxiom: A;\nderivation length: 1\n"), "m.l:4:1: error: expected ';' after the derivation length expression");
+  EXPECT_EQ(err("module A;\nderivation length: 1;\naxiom: A\n"), "m.l:3:9: error: expected ';' after the module list");
+  EXPECT_EQ(err("module A;\naxiom: A;\nderivation length: 1\n"), "m.l:3:21: error: expected ';' after the derivation length expression");
 }
 
 TEST(RewriterErrors, Bodies) {
