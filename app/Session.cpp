@@ -299,6 +299,19 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
                                                ReloadParts what) {
   if (!engine_) what = ReloadParts::all();  // nothing to carry over yet
   PreparedModel p;
+  if (auto e = prepareInto(p, files, optLevel, times, what)) {
+    if (p.warnings.empty()) return std::move(e);
+    // The input files' warnings come first: they often explain the error (a surface file that did
+    // not load leaves the model's 'leaf' undeclared; finding 011).
+    std::string text;
+    for (const std::string& w : p.warnings) text += w + "\n";
+    return llvm::createStringError(text + llvm::toString(std::move(e)));
+  }
+  return p;
+}
+
+llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int optLevel, PhaseTimes& times,
+                                 ReloadParts what) {
   p.what = what;
   p.optLevel = optLevel;
   // Function files first: their names become macros of the model, as in lpfg. lpfg's order:
@@ -321,7 +334,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
   p.drawing = loadDrawingFiles(files, what, drawing_.get(), compiler_->cacheDir(), p.warnings);
   // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
   // the string stays too; only what it is drawn with changes.
-  if (!what.lsystem) return p;
+  if (!what.lsystem) return llvm::Error::success();
 
   const runtime::DrawingFiles* drawing = p.drawing.get();
   auto t0 = std::chrono::steady_clock::now();
@@ -447,7 +460,7 @@ llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optL
     if (!link) return link.takeError();
     p.environment = std::move(*link);
   }
-  return p;
+  return llvm::Error::success();
 }
 
 llvm::Error Session::install(PreparedModel p) {

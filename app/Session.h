@@ -164,6 +164,7 @@ class Session {
   // that the run starts as fresh as after a full load.
   llvm::Expected<PreparedModel> prepare(const ModelFiles& files, int optLevel, PhaseTimes& times,
                                         ReloadParts what = ReloadParts::all());
+  llvm::Error prepareInto(PreparedModel& p, const ModelFiles& files, int optLevel, PhaseTimes& times, ReloadParts what);
   llvm::Error install(PreparedModel prepared);
   bool loaded() const { return engine_ != nullptr; }
   runtime::Engine& engine() { return *engine_; }

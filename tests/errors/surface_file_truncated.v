@@ -1,0 +1,1 @@
+surface: truncated_leaf.s 1 4 4
