@@ -79,7 +79,7 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   }
   if (!what.rendering) return d;
   d->palette = runtime::Palette();
-  if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap));
+  if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap, &warnings));
   if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));
   d->shapes = runtime::ShapeLibrary();
   d->textures.clear();

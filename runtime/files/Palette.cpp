@@ -42,7 +42,7 @@ Palette::Palette() {
   pages_.push_back(page);
 }
 
-llvm::Error Palette::loadColormap(const std::string& path) {
+llvm::Error Palette::loadColormap(const std::string& path, std::vector<std::string>* warnings) {
   auto buffer = readBinary(path);
   if (!buffer) return buffer.takeError();
   llvm::StringRef data = (*buffer)->getBuffer();
@@ -51,6 +51,9 @@ llvm::Error Palette::loadColormap(const std::string& path) {
     return fileError(path, "truncated colormap: " + std::to_string(data.size()) +
                                " bytes, a page needs 768 (256 RGB triplets)");
   size_t count = data.size() / kPageBytes;
+  if (size_t extra = data.size() % kPageBytes; extra && warnings)
+    warnings->push_back(path + ": warning: a colormap is pages of 768 bytes (256 RGB triplets); the " +
+                        std::to_string(extra) + " bytes after page " + std::to_string(count) + " are ignored");
   std::vector<std::array<std::array<float, 4>, 256>> pages(count);
   const auto* bytes = reinterpret_cast<const uint8_t*>(data.data());
   for (size_t p = 0; p < count; ++p)

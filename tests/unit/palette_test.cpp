@@ -93,7 +93,12 @@ TEST(PaletteColormap, TrailingBytesIgnored) {
   std::vector<uint8_t> bytes = page(5);
   bytes.resize(768 + 100, 9);
   Palette p;
-  ASSERT_LOADS(p.loadColormap(writeFile("trailing.map", bytes)));
+  std::vector<std::string> warnings;
+  const std::string path = writeFile("trailing.map", bytes);
+  ASSERT_LOADS(p.loadColormap(path, &warnings));
+  // Said, not silently dropped (finding 020).
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], path + ": warning: a colormap is pages of 768 bytes (256 RGB triplets); the 100 bytes after page 1 are ignored");
   EXPECT_EQ(p.pageCount(), 1);
   EXPECT_RGBA(p.color(255), 4 / 255.f, 0, (7 * 255 & 255) / 255.f, 1);
 }
