@@ -370,16 +370,21 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   }
   const double unitsMs = jit::msSince(unitsStart);
   t0 = std::chrono::steady_clock::now();
-  for (int id = 1; id <= functions->size(); ++id) {
-    std::string name(functions->nameOf(id));
-    if (!name.empty()) pp.defines.push_back({name, std::to_string(id)});
-  }
-  // lpfg defines contour and surface names as their ids (names that are identifiers).
+  // lpfg defines the names of functions, parameters, contours and surfaces as their ids, for the
+  // model to use; a name that is not an identifier cannot be one (it would fail as a macro on
+  // '<command line>', finding 011).
   auto defineId = [&](const std::string& name, size_t id) {
     bool ok = !name.empty() && !std::isdigit((unsigned char)name[0]);
     for (char c : name) ok = ok && (std::isalnum((unsigned char)c) || c == '_');
     if (ok) pp.defines.push_back({name, std::to_string(id)});
+    return ok;
   };
+  for (int id = 1; id <= functions->size(); ++id) {
+    std::string name(functions->nameOf(id));
+    if (!name.empty() && !defineId(name, id))
+      p.warnings.push_back("lcjit: warning: the function or parameter '" + name +
+                           "' (.func, .fset, .tset or .vset) is not named as an identifier; the model cannot use its name");
+  }
   for (int id = 0; id < drawing->contours.size(); ++id) defineId(drawing->contours.nameOf(id), id);
   for (size_t id = 0; id < drawing->shapes.surfaces.size(); ++id) defineId(drawing->shapes.surfaces[id].surface.name, id);
   // Multi-view (§7.3): each `window:` name is its view id, for UseView and `vgroup`.
