@@ -342,6 +342,7 @@ class Watchdog {
       GI::tid(g) = int(gettid());
       if (pthread_getcpuclockid(pthread_self(), &GI::cpuClock(g)) != 0) GI::cpuClock(g) = CLOCK_THREAD_CPUTIME_ID;
       GI::stops(g) = &tlStops;
+      GI::stopsThrownAtStop(g).store(-1);
       GI::stop(g).store(0);
       GI::force(g).store(false);
       GI::forceAsleep(g).store(false);
@@ -403,7 +404,6 @@ class Watchdog {
   static void requestStop(ModelGuard& g, FaultKind why, int64_t now) {
     int none = 0;
     if (GI::stop(g).compare_exchange_strong(none, int(why))) {
-      GI::stopsThrownAtStop(g).store(GI::stops(g)->thrown.load(std::memory_order_relaxed));
       GI::stopCpu(g).store(nsOf(GI::cpuClock(g)));
       GI::stopSince(g).store(now);
     }
@@ -445,6 +445,10 @@ class Watchdog {
           }
           // stopSince may lag stop_ by a moment (interrupt() sets them one after the other).
           int64_t since = GI::stopSince(*g).load();
+          // The thread's ModelStops so far, read here under the lock (the thread cannot leave its
+          // run meanwhile, so its counts exist) the first time the stop is seen.
+          if (GI::stop(*g).load() && GI::stopsThrownAtStop(*g).load() < 0)
+            GI::stopsThrownAtStop(*g).store(GI::stops(*g)->thrown.load(std::memory_order_relaxed));
           if (GI::stop(*g).load() && since && graceOver(*g, since, now)) {
             if (!GI::force(*g).load()) {
               refreshHostCode();

@@ -113,7 +113,7 @@ class ModelGuard {
   int tid_ = 0;                               // its kernel id (/proc/self/task/TID)
   clockid_t cpuClock_ = CLOCK_THREAD_CPUTIME_ID;  // its CPU-time clock
   const StopCounts* stops_ = nullptr;  // its ModelStops
-  std::atomic<int> stopsThrownAtStop_{0};  // how many it had thrown when stop_ was set
+  std::atomic<int> stopsThrownAtStop_{-1};  // how many it had thrown when the watchdog saw stop_
   int64_t deadlineNs_ = 0, forceSinceNs_ = 0;
   std::atomic<size_t> observedBytes_{0};  // the resident memory that tripped the memory limit
 };
