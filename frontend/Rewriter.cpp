@@ -58,6 +58,8 @@ bool isIdentChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
 // open brackets plus, at every bracket level, the nesting operators and statements since that
 // level's last ';' or ','. Deeper than kMaxNesting is an error at the token that goes too deep;
 // clang managed ~1,500 nested '!' on an 8 MB stack, so 1,000 leaves room for the rest.
+// checkBeforeParsing does that, and refuses directive lines the compiler would meet before any
+// line of the model (finding 003).
 constexpr int kMaxBrackets = 256;  // clang's -fbracket-depth default
 constexpr int kMaxNesting = 1000;
 
@@ -76,7 +78,7 @@ bool isRightAssociative(const std::string& s) {
   return kOps.count(s) != 0;
 }
 
-void checkNesting(const Lexed& lx) {
+void checkBeforeParsing(const Lexed& lx) {
   struct Level {
     int chain = 0;      // nesting tokens since this level's last ';' or ','
     int lastChain = 0;  // the chain its last ';' ended: an 'else' continues it
@@ -92,7 +94,16 @@ void checkNesting(const Lexed& lx) {
   };
   for (const Token& t : lx.tokens) {
     if (t.kind == Token::End) break;
-    if (t.kind == Token::Directive) continue;
+    if (t.kind == Token::Directive) {
+      // What the preprocessor leaves is '#pragma …' or a kept '#include <…>'; a line that starts
+      // with '#' and no directive name ('##include', a doubled '#') would reach the compiler
+      // before any line of the model, as an error in a '.l.cpp' file (finding 003).
+      size_t k = 1;
+      while (k < t.text.size() && (t.text[k] == ' ' || t.text[k] == '\t')) ++k;
+      if (k < t.text.size() && !std::isalpha((unsigned char)t.text[k]))
+        throw RewriteError{t, "'" + t.text.substr(0, k + 1) + "' starts no preprocessor directive (a directive is '#' and its name: #include, #define…)"};
+      continue;
+    }
     const std::string& s = t.text;
     const bool punct = t.kind == Token::Punct;
     if (punct && (s == "(" || s == "[" || s == "{")) {
@@ -942,7 +953,7 @@ llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::st
       break;
     }
   try {
-    checkNesting(lx);
+    checkBeforeParsing(lx);
     Rewriter r(std::move(lx));
     return r.run();
   } catch (const RewriteError& e) {
