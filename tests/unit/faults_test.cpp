@@ -115,6 +115,22 @@ class Faults : public ::testing::Test {
     EXPECT_EQ(g.segments.size(), 3u);
   }
 
+  static void withTimeLimit(double seconds) {
+    runtime::EngineLimits limits;
+    limits.timeLimit = seconds;
+    session_->setLimits(limits);
+  }
+  // `runs` runs of the loaded model, each stopped by the time limit in step 2 (fewer than
+  // runsFail's hundred, for models whose every run takes long).
+  static void stoppedByTheTimeLimit(int runs) {
+    for (int i = 0; i < runs; ++i) {
+      llvm::Error e = engine().run();
+      ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
+      std::string message = llvm::toString(std::move(e));
+      ASSERT_NE(message.find(at() + "was stopped in step 2: it ran longer than the time limit"), std::string::npos) << message;
+    }
+  }
+
   static std::string path(const char* name) { return (*dir_ / name).string(); }
   static std::string at() { return path("f.l") + ":" + std::to_string(kLine) + ": error: production A(n) "; }
 
@@ -156,9 +172,7 @@ TEST_F(Faults, UncaughtException) {
 
 TEST_F(Faults, EndlessLoopStoppedByTheTimeLimit) {
   load("f", faulty("", "for (volatile int k = 0; k == 0;) {}"));
-  runtime::EngineLimits limits;
-  limits.timeLimit = 0.005;
-  session_->setLimits(limits);
+  withTimeLimit(0.005);
   auto t0 = std::chrono::steady_clock::now();
   runsFail({at() + "was stopped in step 2: it ran longer than the time limit of 0.005 s"});
   double perRun = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / kRuns;
@@ -218,9 +232,7 @@ TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
 // cooperative stop cannot unwind it, the forced jump must.
 TEST_F(Faults, EndlessLoopThatCatchesEverything) {
   load("f", faulty("", "for (;;) { try { int* volatile p = new int[4]; delete[] p; } catch (...) {} }"));
-  runtime::EngineLimits limits;
-  limits.timeLimit = 0.005;
-  session_->setLimits(limits);
+  withTimeLimit(0.005);
   runsFail({at() + "was stopped in step 2: it ran longer than the time limit"});
   goodModelRuns();
 }
@@ -236,16 +248,9 @@ TEST_F(Faults, AStoppedRunUnwindsThroughSlowDestructors) {
   load("f", faulty("struct Slow { ~Slow() { for (volatile long i = 0; i < 30000000; ++i) {} "
                    "FILE* f = fopen(\"" + done + "\", \"a\"); if (f) { fputs(\"x\", f); fclose(f); } } };",
                    "Slow s; for (;;) { int* volatile p = new int[4]; delete[] p; }"));
-  runtime::EngineLimits limits;
-  limits.timeLimit = 0.005;
-  session_->setLimits(limits);
+  withTimeLimit(0.005);
   constexpr int kSlowRuns = 10;
-  for (int i = 0; i < kSlowRuns; ++i) {
-    llvm::Error e = engine().run();
-    ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
-    std::string message = llvm::toString(std::move(e));
-    ASSERT_NE(message.find(at() + "was stopped in step 2: it ran longer than the time limit"), std::string::npos) << message;
-  }
+  stoppedByTheTimeLimit(kSlowRuns);
   std::string marks;
   std::ifstream(done) >> marks;
   EXPECT_EQ(marks, std::string(kSlowRuns, 'x')) << "a destructor was jumped out of";
@@ -255,15 +260,8 @@ TEST_F(Faults, AStoppedRunUnwindsThroughSlowDestructors) {
 // A model asleep in a system call uses no CPU time: it is still made to stop.
 TEST_F(Faults, AModelAsleepIsStoppedByTheTimeLimit) {
   load("f", faulty("#include <unistd.h>", "for (;;) usleep(1000);"));
-  runtime::EngineLimits limits;
-  limits.timeLimit = 0.005;
-  session_->setLimits(limits);
-  for (int i = 0; i < 2; ++i) {
-    llvm::Error e = engine().run();
-    ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
-    std::string message = llvm::toString(std::move(e));
-    ASSERT_NE(message.find(at() + "was stopped in step 2: it ran longer than the time limit"), std::string::npos) << message;
-  }
+  withTimeLimit(0.005);
+  stoppedByTheTimeLimit(2);
   goodModelRuns();
 }
 
