@@ -21,6 +21,7 @@ public:
 
 private:
   bool lastWasError_ = false;
+  bool tablesReported_ = false;
 };
 
 }  // namespace lcjit::frontend

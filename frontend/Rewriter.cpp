@@ -141,6 +141,32 @@ void checkBeforeParsing(const Lexed& lx) {
   }
 }
 
+// Brackets must pair up within the model: one left open (or a stray closer) would swallow or cut
+// the generated code that follows the model's text, and Clang's errors would land there, in
+// lcjit's tables, instead of at the bracket (finding 004). Reported after rewriting, whose own errors
+// ("expected ')' to close the parameter list of module 'A'") say more where they apply.
+void checkBracketsPair(const Lexed& lx) {
+  std::vector<const Token*> open;
+  auto closing = [](const std::string& b) { return std::string(b == "(" ? ")" : b == "[" ? "]" : "}"); };
+  for (const Token& t : lx.tokens) {
+    if (t.kind != Token::Punct) continue;
+    const std::string& s = t.text;
+    if (s == "(" || s == "[" || s == "{") {
+      open.push_back(&t);
+    } else if (s == ")" || s == "]" || s == "}") {
+      if (open.empty()) throw RewriteError{t, "'" + s + "' closes no bracket"};
+      const Token& o = *open.back();
+      if (closing(o.text) != s)
+        throw RewriteError{t, "'" + s + "' does not close the '" + o.text + "' at line " + std::to_string(o.line) +
+                                  ", column " + std::to_string(o.col)};
+      open.pop_back();
+    }
+  }
+  if (!open.empty())
+    throw RewriteError{*open.back(), "'" + open.back()->text + "' is never closed (no '" + closing(open.back()->text) +
+                                         "' matches it)"};
+}
+
 // Writes C++ while tracking the source position it corresponds to, so that user tokens keep
 // their line (and, where possible, column) under #line directives.
 class Emitter {
@@ -154,6 +180,12 @@ class Emitter {
   // Generated text placed at a token's position (so diagnostics about it point there).
   void glueAt(const Token& t, const std::string& s) {
     moveTo(t);
+    put(s);
+  }
+  // Generated text standing for a token, starting at its exact column: Clang's errors about the
+  // generated call or declaration (`__lc_emit_A(…)`) point at the module's name in the .l file.
+  void replaceAt(const Token& t, const std::string& s) {
+    moveTo(t, /*exactColumn=*/true);
     put(s);
   }
   // Generated text continuing the current position.
@@ -410,6 +442,12 @@ class Rewriter {
       int value = 0;
       if (number.kind == Token::Number && llvm::StringRef(id).getAsInteger(0, value))
         fail(number, "'" + id + "' is not a " + w + " number (an int: decimal, 0x… or 0… octal)");
+      // A named group number goes into the tables too: check it here, at its line.
+      if (number.kind == Token::Identifier) {
+        out_.glueAt(number, "enum : int {" + std::string(" __lc_group_number_") + std::to_string(groupChecks_++) + " =");
+        out_.token(number);
+        out_.glue("};");
+      }
       next();
       if (w == "vgroup" || w == "window") {
         vgroup_ = id;
@@ -484,9 +522,11 @@ class Rewriter {
       if (auto* m = findModule(name.text))
         fail(name, "module '" + name.text + "' is already declared" + (m->id < __lc_FirstUserModule ? " (it is a predefined module)" : ""));
       std::vector<std::string> types;
+      std::vector<std::vector<Token>> typeTokens;  // each type as written, for emitModule
       if (atText("(")) {
         next();
         std::string type;
+        std::vector<Token> tokens;
         int depth = 0;
         while (!(depth == 0 && atText(")"))) {
           if (at(Token::End) || atText(";")) fail(cur(), "expected ')' to close the parameter list of module '" + name.text + "'");
@@ -496,16 +536,26 @@ class Rewriter {
           if (depth == 0 && t.is(",")) {
             if (type.empty()) fail(t, "missing parameter type in module '" + name.text + "'");
             types.push_back(type);
+            typeTokens.push_back(std::move(tokens));
             type.clear();
+            tokens.clear();
             continue;
           }
           if (!type.empty() && isIdentChar(type.back()) && isIdentChar(t.text.front())) type += ' ';
           type += t.text;
+          tokens.push_back(t);
         }
         next();
-        if (!type.empty()) types.push_back(type);
-        else if (!types.empty()) fail(cur(), "missing parameter type in module '" + name.text + "'");
-        if (types.size() == 1 && types[0] == "void") types.clear();
+        if (!type.empty()) {
+          types.push_back(type);
+          typeTokens.push_back(std::move(tokens));
+        } else if (!types.empty()) {
+          fail(cur(), "missing parameter type in module '" + name.text + "'");
+        }
+        if (types.size() == 1 && types[0] == "void") {
+          types.clear();
+          typeTokens.clear();
+        }
       }
       // `module X(...) = N;` as lpfg's translator takes it: this module is N, the next N+1.
       if (atText("=")) {
@@ -523,7 +573,7 @@ class Rewriter {
       int id = nextModuleId_++;
       modules_[name.text] = ModuleEntry{id, types};
       userModules_.push_back(ModuleDecl{name.text, id, types});
-      emitModule(kw, name.text, id, types);
+      emitModule(kw, name, id, types, typeTokens);
       if (atText(",")) {
         next();
         continue;
@@ -533,25 +583,45 @@ class Rewriter {
     expect(";", "after the module declaration");
   }
 
-  void emitModule(const Token& at, const std::string& name, int id, const std::vector<std::string>& types) {
+  // Each parameter type is written once, as a typedef with the user's tokens at their own columns,
+  // and the generated code names the alias: a misspelt type is one error at the type in the .l
+  // file, not one per generated use at columns past the line's end (finding 003).
+  void emitModule(const Token& at, const Token& nameToken, int id, const std::vector<std::string>& types,
+                  const std::vector<std::vector<Token>>& typeTokens) {
+    const std::string& name = nameToken.text;
+    std::vector<std::string> alias(types.size());
+    for (size_t i = 0; i < types.size(); ++i) {
+      alias[i] = "__lc_P_" + name + "_" + std::to_string(i);
+      // A typedef whose type is unknown still declares the name (as invalid), which keeps Clang
+      // quiet about its uses; an alias-declaration would not. Types with declarators (function
+      // pointers, arrays) need the alias form.
+      bool declarator = false;
+      for (const Token& t : typeTokens[i]) declarator |= t.is("(") || t.is("[");
+      out_.glueAt(typeTokens[i].front(), declarator ? "using " + alias[i] + " =" : "typedef");
+      for (const Token& t : typeTokens[i]) out_.token(t);
+      out_.glue(declarator ? ";" : " " + alias[i] + ";");
+    }
     std::string R = "__lc_R_" + name;
     std::string s = "struct " + R + " { __lc_ModuleId id;";
-    for (size_t i = 0; i < types.size(); ++i) s += " " + types[i] + " p" + std::to_string(i) + ";";
+    for (size_t i = 0; i < types.size(); ++i) s += " " + alias[i] + " p" + std::to_string(i) + ";";
     s += " __lc_ModuleId id2; }; enum : __lc_ModuleId { __lc_id_" + name + " = " + std::to_string(id) + " }; ";
-    s += "static inline void __lc_emit_" + name + "(__lc_Ctx* c";
-    for (size_t i = 0; i < types.size(); ++i) s += ", " + types[i] + " a" + std::to_string(i);
+    s += "static inline void";
+    out_.glueAt(at, s);
+    s = "__lc_emit_" + name + "(__lc_Ctx* c";
+    for (size_t i = 0; i < types.size(); ++i) s += ", " + alias[i] + " a" + std::to_string(i);
     s += ") { " + R + " r; __builtin_memset(&r, 0, sizeof r); r.id = r.id2 = " + std::to_string(id) + ";";
     for (size_t i = 0; i < types.size(); ++i) s += " r.p" + std::to_string(i) + " = a" + std::to_string(i) + ";";
-    s += " __lc_put(c, &r, sizeof r); } ";
-    s += "static const __lc_Field __lc_fields_" + name + "[" + std::to_string(std::max<size_t>(types.size(), 1)) + "] = {";
+    s += " __lc_put(c, &r, sizeof r); }";
+    out_.replaceAt(nameToken, s);
+    s = " static const __lc_Field __lc_fields_" + name + "[" + std::to_string(std::max<size_t>(types.size(), 1)) + "] = {";
     for (size_t i = 0; i < types.size(); ++i) {
       std::string quoted;
       for (char c : types[i]) quoted += c == '"' ? std::string("\\\"") : std::string(1, c);
-      s += "{(uint32_t)__builtin_offsetof(" + R + ", p" + std::to_string(i) + "), (uint32_t)sizeof(" + types[i] + "), __lc_kind_of<" +
-           types[i] + ">(), \"" + quoted + "\"},";
+      s += "{(uint32_t)__builtin_offsetof(" + R + ", p" + std::to_string(i) + "), (uint32_t)sizeof(" + alias[i] + "), __lc_kind_of<" +
+           alias[i] + ">(), \"" + quoted + "\"},";
     }
     s += "};";
-    out_.glueAt(at, s);
+    out_.glue(s);
   }
 
   // `KEYWORD: expression ;` → a function returning the expression.
@@ -801,7 +871,7 @@ class Rewriter {
       if (t.kind != Token::Identifier) fail(t, "expected a module name in the module list, found '" + t.text + "'");
       const ModuleEntry& m = requireModule(t);
       next();
-      out_.glueAt(t, "__lc_emit_" + t.text + "(__lc_ctx");
+      out_.replaceAt(t, "__lc_emit_" + t.text + "(__lc_ctx");
       size_t nargs = 0;
       if (atText("(")) {
         next();
@@ -846,7 +916,17 @@ class Rewriter {
   }
 
   void emitTables() {
-    std::string s = "#line 1 \"<lcjit: generated model tables>\"\n";
+    // The tables compile whatever the model says, except after C++ the model leaves unfinished
+    // (`template<`, a declaration without its ';'): the name carries where the model's text ends,
+    // for DiagCollector to report that instead of errors inside the tables.
+    std::string end;
+    for (size_t i = lx_.tokens.size(); i-- > 0;) {
+      const Token& t = lx_.tokens[i];
+      if (t.kind == Token::End || t.kind == Token::Directive) continue;
+      end = lx_.files[t.file] + ":" + std::to_string(t.line) + ":" + std::to_string(t.col + (int)t.text.size());
+      break;
+    }
+    std::string s = "#line 1 " + cString(std::string(kTablesFile) + (end.empty() ? "" : " " + end) + ">") + "\n";
     s += "static const __lc_ModuleInfo __lc_user_modules[] = {";
     // One entry per id from the first user module's; ids skipped by `module X = N;` are
     // nameless and never used. userModules_ is in id order: ids only grow.
@@ -925,6 +1005,7 @@ class Rewriter {
   bool atStatementStart_ = true;
   int kind_ = 0;
   std::string group_ = "0", vgroup_ = "0";
+  int groupChecks_ = 0;
   int groupKind_ = 0;
   int ruleGroupKind_ = 0;
   int filter_ = -1;
@@ -954,8 +1035,16 @@ llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::st
     }
   try {
     checkBeforeParsing(lx);
+    std::optional<RewriteError> unpaired;  // reported if the rewriter finds nothing more precise
+    try {
+      checkBracketsPair(lx);
+    } catch (const RewriteError& e) {
+      unpaired = e;
+    }
     Rewriter r(std::move(lx));
-    return r.run();
+    auto out = r.run();
+    if (unpaired) throw *unpaired;
+    return out;
   } catch (const RewriteError& e) {
     const Token& at = e.at.kind == Token::End ? endAt : e.at;
     return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s:%d:%d: error: %s", files[at.file].c_str(), at.line,

@@ -31,6 +31,10 @@ struct Rewritten {
 // Errors are `FILE:LINE:COL: error: MESSAGE`.
 llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile);
 
+// The pseudo-file the generated tables are compiled as: `<lcjit: generated model tables FILE:L:C>`,
+// where FILE:L:C is the end of the model's text (ClangDiagnostics reads it).
+inline constexpr const char* kTablesFile = "<lcjit: generated model tables";
+
 // The entry point every rewritten model defines.
 inline constexpr const char* kModelEntry = "__lc_model";
 

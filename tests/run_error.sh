@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs lcjit on one bad input and checks that it fails cleanly: exit status 1 (not a signal, not
-# a crash), and every line of NAME.err appears (as a substring) in its standard error.
+# a crash), and every line of NAME.err appears (as a substring) in its standard error, except
+# lines '! TEXT': TEXT must not appear.
 # Usage: run_error.sh LCJIT ERRORS_DIR NAME
 # lcjit runs in ERRORS_DIR on `[files from NAME.files] NAME.l`, so messages name the files as
 # they are written here (NAME.l:LINE:COL: error: ...). NAME.l need not exist.
@@ -21,6 +22,13 @@ if grep -qE 'PLEASE submit a bug report|Stack dump|Assertion .* failed|internal 
 fi
 while IFS= read -r want || [ -n "$want" ]; do
   [ -z "$want" ] && continue
+  if [ "${want:0:2}" = "! " ]; then  # "! TEXT": TEXT must not appear (a second error, a generated name)
+    if grep -qF -- "${want:2}" "$work/stderr"; then
+      echo "FAIL: stderr has what it must not: ${want:2}"
+      fail=1
+    fi
+    continue
+  fi
   if ! grep -qF -- "$want" "$work/stderr"; then
     echo "FAIL: stderr lacks: $want"
     fail=1

@@ -115,14 +115,16 @@ std::string ruleNames(const std::string& cpp, int index) {
 TEST(RewriterModules, RecordStructEmitterAndFields) {
   auto r = ok("module A(float, int);\nmodule B;\nderivation length: 1;\naxiom: A(1, 2) B;\n");
   std::string s = squash(r.cpp);
-  EXPECT_HAS(s, "struct__lc_R_A{__lc_ModuleIdid;floatp0;intp1;__lc_ModuleIdid2;};");
+  // Each parameter type once, as a typedef the generated code names (finding 003).
+  EXPECT_HAS(s, "typedeffloat__lc_P_A_0;typedefint__lc_P_A_1;");
+  EXPECT_HAS(s, "struct__lc_R_A{__lc_ModuleIdid;__lc_P_A_0p0;__lc_P_A_1p1;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "enum:__lc_ModuleId{__lc_id_A=103};");
-  EXPECT_HAS(s, "staticinlinevoid__lc_emit_A(__lc_Ctx*c,floata0,inta1){__lc_R_Ar;__builtin_memset(&r,0,sizeofr);r.id=r.id2=103;r.p0=a0;r.p1=a1;__lc_put(c,&r,sizeofr);}");
+  EXPECT_HAS(s, "staticinlinevoid__lc_emit_A(__lc_Ctx*c,__lc_P_A_0a0,__lc_P_A_1a1){__lc_R_Ar;__builtin_memset(&r,0,sizeofr);r.id=r.id2=103;r.p0=a0;r.p1=a1;__lc_put(c,&r,sizeofr);}");
   EXPECT_HAS(s, "struct__lc_R_B{__lc_ModuleIdid;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "__lc_id_B=104");
   EXPECT_HAS(s, "staticinlinevoid__lc_emit_B(__lc_Ctx*c){");
-  EXPECT_HAS(s, "__lc_fields_A[2]={{(uint32_t)__builtin_offsetof(__lc_R_A,p0),(uint32_t)sizeof(float),__lc_kind_of<float>(),\"float\"},"
-                "{(uint32_t)__builtin_offsetof(__lc_R_A,p1),(uint32_t)sizeof(int),__lc_kind_of<int>(),\"int\"},};");
+  EXPECT_HAS(s, "__lc_fields_A[2]={{(uint32_t)__builtin_offsetof(__lc_R_A,p0),(uint32_t)sizeof(__lc_P_A_0),__lc_kind_of<__lc_P_A_0>(),\"float\"},"
+                "{(uint32_t)__builtin_offsetof(__lc_R_A,p1),(uint32_t)sizeof(__lc_P_A_1),__lc_kind_of<__lc_P_A_1>(),\"int\"},};");
   EXPECT_HAS(s, "__lc_user_modules[]={{\"A\",(uint32_t)sizeof(__lc_R_A),2,__lc_fields_A},{\"B\",(uint32_t)sizeof(__lc_R_B),0,__lc_fields_B},};");
   ASSERT_EQ(r.userModules.size(), 2u);
   EXPECT_EQ(r.userModules[0].name, "A");
@@ -140,7 +142,8 @@ TEST(RewriterModules, ListsEmptyParensVoidAndCompoundTypes) {
   EXPECT_TRUE(r.userModules[1].paramTypes.empty());
   EXPECT_EQ(r.userModules[2].id, 105);
   EXPECT_EQ(r.userModules[2].paramTypes, (std::vector<std::string>{"unsigned int", "std::pair<int,float>"}));
-  EXPECT_HAS(squash(r.cpp), "struct__lc_R_C{__lc_ModuleIdid;unsignedintp0;std::pair<int,float>p1;__lc_ModuleIdid2;};");
+  EXPECT_HAS(squash(r.cpp), "typedefunsignedint__lc_P_C_0;typedefstd::pair<int,float>__lc_P_C_1;");
+  EXPECT_HAS(squash(r.cpp), "struct__lc_R_C{__lc_ModuleIdid;__lc_P_C_0p0;__lc_P_C_1p1;__lc_ModuleIdid2;};");
 }
 
 TEST(RewriterModules, NoUserModules) {
@@ -496,8 +499,9 @@ TEST(RewriterLines, IncludedFileAndBackToMain) {
 
 TEST(RewriterLines, GeneratedTablesHaveTheirOwnName) {
   auto r = ok(kMinimal);
-  EXPECT_HAS(r.cpp, "#line 1 \"<lcjit: generated model tables>\"\n");
-  EXPECT_EQ(sourcePosition(r.cpp, "__lc_the_model =").rfind("<lcjit: generated model tables>:", 0), 0u);
+  // The name carries where the model's text ends: just after the axiom's ';' (line 3, column 12).
+  EXPECT_HAS(r.cpp, "#line 1 \"<lcjit: generated model tables m.l:3:13>\"\n");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_the_model =").rfind("<lcjit: generated model tables m.l:3:13>:", 0), 0u);
 }
 
 TEST(RewriterLines, KeptDirectivesPassThrough) {
