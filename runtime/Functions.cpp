@@ -450,8 +450,7 @@ public:
     return llvm::Error::success();
   }
 
-  // .vset: "#define NAME VALUE" per line. Like lpfg's std::stof, a numeric
-  // prefix is enough ("0.5f" reads as 0.5) and extra tokens are ignored.
+  // .vset: "#define NAME VALUE" per line; extra tokens are ignored, as lpfg does.
   llvm::Error parseParameters(std::vector<Entry>& out) {
     Line l;
     while (next(l)) {
@@ -464,8 +463,14 @@ public:
       std::string value(t[2].text);
       char* endp = nullptr;
       float v = std::strtof(value.c_str(), &endp);
-      if (endp == value.c_str() || !std::isfinite(v))
-        return error(t[2], l, "invalid number '" + llvm::Twine(t[2].text) + "'");
+      // Models #include their .vset too, so the whole value must be a number: what follows it
+      // would be expanded into the model (finding 011). A C float suffix is fine.
+      if (endp != value.c_str() && (*endp == 'f' || *endp == 'F')) ++endp;
+      if (endp == value.c_str() || *endp != '\0' || !std::isfinite(v)) {
+        std::string shown;
+        llvm::raw_string_ostream(shown).write_escaped(t[2].text, /*UseHexEscapes=*/true);
+        return error(t[2], l, "invalid number '" + llvm::Twine(shown) + "'");
+      }
       Entry e;
       e.name = std::string(t[1].text);
       e.isParameter = true;
