@@ -394,6 +394,10 @@ class Parser {
           warn(at, "invalid contour sides " + std::to_string(v) + ", using " + std::to_string(c));
           v = c;
         }
+        if (v > kMaxDrawnSphereSlices)
+          warn(at, "contour sides " + std::to_string(v) + ": lcjit draws spheres with at most " +
+                       std::to_string(kMaxDrawnSphereSlices) + " and cylinders with at most " +
+                       std::to_string(kMaxDrawnRingSides) + " sides, already finer than a pixel");
         vs_.contourSides = v;
         break;
       }

@@ -108,6 +108,13 @@ struct MeshDeclaration {
   V3f contact{0, 0, 0};
 };
 
+// lpfg draws as many sides as asked (up to 10000) in immediate mode and keeps nothing; lcjit
+// keeps the geometry, and a sphere costs sides² (finding 014: 10000 sides took a small tree past
+// 12 GB). Past these, more sides change no pixel (a 1000-pixel sphere of 128 slices is within
+// 0.3 px of round), so the turtle draws at most these many.
+constexpr int kMaxDrawnRingSides = 1000;
+constexpr int kMaxDrawnSphereSlices = 128;
+
 struct ViewSettings {
   Projection projection = Projection::Parallel;
   float scale = 0.9f;  // as written (`scale:`/`scale factor:`); lpfg's zoom is 1/scale

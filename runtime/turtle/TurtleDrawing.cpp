@@ -1,5 +1,6 @@
 // The turtle's drawing (see Turtle.h): each predefined shape becomes triangles, segments, discs
 // or labels in the Geometry, with lpfg's placement rules, and grows lpfg's bounding box.
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/ModelGuard.h"
@@ -29,15 +30,18 @@ MeshVertex Turtle::vertex(V3f p, V3f n, float u, float v) const {
   return m;
 }
 
-int Turtle::circleSides() const { return state_.contourSides > 0 ? state_.contourSides : view_->contourSides; }
+int Turtle::circleSides() const {
+  return std::min(state_.contourSides > 0 ? state_.contourSides : view_->contourSides, kMaxDrawnRingSides);
+}
 
 // Samples per generalized-cylinder ring, lpfg's rule (Contour::drawDivisions): ContourSides(n)
 // gives n points (n-1 sides: lpfg's quirk, kept for the same picture), else the contour file's
 // `samples:`, else the view file's `contour sides:` + 1.
 int Turtle::cylinderDivisions(int contour) const {
   if (setup_.contours)
-    if (const Contour* c = setup_.contours->get(contour)) return c->drawDivisions(state_.contourSides, view_->contourSides);
-  return state_.contourSides > 0 ? state_.contourSides : view_->contourSides + 1;
+    if (const Contour* c = setup_.contours->get(contour))
+      return std::min(c->drawDivisions(state_.contourSides, view_->contourSides), kMaxDrawnRingSides + 1);
+  return std::min(state_.contourSides > 0 ? state_.contourSides : view_->contourSides + 1, kMaxDrawnRingSides + 1);
 }
 
 CylinderPoint Turtle::cylinderHere() const {
@@ -289,11 +293,12 @@ void Turtle::drawCircle(float r, bool front, float inner) {
   extend(t.position - t.left * r);
 }
 
-// A sphere as lpfg draws it (GLU): `contour sides` slices, (sides+1)/2 stacks, poles on world Z.
+// A sphere as lpfg draws it (GLU): `contour sides` slices (at most kMaxDrawnSphereSlices), (sides+1)/2
+// stacks, poles on world Z.
 void Turtle::drawSphere(float r) {
   TurtleState& t = state_;
   if (r <= 0) return;
-  int slices = circleSides(), stacks = (slices + 1) / 2;
+  int slices = std::min(circleSides(), kMaxDrawnSphereSlices), stacks = (slices + 1) / 2;
   if (stacks < 2) stacks = 2;
   out_->useTexture(-1);
   uint32_t first = (uint32_t)out_->vertices.size();

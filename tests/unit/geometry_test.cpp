@@ -137,6 +137,19 @@ TEST(TurtleGeometry, PolygonLinesFaceTheViewer) {
   }
 }
 
+// lpfg's limit is 10000 sides; lcjit keeps the geometry, so it draws at most 128 sphere slices
+// and 1000 ring sides (finding 014: a 10000-sided sphere per node took a small tree past 12 GB).
+TEST(TurtleGeometry, SidesPastAPixelAreNotDrawn) {
+  // (The view file's `contour sides: 10000` is the same number, with a warning: view_file_test.)
+  Geometry g = draw("manysides", "ContourSides(10000) Sphere(1)", "contour sides: 8\n");
+  // 128 slices, 64 stacks: 65 rows of 129 vertices.
+  EXPECT_EQ(g.vertices.size(), 65u * 129u);
+  Geometry c = draw("manysidescyl", "ContourSides(5000) SetWidth(2) F(3)", "line style: cylinder\n");
+  // 1000 sides: two rings of 1001 points, 2000 triangles.
+  EXPECT_EQ(c.vertices.size(), 2u * 1001u);
+  EXPECT_EQ(c.triangleCount(), 2000u);
+}
+
 TEST(TurtleGeometry, CylinderLinesAreFrustumsOfTheContour) {
   Geometry g = draw("cylinder", "SetWidth(2) SetColor(7) F(3)", "line style: cylinder\ncontour sides: 4\n");
   // 4 sides: 5 points per ring (the last repeats the first), 8 triangles.

@@ -327,6 +327,19 @@ TEST(ViewFileLights, MalformedAndTooMany) {
   EXPECT_V3(vs.lights[7].position, 7, 0, 1);
 }
 
+TEST(ViewFileRendering, ContourSidesPastWhatIsDrawnWarn) {
+  std::vector<ViewFileWarning> w;
+  ViewSettings vs = parse("contour sides: 65536\n", w);
+  // lpfg's clamp to 10000, then lcjit's note that it draws fewer (finding 014).
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(vs.contourSides, 10000);
+  EXPECT_NE(w[0].message.find("using 10000"), std::string::npos) << w[0].message;
+  EXPECT_NE(w[1].message.find("at most 128"), std::string::npos) << w[1].message;
+  w.clear();
+  parse("contour sides: 128\n", w);
+  EXPECT_TRUE(w.empty());
+}
+
 TEST(ViewFileRendering, Commands) {
   std::vector<ViewFileWarning> w;
   ViewSettings vs = parse(
