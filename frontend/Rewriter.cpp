@@ -62,6 +62,9 @@ bool isIdentChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
 // line of the model (finding 003).
 constexpr int kMaxBrackets = 256;  // clang's -fbracket-depth default
 constexpr int kMaxNesting = 1000;
+// Clang's typo correction of an unknown name costs its length times every candidate's: 100,000
+// characters took a minute (finding 005). No model's names come near this.
+constexpr size_t kMaxIdentifier = 1024;
 
 bool isNestingKeyword(const std::string& s) {
   static const std::set<std::string> kWords = {"if", "while", "for", "do", "switch", "case", "default",
@@ -105,6 +108,9 @@ void checkBeforeParsing(const Lexed& lx) {
       continue;
     }
     const std::string& s = t.text;
+    if (t.kind == Token::Identifier && s.size() > kMaxIdentifier)
+      throw RewriteError{t, "an identifier of " + std::to_string(s.size()) + " characters: lcjit takes names of up to " +
+                                std::to_string(kMaxIdentifier)};
     const bool punct = t.kind == Token::Punct;
     if (punct && (s == "(" || s == "[" || s == "{")) {
       if ((int)levels.size() > kMaxBrackets)
