@@ -229,8 +229,11 @@ class Emitter {
   }
   // With `exactColumn` (user tokens), generated text that pushed the output past the token's
   // column starts a fresh line under #line, so that Clang's column numbers match the .l file.
+  // Columns past kMaxPaddedColumn are not kept: each fresh line would repeat the padding, and a
+  // 200,000-character axiom line grew to gigabytes of spaces (finding 006).
+  static constexpr int kMaxPaddedColumn = 4096;
   void moveTo(const Token& t, bool exactColumn = false) {
-    bool drifted = exactColumn && file_ == t.file && t.line == line_ && t.col < col_;
+    bool drifted = exactColumn && file_ == t.file && t.line == line_ && t.col < col_ && t.col <= kMaxPaddedColumn;
     if (file_ != t.file || t.line < line_ || t.line > line_ + 8 || drifted) {
       if (col_ > 1) newline();
       std::string name;
@@ -244,7 +247,7 @@ class Emitter {
       col_ = 1;
     }
     while (line_ < t.line) newline();
-    if (t.col > col_) {
+    if (t.col > col_ && (col_ > 1 || t.col <= kMaxPaddedColumn)) {
       out_.append(t.col - col_, ' ');
       col_ = t.col;
     } else if (!out_.empty() && out_.back() != '\n' &&
@@ -383,7 +386,8 @@ class Rewriter {
       next(), next();
       if (haveAxiom_) fail(t, "the model has more than one axiom");
       haveAxiom_ = true;
-      out_.glueAt(t, "static void __lc_axiom(__lc_Ctx* __lc_ctx) {");
+      // Runs once: optimising it gains nothing and cost seconds on a 32,000-module axiom (finding 006).
+      out_.glueAt(t, "__attribute__((optnone, noinline)) static void __lc_axiom(__lc_Ctx* __lc_ctx) {");
       successorList(";", /*isProduce=*/false);
       expect(";", "after the axiom");
       out_.glue("}");

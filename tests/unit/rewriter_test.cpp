@@ -497,6 +497,19 @@ TEST(RewriterLines, IncludedFileAndBackToMain) {
   EXPECT_EQ(ruleEntry(r->cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,5}");
 }
 
+// Finding 006: every argument of a long axiom line started a fresh line padded to its column, so
+// the C++ grew with the square of the line (a 200,000-character axiom gave gigabytes); and the
+// axiom, run once, is not worth optimising.
+TEST(RewriterLines, LongAxiomLinesStayLinear) {
+  std::string axiom;
+  for (int i = 0; i < 3000; ++i) axiom += "A(1) ";  // 15,000 columns
+  auto r = ok("module A(float);\nderivation length: 1;\naxiom: " + axiom + ";\n");
+  // Padding every argument to its column would take 3000 × 7,500 = 22 MB; only columns up to 4096
+  // are kept, about 820 arguments padded by 2,000 on average: under 2 MB, whatever the length.
+  EXPECT_LT(r.cpp.size(), 2000000u);
+  EXPECT_HAS(squash(r.cpp), "__attribute__((optnone,noinline))staticvoid__lc_axiom(");
+}
+
 TEST(RewriterLines, GeneratedTablesHaveTheirOwnName) {
   auto r = ok(kMinimal);
   // The name carries where the model's text ends: just after the axiom's ';' (line 3, column 12).
