@@ -351,6 +351,7 @@ bool SandboxedRun::wait(int timeoutMs, int otherFd) {
   using Clock = std::chrono::steady_clock;
   auto until = Clock::now() + std::chrono::milliseconds(timeoutMs < 0 ? 0 : timeoutMs);
   while (!ended_) {
+    passInterruptsOn();
     readReports();
     int ws = 0;
     pid_t r = ::waitpid(bwrapPid_, &ws, WNOHANG);
@@ -379,12 +380,16 @@ void SandboxedRun::stop() {
   if (bwrapPid_ > 0 && !ended_) ::kill(bwrapPid_, SIGKILL);  // --die-with-parent takes the sandbox with it
 }
 
-// Ctrl-C: from a signal handler, so kill(2) only. The first asks the sandboxed lcjit's guard to
-// interrupt model code (docs/faults.md), as without the sandbox; a second, or one before the
-// child is known, ends the run.
-void SandboxedRun::interrupt() {
-  if (ended_) return;
-  if (interrupts_++ == 0 && innerPid_ > 0) {
+void SandboxedRun::interrupt() { ++interrupts_; }
+
+// Ctrl-C, seen by wait(): the first asks the sandboxed lcjit's guard to interrupt model code
+// (docs/faults.md), as without the sandbox; a second, or one before the child runs, ends the run.
+void SandboxedRun::passInterruptsOn() {
+  int n = interrupts_;
+  if (n == interruptsPassed_ || ended_) return;
+  interruptsPassed_ = n;
+  readReports();
+  if (n == 1 && innerPid_ > 0) {
     ::kill(innerPid_, SIGINT);
     return;
   }

@@ -52,7 +52,7 @@ class SandboxedRun {
   // returns true once the run has ended. Reads the child's reports meanwhile.
   bool wait(int timeoutMs, int otherFd = -1);
   void stop();       // kills the run (a newer change under --watch)
-  void interrupt();  // Ctrl-C: the child's model guard interrupts model code
+  void interrupt();  // Ctrl-C (from a signal handler): the child's model guard interrupts model code
   // After wait() returned true: the status, with a fault the child could not report itself
   // (a signal, a limit) printed on stderr, worded as lcjit's own.
   SandboxOutcome outcome();
@@ -60,13 +60,14 @@ class SandboxedRun {
  private:
   SandboxedRun() = default;
   void readReports();
+  void passInterruptsOn();
   SandboxPlan plan_;
-  int bwrapPid_ = -1;
-  std::atomic<int> innerPid_{-1}, interrupts_{0};  // read by interrupt(), in a signal handler
+  int bwrapPid_ = -1, innerPid_ = -1, interruptsPassed_ = 0;
+  std::atomic<int> interrupts_{0};  // counted by a signal handler
   int reportFd_ = -1, infoFd_ = -1;
   std::string reports_, info_;
   int waitStatus_ = 0;
-  std::atomic<bool> ended_{false}, stopped_{false}, userKilled_{false};
+  bool ended_ = false, stopped_ = false, userKilled_ = false;
 };
 
 // Runs the plan once (batch mode), Ctrl-C interrupting the model. Returns the exit status.

@@ -4,6 +4,7 @@
 // and the runtime.
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -320,6 +321,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       if (std::filesystem::path(in).extension() == ".l")
         cacheDir = (std::filesystem::path(in).parent_path() / ".lcjit-cache").string();
     lab = lab || plainErrors;
+    // A cache file past --max-file-size (the compiled header is some MB) fails to be written and
+    // costs the cache only; from the run on, such a file ends the run (the parent says why).
+    std::signal(SIGXFSZ, SIG_IGN);
   }
   auto files = lcjit::app::classifyInputs(inputs);
   if (!files) {
@@ -363,6 +367,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     std::fputs((*session)->generatedCpp().c_str(), stdout);
   }
   llvm::Error loaded = (*session)->load(*files, bo.optLevel, times);
+  if (reportFd >= 0) std::signal(SIGXFSZ, SIG_DFL);
   if (reportFd >= 0) {  // what the parent's --watch watches
     const lcjit::runtime::DrawingFiles none;
     for (const std::string& f : lcjit::app::watchedFiles(*files, (*session)->loaded() ? (*session)->drawing() : none))
