@@ -152,8 +152,9 @@ std::vector<std::string> systemView(const std::string& exe) {
     a.insert(a.end(), {"--ro-bind-try", f, f});
   for (const std::string& p : {exe, runtimeIncludeDir(), std::string(LCJIT_CLANG_RESOURCE_DIR)})
     if (!p.empty() && !under(p, "/usr")) a.insert(a.end(), {"--ro-bind-try", p, p});
-  a.insert(a.end(), {"--dev", "/dev", "--proc", "/proc", "--size", "67108864", "--tmpfs", "/tmp", "--unshare-all",
-                     "--die-with-parent", "--new-session"});
+  a.insert(a.end(), {"--dev", "/dev", "--size", "67108864", "--tmpfs", "/dev/shm", "--remount-ro", "/dev", "--proc",
+                     "/proc", "--size", "67108864", "--tmpfs", "/tmp", "--unshare-all", "--die-with-parent",
+                     "--new-session"});
   // Root outside is nobody inside (without capabilities either way).
   if (::getuid() == 0) a.insert(a.end(), {"--uid", "65534", "--gid", "65534"});
   // A clean environment: secrets in variables (tokens, agents' sockets) stay out; HOME is the
@@ -280,19 +281,24 @@ llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxP
     return llvm::createStringError(std::string("lcjit: --sandbox: no pipe: ") + std::strerror(errno));
   std::vector<std::string> argv = {bwrapPath()};
   for (std::string& s : systemView(exe)) argv.push_back(std::move(s));
-  // Readable first, writable over them: a writable folder inside a readable one stays writable.
-  std::vector<fs::path> writable = {canonicalOr(plan.modelFolder)};
-  for (const std::string& w : plan.writable)
-    if (std::find(writable.begin(), writable.end(), canonicalOr(w)) == writable.end()) writable.push_back(canonicalOr(w));
+  // Readable first, the model's folder over them: inside a readable folder it stays writable.
+  fs::path folder = canonicalOr(plan.modelFolder);
   for (const std::string& r : plan.readable) {
     fs::path c = canonicalOr(r);
-    bool inside = false;
-    for (const fs::path& w : writable) inside = inside || under(c, w);
-    if (!inside) argv.insert(argv.end(), {"--ro-bind-try", c.string(), c.string()});
+    if (!under(c, folder)) argv.insert(argv.end(), {"--ro-bind-try", c.string(), fs::absolute(r).string()});
   }
-  for (const fs::path& w : writable) argv.insert(argv.end(), {"--bind", w.string(), w.string()});
-  argv.insert(argv.end(), {"--chdir", writable[0].string(), "--seccomp", std::to_string(sec), "--info-fd",
-                           std::to_string(info[1]), "--", exe});
+  argv.insert(argv.end(), {"--bind", folder.string(), folder.string()});
+  if (!plan.outputFile.empty() && !under(plan.outputFile, folder)) {
+    // The output file alone, not its folder (which may be anything: the home's .config…);
+    // bubblewrap binds only what exists.
+    int fd = ::open(plan.outputFile.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) ::close(fd), run->createdOutput_ = plan.outputFile;
+    argv.insert(argv.end(), {"--bind", plan.outputFile, plan.outputFile});
+  }
+  // The skeleton bubblewrap builds the view in is a tmpfs without a size: read-only, as /dev is,
+  // so that the only places to write are the model's folder, the output and the small /tmp.
+  argv.insert(argv.end(), {"--remount-ro", "/", "--chdir", folder.string(), "--seccomp", std::to_string(sec),
+                           "--info-fd", std::to_string(info[1]), "--", exe});
   argv.insert(argv.end(), plan.args.begin(), plan.args.end());
   argv.insert(argv.end(), {"--sandboxed", std::to_string(report[1])});
   pid_t pid = spawn(argv, plan.limits, {sec, report[1], info[1]}, false);
@@ -398,6 +404,12 @@ void SandboxedRun::passInterruptsOn() {
 }
 
 SandboxOutcome SandboxedRun::outcome() {
+  SandboxOutcome o = judge();
+  if (o.status != 0 && !createdOutput_.empty()) ::unlink(createdOutput_.c_str());
+  return o;
+}
+
+SandboxOutcome SandboxedRun::judge() {
   SandboxOutcome o;
   o.stopped = stopped_;
   bool finished = false;

@@ -23,7 +23,9 @@ struct SandboxPlan {
   std::string model;                  // the .l file as the user named it (for messages)
   std::string modelFolder;            // absolute: writable, and the child's working folder
   std::string out;                    // -out as the user named it (for messages), or ""
-  std::vector<std::string> writable;  // more folders the run may write (the output's)
+  // -out (absolute, symbolic links resolved) where it is outside the model's folder: the one
+  // file there the run may write.
+  std::string outputFile;
   std::vector<std::string> readable;  // files and folders it reads besides (inputs, -I)
   std::vector<std::string> args;      // the child lcjit's arguments
   SandboxLimits limits;
@@ -61,6 +63,7 @@ class SandboxedRun {
   SandboxedRun() = default;
   void readReports();
   void passInterruptsOn();
+  SandboxOutcome judge();
   SandboxPlan plan_;
   int bwrapPid_ = -1, innerPid_ = -1, interruptsPassed_ = 0;
   std::atomic<int> interrupts_{0};  // counted by a signal handler
@@ -68,6 +71,7 @@ class SandboxedRun {
   std::string reports_, info_;
   int waitStatus_ = 0;
   bool ended_ = false, stopped_ = false, userKilled_ = false;
+  std::string createdOutput_;  // made empty for the bind: removed again when the run fails
 };
 
 // Runs the plan once (batch mode), Ctrl-C interrupting the model. Returns the exit status.

@@ -275,20 +275,17 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       return 1;
     }
     plan.out = bo.out;
-    plan.modelFolder = fs::absolute(plan.model).lexically_normal().parent_path().string();
+    plan.modelFolder = fs::weakly_canonical(fs::absolute(plan.model)).parent_path().string();
     if (auto e = lcjit::app::checkWritableFolder(plan.modelFolder, "the model's folder")) {
       std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
       return 1;
     }
-    if (!bo.out.empty()) {
-      std::string folder = fs::absolute(bo.out).lexically_normal().parent_path().string();
-      if (auto e = lcjit::app::checkWritableFolder(folder, "the output's folder")) {
-        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
-        return 1;
-      }
-      plan.writable.push_back(folder);
-    }
-    for (const std::string& in : inputs) plan.readable.push_back(fs::absolute(in).lexically_normal().string());
+    // The sandbox binds paths as they are: the child names them the same way, links resolved.
+    auto resolved = [](const std::string& p) { return fs::weakly_canonical(fs::absolute(p)).string(); };
+    if (!bo.out.empty()) plan.outputFile = bo.out = resolved(bo.out);
+    std::vector<std::string> resolvedInputs;
+    for (const std::string& in : inputs) resolvedInputs.push_back(resolved(in));
+    plan.readable = resolvedInputs;
     std::vector<std::string> folders = includeDirs;
     for (const char* var : {"CPLUS_INCLUDE_PATH", "CPATH", "C_INCLUDE_PATH"})
       if (const char* v = std::getenv(var)) {
@@ -309,7 +306,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // use; --max-memory (resident) is the child's guard's, with its messages.
     sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
     plan.limits = sandboxLimits;
-    plan.args = childArgs(inputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA, environmentTimeout,
+    plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA, environmentTimeout,
                           limits, includeDirs, lab);
     if (watch && !emitCpp && !compileOnly) return lcjit::app::watchSandboxed(plan, bo.quiet);
     return lcjit::app::runSandboxedBatch(plan);

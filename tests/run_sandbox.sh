@@ -3,6 +3,7 @@
 # otherwise the same run. Usage: run_sandbox.sh LCJIT DIR CASE (DIR: tests/sandbox), CASE one of
 #   ssh          a model cannot read a key in the (fake) home's .ssh
 #   socket       nor connect to a port on this machine
+#   output       nor write beside its -out file outside its folder
 #   fork         nor start processes (a fork bomb, at most 2000 forks, gets none)
 #   fill_disk    a file past --max-file-size stops the run, the file no larger
 #   same_output  a normal model writes the same string with and without it; the cache is used
@@ -54,6 +55,19 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     "$lcjit" --sandbox -b -out o.str socket.l > out.txt 2> err.txt; status=$?
     [ "$status" = 0 ] || fail "exit status $status"
     grep -q "connect failed" out.txt || fail "the model connected from the sandbox" ;;
+  output)
+    mkdir "$work/out"
+    sed "s|OTHER_PATH|$work/out/planted.txt|" "$dir/write_beside.l" > write_beside.l
+    "$lcjit" --sandbox -b -out "$work/out/o.str" write_beside.l > out.txt 2> err.txt; status=$?
+    [ "$status" = 0 ] || fail "exit status $status"
+    # (Under /tmp the model's write may go to the sandbox's own /tmp, and vanish with it.)
+    [ ! -e "$work/out/planted.txt" ] || fail "the model wrote planted.txt beside its output"
+    grep -q "A(0)" "$work/out/o.str" || fail "no output in $work/out/o.str"
+    # A failed run leaves no output file behind (the sandbox made it empty for the bind).
+    cp "$dir/../faults/crash.l" .
+    "$lcjit" --sandbox -b -out "$work/out/crash.str" crash.l > out.txt 2> err.txt; status=$?
+    [ "$status" = 1 ] || fail "exit status $status for the crash"
+    [ ! -e "$work/out/crash.str" ] || fail "crash.str was left behind" ;;
   fork)
     cp "$dir/fork.l" .
     "$lcjit" --sandbox -b -out o.str fork.l > out.txt 2> err.txt; status=$?
