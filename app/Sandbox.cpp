@@ -256,7 +256,7 @@ const std::string& sandboxUnavailable() {
   return why;
 }
 
-llvm::Error checkWritableFolder(const std::string& folder, const char* what) {
+llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool writable) {
   fs::path f = canonicalOr(folder);
   auto refuse = [&](const std::string& why) {
     return llvm::createStringError("lcjit: --sandbox: " + std::string(what) + " '" + f.string() + "' " + why +
@@ -266,7 +266,7 @@ llvm::Error checkWritableFolder(const std::string& folder, const char* what) {
   if (const char* home = std::getenv("HOME"); home && *home && under(canonicalOr(home), f))
     return refuse("holds your home folder");
   for (const char* system : {"/usr", "/etc", "/proc", "/dev", "/sys"})
-    if (under(f, system)) return refuse("is a system folder");
+    if (writable && under(f, system)) return refuse("is a system folder");
   return llvm::Error::success();
 }
 

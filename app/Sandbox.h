@@ -35,9 +35,9 @@ struct SandboxPlan {
 // switched off…). Tried once per process.
 const std::string& sandboxUnavailable();
 
-// A folder the model may write must not hold the user's home (or be the whole system): binding
-// it would hand the model ~/.ssh and the rest.
-llvm::Error checkWritableFolder(const std::string& folder, const char* what);
+// A folder the sandbox shows must not hold the user's home (or be the whole system): binding it
+// would hand the model ~/.ssh and the rest; nor, when `writable`, be a system folder.
+llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool writable);
 
 struct SandboxOutcome {
   int status = 1;                   // the exit status to pass on

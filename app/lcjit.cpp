@@ -276,10 +276,22 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     }
     plan.out = bo.out;
     plan.modelFolder = fs::weakly_canonical(fs::absolute(plan.model)).parent_path().string();
-    if (auto e = lcjit::app::checkWritableFolder(plan.modelFolder, "the model's folder")) {
+    if (auto e = lcjit::app::checkSandboxFolder(plan.modelFolder, "the model's folder", true)) {
       std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
       return 1;
     }
+    // What needs a process of its own cannot run in the sandbox, which starts none.
+    if (fs::exists(fs::path(plan.modelFolder) / "lpfg.mak")) {
+      std::fprintf(stderr, "%s: error: lcjit reads lpfg.mak with make, a program, and a sandboxed run starts none "
+                           "(docs/security.md)\n", (fs::path(plan.modelFolder) / "lpfg.mak").c_str());
+      return 1;
+    }
+    for (const std::string& in : inputs)
+      if (fs::path(in).extension() == ".e") {
+        std::fprintf(stderr, "%s: error: an environmental program is a process of its own, and a sandboxed run "
+                             "starts none (docs/security.md)\n", in.c_str());
+        return 1;
+      }
     // The sandbox binds paths as they are: the child names them the same way, links resolved.
     auto resolved = [](const std::string& p) { return fs::weakly_canonical(fs::absolute(p)).string(); };
     if (!bo.out.empty()) plan.outputFile = bo.out = resolved(bo.out);
@@ -294,7 +306,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
           if (!dir.empty()) folders.push_back(fs::absolute(dir).lexically_normal().string());
       }
     for (const std::string& dir : folders) {
-      if (auto e = lcjit::app::checkWritableFolder(dir, "the include folder")) {
+      if (auto e = lcjit::app::checkSandboxFolder(dir, "the include folder", false)) {
         std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
         return 1;
       }
