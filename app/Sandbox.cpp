@@ -189,6 +189,8 @@ pid_t spawn(const std::vector<std::string>& argv, const SandboxLimits& limits, c
   pid_t pid = ::fork();
   if (pid != 0) return pid;
   for (int fd : keep) ::fcntl(fd, F_SETFD, 0);
+  int null = ::open("/dev/null", O_RDWR);  // no terminal input for the model
+  if (null >= 0) ::dup2(null, 0);
   if (quiet) {
     int null = ::open("/dev/null", O_WRONLY);
     ::dup2(null, 1), ::dup2(null, 2);

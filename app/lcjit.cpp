@@ -145,7 +145,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   lcjit::app::SandboxLimits sandboxLimits;
   app.add_flag("--sandbox", sandbox,
                "run the model (compile, derivation, interpretation, outputs) in a child process under bubblewrap: "
-               "no network, the system read-only, writes only in the model's folder and the output's, no new "
+               "no network, the system read-only, writes only in the model's folder and the -out file, no new "
                "processes, limits on memory, CPU time and file size (docs/security.md); batch runs and --watch");
   app.add_option("--max-cpu", sandboxLimits.cpuSeconds, "--sandbox: the CPU seconds one run may use")
       ->check(CLI::PositiveNumber)
