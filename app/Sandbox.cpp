@@ -272,6 +272,14 @@ llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool
   return llvm::Error::success();
 }
 
+llvm::Error checkSandboxInput(const std::string& input, const std::string& modelFolder) {
+  fs::path named = fs::absolute(input).lexically_normal();
+  fs::path folder = canonicalOr(modelFolder), target = canonicalOr(named.string());
+  if (!under(canonicalOr(named.parent_path().string()), folder) || under(target, folder)) return llvm::Error::success();
+  return llvm::createStringError(input + ": error: a link to '" + target.string() +
+                                 "', outside the model's folder; a sandboxed run does not follow it (docs/security.md)");
+}
+
 llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxPlan& plan) {
   std::unique_ptr<SandboxedRun> run(new SandboxedRun());
   run->plan_ = plan;

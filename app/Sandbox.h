@@ -39,6 +39,11 @@ const std::string& sandboxUnavailable();
 // would hand the model ~/.ssh and the rest; nor, when `writable`, be a system folder.
 llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool writable);
 
+// An input file named inside the model's folder must be there, not a link out of it: whoever
+// wrote the folder could otherwise have the run shown any file the user can read (a link
+// plant.v -> ~/.ssh/id_rsa), or make a folder the link's target the writable one.
+llvm::Error checkSandboxInput(const std::string& input, const std::string& modelFolder);
+
 struct SandboxOutcome {
   int status = 1;                   // the exit status to pass on
   bool stopped = false;             // stop() ended it

@@ -275,11 +275,16 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       return 1;
     }
     plan.out = bo.out;
-    plan.modelFolder = fs::weakly_canonical(fs::absolute(plan.model)).parent_path().string();
+    plan.modelFolder = fs::weakly_canonical(fs::absolute(plan.model).lexically_normal().parent_path()).string();
     if (auto e = lcjit::app::checkSandboxFolder(plan.modelFolder, "the model's folder", true)) {
       std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
       return 1;
     }
+    for (const std::string& in : inputs)
+      if (auto e = lcjit::app::checkSandboxInput(in, plan.modelFolder)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
     // What needs a process of its own cannot run in the sandbox, which starts none.
     if (fs::exists(fs::path(plan.modelFolder) / "lpfg.mak")) {
       std::fprintf(stderr, "%s: error: lcjit reads lpfg.mak with make, a program, and a sandboxed run starts none "

@@ -3,6 +3,7 @@
 # otherwise the same run. Usage: run_sandbox.sh LCJIT DIR CASE (DIR: tests/sandbox), CASE one of
 #   ssh          a model cannot read a key in the (fake) home's .ssh
 #   socket       nor connect to a port on this machine
+#   link         nor read what a link in its folder points to outside it
 #   output       nor write beside its -out file outside its folder
 #   fork         nor start processes (a fork bomb, at most 2000 forks, gets none)
 #   fill_disk    a file past --max-file-size stops the run, the file no larger
@@ -55,6 +56,17 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     "$lcjit" --sandbox -b -out o.str socket.l > out.txt 2> err.txt; status=$?
     [ "$status" = 0 ] || fail "exit status $status"
     grep -q "connect failed" out.txt || fail "the model connected from the sandbox" ;;
+  link)
+    mkdir -m 700 "$work/home/.ssh"
+    echo "SECRET-KEY-4711" > "$work/home/.ssh/id_rsa"
+    cp "$dir/fork.l" .
+    ln -s "$work/home/.ssh/id_rsa" key.v  # the folder's author's link to the user's key
+    HOME="$work/home" "$lcjit" --sandbox -b -out o.str key.v fork.l > out.txt 2> err.txt; status=$?
+    expect 1 "key.v: error: a link to '$work/home/.ssh/id_rsa', outside the model's folder; a sandboxed run does not follow it"
+    ln -s "$work/home/.ssh/id_rsa" linked.l  # the model itself: its folder would be .ssh
+    HOME="$work/home" "$lcjit" --sandbox -b -out o.str linked.l > out.txt 2> err.txt; status=$?
+    expect 1 "linked.l: error: a link to '$work/home/.ssh/id_rsa', outside the model's folder"
+    ! grep -q "SECRET-KEY" out.txt err.txt || fail "the key shows" ;;
   output)
     mkdir "$work/out"
     sed "s|OTHER_PATH|$work/out/planted.txt|" "$dir/write_beside.l" > write_beside.l
