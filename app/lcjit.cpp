@@ -140,7 +140,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
-               "model's folder (caches in .lcjit-cache there); compile errors in plain language first");
+               "model's folder (caches in .lcjit-cache there); compile errors in plain language first; without a "
+               "display, every run sandboxed where bubblewrap works (--sandbox)");
   bool sandbox = false, plainErrors = false;
   lcjit::app::SandboxLimits sandboxLimits;
   app.add_flag("--sandbox", sandbox,
