@@ -54,7 +54,8 @@ std::string format(const char* fmt, ...) {
 
 std::string bytes(uint64_t n) {
   if (n >= (uint64_t(1) << 30)) return format("%.2f GB", double(n) / double(uint64_t(1) << 30));
-  return format("%.2f MB", double(n) / double(uint64_t(1) << 20));
+  if (n >= (uint64_t(1) << 20)) return format("%.2f MB", double(n) / double(uint64_t(1) << 20));
+  return format("%.1f KB", double(n) / 1024);
 }
 
 std::string selfExe() {
@@ -427,6 +428,8 @@ SandboxOutcome SandboxedRun::judge() {
   for (std::string line; std::getline(lines, line);) {
     if (line.rfind("input ", 0) == 0) o.inputs.push_back(line.substr(6));
     if (line.rfind("status ", 0) == 0) o.status = std::atoi(line.c_str() + 7), finished = true;
+    if (line.rfind("step ", 0) == 0) o.steps = std::atoi(line.c_str() + 5);
+    if (line == "derived") o.derived = true;
   }
   if (stopped_) {
     o.status = 2;
@@ -445,7 +448,11 @@ SandboxOutcome SandboxedRun::judge() {
                         : format("it ended before lcjit finished it (exit status %d: exit() in model code? "
                                  "bwrap's own error above?)",
                                  WIFEXITED(waitStatus_) ? WEXITSTATUS(waitStatus_) : -1);
-  std::fprintf(stderr, "%s: error: the sandboxed run was stopped: %s\n", plan_.model.c_str(), why.c_str());
+  std::string when = o.derived      ? format("after the derivation (%d steps)", o.steps)
+                     : o.steps > 0 ? format("after step %d", o.steps)
+                                   : std::string("before the first step");
+  std::fprintf(stderr, "%s: error: the sandboxed run was stopped %s: %s\n", plan_.model.c_str(), when.c_str(),
+               why.c_str());
   o.status = 1;
   return o;
 }
@@ -519,6 +526,11 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet) {
 
 void reportInput(int fd, const std::string& path) {
   std::string line = "input " + path + "\n";
+  (void)!::write(fd, line.data(), line.size());
+}
+
+void reportProgress(int fd, int step) {
+  std::string line = step < 0 ? std::string("derived\n") : "step " + std::to_string(step) + "\n";
   (void)!::write(fd, line.data(), line.size());
 }
 

@@ -48,6 +48,8 @@ struct SandboxOutcome {
   int status = 1;                   // the exit status to pass on
   bool stopped = false;             // stop() ended it
   std::vector<std::string> inputs;  // the files the run read, as the child reported them
+  int steps = 0;                    // derivation steps done, as the child reported them
+  bool derived = false;             // the derivation was over
 };
 
 // One child lcjit in bubblewrap. The child inherits stdout and stderr.
@@ -88,5 +90,6 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet);
 // The child's side: lines on the report descriptor the parent gave with --sandboxed.
 void reportInput(int fd, const std::string& path);
 void reportStatus(int fd, int status);
+void reportProgress(int fd, int step);  // BatchOptions::progress
 
 }  // namespace lcjit::app

@@ -336,6 +336,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       if (std::filesystem::path(in).extension() == ".l")
         cacheDir = (std::filesystem::path(in).parent_path() / ".lcjit-cache").string();
     lab = lab || plainErrors;
+    bo.progress = [reportFd](int step) { lcjit::app::reportProgress(reportFd, step); };
     // A cache file past --max-file-size (the compiled header is some MB) fails to be written and
     // costs the cache only; from the run on, such a file ends the run (the parent says why).
     std::signal(SIGXFSZ, SIG_IGN);

@@ -12,6 +12,7 @@
 #   cpu          an endless loop is stopped by --max-cpu
 #   ctrl_c       Ctrl-C interrupts the model in the sandbox
 #   watch        --watch re-runs sandboxed, and a save stops a run that is out of date
+#   window       --sandbox with the window (or --lab's) is an error
 #   home         a model folder that is the home folder is refused
 #   unavailable  without bwrap: --sandbox is an error, --lab warns and runs
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox.
@@ -88,10 +89,15 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
   fill_disk)
     cp "$dir/fill_disk.l" .
     "$lcjit" --sandbox --max-file-size 4M -b -out o.str fill_disk.l > out.txt 2> err.txt; status=$?
-    expect 1 "fill_disk.l: error: the sandboxed run was stopped: it wrote a file past the size limit of 4.00 MB (--max-file-size)"
+    expect 1 "fill_disk.l: error: the sandboxed run was stopped before the first step: it wrote a file past the size limit of 4.00 MB (--max-file-size)"
     size=$(stat -c %s fill.bin)
     [ "$size" -le 4194304 ] || fail "fill.bin has $size bytes"
-    [ ! -e o.str ] || fail "a string was written after the fault" ;;
+    [ ! -e o.str ] || fail "a string was written after the fault"
+    # lcjit's own output is held to the limit too (and the run named where it died).
+    cp "$dir/../../examples/tree.l" .
+    "$lcjit" --sandbox --max-file-size 8K -b -out tree.str tree.l > out.txt 2> err.txt; status=$?
+    expect 1 "tree.l: error: the sandboxed run was stopped after the derivation (6 steps): it wrote a file past the size limit of 8.0 KB (--max-file-size)"
+    [ "$(stat -c %s tree.str)" -le 8192 ] || fail "tree.str has $(stat -c %s tree.str) bytes" ;;
   same_output)
     cp "$dir/../../examples/tree.l" .
     "$lcjit" -b -out plain.str tree.l 2> err.txt || fail "the run without the sandbox failed"
@@ -109,7 +115,7 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
   cpu)
     cp "$dir/../faults/loop.l" .
     "$lcjit" --sandbox --max-cpu 1 -b -out o.str loop.l > out.txt 2> err.txt; status=$?
-    expect 1 "loop.l: error: the sandboxed run was stopped: it used its 1 s of CPU time (limit --max-cpu)" ;;
+    expect 1 "loop.l: error: the sandboxed run was stopped after step 1: it used its 1 s of CPU time (limit --max-cpu)" ;;
   ctrl_c)
     cp "$dir/loop.l" .
     "$lcjit" --sandbox -b -out o.str loop.l > out.txt 2> err.txt &
@@ -130,6 +136,13 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     for _ in $(seq 1 300); do grep -q "reload 1" err.txt && break; sleep 0.05; done
     grep -q "reload 1 (m.l): ran in .* ms, wrote o.str" err.txt || fail "no reload after the fix"
     grep -q "A(5)" o.str || fail "o.str is not the fixed model's string" ;;
+  window)  # a build with the window: what cannot be sandboxed is an error, not run
+    cp "$dir/fork.l" .
+    env DISPLAY=:4711 "$lcjit" --sandbox fork.l > out.txt 2> err.txt; status=$?
+    expect 1 "lcjit: --sandbox: the window runs model code in lcjit's own process and cannot be sandboxed yet"
+    env DISPLAY=:4711 "$lcjit" --lab --sandbox fork.l > out.txt 2> err.txt; status=$?
+    expect 1 "lcjit: --sandbox: the window and the REPL run model code in lcjit's own process"
+    ! grep -q "forks:" out.txt || fail "the model ran" ;;
   home)
     cp "$dir/fork.l" .
     HOME="$work/m" "$lcjit" --sandbox -b -out o.str fork.l > out.txt 2> err.txt; status=$?
