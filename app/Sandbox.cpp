@@ -276,7 +276,8 @@ llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool
 llvm::Error checkSandboxInput(const std::string& input, const std::string& modelFolder) {
   fs::path named = fs::absolute(input).lexically_normal();
   fs::path folder = canonicalOr(modelFolder), target = canonicalOr(named.string());
-  if (!under(canonicalOr(named.parent_path().string()), folder) || under(target, folder)) return llvm::Error::success();
+  bool namedInside = under(canonicalOr(named.parent_path().string()), folder);
+  if (!namedInside || under(target, folder)) return llvm::Error::success();
   return llvm::createStringError(input + ": error: a link to '" + target.string() +
                                  "', outside the model's folder; a sandboxed run does not follow it (docs/security.md)");
 }
@@ -383,8 +384,8 @@ bool SandboxedRun::wait(int timeoutMs, int otherFd) {
     int n = 0;
     for (int fd : {reportFd_, infoFd_, otherFd})
       if (fd >= 0) fds[n++] = {fd, POLLIN, 0};
-    int left = timeoutMs < 0 ? 50
-                             : (int)std::min<long long>(50, std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count());
+    long long toGo = std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count();
+    int left = timeoutMs < 0 ? 50 : (int)std::min<long long>(50, toGo);
     if (timeoutMs >= 0 && left <= 0) return false;
     int ready = ::poll(fds, n, left);
     if (otherFd >= 0 && ready > 0 && (fds[n - 1].revents & POLLIN)) return false;
@@ -510,9 +511,11 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet) {
     SandboxOutcome o = (*run)->outcome();
     watchInputs(o.inputs);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::string what = o.stopped      ? "its run stopped for a newer change"
-                       : o.status != 0 ? "the run failed" + (plan.out.empty() ? std::string() : ", nothing written: " + plan.out + " is the last good run's")
-                                      : format("ran in %.1f ms", ms) + (plan.out.empty() ? std::string() : ", wrote " + plan.out);
+    std::string what;
+    if (o.stopped) what = "its run stopped for a newer change";
+    else if (o.status != 0)
+      what = "the run failed" + (plan.out.empty() ? "" : ", nothing written: " + plan.out + " is the last good run's");
+    else what = format("ran in %.1f ms", ms) + (plan.out.empty() ? "" : ", wrote " + plan.out);
     if (reload == 0 && !quiet)
       std::fprintf(stderr, "lcjit: watching %s and its input files; every run is sandboxed (docs/security.md)\n",
                    plan.model.c_str());

@@ -324,8 +324,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // use; --max-memory (resident) is the child's guard's, with its messages.
     sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
     plan.limits = sandboxLimits;
-    plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA, environmentTimeout,
-                          limits, includeDirs, lab);
+    plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
+                          environmentTimeout, limits, includeDirs, lab);
     if (watch && !emitCpp && !compileOnly) return lcjit::app::watchSandboxed(plan, bo.quiet);
     return lcjit::app::runSandboxedBatch(plan);
   }
