@@ -13,6 +13,7 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
   libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
+  bubblewrap  # --sandbox (docs/security.md): the model's run in a child process without the user's files
 )
 missing=()
 for p in "${packages[@]}"; do

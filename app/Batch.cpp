@@ -131,6 +131,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   // A picture or a geometry file is what lpfg's window would save: derived with its camera.
   if (!options.out.empty() && isFrameOutput(options.out))
     runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(session.drawing().view, 0)));
+  if (options.progress)
+    hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
+      options.progress(n);
+      if (step) step(n);
+    };
   auto t0 = Clock::now();
   if (auto e = engine.run(hooks)) {
     if (stopped && *stopped) {
@@ -142,6 +147,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     return 1;
   }
   times.deriveMs = jit::msSince(t0);
+  if (options.progress) options.progress(-1);
   if (!options.out.empty())
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
       report(std::move(e));

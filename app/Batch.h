@@ -2,6 +2,7 @@
 // for (-out, -dtf, -ds, --stats…); with --watch, keep doing it after every change of an input
 // file, in one process, logging one line per reload.
 #pragma once
+#include <functional>
 #include <string>
 
 #include "app/Session.h"
@@ -18,6 +19,9 @@ struct BatchOptions {
   bool quiet = false, verbose = false, debug = false, stats = false;
   bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;
+  // Told each derivation step done, and -1 once the derivation is over: a sandboxed run's
+  // progress for its parent, who names it when the run dies of a limit (Sandbox.h).
+  std::function<void(int step)> progress;
 };
 
 // One run of the loaded model: derive from the axiom, then write the outputs. `times` carries the

@@ -1,13 +1,16 @@
 // lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
-// (--stats, -O, --emit-cpp, --watch, --lab, the limits of docs/faults.md), and `lcjit repl [files]
-// model.l`, the REPL (Repl.h). Thin: parsing here, the work in Session, Batch, the REPL and the runtime.
+// (--stats, -O, --emit-cpp, --watch, --lab, --sandbox, the limits of docs/faults.md), and `lcjit repl
+// [files] model.l`, the REPL (Repl.h). Thin: parsing here, the work in Session, Batch, Sandbox, the REPL
+// and the runtime.
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@
 #include "app/Batch.h"
 #include "app/Frame.h"
 #include "app/PlainErrors.h"
+#include "app/Sandbox.h"
 #include "repl/Repl.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
@@ -41,9 +45,51 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
   return out;
 }
 
+// The command line of a sandboxed run's child (Sandbox.h): the options that shape one batch run,
+// with absolute paths, since the child works in the model's folder.
+std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const lcjit::app::BatchOptions& bo,
+                                   bool explicitO, const std::vector<float>& winSize, bool compileOnly, bool emitCpp,
+                                   bool cleanEA, double environmentTimeout, const lcjit::runtime::EngineLimits& limits,
+                                   const std::vector<std::string>& includeDirs, bool plainErrors) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> a;
+  if (compileOnly) a.push_back("-c");
+  if (emitCpp) a.push_back("--emit-cpp");
+  if (!compileOnly && !emitCpp) a.push_back("-b");
+  if (!bo.out.empty()) a.insert(a.end(), {"--out", fs::absolute(bo.out).lexically_normal().string()});
+  if (winSize.size() == 2) a.insert(a.end(), {"-w", std::to_string((int)winSize[0]), std::to_string((int)winSize[1])});
+  if (explicitO) a.insert(a.end(), {"-O", std::to_string(bo.optLevel)});
+  for (auto [on, flag] : {std::pair{bo.debug, "-d"}, {bo.dumpSteps, "--ds"}, {bo.dumpInterpreted, "--dtf"},
+                          {bo.dumpInterpretedEach, "--dtfes"}, {bo.quiet, "-q"}, {bo.verbose, "-v"},
+                          {bo.stats, "--stats"}, {cleanEA, "--cleanEA20"}, {plainErrors, "--plain-errors"}})
+    if (on) a.push_back(flag);
+  char number[64];
+  std::snprintf(number, sizeof number, "%.17g", environmentTimeout);
+  a.insert(a.end(), {"--environment-timeout", number});
+  a.insert(a.end(), {"--max-modules", std::to_string(limits.maxModules), "--max-memory", std::to_string(limits.maxMemory)});
+  if (limits.timeLimit > 0) {
+    std::snprintf(number, sizeof number, "%.17g", limits.timeLimit);
+    a.insert(a.end(), {"--time-limit", number});
+  }
+  for (const std::string& dir : includeDirs) a.insert(a.end(), {"-I", dir});
+  for (const std::string& in : inputs) a.push_back(fs::absolute(in).lexically_normal().string());
+  return a;
+}
+
+int lcjitMain(int argc, char** argv, int& reportFd);
+
 }  // namespace
 
+// A sandboxed run's child tells its parent how it ended (a death by a signal tells nothing).
 int main(int argc, char** argv) {
+  int reportFd = -1;
+  int status = lcjitMain(argc, argv, reportFd);
+  if (reportFd >= 0) lcjit::app::reportStatus(reportFd, status);
+  return status;
+}
+
+namespace {
+int lcjitMain(int argc, char** argv, int& reportFd) {
   CLI::App app{"lcjit: a JIT-compiled interpreter of L+C (lpfg's plant-modelling language)", "lcjit"};
   bool batch = false, animate = false, compileOnly = false, emitCpp = false, watch = false, lab = false;
   lcjit::app::BatchOptions bo;  // what a batch run does: the options below fill it in
@@ -94,7 +140,22 @@ int main(int argc, char** argv) {
   app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
-               "model's folder (caches in .lcjit-cache there); compile errors in plain language first");
+               "model's folder (caches in .lcjit-cache there); compile errors in plain language first; without a "
+               "display, every run sandboxed where bubblewrap works (--sandbox)");
+  bool sandbox = false, plainErrors = false;
+  lcjit::app::SandboxLimits sandboxLimits;
+  app.add_flag("--sandbox", sandbox,
+               "run the model (compile, derivation, interpretation, outputs) in a child process under bubblewrap: "
+               "no network, the system read-only, writes only in the model's folder and the -out file, no new "
+               "processes, limits on memory, CPU time and file size (docs/security.md); batch runs and --watch");
+  app.add_option("--max-cpu", sandboxLimits.cpuSeconds, "--sandbox: the CPU seconds one run may use")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--max-file-size", sandboxLimits.fileSize,
+                 "--sandbox: the largest file one run may write (bytes, or 500M, 1G; default 1G)")
+      ->transform(CLI::AsSizeValue(false));
+  app.add_option("--sandboxed", reportFd, "")->group("");  // the child's side of --sandbox
+  app.add_flag("--plain-errors", plainErrors, "")->group("");  // --lab's, for the child
   app.add_flag("--watch", watch,
                "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
   app.add_flag("--emit-cpp", emitCpp, "print the C++ generated from the model and exit");
@@ -168,12 +229,117 @@ int main(int argc, char** argv) {
       lab.labFolder = std::filesystem::path(model).parent_path().string();
       if (winSize.size() == 2) lab.width = (int)winSize[0], lab.height = (int)winSize[1];
       if (app.count("-O")) lab.optLevel = bo.optLevel;
+      if (sandbox) {
+        std::fprintf(stderr, "lcjit: --sandbox: the window and the REPL run model code in lcjit's own process and "
+                             "cannot be sandboxed yet (docs/security.md); without a display --lab runs sandboxed\n");
+        return 1;
+      }
+      std::fprintf(stderr, "lcjit: warning: --lab: the window and the REPL run the model in lcjit's own process, "
+                           "not in a sandbox (docs/security.md)\n");
       return lcjit::repl::runRepl(inputs, lab);
     }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
       if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + shownAs;
     }
+  }
+  // --sandbox, and --lab where it can: this process only starts and watches sandboxed runs. Not
+  // even the input files are read here: the model folder's lpfg.mak runs make.
+  bool sandboxed = reportFd < 0 && (sandbox || lab);
+  if (sandboxed && !lcjit::app::sandboxUnavailable().empty()) {
+    if (sandbox) {
+      std::fprintf(stderr, "lcjit: --sandbox: %s\n", lcjit::app::sandboxUnavailable().c_str());
+      return 1;
+    }
+    std::fprintf(stderr, "lcjit: warning: --lab runs without a sandbox: %s; the model runs as you, with your files "
+                         "(docs/security.md)\n", lcjit::app::sandboxUnavailable().c_str());
+    sandboxed = false;
+  }
+  if (sandboxed) {
+    namespace fs = std::filesystem;
+    if (!batch && bo.out.empty() && !emitCpp && !compileOnly) {
+      if (haveDisplay) {
+        std::fprintf(stderr, "lcjit: --sandbox: the window runs model code in lcjit's own process and cannot be "
+                             "sandboxed yet (docs/security.md); add -b, -out FILE or --watch\n");
+        return 1;
+      }
+      bo.out = fs::path(inputs.back()).stem().string() + shownAs;
+      for (const std::string& in : inputs)
+        if (fs::path(in).extension() == ".l") bo.out = fs::path(in).stem().string() + shownAs;
+      if (!bo.quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", bo.out.c_str());
+    }
+    lcjit::app::SandboxPlan plan;
+    for (const std::string& in : inputs)
+      if (fs::path(in).extension() == ".l") plan.model = in;
+    if (plan.model.empty()) {
+      std::fprintf(stderr, "error: no L-system file (.l) given\n");
+      return 1;
+    }
+    plan.out = bo.out;
+    plan.modelFolder = fs::weakly_canonical(fs::absolute(plan.model).lexically_normal().parent_path()).string();
+    if (auto e = lcjit::app::checkSandboxFolder(plan.modelFolder, "the model's folder", true)) {
+      std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+      return 1;
+    }
+    for (const std::string& in : inputs)
+      if (auto e = lcjit::app::checkSandboxInput(in, plan.modelFolder)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
+    // What needs a process of its own cannot run in the sandbox, which starts none.
+    if (fs::exists(fs::path(plan.modelFolder) / "lpfg.mak")) {
+      std::fprintf(stderr, "%s: error: lcjit reads lpfg.mak with make, a program, and a sandboxed run starts none "
+                           "(docs/security.md)\n", (fs::path(plan.modelFolder) / "lpfg.mak").c_str());
+      return 1;
+    }
+    for (const std::string& in : inputs)
+      if (fs::path(in).extension() == ".e") {
+        std::fprintf(stderr, "%s: error: an environmental program is a process of its own, and a sandboxed run "
+                             "starts none (docs/security.md)\n", in.c_str());
+        return 1;
+      }
+    // The sandbox binds paths as they are: the child names them the same way, links resolved.
+    auto resolved = [](const std::string& p) { return fs::weakly_canonical(fs::absolute(p)).string(); };
+    if (!bo.out.empty()) plan.outputFile = bo.out = resolved(bo.out);
+    std::vector<std::string> resolvedInputs;
+    for (const std::string& in : inputs) resolvedInputs.push_back(resolved(in));
+    plan.readable = resolvedInputs;
+    std::vector<std::string> folders = includeDirs;
+    for (const char* var : {"CPLUS_INCLUDE_PATH", "CPATH", "C_INCLUDE_PATH"})
+      if (const char* v = std::getenv(var)) {
+        std::stringstream list(v);
+        for (std::string dir; std::getline(list, dir, ':');)
+          if (!dir.empty()) folders.push_back(fs::absolute(dir).lexically_normal().string());
+      }
+    for (const std::string& dir : folders) {
+      if (auto e = lcjit::app::checkSandboxFolder(dir, "the include folder", false)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
+      plan.readable.push_back(dir);
+    }
+    limits.maxModules = maxModules;
+    limits.maxMemory = maxMemory;
+    // Address space, not resident memory: the compiler and the threads reserve more than they
+    // use; --max-memory (resident) is the child's guard's, with its messages.
+    sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
+    plan.limits = sandboxLimits;
+    plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
+                          environmentTimeout, limits, includeDirs, lab);
+    if (watch && !emitCpp && !compileOnly) return lcjit::app::watchSandboxed(plan, bo.quiet);
+    return lcjit::app::runSandboxedBatch(plan);
+  }
+  if (reportFd >= 0) {
+    // In the sandbox: caches in the model's folder, the only place this process may write and
+    // one that no other model's run shares (docs/security.md).
+    for (const std::string& in : inputs)
+      if (std::filesystem::path(in).extension() == ".l")
+        cacheDir = (std::filesystem::path(in).parent_path() / ".lcjit-cache").string();
+    lab = lab || plainErrors;
+    bo.progress = [reportFd](int step) { lcjit::app::reportProgress(reportFd, step); };
+    // A cache file past --max-file-size (the compiled header is some MB) fails to be written and
+    // costs the cache only; from the run on, such a file ends the run (the parent says why).
+    std::signal(SIGXFSZ, SIG_IGN);
   }
   auto files = lcjit::app::classifyInputs(inputs);
   if (!files) {
@@ -216,7 +382,14 @@ int main(int argc, char** argv) {
     if (auto e = (*session)->load(*files, bo.optLevel, times)) llvm::consumeError(std::move(e));
     std::fputs((*session)->generatedCpp().c_str(), stdout);
   }
-  if (auto e = (*session)->load(*files, bo.optLevel, times)) {
+  llvm::Error loaded = (*session)->load(*files, bo.optLevel, times);
+  if (reportFd >= 0) std::signal(SIGXFSZ, SIG_DFL);
+  if (reportFd >= 0) {  // what the parent's --watch watches
+    const lcjit::runtime::DrawingFiles none;
+    for (const std::string& f : lcjit::app::watchedFiles(*files, (*session)->loaded() ? (*session)->drawing() : none))
+      lcjit::app::reportInput(reportFd, f);
+  }
+  if (auto e = std::move(loaded)) {
     std::string text = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(lcjit::app::withSourceLines(text)).c_str() : text.c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
@@ -255,3 +428,5 @@ int main(int argc, char** argv) {
   if (watch) return lcjit::app::watchBatch(**session, *files, bo, times);
   return lcjit::app::runBatch(**session, *files, bo, times);
 }
+
+}  // namespace

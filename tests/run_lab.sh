@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # --lab without a display (issue 5, teaching labs): run from another folder, lcjit works in the
-# model's folder only (picture, caches), prints a broken model's errors in plain language before
-# the compiler's text, and keeps watching: saving the fix draws the picture.
+# model's folder only (picture, caches), sandboxed where it can be (issue 15), prints a broken
+# model's errors in plain language before the compiler's text, and keeps watching: saving the
+# fix draws the picture.
 # Usage: run_lab.sh LCJIT MODEL.l
 set -u
 lcjit=$1 model=$2
@@ -24,4 +25,10 @@ for _ in $(seq 1 300); do [ -f "$work/model/plant.png" ] && break; sleep 0.1; do
 [ -d "$work/model/.lcjit-cache" ] || fail "no cache in the model's folder"
 [ -z "$(ls -A "$work/elsewhere" | grep -v err.txt)" ] || fail "wrote in the working folder: $(ls -A)"
 [ ! -e "$work/home" ] || fail "wrote in the home folder: $(find "$work/home")"
+# Where bubblewrap works, every run is sandboxed (docs/security.md); elsewhere a warning says not.
+if bwrap --unshare-all --ro-bind / / true 2>/dev/null; then
+  grep -q "every run is sandboxed" err.txt || fail "--lab did not sandbox the runs"
+else
+  grep -q "warning: --lab runs without a sandbox" err.txt || fail "no warning that --lab runs without a sandbox"
+fi
 echo ok
