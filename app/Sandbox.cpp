@@ -19,7 +19,6 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
 #include <csignal>
 #include <cstddef>
 #include <cstdio>
@@ -30,10 +29,12 @@
 #include <sstream>
 #include <utility>
 
+#include <fmt/printf.h>
 #include <llvm/Support/Program.h>
 
 #include "app/FileMonitor.h"
 #include "app/Session.h"
+#include "runtime/ModelGuard.h"
 
 extern char** environ;
 
@@ -42,21 +43,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, ap);
-  va_end(ap);
-  return buf;
-}
 
-std::string bytes(uint64_t n) {
-  if (n >= (uint64_t(1) << 30)) return format("%.2f GB", double(n) / double(uint64_t(1) << 30));
-  if (n >= (uint64_t(1) << 20)) return format("%.2f MB", double(n) / double(uint64_t(1) << 20));
-  return format("%.1f KB", double(n) / 1024);
-}
 
 std::string selfExe() {
   std::error_code ec;
@@ -215,9 +202,9 @@ pid_t spawn(const std::vector<std::string>& argv, const SandboxLimits& limits, c
 std::string signalFault(int sig, const SandboxLimits& limits) {
   switch (sig) {
     case SIGXCPU:
-      return format("it used its %g s of CPU time (limit --max-cpu)", std::ceil(limits.cpuSeconds));
+      return fmt::sprintf("it used its %g s of CPU time (limit --max-cpu)", std::ceil(limits.cpuSeconds));
     case SIGXFSZ:
-      return "it wrote a file past the size limit of " + bytes(limits.fileSize) + " (--max-file-size)";
+      return "it wrote a file past the size limit of " + runtime::sizeInWords(limits.fileSize) + " (--max-file-size)";
     case SIGKILL:
       return "it was killed (SIGKILL): past its CPU time (--max-cpu) or by the system for want of memory";
     case SIGSYS:
@@ -446,11 +433,11 @@ SandboxOutcome SandboxedRun::judge() {
             : WIFEXITED(waitStatus_) && WEXITSTATUS(waitStatus_) > 128 ? WEXITSTATUS(waitStatus_) - 128
                                                                        : 0;
   std::string why = sig ? signalFault(sig, plan_.limits)
-                        : format("it ended before lcjit finished it (exit status %d: exit() in model code? "
+                        : fmt::sprintf("it ended before lcjit finished it (exit status %d: exit() in model code? "
                                  "bwrap's own error above?)",
                                  WIFEXITED(waitStatus_) ? WEXITSTATUS(waitStatus_) : -1);
-  std::string when = o.derived      ? format("after the derivation (%d steps)", o.steps)
-                     : o.steps > 0 ? format("after step %d", o.steps)
+  std::string when = o.derived      ? fmt::sprintf("after the derivation (%d steps)", o.steps)
+                     : o.steps > 0 ? fmt::sprintf("after step %d", o.steps)
                                    : std::string("before the first step");
   std::fprintf(stderr, "%s: error: the sandboxed run was stopped %s: %s\n", plan_.model.c_str(), when.c_str(),
                why.c_str());
@@ -515,7 +502,7 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet) {
     if (o.stopped) what = "its run stopped for a newer change";
     else if (o.status != 0)
       what = "the run failed" + (plan.out.empty() ? "" : ", nothing written: " + plan.out + " is the last good run's");
-    else what = format("ran in %.1f ms", ms) + (plan.out.empty() ? "" : ", wrote " + plan.out);
+    else what = fmt::sprintf("ran in %.1f ms", ms) + (plan.out.empty() ? "" : ", wrote " + plan.out);
     if (reload == 0 && !quiet)
       std::fprintf(stderr, "lcjit: watching %s and its input files; every run is sandboxed (docs/security.md)\n",
                    plan.model.c_str());

@@ -497,18 +497,14 @@ std::string format(const char* fmt, ...) {
   return buf;
 }
 
-std::string bytes(size_t n) {
-  if (n >= (size_t(1) << 30)) return format("%.2f GB", double(n) / double(size_t(1) << 30));
-  return format("%.1f MB", double(n) / double(size_t(1) << 20));
-}
 
 Fault stopFault(int kind, const ModelGuard& g, size_t observed) {
   switch (FaultKind(kind)) {
     case FaultKind::TimeLimit:
       return {FaultKind::TimeLimit, format("it ran longer than the time limit of %g s (--time-limit)", g.limits().timeSeconds)};
     case FaultKind::MemoryLimit:
-      return {FaultKind::MemoryLimit, "lcjit's memory reached " + bytes(observed) + " (limit --max-memory " +
-                                          bytes(g.limits().memoryBytes) + ")"};
+      return {FaultKind::MemoryLimit, "lcjit's memory reached " + sizeInWords(observed) + " (limit --max-memory " +
+                                          sizeInWords(g.limits().memoryBytes) + ")"};
     default:
       return {FaultKind::Interrupted, "interrupted"};
   }
@@ -723,6 +719,12 @@ void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols) {
   symbols.push_back({"malloc", reinterpret_cast<void*>(&modelMalloc)});
   symbols.push_back({"calloc", reinterpret_cast<void*>(&modelCalloc)});
   symbols.push_back({"realloc", reinterpret_cast<void*>(&modelRealloc)});
+}
+
+std::string sizeInWords(uint64_t n) {
+  if (n >= (uint64_t(1) << 30)) return format("%.2f GB", double(n) / double(uint64_t(1) << 30));
+  if (n >= (uint64_t(1) << 20)) return format("%.2f MB", double(n) / double(uint64_t(1) << 20));
+  return format("%.1f KB", double(n) / 1024);
 }
 
 }  // namespace lcjit::runtime

@@ -129,4 +129,7 @@ void interruptModelCodeOnSigint();
 // model allocating in a loop unwinds (and frees what it holds) instead of being jumped out of.
 void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols);
 
+// A size as lcjit's limit messages give it: "8.0 KB", "4.00 MB", "11.77 GB".
+std::string sizeInWords(uint64_t bytes);
+
 }  // namespace lcjit::runtime
