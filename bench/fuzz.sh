@@ -46,7 +46,7 @@ build_targets=()
 for t in "${targets[@]}"; do build_targets+=("fuzz_$t"); done
 cmake --build "$build" -j2 --target "${build_targets[@]}" || exit 1
 
-# Seeds: the repository's files of the reader's format.
+# Seeds: the repository's files of the reader's format (tests/fuzz/seeds/NAME: made for it).
 seeds() {
   local find_in=("$root/examples" "$root/tests")
   local -a names
@@ -71,8 +71,13 @@ seeds() {
     rewriter | pipeline) names=(-name '*.l') ;;
     strb) return ;;  # the target writes its model's own string (LCJIT_FUZZ_STRB_SEED)
   esac
-  find "${find_in[@]}" -type f \( "${names[@]}" \) | sort
+  find "${find_in[@]}" -type f \( "${names[@]}" \) -not -path '*/tests/fuzz/*' | sort
+  # Hand-made seeds of what the repository has no file of (binary PLY), then past findings.
+  find "$root/tests/fuzz/seeds/$1" "$root/tests/fuzz/regressions/$1" -type f 2>/dev/null | sort
 }
+
+# examples/koch.l -> examples_koch.l: files of the same name from different folders all count.
+seed_name() { local r=${1#"$root"/}; echo "${r//\//_}"; }
 
 # Per target: libFuzzer's limits and how many runs the smoke test makes. The JIT and Clang keep
 # memory on purpose (caches, the loaded model), so leak checks are off where they run.
@@ -105,10 +110,10 @@ for t in "${targets[@]}"; do
   if [ "$mode" = --smoke ]; then
     corpus="$work/corpus"
     mkdir -p "$corpus"
-    seeds "$t" | head -n 4 | while read -r f; do cp "$f" "$corpus/"; done
+    seeds "$t" | head -n 4 | while read -r f; do cp "$f" "$corpus/$(seed_name "$f")"; done
   else
     mkdir -p "$corpus"
-    seeds "$t" | while read -r f; do cp -n "$f" "$corpus/" 2>/dev/null; done
+    seeds "$t" | while read -r f; do cp -n "$f" "$corpus/$(seed_name "$f")"; done
   fi
   [ "$t" = strb ] && export LCJIT_FUZZ_STRB_SEED="$corpus/model.strb"
   log="$build/findings/$t.log"
