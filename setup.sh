@@ -9,6 +9,8 @@ packages=(
   llvm-19-dev libclang-19-dev libclang-cpp19-dev clang-19 libclang-common-19-dev
   libstdc++-12-dev libc6-dev zlib1g-dev libzstd-dev libedit-dev libffi-dev libxml2-dev libcurl4-openssl-dev
   libfmt-dev libcli11-dev libgtest-dev libbenchmark-dev libglm-dev libstb-dev
+  libpng-dev libjpeg62-turbo-dev  # textures (stb_image only writes our own pictures)
+  libclang-rt-19-dev  # the fuzzers' sanitizer and libFuzzer runtimes (bench/fuzz.sh, docs/fuzzing.md)
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
   libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)

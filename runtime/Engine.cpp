@@ -1068,6 +1068,20 @@ llvm::Error Engine::readBinary(const std::string& path) {
     if (bytes.size() - p < size || ModuleTable::idAt(bytes.data() + p + size - 2) != id)
       return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: corrupt module '%s' at byte %zu", path.c_str(),
                                      modules_.info(id).name, p);
+    // A pointer (Label's text, a T* parameter) written by another run points into that run's
+    // memory: the turtle or model code would follow it into whatever is there now (found by
+    // fuzz_strb). A struct or typedef hiding a pointer is not seen here.
+    const __lc_ModuleInfo& info = modules_.info(id);
+    for (uint32_t i = 0; i < info.nFields; ++i) {
+      const __lc_Field& f = info.fields[i];
+      std::string_view type = f.typeName ? f.typeName : "";
+      while (!type.empty() && type.back() == ' ') type.remove_suffix(1);
+      if (f.kind == __lc_FK_Text || (!type.empty() && type.back() == '*'))
+        return llvm::createStringError(llvm::inconvertibleErrorCode(),
+                                       "%s: error: module '%s' at byte %zu has a pointer parameter (%s), which a binary "
+                                       "string cannot carry from one run to another",
+                                       path.c_str(), info.name, p, f.kind == __lc_FK_Text ? "const char*" : f.typeName);
+    }
     p += size;
   }
   string_.clear();

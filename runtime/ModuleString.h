@@ -34,6 +34,7 @@ class ModuleBuffer {
   }
   void reserve(size_t extra);
   void append(const char* p, size_t n) {
+    if (n == 0) return;  // data may still be null: memcpy(null, p, 0) is undefined
     if (b_.cap - b_.size < n) reserve(n);
     std::memcpy(b_.data + b_.size, p, n);
     b_.size += n;

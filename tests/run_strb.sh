@@ -50,4 +50,12 @@ check "missing file reported" 'grep -qF "nothere.strb: error: cannot open file" 
 check "truncated file reported" "grep -qF \"truncated.strb: error: corrupt module 'A' at byte 0\" errors.log"
 check "foreign file reported" 'grep -qF "foreign.strb: error: unknown module id 112 at byte 0" errors.log'
 check "the string is unchanged" 'diff -u "$dir/load_errors.expected" errors.str'
+
+# A string with a Label (a pointer to text in the writing run's memory) is not loaded by another.
+"$lcjit" -b -out label.strb "$dir/label_write.l" >/dev/null 2>&1
+"$lcjit" -b -out label.str "$dir/label_load.l" >label.log 2>&1
+cat label.log
+check "label.strb written (A 12 bytes, Label 24)" '[ "$(stat -c %s label.strb)" = 36 ]'
+check "a pointer parameter is refused" "grep -qF \"label.strb: error: module 'Label' at byte 12 has a pointer parameter (const char*)\" label.log"
+check "the string is unchanged after the refused load" '[ "$(cat label.str)" = "A(2)" ]'
 exit $fail

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <sstream>
@@ -392,8 +393,12 @@ llvm::Expected<MeshData> parsePly(std::string_view bytes, const std::string& fil
             if (!body.read(p.type, &v))
               return fail(fileName, where(), "truncated or malformed list in element '" + e.name + "'");
             if (indices) {
-              if (v < 0 || v >= double(vertexCount) || v != std::floor(v))
-                return fail(fileName, where(), "face index " + std::to_string((long long)v) + " out of range");
+              if (v < 0 || v >= double(vertexCount) || v != std::floor(v)) {
+                // As written: it may be fractional or beyond every integer type (found by fuzz_ply).
+                char text[32];
+                std::snprintf(text, sizeof text, "%.17g", v);
+                return fail(fileName, where(), std::string("face index ") + text + " out of range");
+              }
               poly.push_back(uint32_t(v));
             }
           }

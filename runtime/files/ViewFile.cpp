@@ -722,9 +722,15 @@ class Parser {
         warn(item, std::string("mesh ") + c + ": needs " + std::to_string(n) + " number(s) separated by blanks");
         return;
       }
-      if (c == 'S') m.scale *= v[0];
-      else if (c == 'T') m.texture = int(v[0]);
-      else m.contact = {v[0], v[1], v[2]};
+      if (c == 'S') {
+        m.scale *= v[0];
+      } else if (c == 'T') {
+        // lpfg converts the number to int unchecked; one beyond int (or NaN) names no texture.
+        if (v[0] > -2147483648.0f && v[0] < 2147483648.0f) m.texture = int(v[0]);
+        else warn(item, "mesh T: texture id " + std::to_string(v[0]) + " out of range");
+      } else {
+        m.contact = {v[0], v[1], v[2]};
+      }
     }
     if (!meshLines_.insert(command).second) return;
     vs_.meshes.push_back(m);

@@ -1,5 +1,6 @@
 // Texture images: SGI .rgb (verbatim and RLE, 1-4 channels, 8/16 bits) written by the test and
-// read back pixel-exact, PNG/JPEG through stb, bottom-row-first layout, and error handling.
+// read back pixel-exact, PNG (libpng) and JPEG (libjpeg-turbo) written by stb_image_write and
+// libpng, bottom-row-first layout, and error handling (finding 012's corrupt JPEG among it).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -10,6 +11,9 @@
 #include <vector>
 
 #include "runtime/files/Images.h"
+
+#include <png.h>
+#include <zlib.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -317,4 +321,124 @@ TEST(ImageErrors, TruncatedAndGarbage) {
   EXPECT_NE(e.find("garbage.png: error:"), std::string::npos) << e;
   e = errorOf(loadImage(kDir + "missing.png"));
   EXPECT_NE(e.find("missing.png"), std::string::npos) << e;
+}
+
+TEST(ImagePng, SixteenBitsPaletteAndTransparency) {
+  // 16-bit grey: the high byte of each value, as for 16-bit SGI files (no gamma correction).
+  const uint16_t grey16[2][2] = {{0xABCD, 0x1234}, {0xFF00, 0x00FF}};
+  png_image w;
+  std::memset(&w, 0, sizeof w);
+  w.version = PNG_IMAGE_VERSION;
+  w.width = 2;
+  w.height = 2;
+  w.format = PNG_FORMAT_LINEAR_Y;
+  png_alloc_size_t n = 0;
+  ASSERT_TRUE(png_image_write_to_memory(&w, nullptr, &n, 0, grey16, 0, nullptr));
+  std::vector<uint8_t> png(n);
+  ASSERT_TRUE(png_image_write_to_memory(&w, png.data(), &n, 0, grey16, 0, nullptr)) << w.message;
+  png.resize(n);
+  Image img = mustDecode(png, "grey16.png");
+  EXPECT_EQ(img.fileChannels, 1);
+  EXPECT_EQ(img.pixel(0, 1)[0], 0xAB);  // top row of the file = row 1
+  EXPECT_EQ(img.pixel(1, 1)[1], 0x12);
+  EXPECT_EQ(img.pixel(0, 0)[2], 0xFF);
+  EXPECT_EQ(img.pixel(1, 0)[0], 0x00);
+  EXPECT_EQ(img.pixel(1, 0)[3], 255);
+
+  // A palette with a transparent entry: RGBA, fileChannels 4.
+  const uint8_t colormap[2][4] = {{255, 0, 0, 255}, {0, 0, 255, 0}};
+  const uint8_t indices[1][3] = {{0, 1, 0}};
+  std::memset(&w, 0, sizeof w);
+  w.version = PNG_IMAGE_VERSION;
+  w.width = 3;
+  w.height = 1;
+  w.format = PNG_FORMAT_RGBA_COLORMAP;
+  w.colormap_entries = 2;
+  n = 0;
+  ASSERT_TRUE(png_image_write_to_memory(&w, nullptr, &n, 0, indices, 0, colormap));
+  png.assign(n, 0);
+  ASSERT_TRUE(png_image_write_to_memory(&w, png.data(), &n, 0, indices, 0, colormap)) << w.message;
+  png.resize(n);
+  img = mustDecode(png, "palette.png");
+  EXPECT_EQ(img.fileChannels, 4);
+  const uint8_t red[4] = {255, 0, 0, 255}, clear[4] = {0, 0, 255, 0};
+  EXPECT_EQ(std::memcmp(img.pixel(0, 0), red, 4), 0);
+  EXPECT_EQ(std::memcmp(img.pixel(1, 0), clear, 4), 0);
+  EXPECT_EQ(std::memcmp(img.pixel(2, 0), red, 4), 0);
+}
+
+TEST(ImagePng, HeaderClaimingMoreThanTheData) {
+  // A 1×1 PNG whose IHDR (CRC fixed up) claims 30000×30000: rejected before the pixels are
+  // allocated, not decoded into 3.6 GB of nothing.
+  std::vector<uint8_t> png;
+  const uint8_t px[4] = {1, 2, 3, 4};
+  ASSERT_TRUE(stbi_write_png_to_func(sink, &png, 1, 1, 4, px, 4));
+  put32(png, 16, 30000);  // IHDR data starts at 16: width, height
+  put32(png, 20, 30000);
+  put32(png, 29, uint32_t(crc32(0, png.data() + 12, 17)));
+  std::string e = errorOf(std::vector<uint8_t>(png), "huge.png");
+  EXPECT_NE(e.find("huge.png: error:"), std::string::npos) << e;
+  EXPECT_NE(e.find("30000x30000"), std::string::npos) << e;
+  put32(png, 16, 200);  // 200×200 RGBA from 70 bytes: still more than deflate can hold
+  put32(png, 20, 200);
+  put32(png, 29, uint32_t(crc32(0, png.data() + 12, 17)));
+  e = errorOf(std::vector<uint8_t>(png), "huge.png");
+  EXPECT_NE(e.find("larger than its data allows"), std::string::npos) << e;
+
+  // A bad CRC in a critical chunk is an error (stb_image never checked them).
+  png.clear();
+  ASSERT_TRUE(stbi_write_png_to_func(sink, &png, 1, 1, 4, px, 4));
+  png[29] ^= 1;
+  e = errorOf(std::vector<uint8_t>(png), "crc.png");
+  EXPECT_NE(e.find("crc.png: error: cannot decode PNG image:"), std::string::npos) << e;
+}
+
+TEST(ImageJpeg, CorruptHuffmanTableFinding012) {
+  // birch.jpg with one byte changed: a DHT segment whose code counts add up to more than 256.
+  // stb_image wrote past its Huffman table (UBSan: index 257 out of bounds); libjpeg-turbo
+  // rejects the table with a clear error.
+  std::string e = errorOf(loadImage(kDir + "huffman_overflow.jpg"));
+  EXPECT_NE(e.find("huffman_overflow.jpg: error: cannot decode JPEG image: Bogus Huffman table definition"),
+            std::string::npos)
+      << e;
+  // Every prefix of it fails cleanly or decodes.
+  std::ifstream f(kDir + "huffman_overflow.jpg", std::ios::binary);
+  std::vector<uint8_t> jpg((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  ASSERT_GT(jpg.size(), 1000u);
+  for (size_t n = 0; n < jpg.size(); n += 7) {
+    auto img = decodeImage(jpg.data(), n, "cut.jpg");
+    if (img) EXPECT_EQ(img->rgba.size(), size_t(img->width) * size_t(img->height) * 4);
+    else EXPECT_NE(llvm::toString(img.takeError()).find("cut.jpg: error:"), std::string::npos);
+  }
+}
+
+TEST(ImageJpeg, EveryByteChanged) {
+  // A valid JPEG with each byte replaced by 0, 0xff and itself ^ 0x10: an error naming the file,
+  // or a whole picture (damaged entropy data decodes, the rest grey, as stb_image did).
+  std::vector<uint8_t> src(24 * 16 * 3);
+  for (size_t i = 0; i < src.size(); ++i) src[i] = uint8_t(i * 13);
+  std::vector<uint8_t> jpg;
+  ASSERT_TRUE(stbi_write_jpg_to_func(sink, &jpg, 24, 16, 3, src.data(), 90));
+  size_t decoded = 0, failed = 0;
+  for (size_t i = 2; i < jpg.size(); ++i)
+    for (uint8_t v : {uint8_t(0), uint8_t(0xff), uint8_t(jpg[i] ^ 0x10)}) {
+      std::vector<uint8_t> bad = jpg;
+      bad[i] = v;
+      auto img = decodeImage(bad.data(), bad.size(), "bad.jpg");
+      if (img) {
+        ++decoded;
+        ASSERT_EQ(img->rgba.size(), size_t(img->width) * size_t(img->height) * 4) << i;
+      } else {
+        ++failed;
+        ASSERT_NE(llvm::toString(img.takeError()).find("bad.jpg: error: cannot decode JPEG image: "), std::string::npos) << i;
+      }
+    }
+  EXPECT_GT(decoded, 0u);
+  EXPECT_GT(failed, 0u);
+}
+
+TEST(ImageErrors, UnknownFormat) {
+  const std::string gif = "GIF89a\x01\x00\x01\x00";
+  std::string e = errorOf(std::vector<uint8_t>(gif.begin(), gif.end()), "anim.gif");
+  EXPECT_NE(e.find("anim.gif: error: not a PNG, JPEG or SGI (.rgb) image"), std::string::npos) << e;
 }

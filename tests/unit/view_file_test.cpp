@@ -400,6 +400,20 @@ TEST(ViewFileRendering, Commands) {
   EXPECT_EQ(vs.gradientDirection, 0);
 }
 
+TEST(ViewFileExternal, MeshTextureIdOutOfRange) {
+  // Found by fuzz_view: the id was converted to int unchecked (UBSan: 3.3e+27 outside int).
+  std::vector<ViewFileWarning> w;
+  ViewSettings vs = parse("mesh: a.obj T: 3333333333333333333333333330 S: 2\nmesh: b.obj T: nan\n", w);
+  ASSERT_EQ(vs.meshes.size(), 2u);
+  EXPECT_EQ(vs.meshes[0].texture, -1);
+  EXPECT_FLOAT_EQ(vs.meshes[0].scale, 2);
+  EXPECT_EQ(vs.meshes[1].texture, -1);
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0].line, 1);
+  EXPECT_NE(w[0].message.find("texture id"), std::string::npos) << w[0].message;
+  EXPECT_EQ(w[1].line, 2);
+}
+
 TEST(ViewFileExternal, SurfacesMeshesTextures) {
   std::vector<ViewFileWarning> w;
   ViewSettings vs = parse(
