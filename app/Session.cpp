@@ -41,8 +41,13 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
                                                        std::vector<std::string>& warnings) {
   // What is not re-read is carried over from the model as it is.
   auto d = current ? std::make_unique<runtime::DrawingFiles>(*current) : std::make_unique<runtime::DrawingFiles>();
+  // A drawing file that cannot be read is left out and the run goes on (as lpfg does), so its
+  // reader's error is said as a warning: an "error:" with exit status 0 reads as a contradiction.
   auto warn = [&](llvm::Error e) {
-    if (e) warnings.push_back(llvm::toString(std::move(e)));
+    if (!e) return;
+    std::string text = llvm::toString(std::move(e));
+    if (size_t at = text.find(": error: "); at != std::string::npos) text.replace(at, 9, ": warning: ");
+    warnings.push_back(text + " (lcjit goes on without it)");
   };
   if (what.view) d->view = runtime::ViewSettings();
   if (what.view && !files.view.empty()) {
