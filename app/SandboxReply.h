@@ -1,0 +1,41 @@
+// What a sandboxed run sends the window it runs for (--sandbox with a display, docs/security.md):
+// the interpreted picture (main view and multi-view panes), the view settings, colours and
+// textures the renderer needs, the steps done and the message to show. A versioned binary
+// format; the sender is the untrusted side, so decoding checks every size and index and turns a
+// malformed or truncated reply into an error, never a crash or an allocation past its length.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <llvm/Support/Error.h>
+
+#include "runtime/files/ViewFile.h"
+#include "runtime/turtle/Geometry.h"
+#include "viewer/Renderer.h"
+
+namespace lcjit::app {
+
+struct SandboxReply {
+  int steps = 0;             // derivation steps done
+  int derivationLength = 0;  // the model's (Engine::derivationLength)
+  bool derived = false;      // no step is left (the derivation length reached, or Stop())
+  // What the window shows over the last good picture ("" when the run went well): a compile
+  // error (with its source lines) or a fault in model code. Without a picture, nothing new shows.
+  std::string message;
+  bool hasPicture = false;
+  runtime::Geometry main;  // without the picking sources: the window does not pick under the sandbox
+  std::vector<viewer::ViewPane> panes;
+  // What drawing and framing use; the turtle's own inputs (tropisms, surfaces, meshes, terrain)
+  // are already in the geometry and are not sent.
+  runtime::ViewSettings view;
+  viewer::RenderPalette palette;
+  std::vector<viewer::TextureImage> textures;
+};
+
+std::string encodeSandboxReply(const SandboxReply& reply);
+// An error names what was wrong ("the sandboxed run's reply is damaged: …").
+llvm::Expected<SandboxReply> decodeSandboxReply(std::string_view bytes);
+
+}  // namespace lcjit::app

@@ -1,0 +1,313 @@
+// The window under --sandbox (see SandboxWindow.h). A re-run is a new child for the whole
+// derivation up to the wanted step: stepping costs a run from the axiom each time, which keeps
+// the parent free of model state (there is none to keep in step with the child).
+#include "app/SandboxWindow.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <utility>
+#include <filesystem>
+
+#include "app/FileMonitor.h"
+#include "app/Frame.h"
+#include "app/PlainErrors.h"
+#include "app/SandboxReply.h"
+#include "runtime/Engine.h"
+#include "runtime/WindowInput.h"
+#include "runtime/turtle/Camera.h"
+#include "runtime/turtle/Drawing.h"
+#if LCJIT_HAVE_WINDOW
+#include "viewer/Window.h"
+#endif
+
+namespace lcjit::app {
+
+namespace {
+bool writeAll(int fd, const std::string& bytes) {
+  size_t done = 0;
+  while (done < bytes.size()) {
+    ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += size_t(n);
+  }
+  return true;
+}
+}  // namespace
+
+int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, const WindowAnswerOptions& o) {
+  SandboxReply reply;
+  auto answer = [&](int status) {
+    if (!writeAll(o.replyFd, encodeSandboxReply(reply)))
+      std::fprintf(stderr, "lcjit: the sandboxed run could not send its picture: %s\n", std::strerror(errno));
+    return status;
+  };
+  if (loaded) {
+    // As the in-process window shows a broken edit: with the source lines, over the last picture.
+    std::string shown = withSourceLines(llvm::toString(std::move(loaded)));
+    if (o.plainErrors) shown = inPlainLanguage(shown);
+    std::fprintf(stderr, "%s\n", shown.c_str());
+    reply.message = shown + "\n(the last good model is shown; save a fix to reload)";
+    return answer(1);
+  }
+  runtime::Engine& engine = session.engine();
+  const runtime::DrawingFiles& drawing = session.drawing();
+  if (!o.quiet)
+    for (const std::string& w : session.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
+  FrameWriter frames;
+  runtime::EngineHooks hooks;
+  if (o.quiet) hooks.print = [](const char*) {};
+  hooks.outputFrame = [&](const char* path) {
+    if (auto e = frames.write(path, engine, drawing)) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+  };
+  hooks.afterStep = [&](int step) {
+    if (o.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());
+    if (o.progress) o.progress(step);
+  };
+  // The window's camera is the parent's: model code sees the one a new window starts with.
+  runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
+  engine.begin(hooks);
+  bool more = true;
+  while (more && (o.toStep < 0 || engine.stepNo() < o.toStep)) more = engine.step();
+  if (o.toStep < 0) engine.finish();
+  reply.steps = engine.stepNo();
+  reply.derivationLength = engine.derivationLength();
+  reply.derived = !more || engine.stepNo() >= engine.derivationLength();
+  if (o.progress && reply.derived) o.progress(-1);
+  auto fault = [&](llvm::Error e) {
+    reply.message = llvm::toString(std::move(e));
+    std::fprintf(stderr, "%s\n", reply.message.c_str());
+    return answer(1);
+  };
+  if (auto e = engine.takeFault()) return fault(std::move(e));
+  if (auto e = engine.interpret(reply.main)) return fault(std::move(e));
+  runtime::Bounds b = reply.main.framingBounds();
+  if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
+  auto panes = interpretViews(engine, drawing.view);
+  if (!panes) return fault(panes.takeError());
+  reply.panes = std::move(*panes);
+  RenderLook look;
+  look.of(drawing);
+  reply.palette = look.palette;
+  reply.textures = std::move(look.textures);
+  reply.view = drawing.view;
+  reply.hasPicture = true;
+  (void)files;
+  return answer(0);
+}
+
+#if LCJIT_HAVE_WINDOW
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+class SandboxedWindow {
+ public:
+  SandboxedWindow(const SandboxPlan& plan, viewer::Window& window, const InteractiveOptions& options)
+      : plan_(plan), window_(window), options_(options) {}
+  ~SandboxedWindow() { stopRun(); }
+
+  bool busy() const { return run_ != nullptr; }
+  bool exitRequested() const { return exit_; }
+  const std::vector<std::string>& inputs() const { return inputs_; }
+
+  // A new child for the picture at `toStep` (< 0: the whole derivation); one running is stopped.
+  void start(int toStep, bool refit) {
+    stopRun();
+    SandboxPlan p = plan_;
+    if (toStep >= 0) p.args.insert(p.args.end(), {"--to-step", std::to_string(toStep)});
+    auto run = SandboxedRun::start(p);
+    if (!run) return say(llvm::toString(run.takeError()));
+    run_ = std::move(*run);
+    startedAt_ = Clock::now();
+    refit_ = refit_ || refit;
+  }
+  void rerun(bool refit) { start(animating_ ? 0 : -1, refit); }
+
+  // Waits up to `ms` for the running child (reading its reply meanwhile); shows what it sent.
+  void poll(int ms) {
+    if (!run_ || !run_->wait(ms)) return;
+    SandboxOutcome o = run_->outcome();  // a death the child could not report is on stderr now
+    run_.reset();
+    if (!o.inputs.empty()) inputs_ = o.inputs;
+    if (o.stopped) return;
+    if (o.reply.empty()) {
+      running_ = false;
+      std::string why = !o.fault.empty() ? o.fault
+                                         : plan_.model + ": error: the sandboxed run ended without a picture (its "
+                                                         "messages are above)";
+      if (o.fault.empty()) std::fprintf(stderr, "%s\n", why.c_str());
+      window_.setMessage(why + "\n(the last good picture is shown)");
+      return;
+    }
+    auto reply = decodeSandboxReply(o.reply);
+    if (!reply) {
+      running_ = false;
+      return say(plan_.model + ": error: " + llvm::toString(reply.takeError()));
+    }
+    step_ = reply->steps;
+    derived_ = reply->derived;
+    shownAt_ = Clock::now();
+    if (!reply->message.empty()) {
+      running_ = false;  // the child printed it on stderr
+      window_.setMessage(reply->message);
+      return;
+    }
+    window_.setMessage("");
+    if (!reply->hasPicture) return;
+    if (options_.verbose)
+      std::fprintf(stderr, "lcjit: sandboxed run shown: step %d of %d, %.1f ms\n", reply->steps,
+                   reply->derivationLength,
+                   std::chrono::duration<double, std::milli>(Clock::now() - startedAt_).count());
+    using Framing = viewer::Window::Framing;
+    Framing framing = std::exchange(refit_, false) ? Framing::Refit : Framing::Keep;
+    if (reply->panes.empty())
+      window_.setScene(reply->main, reply->view, reply->palette, reply->textures, framing);
+    else
+      window_.setViews(reply->panes, reply->view, reply->palette, reply->textures);
+  }
+
+  // Animation: Run/Forever take the next step once the last one is shown.
+  void advance() {
+    if (!running_ || busy() || Clock::now() - shownAt_ < std::chrono::milliseconds(40)) return;
+    if (!derived_) return start(step_ + 1, false);
+    if (forever_) return start(0, false);
+    running_ = false;
+  }
+
+  // File changes or a New … item: one new run of the files as they are now.
+  void apply(const std::vector<Action>& actions) {
+    bool again = false;
+    for (Action a : actions) {
+      if (a == Action::NewAnimate || !reloadPartsFor(a)) continue;
+      if (resetsView(a)) window_.resetView();
+      again = true;
+    }
+    if (again) rerun(true);
+  }
+
+  // Pointer clicks that would insert MouseIns into the string: the string is the child's.
+  void refuseInsertion() {
+    if (window_.takePointer().insert)
+      say("lcjit: --sandbox: mouse insertion (MouseIns) changes the model's string, which lives in the sandboxed "
+          "run; it is off under the sandbox (docs/security.md)");
+  }
+
+  viewer::MenuActions actions() {
+    viewer::MenuActions a;
+    a.saveName = fs::path(plan_.model).stem().string() + ".png";
+    a.exit = [this] { exit_ = true; };
+    a.animating = animating_;
+    auto stop = [this] {
+      running_ = false;
+      if (!busy()) return;
+      stopRun();
+      say(plan_.model + ": the sandboxed run was stopped");
+    };
+    a.stop = stop;
+    a.interrupt = stop;
+    a.clear = [this] { start(animating_ ? step_ : -1, false); };
+    a.newModel = [this] { apply({Action::NewModel}); };
+    a.newLsystem = [this] { apply({Action::NewLsystem}); };
+    a.newRun = [this] { apply({Action::NewRun}); };
+    a.newView = [this] { apply({Action::NewView}); };
+    a.newRendering = [this] { apply({Action::NewRendering}); };
+    const char* stringIsTheChilds = "the model's string lives in the sandboxed run; only pictures are saved from the "
+                                    "window under the sandbox (docs/security.md)";
+    a.saveAs = [this, stringIsTheChilds](const std::string& path) {
+      say("lcjit: --sandbox: cannot save " + path + ": " + stringIsTheChilds);
+    };
+    a.stringInput = a.stringOutput = [this, stringIsTheChilds] {
+      say(std::string("lcjit: --sandbox: String input/output is off: ") + stringIsTheChilds);
+    };
+    a.animate = [this] {
+      animating_ = true;
+      start(0, true);
+    };
+    a.step = [this] {
+      running_ = false;
+      if (!busy() && !derived_) start(step_ + 1, false);
+    };
+    a.run = [this] { running_ = true, forever_ = false; };
+    a.forever = [this] { running_ = forever_ = true; };
+    a.rewind = [this] {
+      running_ = false;
+      start(0, true);
+    };
+    a.dontAnimate = [this] {
+      animating_ = running_ = false;
+      start(-1, true);
+    };
+    return a;
+  }
+
+  void startAnimating() { animating_ = true; }
+
+ private:
+  void stopRun() {
+    if (!run_) return;
+    run_->stop();
+    run_->wait(-1);
+    run_.reset();
+  }
+  void say(const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+    window_.setMessage(line);
+  }
+
+  SandboxPlan plan_;
+  viewer::Window& window_;
+  InteractiveOptions options_;
+  std::unique_ptr<SandboxedRun> run_;
+  std::vector<std::string> inputs_;
+  int step_ = 0;
+  bool derived_ = false, animating_ = false, running_ = false, forever_ = false, refit_ = true, exit_ = false;
+  Clock::time_point shownAt_, startedAt_;
+};
+
+}  // namespace
+
+int runSandboxedWindow(const SandboxPlan& plan, const viewer::WindowOptions& windowOptions,
+                       const InteractiveOptions& options) {
+  auto window = viewer::Window::create(windowOptions);
+  if (!window) {
+    std::fprintf(stderr, "lcjit: cannot open a window: %s\n", llvm::toString(window.takeError()).c_str());
+    return 1;
+  }
+  SandboxedWindow model(plan, **window, options);
+  if (options.animate) model.startAnimating();
+  model.rerun(true);
+  FileMonitor monitor;
+  const bool watching = options.refresh != RefreshMode::Explicit;
+  std::vector<std::string> watched;
+  auto watchInputs = [&] {
+    std::vector<std::string> now = model.inputs();
+    if (now.empty()) now = {fs::absolute(plan.model).string()};  // nothing reported: the model at least
+    if (!watching || now == watched) return;
+    watched = std::move(now);
+    if (!monitor.watch(watched) && !options.quiet)
+      std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+  };
+  watchInputs();
+  for (;;) {
+    // While a child runs, wait on it (its reply comes through a pipe) rather than on the window.
+    model.poll(model.busy() ? 10 : 0);
+    watchInputs();
+    model.refuseInsertion();
+    viewer::MenuActions actions = model.actions();
+    if (model.exitRequested() || !(*window)->frame(actions)) break;
+    (*window)->waitEvents(model.busy() ? 0 : 0.05);
+    if (watching) model.apply(actionsForChanges(monitor.poll(0), options.refresh));
+    model.advance();
+  }
+  return 0;
+}
+#endif
+
+}  // namespace lcjit::app
