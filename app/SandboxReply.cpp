@@ -11,7 +11,7 @@ namespace lcjit::app {
 namespace {
 
 constexpr char kMagic[4] = {'L', 'C', 'S', 'R'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;
 
 // The layout the raw arrays depend on: a reply from a build where it differs is refused.
 uint32_t layoutStamp() {
@@ -254,6 +254,7 @@ std::string encodeSandboxReply(const SandboxReply& reply) {
   w.pod(layoutStamp());
   w.pod(reply.steps), w.pod(reply.derivationLength), w.flag(reply.derived);
   w.str(reply.message);
+  w.str(reply.unanswered);
   w.flag(reply.hasPicture);
   if (!reply.hasPicture) return w.out;
   w.pod<uint64_t>(reply.textures.size());
@@ -286,7 +287,7 @@ llvm::Expected<SandboxReply> decodeSandboxReply(std::string_view bytes) {
   SandboxReply reply;
   auto damaged = [&] { return fail(r.error.empty() ? std::string("it is malformed") : r.error); };
   if (!r.pod(reply.steps) || !r.pod(reply.derivationLength) || !r.flag(reply.derived) || !r.str(reply.message) ||
-      !r.flag(reply.hasPicture))
+      !r.str(reply.unanswered) || !r.flag(reply.hasPicture))
     return damaged();
   if (reply.hasPicture) {
     uint64_t textures = 0, panes = 0;

@@ -24,6 +24,9 @@ struct SandboxReply {
   // What the window shows over the last good picture ("" when the run went well): a compile
   // error (with its source lines) or a fault in model code. Without a picture, nothing new shows.
   std::string message;
+  // What model code asked of the window that a sandboxed run cannot give, for the window to say
+  // ("GetMouseStatus"), "" when nothing.
+  std::string unanswered;
   bool hasPicture = false;
   runtime::Geometry main;  // without the picking sources: the window does not pick under the sandbox
   std::vector<viewer::ViewPane> panes;

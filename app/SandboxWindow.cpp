@@ -79,6 +79,7 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   reply.derivationLength = engine.derivationLength();
   reply.derived = !more || engine.stepNo() >= engine.derivationLength();
   if (o.progress && reply.derived) o.progress(-1);
+  if (runtime::Mouse::instance().wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
   auto fault = [&](llvm::Error e) {
     reply.message = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", reply.message.c_str());
@@ -153,6 +154,10 @@ class SandboxedWindow {
     }
     step_ = reply->steps;
     derived_ = reply->derived;
+    std::string note;  // once: every run would say it again
+    if (!reply->unanswered.empty() && !std::exchange(toldUnanswered_, true))
+      note = "lcjit: --sandbox: " + plan_.model + ": the model reads the window's input (" + reply->unanswered +
+             "), which a sandboxed run does not get: no button, no pointer (docs/security.md)";
     shownAt_ = Clock::now();
     if (!reply->message.empty()) {
       running_ = false;  // the child printed it on stderr
@@ -160,6 +165,7 @@ class SandboxedWindow {
       return;
     }
     window_.setMessage("");
+    if (!note.empty()) say(note);
     if (!reply->hasPicture) return;
     if (options_.verbose)
       std::fprintf(stderr, "lcjit: sandboxed run shown: step %d of %d, %.1f ms\n", reply->steps,
@@ -268,6 +274,7 @@ class SandboxedWindow {
   std::vector<std::string> inputs_;
   int step_ = 0;
   bool derived_ = false, animating_ = false, running_ = false, forever_ = false, refit_ = true, exit_ = false;
+  bool toldUnanswered_ = false;
   Clock::time_point shownAt_, startedAt_;
 };
 

@@ -149,7 +149,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                "run the model (compile, derivation, interpretation, outputs) in a child process under bubblewrap: "
                "no network, the system read-only, writes only in the model's folder and the -out file, no new "
                "processes, limits on memory, CPU time and file size (docs/security.md); batch runs, --watch and "
-                 "the window (each picture a sandboxed run)");
+               "the window (each picture a sandboxed run)");
   app.add_option("--max-cpu", sandboxLimits.cpuSeconds, "--sandbox: the CPU seconds one run may use")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

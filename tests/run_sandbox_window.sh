@@ -7,6 +7,7 @@
 #   faults        a crash, then --max-cpu, show as errors; the window stays up, and an edit runs
 #   lab           --lab with a display says its runs are sandboxed, and shows the picture
 #   esc           Esc stops a sandboxed run stuck in a loop; the window stays
+#   input         a model reading the mouse is told it gets none; a MouseIns click is refused
 #   animate       -a: the first picture is step 0; Ctrl+F (Step) shows step 1, Ctrl+W (Rewind) 0
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox or Xvfb tools are missing.
 set -u
@@ -101,6 +102,14 @@ case $case in
     xdotool mousemove --window "$(xdotool search --sync --name "lcjit: loop.l" | head -1)" 200 200
     xdotool key Escape
     wait_err "loop.l: the sandboxed run was stopped"
+    alive ;;
+  input)
+    cp "$dir/mouse.l" .
+    start --sandbox -w 400 400 mouse.l
+    wait_err "lcjit: --sandbox: mouse.l: the model reads the window's input (GetMouseStatus/GetTabletStatus), which a sandboxed run does not get"
+    xdotool mousemove --window "$(xdotool search --sync --name "lcjit: mouse.l" | head -1)" 200 200
+    xdotool keydown shift keydown ctrl click 1 keyup ctrl keyup shift
+    wait_err "lcjit: --sandbox: mouse insertion (MouseIns) changes the model's string, which lives in the sandboxed run; it is off"
     alive ;;
   animate)
     cp "$dir/window_faults.l" m.l

@@ -13,6 +13,7 @@ app::SandboxReply sample() {
   r.steps = 4;
   r.derivationLength = 6;
   r.message = "m.l:3: warning-ish text";
+  r.unanswered = "GetMouseStatus/GetTabletStatus";
   r.hasPicture = true;
   runtime::Geometry& g = r.main;
   g.useTexture(0);
@@ -52,6 +53,7 @@ TEST(SandboxReply, RoundTrips) {
   EXPECT_EQ(out->derivationLength, 6);
   EXPECT_FALSE(out->derived);
   EXPECT_EQ(out->message, in.message);
+  EXPECT_EQ(out->unanswered, in.unanswered);
   ASSERT_TRUE(out->hasPicture);
   const runtime::Geometry& g = out->main;
   ASSERT_EQ(g.vertices.size(), 3u);
