@@ -11,7 +11,7 @@ namespace lcjit::app {
 namespace {
 
 constexpr char kMagic[4] = {'L', 'C', 'S', 'R'};
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 
 // The layout the raw arrays depend on: a reply from a build where it differs is refused.
 uint32_t layoutStamp() {
@@ -253,6 +253,9 @@ std::string encodeSandboxReply(const SandboxReply& reply) {
   w.pod(kVersion);
   w.pod(layoutStamp());
   w.pod(reply.steps), w.pod(reply.derivationLength), w.flag(reply.derived);
+  const SandboxReply::Animation& a = reply.animation;
+  w.pod(a.firstFrame), w.pod(a.lastFrame), w.pod(a.step), w.pod(a.swapIntervalMs);
+  w.flag(a.hcenter), w.flag(a.scale), w.flag(a.newView);
   w.str(reply.message);
   w.str(reply.unanswered);
   w.flag(reply.hasPicture);
@@ -286,9 +289,15 @@ llvm::Expected<SandboxReply> decodeSandboxReply(std::string_view bytes) {
   if (version != kVersion || stamp != layoutStamp()) return fail("it comes from another build of lcjit");
   SandboxReply reply;
   auto damaged = [&] { return fail(r.error.empty() ? std::string("it is malformed") : r.error); };
-  if (!r.pod(reply.steps) || !r.pod(reply.derivationLength) || !r.flag(reply.derived) || !r.str(reply.message) ||
-      !r.str(reply.unanswered) || !r.flag(reply.hasPicture))
+  if (!r.pod(reply.steps) || !r.pod(reply.derivationLength) || !r.flag(reply.derived)) return damaged();
+  SandboxReply::Animation& a = reply.animation;
+  if (!r.pod(a.firstFrame) || !r.pod(a.lastFrame) || !r.pod(a.step) || !r.pod(a.swapIntervalMs) ||
+      !r.flag(a.hcenter) || !r.flag(a.scale) || !r.flag(a.newView))
     return damaged();
+  // The window waits the swap interval and counts frames with these: keep them sane.
+  if (a.firstFrame < 0 || a.lastFrame < 0 || a.step < 1 || a.swapIntervalMs < 0 || a.swapIntervalMs > 3600000)
+    return fail("its animation settings are out of range");
+  if (!r.str(reply.message) || !r.str(reply.unanswered) || !r.flag(reply.hasPicture)) return damaged();
   if (reply.hasPicture) {
     uint64_t textures = 0, panes = 0;
     if (!r.count(textures, 16)) return damaged();

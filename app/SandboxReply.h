@@ -21,6 +21,12 @@ struct SandboxReply {
   int steps = 0;             // derivation steps done
   int derivationLength = 0;  // the model's (Engine::derivationLength)
   bool derived = false;      // no step is left (the derivation length reached, or Stop())
+  // The animation file's frames (manual §8.1), for the window's Step, Run, Forever and Rewind:
+  // the first and last frame (resolved), the steps between frames, the swap interval, framing.
+  struct Animation {
+    int firstFrame = 0, lastFrame = 0, step = 1, swapIntervalMs = 0;
+    bool hcenter = false, scale = false, newView = false;
+  } animation;
   // What the window shows over the last good picture ("" when the run went well): a compile
   // error (with its source lines) or a fault in model code. Without a picture, nothing new shows.
   std::string message;

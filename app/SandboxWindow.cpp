@@ -5,13 +5,17 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <memory>
-#include <utility>
 #include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <utility>
 
 #include "app/FileMonitor.h"
 #include "app/Frame.h"
@@ -19,6 +23,7 @@
 #include "app/SandboxReply.h"
 #include "runtime/Engine.h"
 #include "runtime/WindowInput.h"
+#include "runtime/files/AnimationFile.h"
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Drawing.h"
 #if LCJIT_HAVE_WINDOW
@@ -55,6 +60,19 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
     reply.message = shown + "\n(the last good model is shown; save a fix to reload)";
     return answer(1);
   }
+  // The animation file, read as the in-process window reads it (Interactive.cpp).
+  runtime::AnimationSettings animation;
+  for (const std::string& f : files.other)
+    if (std::filesystem::path(f).extension() == ".a") {
+      std::ifstream in(f);
+      std::stringstream text;
+      text << in.rdbuf();
+      std::vector<runtime::ViewFileWarning> warnings;
+      animation = runtime::parseAnimationFile(text.str(), f, warnings);
+      for (auto& w : warnings)
+        if (!o.quiet) std::fprintf(stderr, "%s:%d:%d: warning: %s\n", w.file.c_str(), w.line, w.column, w.message.c_str());
+    }
+  int toStep = o.toStep == kFirstFrame ? animation.firstFrame : o.toStep;
   runtime::Engine& engine = session.engine();
   const runtime::DrawingFiles& drawing = session.drawing();
   if (!o.quiet)
@@ -73,10 +91,13 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
   engine.begin(hooks);
   bool more = true;
-  while (more && (o.toStep < 0 || engine.stepNo() < o.toStep)) more = engine.step();
-  if (o.toStep < 0) engine.finish();
+  while (more && (toStep < 0 || engine.stepNo() < toStep)) more = engine.step();
+  if (toStep < 0) engine.finish();
   reply.steps = engine.stepNo();
   reply.derivationLength = engine.derivationLength();
+  reply.animation = {animation.firstFrame, animation.resolvedLastFrame(reply.derivationLength),
+                     std::max(animation.step, 1), std::clamp(animation.swapIntervalMs(), 0, 3600000),
+                     animation.hcenterBetweenFrames, animation.scaleBetweenFrames, animation.newViewBetweenFrames};
   reply.derived = !more || engine.stepNo() >= engine.derivationLength();
   if (o.progress && reply.derived) o.progress(-1);
   if (runtime::Mouse::instance().wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
@@ -98,7 +119,6 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   reply.textures = std::move(look.textures);
   reply.view = drawing.view;
   reply.hasPicture = true;
-  (void)files;
   return answer(0);
 }
 
@@ -118,18 +138,19 @@ class SandboxedWindow {
   bool exitRequested() const { return exit_; }
   const std::vector<std::string>& inputs() const { return inputs_; }
 
-  // A new child for the picture at `toStep` (< 0: the whole derivation); one running is stopped.
+  // A new child for the picture at `toStep` (-1: the whole derivation; kFirstFrame); one running
+  // is stopped.
   void start(int toStep, bool refit) {
     stopRun();
     SandboxPlan p = plan_;
-    if (toStep >= 0) p.args.insert(p.args.end(), {"--to-step", std::to_string(toStep)});
+    if (toStep != -1) p.args.push_back("--to-step=" + std::to_string(toStep));  // "=": -2 is no option
     auto run = SandboxedRun::start(p);
     if (!run) return say(llvm::toString(run.takeError()));
     run_ = std::move(*run);
     startedAt_ = Clock::now();
     refit_ = refit_ || refit;
   }
-  void rerun(bool refit) { start(animating_ ? 0 : -1, refit); }
+  void rerun(bool refit) { start(animating_ ? kFirstFrame : -1, refit); }
 
   // Waits up to `ms` for the running child (reading its reply meanwhile); shows what it sent.
   void poll(int ms) {
@@ -154,6 +175,7 @@ class SandboxedWindow {
     }
     step_ = reply->steps;
     derived_ = reply->derived;
+    animation_ = reply->animation;
     std::string note;  // once: every run would say it again
     if (!reply->unanswered.empty() && !std::exchange(toldUnanswered_, true))
       note = "lcjit: --sandbox: " + plan_.model + ": the model reads the window's input (" + reply->unanswered +
@@ -171,19 +193,36 @@ class SandboxedWindow {
       std::fprintf(stderr, "lcjit: sandboxed run shown: step %d of %d, %.1f ms\n", reply->steps,
                    reply->derivationLength,
                    std::chrono::duration<double, std::milli>(Clock::now() - startedAt_).count());
+    // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
     using Framing = viewer::Window::Framing;
-    Framing framing = std::exchange(refit_, false) ? Framing::Refit : Framing::Keep;
+    Framing framing = !animating_ || refit_ || animation_.scale ? Framing::Refit
+                      : animation_.hcenter                      ? Framing::HCenter
+                                                                : Framing::Keep;
+    refit_ = false;
+    if (animating_ && animation_.newView) window_.resetView();
     if (reply->panes.empty())
       window_.setScene(reply->main, reply->view, reply->palette, reply->textures, framing);
     else
       window_.setViews(reply->panes, reply->view, reply->palette, reply->textures);
   }
 
-  // Animation: Run/Forever take the next step once the last one is shown.
+  // The animation file's next frame after the one shown (AnimationSchedule's rule: every
+  // `step:` steps from the first frame, and the last frame); none past the last frame or the
+  // derivation's end.
+  std::optional<int> nextFrame() const {
+    const SandboxReply::Animation& a = animation_;
+    if (derived_ || step_ >= a.lastFrame) return std::nullopt;
+    long long next = step_ < a.firstFrame ? a.firstFrame
+                                          : a.firstFrame + ((step_ - a.firstFrame) / a.step + 1) * 1ll * a.step;
+    return int(std::min<long long>(next, a.lastFrame));
+  }
+
+  // Animation: Run/Forever take the next frame once the last one has been shown for the swap
+  // interval.
   void advance() {
-    if (!running_ || busy() || Clock::now() - shownAt_ < std::chrono::milliseconds(40)) return;
-    if (!derived_) return start(step_ + 1, false);
-    if (forever_) return start(0, false);
+    if (!running_ || busy() || Clock::now() - shownAt_ < std::chrono::milliseconds(animation_.swapIntervalMs)) return;
+    if (std::optional<int> next = nextFrame()) return start(*next, false);
+    if (forever_) return start(kFirstFrame, false);
     running_ = false;
   }
 
@@ -218,7 +257,7 @@ class SandboxedWindow {
     };
     a.stop = stop;
     a.interrupt = stop;
-    a.clear = [this] { start(animating_ ? step_ : -1, false); };
+    a.clear = [this] { start(animating_ ? step_ : -1, false); };  // the same picture, drawn anew
     a.newModel = [this] { apply({Action::NewModel}); };
     a.newLsystem = [this] { apply({Action::NewLsystem}); };
     a.newRun = [this] { apply({Action::NewRun}); };
@@ -234,17 +273,18 @@ class SandboxedWindow {
     };
     a.animate = [this] {
       animating_ = true;
-      start(0, true);
+      start(kFirstFrame, true);
     };
     a.step = [this] {
       running_ = false;
-      if (!busy() && !derived_) start(step_ + 1, false);
+      if (busy()) return;
+      if (std::optional<int> next = nextFrame()) start(*next, false);
     };
     a.run = [this] { running_ = true, forever_ = false; };
     a.forever = [this] { running_ = forever_ = true; };
     a.rewind = [this] {
       running_ = false;
-      start(0, true);
+      start(kFirstFrame, true);
     };
     a.dontAnimate = [this] {
       animating_ = running_ = false;
@@ -273,6 +313,7 @@ class SandboxedWindow {
   std::unique_ptr<SandboxedRun> run_;
   std::vector<std::string> inputs_;
   int step_ = 0;
+  SandboxReply::Animation animation_;  // the last run's animation file
   bool derived_ = false, animating_ = false, running_ = false, forever_ = false, refit_ = true, exit_ = false;
   bool toldUnanswered_ = false;
   Clock::time_point shownAt_, startedAt_;

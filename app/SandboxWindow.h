@@ -17,12 +17,13 @@ struct WindowOptions;
 
 namespace lcjit::app {
 
-// The child's side: after the load (`loaded`: its outcome), derive to `toStep` (< 0: the whole
+// The child's side: after the load (`loaded`: its outcome), derive to `toStep` (-1: the whole
 // derivation, End included), interpret, and write a SandboxReply to `replyFd`. A compile error
 // or a fault is the reply's message (and on stderr, as the in-process window says it).
+constexpr int kFirstFrame = -2;  // WindowAnswerOptions::toStep: the animation file's first frame
 struct WindowAnswerOptions {
   int replyFd = -1;
-  int toStep = -1;
+  int toStep = -1;  // or kFirstFrame
   bool quiet = false, plainErrors = false, debug = false;
   std::function<void(int step)> progress;  // the sandbox's step reports (Sandbox.h)
 };

@@ -8,7 +8,7 @@
 #   lab           --lab with a display says its runs are sandboxed, and shows the picture
 #   esc           Esc stops a sandboxed run stuck in a loop; the window stays
 #   input         a model reading the mouse is told it gets none; a MouseIns click is refused
-#   animate       -a: the first picture is step 0; Ctrl+F (Step) shows step 1, Ctrl+W (Rewind) 0
+#   animate       -a with an animation file: its first frame, Step by its step, Rewind, Run to the end
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox or Xvfb tools are missing.
 set -u
 lcjit=$1 diff=$2 dir=$3 case=$4
@@ -113,14 +113,19 @@ case $case in
     alive ;;
   animate)
     cp "$dir/window_faults.l" m.l
-    sed -i "s/#define FAULT .*/#define FAULT 0/" m.l
-    start --sandbox -v -a -w 400 400 m.l
-    wait_err "lcjit: sandboxed run shown: step 0 of 3"
+    sed -i "s/#define FAULT .*/#define FAULT 0/; s/derivation length: 3/derivation length: 6/" m.l
+    printf 'first frame: 1\nstep: 2\n' > m.a
+    start --sandbox -v -a -w 400 400 m.a m.l
+    wait_err "lcjit: sandboxed run shown: step 1 of 6"
     xdotool mousemove --window "$(xdotool search --sync --name "lcjit: m.l" | head -1)" 200 200
     xdotool key ctrl+f
-    wait_err "lcjit: sandboxed run shown: step 1 of 3"
+    wait_err "lcjit: sandboxed run shown: step 3 of 6"
     xdotool key ctrl+w
-    wait_err "lcjit: sandboxed run shown: step 0 of 3" 2
+    wait_err "lcjit: sandboxed run shown: step 1 of 6" 2
+    xdotool key ctrl+r  # Run: the frames to the end, then it stops
+    wait_err "lcjit: sandboxed run shown: step 6 of 6"
+    grep -q "step 5 of 6" err.txt || fail "Run did not show step 5"
+    ! grep -qE "step (2|4) of 6" err.txt || fail "frames off the animation file's step were shown"
     alive ;;
   *) echo "unknown case $case"; exit 1 ;;
 esac

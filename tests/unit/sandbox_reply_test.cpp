@@ -14,6 +14,7 @@ app::SandboxReply sample() {
   r.derivationLength = 6;
   r.message = "m.l:3: warning-ish text";
   r.unanswered = "GetMouseStatus/GetTabletStatus";
+  r.animation = {2, 5, 3, 250, true, false, true};
   r.hasPicture = true;
   runtime::Geometry& g = r.main;
   g.useTexture(0);
@@ -54,6 +55,13 @@ TEST(SandboxReply, RoundTrips) {
   EXPECT_FALSE(out->derived);
   EXPECT_EQ(out->message, in.message);
   EXPECT_EQ(out->unanswered, in.unanswered);
+  EXPECT_EQ(out->animation.firstFrame, 2);
+  EXPECT_EQ(out->animation.lastFrame, 5);
+  EXPECT_EQ(out->animation.step, 3);
+  EXPECT_EQ(out->animation.swapIntervalMs, 250);
+  EXPECT_TRUE(out->animation.hcenter);
+  EXPECT_FALSE(out->animation.scale);
+  EXPECT_TRUE(out->animation.newView);
   ASSERT_TRUE(out->hasPicture);
   const runtime::Geometry& g = out->main;
   ASSERT_EQ(g.vertices.size(), 3u);
@@ -146,6 +154,9 @@ TEST(SandboxReply, RefusesGarbageAndLies) {
   r = sample();
   r.main.order.push_back({runtime::DrawBatch::Kind::Segments, 0, 9});
   EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("batch"), std::string::npos);
+  r = sample();
+  r.animation.step = 0;  // the window would never reach a next frame
+  EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("animation"), std::string::npos);
   std::string other = app::encodeSandboxReply(sample());
   other[4] = 9;  // the version
   EXPECT_NE(refusal(other).find("another build"), std::string::npos);
