@@ -43,8 +43,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
-
 std::string selfExe() {
   std::error_code ec;
   fs::path p = fs::read_symlink("/proc/self/exe", ec);
@@ -275,9 +273,12 @@ llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxP
   std::string exe = selfExe();
   std::vector<sock_filter> filter = seccompFilter();
   int sec = pipeWith(filter.data(), filter.size() * sizeof(sock_filter));
-  int report[2], info[2];
-  if (sec < 0 || ::pipe2(report, O_CLOEXEC) != 0 || ::pipe2(info, O_CLOEXEC) != 0)
+  int report[2], info[2], reply[2] = {-1, -1};
+  if (sec < 0 || ::pipe2(report, O_CLOEXEC) != 0 || ::pipe2(info, O_CLOEXEC) != 0 ||
+      (plan.replyLimit && ::pipe2(reply, O_CLOEXEC) != 0))
     return llvm::createStringError(std::string("lcjit: --sandbox: no pipe: ") + std::strerror(errno));
+  // A picture is megabytes: a larger pipe lets the child write it in fewer rounds.
+  if (reply[0] >= 0) ::fcntl(reply[0], F_SETPIPE_SZ, 1 << 20);
   std::vector<std::string> argv = {bwrapPath()};
   for (std::string& s : systemView(exe)) argv.push_back(std::move(s));
   // Readable first, the model's folder over them: inside a readable folder it stays writable.
@@ -300,15 +301,21 @@ llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxP
                            "--info-fd", std::to_string(info[1]), "--", exe});
   argv.insert(argv.end(), plan.args.begin(), plan.args.end());
   argv.insert(argv.end(), {"--sandboxed", std::to_string(report[1])});
-  pid_t pid = spawn(argv, plan.limits, {sec, report[1], info[1]}, false);
+  if (reply[1] >= 0) argv.insert(argv.end(), {"--reply-fd", std::to_string(reply[1])});
+  std::vector<int> keep = {sec, report[1], info[1]};
+  if (reply[1] >= 0) keep.push_back(reply[1]);
+  pid_t pid = spawn(argv, plan.limits, keep, false);
   ::close(sec), ::close(report[1]), ::close(info[1]);
+  if (reply[1] >= 0) ::close(reply[1]);
   if (pid < 0) {
     ::close(report[0]), ::close(info[0]);
+    if (reply[0] >= 0) ::close(reply[0]);
     return llvm::createStringError(std::string("lcjit: --sandbox: cannot start bwrap: ") + std::strerror(errno));
   }
   run->bwrapPid_ = pid;
   run->reportFd_ = report[0];
   run->infoFd_ = info[0];
+  run->replyFd_ = reply[0];
   return std::move(run);
 }
 
@@ -320,11 +327,12 @@ SandboxedRun::~SandboxedRun() {
   }
   if (reportFd_ >= 0) ::close(reportFd_);
   if (infoFd_ >= 0) ::close(infoFd_);
+  if (replyFd_ >= 0) ::close(replyFd_);
 }
 
 void SandboxedRun::readReports() {
-  char buf[4096];
-  for (int* fd : {&reportFd_, &infoFd_}) {
+  static char buf[1 << 16];
+  for (int* fd : {&reportFd_, &infoFd_, &replyFd_}) {
     if (*fd < 0) continue;
     for (;;) {
       struct pollfd p = {*fd, POLLIN, 0};
@@ -335,7 +343,17 @@ void SandboxedRun::readReports() {
         *fd = -1;
         break;
       }
-      (fd == &reportFd_ ? reports_ : info_).append(buf, n);
+      std::string& to = fd == &reportFd_ ? reports_ : fd == &infoFd_ ? info_ : reply_;
+      if (fd == &replyFd_ && reply_.size() + n > plan_.replyLimit) {
+        // The reply is bounded as the child's memory is: past it, the run is stopped.
+        replyTooLong_ = true;
+        if (!ended_) ::kill(bwrapPid_, SIGKILL);
+        ::close(*fd);
+        *fd = -1;
+        reply_.clear();
+        break;
+      }
+      to.append(buf, n);
     }
   }
   if (innerPid_ < 0) {
@@ -367,9 +385,9 @@ bool SandboxedRun::wait(int timeoutMs, int otherFd) {
       break;
     }
     // The child's end shows as its pipes closing, or at the latest at the next 50 ms.
-    struct pollfd fds[3];
+    struct pollfd fds[4];
     int n = 0;
-    for (int fd : {reportFd_, infoFd_, otherFd})
+    for (int fd : {reportFd_, infoFd_, replyFd_, otherFd})
       if (fd >= 0) fds[n++] = {fd, POLLIN, 0};
     long long toGo = std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count();
     int left = timeoutMs < 0 ? 50 : (int)std::min<long long>(50, toGo);
@@ -405,6 +423,7 @@ void SandboxedRun::passInterruptsOn() {
 SandboxOutcome SandboxedRun::outcome() {
   SandboxOutcome o = judge();
   if (o.status != 0 && !createdOutput_.empty()) ::unlink(createdOutput_.c_str());
+  o.reply = std::move(reply_);
   return o;
 }
 
@@ -423,9 +442,20 @@ SandboxOutcome SandboxedRun::judge() {
     o.status = 2;
     return o;
   }
+  std::string when = o.derived      ? fmt::sprintf("after the derivation (%d steps)", o.steps)
+                     : o.steps > 0 ? fmt::sprintf("after step %d", o.steps)
+                                   : std::string("before the first step");
+  if (replyTooLong_) {
+    o.fault = fmt::sprintf("%s: error: the sandboxed run was stopped %s: its picture was larger than %s (--max-memory)",
+                     plan_.model.c_str(), when.c_str(), runtime::sizeInWords(plan_.replyLimit).c_str());
+    std::fprintf(stderr, "%s\n", o.fault.c_str());
+    o.status = 1;
+    return o;
+  }
   if (finished) return o;
   if (userKilled_) {
-    std::fprintf(stderr, "%s: error: the sandboxed run was ended (Ctrl-C)\n", plan_.model.c_str());
+    o.fault = plan_.model + ": error: the sandboxed run was ended (Ctrl-C)";
+    std::fprintf(stderr, "%s\n", o.fault.c_str());
     return o;
   }
   // The child did not get to its end: bubblewrap passes a signal on as 128 + its number.
@@ -436,11 +466,8 @@ SandboxOutcome SandboxedRun::judge() {
                         : fmt::sprintf("it ended before lcjit finished it (exit status %d: exit() in model code? "
                                  "bwrap's own error above?)",
                                  WIFEXITED(waitStatus_) ? WEXITSTATUS(waitStatus_) : -1);
-  std::string when = o.derived      ? fmt::sprintf("after the derivation (%d steps)", o.steps)
-                     : o.steps > 0 ? fmt::sprintf("after step %d", o.steps)
-                                   : std::string("before the first step");
-  std::fprintf(stderr, "%s: error: the sandboxed run was stopped %s: %s\n", plan_.model.c_str(), when.c_str(),
-               why.c_str());
+  o.fault = plan_.model + ": error: the sandboxed run was stopped " + when + ": " + why;
+  std::fprintf(stderr, "%s\n", o.fault.c_str());
   o.status = 1;
   return o;
 }

@@ -29,6 +29,9 @@ struct SandboxPlan {
   std::vector<std::string> readable;  // files and folders it reads besides (inputs, -I)
   std::vector<std::string> args;      // the child lcjit's arguments
   SandboxLimits limits;
+  // > 0: the child answers a window (SandboxReply.h) on a pipe of its own (--reply-fd), in at
+  // most this many bytes; a longer reply stops the run.
+  uint64_t replyLimit = 0;
 };
 
 // "" when bubblewrap can make a sandbox here; otherwise why not (not installed, user namespaces
@@ -50,6 +53,9 @@ struct SandboxOutcome {
   std::vector<std::string> inputs;  // the files the run read, as the child reported them
   int steps = 0;                    // derivation steps done, as the child reported them
   bool derived = false;             // the derivation was over
+  std::string reply;                // what the child sent on the reply pipe (SandboxPlan::replyLimit)
+  // A fault the child could not report itself, as printed on stderr ("" if none).
+  std::string fault;
 };
 
 // One child lcjit in bubblewrap. The child inherits stdout and stderr.
@@ -74,8 +80,9 @@ class SandboxedRun {
   SandboxPlan plan_;
   int bwrapPid_ = -1, innerPid_ = -1, interruptsPassed_ = 0;
   std::atomic<int> interrupts_{0};  // counted by a signal handler
-  int reportFd_ = -1, infoFd_ = -1;
-  std::string reports_, info_;
+  int reportFd_ = -1, infoFd_ = -1, replyFd_ = -1;
+  std::string reports_, info_, reply_;
+  bool replyTooLong_ = false;
   int waitStatus_ = 0;
   bool ended_ = false, stopped_ = false, userKilled_ = false;
   std::string createdOutput_;  // made empty for the bind: removed again when the run fails

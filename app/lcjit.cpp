@@ -21,6 +21,7 @@
 #include "app/Frame.h"
 #include "app/PlainErrors.h"
 #include "app/Sandbox.h"
+#include "app/SandboxWindow.h"
 #include "repl/Repl.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
@@ -140,14 +141,15 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
-               "model's folder (caches in .lcjit-cache there); compile errors in plain language first; without a "
-               "display, every run sandboxed where bubblewrap works (--sandbox)");
+               "model's folder (caches in .lcjit-cache there); compile errors in plain language first; every run "
+               "sandboxed where bubblewrap works (--sandbox; the REPL is then off)");
   bool sandbox = false, plainErrors = false;
   lcjit::app::SandboxLimits sandboxLimits;
   app.add_flag("--sandbox", sandbox,
                "run the model (compile, derivation, interpretation, outputs) in a child process under bubblewrap: "
                "no network, the system read-only, writes only in the model's folder and the -out file, no new "
-               "processes, limits on memory, CPU time and file size (docs/security.md); batch runs and --watch");
+               "processes, limits on memory, CPU time and file size (docs/security.md); batch runs, --watch and "
+               "the window (each picture a sandboxed run)");
   app.add_option("--max-cpu", sandboxLimits.cpuSeconds, "--sandbox: the CPU seconds one run may use")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -155,6 +157,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "--sandbox: the largest file one run may write (bytes, or 500M, 1G; default 1G)")
       ->transform(CLI::AsSizeValue(false));
   app.add_option("--sandboxed", reportFd, "")->group("");  // the child's side of --sandbox
+  int replyFd = -1, toStep = -1;  // a sandboxed window's child (SandboxWindow.h)
+  app.add_option("--reply-fd", replyFd, "")->group("");
+  app.add_option("--to-step", toStep, "")->group("");
   app.add_flag("--plain-errors", plainErrors, "")->group("");  // --lab's, for the child
   app.add_flag("--watch", watch,
                "batch mode: after the run, re-read, recompile and re-run on every change of an input file");
@@ -211,6 +216,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
 
   for (auto& dir : includeDirs) dir = std::filesystem::absolute(dir).lexically_normal().string();
   std::string cacheDir;
+  bool labWindow = false;  // --lab with a display, sandboxed
   if (lab) {
     // Everything the session writes goes to the model's folder: work there, cache there.
     std::string model;
@@ -229,20 +235,35 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       lab.labFolder = std::filesystem::path(model).parent_path().string();
       if (winSize.size() == 2) lab.width = (int)winSize[0], lab.height = (int)winSize[1];
       if (app.count("-O")) lab.optLevel = bo.optLevel;
-      if (sandbox) {
-        std::fprintf(stderr, "lcjit: --sandbox: the window and the REPL run model code in lcjit's own process and "
-                             "cannot be sandboxed yet (docs/security.md); without a display --lab runs sandboxed\n");
-        return 1;
+      // Where bubblewrap works, the window shows sandboxed runs (below), without the REPL, whose
+      // C++ runs in this process; elsewhere the window and the REPL run the model here.
+      if (!sandbox && !lcjit::app::sandboxUnavailable().empty()) {
+        std::fprintf(stderr, "lcjit: warning: --lab runs without a sandbox: %s; the window and the REPL run the "
+                             "model as you, with your files (docs/security.md)\n",
+                     lcjit::app::sandboxUnavailable().c_str());
+        return lcjit::repl::runRepl(inputs, lab);
       }
-      std::fprintf(stderr, "lcjit: warning: --lab: the window and the REPL run the model in lcjit's own process, "
-                           "not in a sandbox (docs/security.md)\n");
-      return lcjit::repl::runRepl(inputs, lab);
+      labWindow = true;
     }
     if (!batch && !haveDisplay) {  // no display: keep writing MODEL.png instead
       watch = batch = true;
       if (bo.out.empty() && !model.empty()) bo.out = std::filesystem::path(model).stem().string() + shownAs;
     }
   }
+#if LCJIT_HAVE_WINDOW
+  // lpfg's window options; the title names the model.
+  auto windowOptions = [&] {
+    lcjit::viewer::WindowOptions w;
+    if (winSize.size() == 2) w.width = (int)winSize[0], w.height = (int)winSize[1];
+    if (winPos.size() == 2) w.position = std::make_pair((int)winPos[0], (int)winPos[1]);
+    if (winSizeRel.size() == 2) w.relW = winSizeRel[0], w.relH = winSizeRel[1];
+    if (winPosRel.size() == 2) w.relX = winPosRel[0], w.relY = winPosRel[1];
+    w.borderless = noBorder;
+    for (const std::string& in : inputs)
+      if (std::filesystem::path(in).extension() == ".l") w.title = "lcjit: " + std::filesystem::path(in).filename().string();
+    return w;
+  };
+#endif
   // --sandbox, and --lab where it can: this process only starts and watches sandboxed runs. Not
   // even the input files are read here: the model folder's lpfg.mak runs make.
   bool sandboxed = reportFd < 0 && (sandbox || lab);
@@ -257,12 +278,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   }
   if (sandboxed) {
     namespace fs = std::filesystem;
-    if (!batch && bo.out.empty() && !emitCpp && !compileOnly) {
-      if (haveDisplay) {
-        std::fprintf(stderr, "lcjit: --sandbox: the window runs model code in lcjit's own process and cannot be "
-                             "sandboxed yet (docs/security.md); add -b, -out FILE or --watch\n");
-        return 1;
-      }
+    [[maybe_unused]] const bool window = !batch && bo.out.empty() && !emitCpp && !compileOnly && haveDisplay;
+    if (!batch && bo.out.empty() && !emitCpp && !compileOnly && !window) {
       bo.out = fs::path(inputs.back()).stem().string() + shownAs;
       for (const std::string& in : inputs)
         if (fs::path(in).extension() == ".l") bo.out = fs::path(in).stem().string() + shownAs;
@@ -326,6 +343,21 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     plan.limits = sandboxLimits;
     plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
                           environmentTimeout, limits, includeDirs, lab);
+#if LCJIT_HAVE_WINDOW
+    if (window) {
+      plan.replyLimit = maxMemory;  // the picture is held as the child held it
+      lcjit::app::InteractiveOptions io;
+      io.quiet = bo.quiet;
+      io.verbose = bo.verbose;
+      io.plainErrors = lab;
+      io.animate = animate;
+      if (!rmode.empty()) io.refresh = *lcjit::app::parseRefreshMode(rmode);
+      if (labWindow && !bo.quiet)
+        std::fprintf(stderr, "lcjit: --lab: the window shows runs made in a sandbox; every run is sandboxed "
+                             "(docs/security.md); the REPL, whose C++ would run outside it, is off\n");
+      return lcjit::app::runSandboxedWindow(plan, windowOptions(), io);
+    }
+#endif
     if (watch && !emitCpp && !compileOnly) return lcjit::app::watchSandboxed(plan, bo.quiet);
     return lcjit::app::runSandboxedBatch(plan);
   }
@@ -389,6 +421,16 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     for (const std::string& f : lcjit::app::watchedFiles(*files, (*session)->loaded() ? (*session)->drawing() : none))
       lcjit::app::reportInput(reportFd, f);
   }
+  if (replyFd >= 0) {  // a sandboxed window's run: the picture goes back to the window
+    lcjit::app::WindowAnswerOptions wo;
+    wo.replyFd = replyFd;
+    wo.toStep = toStep;
+    wo.quiet = bo.quiet;
+    wo.plainErrors = lab;
+    wo.debug = bo.debug;
+    wo.progress = bo.progress;
+    return lcjit::app::answerWindow(**session, *files, std::move(loaded), wo);
+  }
   if (auto e = std::move(loaded)) {
     std::string text = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(lcjit::app::withSourceLines(text)).c_str() : text.c_str());
@@ -398,13 +440,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   if (!batch && bo.out.empty()) {
 #if LCJIT_HAVE_WINDOW
     if (haveDisplay) {
-      lcjit::viewer::WindowOptions w;
-      if (winSize.size() == 2) w.width = (int)winSize[0], w.height = (int)winSize[1];
-      if (winPos.size() == 2) w.position = std::make_pair((int)winPos[0], (int)winPos[1]);
-      if (winSizeRel.size() == 2) w.relW = winSizeRel[0], w.relH = winSizeRel[1];
-      if (winPosRel.size() == 2) w.relX = winPosRel[0], w.relY = winPosRel[1];
-      w.borderless = noBorder;
-      w.title = "lcjit: " + std::filesystem::path(files->lsystem).filename().string();
+      lcjit::viewer::WindowOptions w = windowOptions();
       lcjit::app::InteractiveOptions io;
       io.optLevel = bo.optLevel;
       io.betterTier = bo.betterTier;

@@ -122,12 +122,19 @@ MouseStatus Mouse::take() {
   std::lock_guard<std::mutex> lock(mutex_);
   MouseStatus s = status_;
   status_.lbPushed = status_.lbReleased = false;
+  read_ = true;
   return s;
+}
+
+bool Mouse::wasRead() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return read_;
 }
 
 TabletStatus Mouse::tablet() {
   std::lock_guard<std::mutex> lock(mutex_);
   TabletStatus t;
+  read_ = true;
   if (!fed_) return t;
   t.connected = true;
   t.viewX = status_.viewX;

@@ -93,11 +93,14 @@ class Mouse {
   // GetTabletStatus(): the pointer as a tablet pen (lcjit has no tablet driver): connected once
   // a window feeds the mouse, pressure 1 while the left button is down.
   TabletStatus tablet();
+  // Whether model code asked for either since the process started: a sandboxed window's run,
+  // which no window feeds, says so (app/SandboxWindow.h).
+  bool wasRead();
 
  private:
   std::mutex mutex_;
   MouseStatus status_;
-  bool fed_ = false;
+  bool fed_ = false, read_ = false;
 };
 
 }  // namespace lcjit::runtime

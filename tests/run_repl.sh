@@ -4,7 +4,7 @@
 #    "exit status N"; timings ("1.23 ms") read "N ms". That output must equal NAME.expected when
 #    there is one; NAME.check (bash, with the output in out.txt) runs after when there is one.
 #  * NAME.drive (bash): a session fed line by line as the script goes, with helpers:
-#    start ARGS… (lcjit repl ARGS… in the background; start_lab: lcjit --lab ARGS…), send LINE, expect PATTERN [N] (waits up to
+#    start ARGS… (lcjit repl ARGS… in the background; start_lab: lcjit --lab ARGS… without bwrap), send LINE, expect PATTERN [N] (waits up to
 #    10 s for N lines (1) of the output to match the grep pattern), finish (ends the input and
 #    waits: $status), fail MESSAGE.
 # Usage: run_repl.sh LCJIT DIR NAME
@@ -30,9 +30,9 @@ if [ -f "$name.drive" ]; then
     pid=$!
     exec 3> input
   }
-  start_lab() {  # lcjit --lab ARGS…: the REPL with the window and the watcher
-    mkfifo input
-    "$lcjit" --lab "$@" < input > out.txt 2>&1 &
+  start_lab() {  # lcjit --lab ARGS…: the REPL with the window and the watcher, which --lab
+    mkfifo input  # has only where it cannot sandbox (docs/security.md): bubblewrap hidden
+    env PATH=/nonexistent "$lcjit" --lab "$@" < input > out.txt 2>&1 &
     pid=$!
     exec 3> input
   }

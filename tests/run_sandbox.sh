@@ -12,7 +12,6 @@
 #   cpu          an endless loop is stopped by --max-cpu
 #   ctrl_c       Ctrl-C interrupts the model in the sandbox
 #   watch        --watch re-runs sandboxed, and a save stops a run that is out of date
-#   window       --sandbox with the window (or --lab's) is an error
 #   home         a model folder that is the home folder is refused
 #   unavailable  without bwrap: --sandbox is an error, --lab warns and runs
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox.
@@ -136,13 +135,6 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     for _ in $(seq 1 300); do grep -q "reload 1" err.txt && break; sleep 0.05; done
     grep -q "reload 1 (m.l): ran in .* ms, wrote o.str" err.txt || fail "no reload after the fix"
     grep -q "A(5)" o.str || fail "o.str is not the fixed model's string" ;;
-  window)  # a build with the window: what cannot be sandboxed is an error, not run
-    cp "$dir/fork.l" .
-    env DISPLAY=:4711 "$lcjit" --sandbox fork.l > out.txt 2> err.txt; status=$?
-    expect 1 "lcjit: --sandbox: the window runs model code in lcjit's own process and cannot be sandboxed yet"
-    env DISPLAY=:4711 "$lcjit" --lab --sandbox fork.l > out.txt 2> err.txt; status=$?
-    expect 1 "lcjit: --sandbox: the window and the REPL run model code in lcjit's own process"
-    ! grep -q "forks:" out.txt || fail "the model ran" ;;
   home)
     cp "$dir/fork.l" .
     HOME="$work/m" "$lcjit" --sandbox -b -out o.str fork.l > out.txt 2> err.txt; status=$?

@@ -2,3 +2,8 @@
 add_executable(lcjit_session_test ${CMAKE_CURRENT_LIST_DIR}/session_test.cpp)
 target_link_libraries(lcjit_session_test PRIVATE lcjit_session GTest::gtest_main)
 add_test(NAME session_test COMMAND lcjit_session_test)
+
+# The sandboxed window run's reply (app/SandboxReply.h): a round trip, and damaged replies refused.
+add_executable(lcjit_sandbox_reply_test ${CMAKE_CURRENT_LIST_DIR}/sandbox_reply_test.cpp)
+target_link_libraries(lcjit_sandbox_reply_test PRIVATE lcjit_session GTest::gtest_main)
+add_test(NAME sandbox_reply_test COMMAND lcjit_sandbox_reply_test)
