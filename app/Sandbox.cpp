@@ -478,19 +478,27 @@ void onInterrupt(int) {
   if (SandboxedRun* run = activeRun) run->interrupt();
   else _exit(130);
 }
-}  // namespace
 
-int runSandboxedBatch(const SandboxPlan& plan) {
+// A run of the terminal's modes: Ctrl-C goes to it while it lasts. Null (the reason said) when
+// it cannot start.
+std::unique_ptr<SandboxedRun> startWithCtrlC(const SandboxPlan& plan) {
   auto run = SandboxedRun::start(plan);
   if (!run) {
     std::fprintf(stderr, "%s\n", llvm::toString(run.takeError()).c_str());
-    return 1;
+    return nullptr;
   }
   activeRun = run->get();
   std::signal(SIGINT, onInterrupt);
-  (*run)->wait(-1);
+  return std::move(*run);
+}
+}  // namespace
+
+int runSandboxedBatch(const SandboxPlan& plan) {
+  std::unique_ptr<SandboxedRun> run = startWithCtrlC(plan);
+  if (!run) return 1;
+  run->wait(-1);
   activeRun = nullptr;
-  return (*run)->outcome().status;
+  return run->outcome().status;
 }
 
 int watchSandboxed(const SandboxPlan& plan, bool quiet) {
@@ -507,22 +515,17 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet) {
   std::string names;  // of the changes that started this run
   for (int reload = 0;; ++reload) {
     auto t0 = std::chrono::steady_clock::now();
-    auto run = SandboxedRun::start(plan);
-    if (!run) {
-      std::fprintf(stderr, "%s\n", llvm::toString(run.takeError()).c_str());
-      return 1;
-    }
-    activeRun = run->get();
-    std::signal(SIGINT, onInterrupt);
+    std::unique_ptr<SandboxedRun> run = startWithCtrlC(plan);
+    if (!run) return 1;
     // A save during the run makes it out of date: stop it and run the newer model.
-    while (!(*run)->wait(50, monitor.fd())) {
+    while (!run->wait(50, monitor.fd())) {
       std::vector<std::string> now = monitor.poll(0);
       changed.insert(changed.end(), now.begin(), now.end());
-      if (!changed.empty()) (*run)->stop();
+      if (!changed.empty()) run->stop();
     }
     activeRun = nullptr;
     std::signal(SIGINT, SIG_DFL);
-    SandboxOutcome o = (*run)->outcome();
+    SandboxOutcome o = run->outcome();
     watchInputs(o.inputs);
     double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::string what;
