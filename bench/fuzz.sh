@@ -7,7 +7,8 @@
 #                                    (tests/fuzz/regressions/NAME), then a fixed number of runs from
 #                                    a few seeds (a count, not a time: the same work on a busy machine)
 # Findings (crashes, sanitizer reports, timeouts, out-of-memory) are saved in
-# build-fuzz/findings/NAME/ and listed; the exit status is 1 if there was any.
+# build-fuzz/findings/NAME/ and listed (the log: build-fuzz/findings/NAME.log, NAME.smoke.log);
+# the exit status is 1 if there was any.
 # Environment: LCJIT_FUZZ_BUILD (default build-fuzz), LCJIT_FUZZ_ARGS (more libFuzzer flags).
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -117,6 +118,7 @@ for t in "${targets[@]}"; do
   fi
   [ "$t" = strb ] && export LCJIT_FUZZ_STRB_SEED="$corpus/model.strb"
   log="$build/findings/$t.log"
+  [ "$mode" = --smoke ] && log="$build/findings/$t.smoke.log"
   : >"$log"
   status=0
   before=$(ls "$findings" | wc -l)
