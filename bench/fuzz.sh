@@ -7,7 +7,8 @@
 #                                    (tests/fuzz/regressions/NAME), then a fixed number of runs from
 #                                    a few seeds (a count, not a time: the same work on a busy machine)
 # Findings (crashes, sanitizer reports, timeouts, out-of-memory) are saved in
-# build-fuzz/findings/NAME/ and listed; the exit status is 1 if there was any.
+# build-fuzz/findings/NAME/ and listed (the log: build-fuzz/findings/NAME.log, NAME.smoke.log);
+# the exit status is 1 if there was any.
 # Environment: LCJIT_FUZZ_BUILD (default build-fuzz), LCJIT_FUZZ_ARGS (more libFuzzer flags).
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -80,13 +81,21 @@ seeds() {
 seed_name() { local r=${1#"$root"/}; echo "${r//\//_}"; }
 
 # Per target: libFuzzer's limits and how many runs the smoke test makes. The JIT and Clang keep
-# memory on purpose (caches, the loaded model), so leak checks are off where they run.
+# memory on purpose (caches, the loaded model), so per-input leak checks are off where they run.
 flags() {
   case $1 in
     pipeline) echo "-timeout=60 -rss_limit_mb=6144 -malloc_limit_mb=4096 -detect_leaks=0 -max_len=4096" ;;
     strb) echo "-timeout=30 -rss_limit_mb=4096 -detect_leaks=0 -max_len=8192" ;;
     rewriter) echo "-timeout=30 -rss_limit_mb=4096 -max_len=8192" ;;
     *) echo "-timeout=20 -rss_limit_mb=4096 -max_len=65536" ;;
+  esac
+}
+# Model code (JIT'd, not instrumented) may leak as it likes: LeakSanitizer's report at exit would be
+# the model's, not lcjit's.
+asan_options() {
+  case $1 in
+    pipeline | strb) echo "detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}" ;;
+    *) echo "${ASAN_OPTIONS:-}" ;;
   esac
 }
 smoke_runs() {
@@ -117,12 +126,14 @@ for t in "${targets[@]}"; do
   fi
   [ "$t" = strb ] && export LCJIT_FUZZ_STRB_SEED="$corpus/model.strb"
   log="$build/findings/$t.log"
+  [ "$mode" = --smoke ] && log="$build/findings/$t.smoke.log"
   : >"$log"
   status=0
   before=$(ls "$findings" | wc -l)
   if [ ${#regressions[@]} -gt 0 ]; then
     # Each regression input once (they must not fail again).
-    (cd "$work" && "$bin" $(flags "$t") -artifact_prefix="$findings/" "${regressions[@]}") >"$log" 2>&1 || status=$?
+    (cd "$work" && ASAN_OPTIONS=$(asan_options "$t") "$bin" $(flags "$t") -artifact_prefix="$findings/" "${regressions[@]}") \
+      >"$log" 2>&1 || status=$?
   fi
   if [ $status -eq 0 ]; then
     if [ "$mode" = --smoke ]; then
@@ -131,7 +142,7 @@ for t in "${targets[@]}"; do
       limit="-max_total_time=$mode"
     fi
     # shellcheck disable=SC2086
-    (cd "$work" && "$bin" $(flags "$t") $limit -print_final_stats=1 -artifact_prefix="$findings/" \
+    (cd "$work" && ASAN_OPTIONS=$(asan_options "$t") "$bin" $(flags "$t") $limit -print_final_stats=1 -artifact_prefix="$findings/" \
        ${LCJIT_FUZZ_ARGS:-} "$corpus") >>"$log" 2>&1 || status=$?
   fi
   unset LCJIT_FUZZ_STRB_SEED
