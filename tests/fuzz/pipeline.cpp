@@ -8,6 +8,7 @@
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/turtle/Geometry.h"
+#include "tests/fuzz/FuzzSession.h"
 #include "tests/fuzz/FuzzSupport.h"
 
 using namespace lcjit;
@@ -21,17 +22,11 @@ const bool verbose = std::getenv("LCJIT_FUZZ_VERBOSE") != nullptr;
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  auto s = app::Session::create(LCJIT_FUZZ_CACHE_DIR);
-  if (!s) {
-    std::fprintf(stderr, "%s\n", llvm::toString(s.takeError()).c_str());
-    std::abort();
-  }
-  session = s->release();
   runtime::EngineLimits limits;
   limits.maxModules = 20000;
   limits.maxMemory = runtime::residentBytes() + (size_t(512) << 20);
   limits.timeLimit = 2;
-  session->setLimits(limits);
+  session = fuzz::guardedSession(limits);
   modelPath = fuzz::scratchDir() + "/model.l";
   return 0;
 }

@@ -8,6 +8,7 @@
 #include "app/Session.h"
 #include "runtime/Engine.h"
 #include "runtime/turtle/Geometry.h"
+#include "tests/fuzz/FuzzSession.h"
 #include "tests/fuzz/FuzzSupport.h"
 
 using namespace lcjit;
@@ -44,16 +45,10 @@ E : { produce Sphere(0.1) SetColor(3); }
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  auto s = app::Session::create(LCJIT_FUZZ_CACHE_DIR);
-  if (!s) {
-    std::fprintf(stderr, "%s\n", llvm::toString(s.takeError()).c_str());
-    std::abort();
-  }
-  session = s->release();
   runtime::EngineLimits limits;
   limits.maxModules = 200000;
   limits.timeLimit = 2;
-  session->setLimits(limits);
+  session = fuzz::guardedSession(limits);
   std::string model = fuzz::scratchDir() + "/strb_model.l";
   std::ofstream(model) << kModel;
   app::ModelFiles files;
