@@ -59,8 +59,10 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
   }
   if (ext == ".strb" || ext == ".bin") return engine.writeBinary(out);
   std::ofstream f(out, std::ios::binary);
-  f << engine.text(engine.string());
   if (!f) return runtime::textfile::fail(out, 0, "cannot write file");
+  engine.writeText(engine.string(), f);
+  f.close();
+  if (!f) return runtime::textfile::fail(out, 0, "write failed (is the disk full?)");
   return llvm::Error::success();
 }
 

@@ -1003,19 +1003,11 @@ std::string Engine::describe(const Fault& f) const {
   return where + ": error: " + text;
 }
 
-namespace {
-std::string megabytes(size_t n) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f MB", double(n) / double(1 << 20));
-  return buf;
-}
-}  // namespace
-
 void Engine::checkGrowth(size_t bytes) const {
   ModelGuard::checkpoint();
   if (bytes <= limits_.maxMemory) return;
   throw Fault{FaultKind::MemoryLimit,
-              "the string needs " + megabytes(bytes) + " (limit --max-memory " + megabytes(limits_.maxMemory) + ")"};
+              "the string needs " + sizeInWords(bytes) + " (limit --max-memory " + sizeInWords(limits_.maxMemory) + ")"};
 }
 
 void Engine::checkModules() const {
@@ -1041,6 +1033,21 @@ std::string Engine::text(const ModuleBuffer& str) const {
     out += '\n';
   }
   return out;
+}
+
+void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
+  constexpr size_t kChunk = size_t(1) << 20;
+  std::string buf;
+  buf.reserve(kChunk + 4096);
+  for (size_t p = 0; p < str.size() && out; p = modules_.next(str.data(), p)) {
+    modules_.format(str.data() + p, buf);
+    buf += '\n';
+    if (buf.size() >= kChunk) {
+      out.write(buf.data(), (std::streamsize)buf.size());
+      buf.clear();
+    }
+  }
+  out.write(buf.data(), (std::streamsize)buf.size());
 }
 
 llvm::Error Engine::writeBinary(const std::string& path) const {

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -145,6 +146,9 @@ class Engine {
   const ModuleBuffer& string() const { return string_; }
   ModuleBuffer& string() { return string_; }
   std::string text(const ModuleBuffer& s) const;  // one module per line
+  // The same text written to `out` as it is formatted, a megabyte at a time: `-out x.str` of a
+  // 76 MB string no longer holds it all in memory first.
+  void writeText(const ModuleBuffer& s, std::ostream& out) const;
   int stepsDone() const { return step_; }
   size_t moduleCount() const;
 

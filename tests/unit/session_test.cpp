@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <chrono>
 #include <fstream>
+#include <sstream>
 #include <atomic>
 #include <future>
 #include <thread>
@@ -205,6 +206,23 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   EXPECT_EQ(e.moduleCount(), before);
   EXPECT_NE(e.text(e.string()).find("A(1)"), std::string::npos);
   EXPECT_EQ(e.text(e.string()).find("A(2)"), std::string::npos);
+}
+
+// `-out x.str` writes the text as it is formatted, a megabyte at a time: the same text as the
+// string's whole text, across the chunks' edges.
+TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
+  ScratchModel m("text", "#include <lpfgall.h>\nderivation length: 1;\nmodule A(int, float);\nmodule B;\n"
+                         "axiom: B;\n"
+                         "B : { for (int i = 0; i < 150000; ++i) nproduce A(i, i * 0.25f) SB() EB(); produce; }\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  ASSERT_FALSE(bool(e.run()));
+  std::string whole = e.text(e.string());
+  ASSERT_GT(whole.size(), size_t(3) << 20);  // several chunks
+  std::ostringstream streamed;
+  e.writeText(e.string(), streamed);
+  EXPECT_EQ(streamed.str(), whole);
+  EXPECT_EQ(whole.substr(0, 22), "A(0,0)\nSB\nEB\nA(1,0.25)");
 }
 
 // §5.9: a record the host builds (MouseInsPos, inserted where the user clicked) gets the id
