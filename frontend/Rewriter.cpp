@@ -81,11 +81,19 @@ bool isRightAssociative(const std::string& s) {
   return kOps.count(s) != 0;
 }
 
-void checkBeforeParsing(const Lexed& lx) {
+// Also pairs the brackets: one left open (or a stray closer) would swallow or cut the generated
+// code that follows the model's text, and Clang's errors would land there, in lcjit's tables,
+// instead of at the bracket (finding 004). The first unpaired one is returned, not thrown: the
+// rewriter's own errors ("expected ')' to close the parameter list of module 'A'") say more
+// where they apply, so it is reported only when rewriting finds nothing.
+std::optional<RewriteError> checkBeforeParsing(const Lexed& lx) {
   struct Level {
     int chain = 0;      // nesting tokens since this level's last ';' or ','
     int lastChain = 0;  // the chain its last ';' ended: an 'else' continues it
+    const Token* open = nullptr;  // its bracket
   };
+  std::optional<RewriteError> unpaired;
+  auto closing = [](const std::string& b) { return std::string(b == "(" ? ")" : b == "[" ? "]" : "}"); };
   std::vector<Level> levels(1);
   int depth = 0;  // the sum of the open levels' chains and the brackets
   const Token* prev = nullptr;
@@ -116,8 +124,14 @@ void checkBeforeParsing(const Lexed& lx) {
       if ((int)levels.size() > kMaxBrackets)
         throw RewriteError{t, "brackets nest more than " + std::to_string(kMaxBrackets) + " deep"};
       deeper(t);
-      levels.emplace_back();
+      levels.emplace_back().open = &t;
     } else if (punct && (s == ")" || s == "]" || s == "}")) {
+      if (!unpaired && levels.size() == 1) unpaired = RewriteError{t, "'" + s + "' closes no bracket"};
+      if (!unpaired && levels.size() > 1 && closing(levels.back().open->text) != s) {
+        const Token& o = *levels.back().open;
+        unpaired = RewriteError{t, "'" + s + "' does not close the '" + o.text + "' at line " + std::to_string(o.line) +
+                                       ", column " + std::to_string(o.col)};
+      }
       if (levels.size() > 1) {
         depth -= levels.back().chain + 1;
         levels.pop_back();
@@ -145,32 +159,11 @@ void checkBeforeParsing(const Lexed& lx) {
     }
     prev = &t;
   }
-}
-
-// Brackets must pair up within the model: one left open (or a stray closer) would swallow or cut
-// the generated code that follows the model's text, and Clang's errors would land there, in
-// lcjit's tables, instead of at the bracket (finding 004). Reported after rewriting, whose own errors
-// ("expected ')' to close the parameter list of module 'A'") say more where they apply.
-void checkBracketsPair(const Lexed& lx) {
-  std::vector<const Token*> open;
-  auto closing = [](const std::string& b) { return std::string(b == "(" ? ")" : b == "[" ? "]" : "}"); };
-  for (const Token& t : lx.tokens) {
-    if (t.kind != Token::Punct) continue;
-    const std::string& s = t.text;
-    if (s == "(" || s == "[" || s == "{") {
-      open.push_back(&t);
-    } else if (s == ")" || s == "]" || s == "}") {
-      if (open.empty()) throw RewriteError{t, "'" + s + "' closes no bracket"};
-      const Token& o = *open.back();
-      if (closing(o.text) != s)
-        throw RewriteError{t, "'" + s + "' does not close the '" + o.text + "' at line " + std::to_string(o.line) +
-                                  ", column " + std::to_string(o.col)};
-      open.pop_back();
-    }
+  if (!unpaired && levels.size() > 1) {
+    const Token& o = *levels.back().open;
+    unpaired = RewriteError{o, "'" + o.text + "' is never closed (no '" + closing(o.text) + "' matches it)"};
   }
-  if (!open.empty())
-    throw RewriteError{*open.back(), "'" + open.back()->text + "' is never closed (no '" + closing(open.back()->text) +
-                                         "' matches it)"};
+  return unpaired;
 }
 
 // Writes C++ while tracking the source position it corresponds to, so that user tokens keep
@@ -1044,13 +1037,7 @@ llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::st
       break;
     }
   try {
-    checkBeforeParsing(lx);
-    std::optional<RewriteError> unpaired;  // reported if the rewriter finds nothing more precise
-    try {
-      checkBracketsPair(lx);
-    } catch (const RewriteError& e) {
-      unpaired = e;
-    }
+    std::optional<RewriteError> unpaired = checkBeforeParsing(lx);
     Rewriter r(std::move(lx));
     auto out = r.run();
     if (unpaired) throw *unpaired;
