@@ -3,6 +3,7 @@
 // context steps out of branches and over whole sibling branches; SB/EB are always considered.
 #include "runtime/Engine.h"
 
+#include <sstream>
 #include <algorithm>
 
 #include <cmath>
@@ -1026,13 +1027,9 @@ size_t Engine::moduleCount() const {
 }
 
 std::string Engine::text(const ModuleBuffer& str) const {
-  std::string out;
-  out.reserve(str.size() * 2);
-  for (size_t p = 0; p < str.size(); p = modules_.next(str.data(), p)) {
-    modules_.format(str.data() + p, out);
-    out += '\n';
-  }
-  return out;
+  std::ostringstream out;
+  writeText(str, out);
+  return std::move(out).str();
 }
 
 void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
