@@ -101,8 +101,26 @@ bool verifyString(const runtime::Engine& engine, const std::string& lsystem, boo
   return false;
 }
 
+// The better tier's build, once finished, takes over from the running code (see BatchOptions).
+void takeBetterTier(Background<BetterTier>& tier, Session& session, const BatchOptions& options) {
+  std::optional<BetterTier> better = tier.take();
+  if (!better) return;
+  if (better->error.size()) {
+    std::fprintf(stderr, "lcjit: the -O%d build failed; -O%d code goes on running\n%s\n", options.betterTier,
+                 session.optLevel(), better->error.c_str());
+    return;
+  }
+  double ms = better->compileMs;
+  bool cached = better->objectCached;
+  if (session.installTier(std::move(*better)) && options.verbose)
+    std::fprintf(stderr, "lcjit: -O%d code swapped in after step %d (%s in %.1f ms in the background)\n",
+                 session.optLevel(), session.engine().stepsDone(), cached ? "loaded from the cache" : "compiled", ms);
+}
+
+// `betweenSteps`: called after each step with the derivation's time so far (ms).
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
-            FrameWriter& frames, const std::atomic<bool>* stopped = nullptr) {
+            FrameWriter& frames, const std::atomic<bool>* stopped = nullptr,
+            const std::function<void(double)>& betweenSteps = {}) {
   auto& engine = session.engine();
   runtime::EngineHooks hooks;
   if (options.quiet) hooks.print = [](const char*) {};
@@ -139,7 +157,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       if (step) step(n);
     };
   auto t0 = Clock::now();
-  if (auto e = engine.run(hooks)) {
+  engine.begin(hooks);
+  while (engine.step())
+    if (betweenSteps) betweenSteps(jit::msSince(t0));
+  engine.finish();
+  if (auto e = engine.takeFault()) {
     if (stopped && *stopped) {
       llvm::consumeError(std::move(e));
       if (options.verbose) std::fprintf(stderr, "lcjit: the run stopped for the change\n");
@@ -182,7 +204,29 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
 
 int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times) {
   FrameWriter frames(options.width, options.height);
-  return runOnce(session, files, options, times, frames);
+  if (options.betterTier <= session.optLevel()) return runOnce(session, files, options, times, frames);
+  Background<BetterTier> tier;  // its destructor waits for a started build: the cache gets it
+  bool started = false;
+  // An earlier run's build from the cache: a lookup, no compile.
+  if (BetterTier cached = session.betterTierJob(options.betterTier, /*onlyFromCache=*/true)(); cached.code) {
+    started = session.installTier(std::move(cached));
+    if (started && options.verbose)
+      std::fprintf(stderr, "lcjit: -O%d code of an earlier run from the cache\n", session.optLevel());
+  }
+  auto betweenSteps = [&](double derivedMs) {
+    if (!started && derivedMs >= options.tierAfterMs) {
+      started = true;
+      if (options.verbose)
+        std::fprintf(stderr, "lcjit: step %d after %.0f ms: compiling -O%d in the background\n",
+                     session.engine().stepsDone(), derivedMs, options.betterTier);
+      tier.start(session.betterTierJob(options.betterTier));
+    }
+    if (started) takeBetterTier(tier, session, options);
+  };
+  int status = runOnce(session, files, options, times, frames, nullptr, betweenSteps);
+  if (tier.running() && options.verbose)
+    std::fprintf(stderr, "lcjit: the run is over; the -O%d build finishes for the cache\n", options.betterTier);
+  return status;
 }
 
 // During a run under --watch, a saved input file stops it: the run is out of date, and model
@@ -259,18 +303,7 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
   for (int reload = 0;;) {
     std::vector<std::string> changed =
         changedDuringRun.empty() ? monitor.poll(tier.running() ? 20 : -1) : std::exchange(changedDuringRun, {});
-    if (std::optional<BetterTier> better = tier.take()) {
-      if (better->error.size()) {
-        std::fprintf(stderr, "lcjit: the -O%d build failed; -O%d code goes on running\n%s\n", options.betterTier,
-                     session.optLevel(), better->error.c_str());
-      } else {
-        double ms = better->compileMs;
-        bool cached = better->objectCached;
-        if (session.installTier(std::move(*better)) && options.verbose)
-          std::fprintf(stderr, "lcjit: -O%d code swapped in (%s in %.1f ms in the background)\n", session.optLevel(),
-                       cached ? "loaded from the cache" : "compiled", ms);
-      }
-    }
+    takeBetterTier(tier, session, options);
     if (changed.empty()) continue;
     auto t0 = Clock::now();
     std::optional<ReloadParts> parts = partsFor(actionsForChanges(changed, RefreshMode::Continuous));

@@ -13,9 +13,14 @@ struct BatchOptions {
   std::string out;  // -out: string (.str/.txt), binary string (.strb) or a picture/geometry file
   int width = 800, height = 800;  // pictures (-w)
   int optLevel = 1;
-  // --watch: after each load at optLevel, compile the model again at this level in the
-  // background and swap it in when ready (no second tier when not above optLevel).
+  // A better tier (no second tier when not above optLevel): under --watch, after each load
+  // the model compiles again at this level in the background and is swapped in when ready.
+  // A batch run starts with it when an earlier run left it in the object cache; else, once the
+  // derivation has taken `tierAfterMs`, it is compiled in the background and swapped in between
+  // steps: a long run goes on with better code, a short one is not slowed down. A build that
+  // started is waited for at the end of the run, for the cache and the next run.
   int betterTier = -1;
+  double tierAfterMs = 250;
   bool quiet = false, verbose = false, debug = false, stats = false;
   bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;

@@ -599,14 +599,15 @@ std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& c
   return unit;
 }
 
-std::function<BetterTier()> Session::betterTierJob(int optLevel) const {
+std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCache) const {
   return [compiler = compiler_.get(), owners = stateOwners_, sources = sourceCode_, cpp = runningCpp_, name = bufferName_,
-          generation = generation_, optLevel, statics = guardedStatics(lsystem_)]() -> BetterTier {
+          generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_)]() -> BetterTier {
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
     co.bufferName = name;
     co.runModelCode = statics;
+    co.onlyFromCache = onlyFromCache;
     for (const auto& owner : owners) co.shareStateWith.push_back(owner.get());  // alive until the job ends
     for (const auto& source : sources) co.linkAgainst.push_back(source.get());
     jit::CompileStats stats;

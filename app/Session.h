@@ -175,7 +175,9 @@ class Session {
   // `optLevel`; it may run on any thread (the running model goes on meanwhile). installTier
   // then swaps the result in, between derivation steps, without re-running: the new code uses
   // the running version's globals. False (and nothing changes) when another load came between.
-  std::function<BetterTier()> betterTierJob(int optLevel) const;
+  // `onlyFromCache`: the job only looks for the build in the object cache (an earlier run's):
+  // no compile, a null code (and no error) when it is not there.
+  std::function<BetterTier()> betterTierJob(int optLevel, bool onlyFromCache = false) const;
   // The model is being edited live (its files watched): quick compiles of it set up the next
   // one's front end ahead (jit::CompileOptions::beginNextAhead).
   void setEditedLive(bool on) { editedLive_ = on; }

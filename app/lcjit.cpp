@@ -138,7 +138,14 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "compiled code comes from lcjit's cache");
   app.add_option("--lp", libPath, "(-lp) accepted");
   app.add_flag("--stats", bo.stats, "print a JSON object of phase timings on stderr");
-  app.add_option("-O", bo.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
+  app.add_option("-O", bo.optLevel,
+                 "optimisation level of model code: 0, 1 or 2; without it, -O1 code first (-O0 live) and -O2 "
+                 "compiled in the background and swapped in when the run is long enough to gain (docs/performance.md)")
+      ->check(CLI::Range(0, 2));
+  app.add_option("--tier-after", bo.tierAfterMs,
+                 "batch runs without -O: compile -O2 in the background once the derivation has run this many "
+                 "milliseconds (default 250)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
                "model's folder (caches in .lcjit-cache there); compile errors in plain language first; every run "
@@ -404,7 +411,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   // Live coding (--watch, the window) without -O: a quick -O0 build first, then -O2 compiled in
   // the background and swapped in (two tiers).
   const bool window = !batch && bo.out.empty() && haveDisplay && !emitCpp && !compileOnly;
+  // A batch run without -O: -O1 code, and -O2 compiled in the background once the run has shown
+  // it is long, or taken from the cache if an earlier run compiled it (Batch.h).
   if ((watch || window) && app.count("-O") == 0) bo.optLevel = 0, bo.betterTier = 2;
+  else if (app.count("-O") == 0 && !compileOnly && !emitCpp) bo.betterTier = 2;
   // Edits are coming: every compile sets up the next one's front end ahead.
   const bool watchedWindow = window && !rmode.empty() && rmode != "expl";
   (*session)->setEditedLive(watch || watchedWindow);

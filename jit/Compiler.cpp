@@ -151,6 +151,9 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   clang::noteBottomOfStack();
   if (options.optLevel < 0 || options.optLevel > 2)
     return llvm::createStringError("lcjit: optLevel must be 0, 1 or 2, got " + llvm::Twine(options.optLevel));
+  // An object keyed on a PCH that is not there cannot be in the cache: no PCH is built for it.
+  if (options.onlyFromCache && (!options.useObjectCache || (!options.plainUnit && !impl_->pchExists(options.optLevel))))
+    return nullptr;
   Impl::Job job(cppSource, options, statsOut);
   for (const ModelCode* code : options.shareStateWith) {
     job.stateOwners.push_back(code->dylib_);
@@ -164,6 +167,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     return std::move(err);
   // reusedObject → the object code of an identical earlier compile, if there is one.
   job.object = impl_->reusedObject(job);
+  if (options.onlyFromCache && !job.object)
+    return nullptr;
   // A quick tier begins its next front end once this compile is over (not during it: on two
   // cores it would slow this one's code generation down).
   auto aheadOnExit = llvm::make_scope_exit([&] {
@@ -211,6 +216,8 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       job.stats.object = CompileStats::ObjectFrom::Compiled;
       job.stats.notes.push_back(cacheNote(fromDisk ? impl_->objectPath(job.key) : "(kept in memory)",
                                           "it would not load (" + why + ")"));
+      if (options.onlyFromCache)
+        return nullptr;
       continue;
     }
     if (!dylib) {

@@ -57,6 +57,11 @@ struct CompileOptions {
   // Reuse the object code of an identical earlier compile (same source, options, compiler and
   // runtime header), from memory or from the disk cache, instead of compiling again.
   bool useObjectCache = true;
+  // Wants only the object code of an identical earlier compile (from memory or the disk cache):
+  // nothing is parsed or compiled and no PCH is built; compile() returns null (not an error)
+  // when there is none, or when it would not load. Costs hashing the source and a file lookup:
+  // how a run takes a better tier an earlier run compiled, for free.
+  bool onlyFromCache = false;
   // Calls the model's static constructors (at load, and by resetState()) and destructors (when
   // the ModelCode goes): they are model code, so lcjit runs them behind its fault guard, and one
   // that crashes fails the compile (or is reported) instead of ending the process. Empty:

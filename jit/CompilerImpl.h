@@ -97,6 +97,8 @@ struct Compiler::Impl {
   std::string pchKey(const LevelSetup& L, int level);
   // Makes sure L has a usable PCH (or falls back); reports whether one from disk was reused.
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
+  // The level's PCH is made (or on the disk), without building it.
+  bool pchExists(int level);
   // `writeFailed`: built, but the file could not be written (a full disk).
   bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics, bool& writeFailed);
   std::atomic<bool> pchWriteWarned{false};  // the user was told once

@@ -161,6 +161,16 @@ void Compiler::Impl::prunePchs(const std::string& built) {
     }
 }
 
+bool Compiler::Impl::pchExists(int level) {
+  LevelSetup& L = levels[level];
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (llvm::Error err = setupLevel(L, level)) {
+    llvm::consumeError(std::move(err));  // the compile that needs the level reports it
+    return false;
+  }
+  return L.pchReady || (!L.pchFallback && llvm::sys::fs::exists(cacheDir + "/" + pchKey(L, level)));
+}
+
 void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st) {
   if (L.pchFallback)
     return;
