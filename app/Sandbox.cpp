@@ -136,7 +136,7 @@ std::vector<std::string> systemView(const std::string& exe) {
   for (const char* f : {"/etc/ld.so.cache", "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/fonts", "/etc/localtime",
                         "/etc/alternatives"})
     a.insert(a.end(), {"--ro-bind-try", f, f});
-  for (const std::string& p : {exe, runtimeIncludeDir(), std::string(LCJIT_CLANG_RESOURCE_DIR)})
+  for (const std::string& p : {exe, runtimeIncludeDir(), prebuiltDir(), std::string(LCJIT_CLANG_RESOURCE_DIR)})
     if (!p.empty() && !under(p, "/usr")) a.insert(a.end(), {"--ro-bind-try", p, p});
   a.insert(a.end(), {"--dev", "/dev", "--size", "67108864", "--tmpfs", "/dev/shm", "--remount-ro", "/dev", "--proc",
                      "/proc", "--size", "67108864", "--tmpfs", "/tmp", "--unshare-all", "--die-with-parent",

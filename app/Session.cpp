@@ -53,6 +53,7 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   if (what.view && !files.view.empty()) {
     frontend::PreprocessOptions pp;
     pp.runtimeIncludeDir = runtimeIncludeDir();
+    pp.prebuiltDir = prebuiltDir();
     pp.cacheDir = cacheDir;
     auto text = frontend::preprocess(files.view, pp);
     if (!text) {
@@ -136,6 +137,12 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
 std::string runtimeIncludeDir() {
   if (const char* e = std::getenv("LCJIT_RUNTIME_INCLUDE")) return e;
   return LCJIT_RUNTIME_INCLUDE_DIR;
+}
+
+std::string prebuiltDir() {
+  // Made by the build (app/CMakeLists.txt); LCJIT_PREBUILT_DIR="" goes without (tests of the cache).
+  if (const char* e = std::getenv("LCJIT_PREBUILT_DIR")) return e;
+  return LCJIT_PREBUILT_DIR;
 }
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths) {
@@ -249,6 +256,7 @@ llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cach
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
   config.cacheDir = cacheDir;
+  config.prebuiltDir = prebuiltDir();
   if (!languageStandard.empty()) config.languageStandard = languageStandard;
   s->languageStandard_ = config.languageStandard;
   for (auto& [name, addr] : runtime::hostFunctions()) config.hostSymbols.push_back({name, addr});
@@ -345,6 +353,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   auto t0 = std::chrono::steady_clock::now();
   frontend::PreprocessOptions pp;
   pp.runtimeIncludeDir = runtimeIncludeDir();
+  pp.prebuiltDir = prebuiltDir();
   pp.cacheDir = compiler_->cacheDir();
   pp.includeDirs = files.includeDirs;
   pp.languageStandard = languageStandard_;

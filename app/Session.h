@@ -252,5 +252,8 @@ class Session {
 // Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,
 // overridable with LCJIT_RUNTIME_INCLUDE.
 std::string runtimeIncludeDir();
+// The folder of what the build precompiled (jit::CompilerConfig::prebuiltDir), overridable with
+// LCJIT_PREBUILT_DIR ("": none).
+std::string prebuiltDir();
 
 }  // namespace lcjit::app

@@ -310,7 +310,7 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
 // it was made from (size, mtime); it is made again when one of them changed. Kept on disk under
 // `cacheDir` and known per process; nullopt (the real header is used) when it cannot be made.
 std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, const std::string& cacheDir,
-                                         const std::string& languageStandard) {
+                                         const std::string& prebuiltDir, const std::string& languageStandard) {
   std::vector<std::string> args = baseArguments(languageStandard);
   args.insert(args.end(), {"-isystem", runtimeIncludeDir});
   llvm::SHA256 h;
@@ -320,7 +320,8 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     h.update(llvm::StringRef("\0", 1));
   }
   hashDirectoryTree(h, runtimeIncludeDir);
-  std::string dir = cacheDir + "/preprocessor/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 24);
+  const std::string name = "/preprocessor/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 24);
+  std::string dir = cacheDir + name;
   std::string image = dir + "/lpfgall.h";
   // Known once per process (the standard headers under it do not change meanwhile).
   static std::mutex mutex;
@@ -347,6 +348,10 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
   };
   if (auto existing = llvm::MemoryBuffer::getFile(image, /*IsText=*/true); existing && current((*existing)->getBuffer()))
     return result = dir;
+  if (!prebuiltDir.empty())
+    if (auto prebuilt = llvm::MemoryBuffer::getFile(prebuiltDir + name + "/lpfgall.h", /*IsText=*/true);
+        prebuilt && current((*prebuilt)->getBuffer()))
+      return result = prebuiltDir + name;
 
   std::string empty = cacheDir + "/preprocessor/lcjit-empty.cpp";
   std::vector<std::string> emptyArgs = args, fullArgs = args;
@@ -406,7 +411,7 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   // directories, so that their headers stay #include lines.
   if (!options.runtimeIncludeDir.empty()) {
     if (!options.cacheDir.empty())
-      if (auto image = macroImageDir(options.runtimeIncludeDir, options.cacheDir, options.languageStandard)) {
+      if (auto image = macroImageDir(options.runtimeIncludeDir, options.cacheDir, options.prebuiltDir, options.languageStandard)) {
         args.push_back("-isystem");
         args.push_back(*image);
       }

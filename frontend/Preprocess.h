@@ -26,6 +26,9 @@ struct PreprocessOptions {
   // Where the macro image of <lpfgall.h> is kept (Preprocess.cpp); empty: the real header is
   // preprocessed every time (correct, ~25 ms slower).
   std::string cacheDir;
+  // Where the build left a macro image (read only), used when the cache folder has none that is
+  // current: a new user's first run does not make one (jit::CompilerConfig::prebuiltDir).
+  std::string prebuiltDir;
   // (name, value) pairs, like -Dname=value; an empty value defines the macro as 1 (like -Dname).
   std::vector<std::pair<std::string, std::string>> defines;
   // -std= of the model's C++ (as the compile's: __cplusplus and what headers declare).

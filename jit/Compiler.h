@@ -31,6 +31,11 @@ struct CompilerConfig {
   // else /tmp/lcjit-cache-UID. Used only when it is the user's alone; else a private folder of
   // this process's (cacheWarning() says why).
   std::string cacheDir;
+  // PCHs (and the -O0 PCH's support object) made when lcjit was built or installed, used read
+  // only: a PCH the cache folder lacks is taken from here when its key is the same (same header,
+  // compiler, options and CPU), so that a new user's first compile builds none (≈0.25 s each).
+  // Empty, or a folder others may write to: not used.
+  std::string prebuiltDir;
   // Defined explicitly in the JIT so the host binary needs no -rdynamic.
   std::vector<HostSymbol> hostSymbols;
   // The C++ of model code (-std=): frontend::kDefaultLanguageStandard unless a model's lpfg.mak

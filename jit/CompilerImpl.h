@@ -99,6 +99,9 @@ struct Compiler::Impl {
   void ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st);
   // The level's PCH is made (or on the disk), without building it.
   bool pchExists(int level);
+  // Where the PCH of this key is on the disk: the cache folder's, else config.prebuiltDir's, else
+  // "" (then it is built into the cache folder).
+  std::string existingPch(const std::string& key) const;
   // `writeFailed`: built, but the file could not be written (a full disk).
   bool buildPch(LevelSetup& L, int level, const std::string& finalPath, std::string& diagnostics, bool& writeFailed);
   std::atomic<bool> pchWriteWarned{false};  // the user was told once

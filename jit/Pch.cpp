@@ -2,6 +2,8 @@
 // pruning old ones, and making sure a compile has one (or falls back to the header as text).
 #include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
+
+#include <sys/stat.h>
 #include "jit/Elapsed.h"
 
 #include <clang/Basic/Version.h>
@@ -168,7 +170,20 @@ bool Compiler::Impl::pchExists(int level) {
     llvm::consumeError(std::move(err));  // the compile that needs the level reports it
     return false;
   }
-  return L.pchReady || (!L.pchFallback && llvm::sys::fs::exists(cacheDir + "/" + pchKey(L, level)));
+  return L.pchReady || (!L.pchFallback && !existingPch(pchKey(L, level)).empty());
+}
+
+std::string Compiler::Impl::existingPch(const std::string& key) const {
+  std::string own = cacheDir + "/" + key;
+  if (llvm::sys::fs::exists(own))
+    return own;
+  // The prebuilt folder's code is loaded and run (the support object) as the binary's own is:
+  // not from a folder anyone else can write to.
+  struct stat st {};
+  if (config.prebuiltDir.empty() || ::stat(config.prebuiltDir.c_str(), &st) != 0 || (st.st_mode & (S_IWGRP | S_IWOTH)))
+    return "";
+  std::string prebuilt = config.prebuiltDir + "/" + key;
+  return llvm::sys::fs::exists(prebuilt) ? prebuilt : "";
 }
 
 void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, CompileStats& st) {
@@ -180,7 +195,11 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
   }
   auto t0 = Clock::now();
   // Recomputed here (not cached) so that a runtime header edited while we run gets a new key.
-  std::string path = cacheDir + "/" + pchKey(L, level);
+  const std::string key = pchKey(L, level);
+  std::string path = cacheDir + "/" + key;
+  if (!forceRebuild)
+    if (std::string found = existingPch(key); !found.empty())
+      path = found;
   L.pchPath = path;
   if (!forceRebuild && llvm::sys::fs::exists(path)) {
     // Validity is checked by the compile that uses it; a stale or corrupt file comes back here

@@ -6,6 +6,8 @@
 # load (compiled again too). The -O0 PCH's support code likewise.
 # Usage: run_cache_damage.sh LCJIT MODEL.l DAMAGE.py
 set -u
+# The cache folder's own PCHs are what this tests: not the build's prebuilt ones.
+export LCJIT_PREBUILT_DIR=
 lcjit=$(realpath "$1") model=$(realpath "$2") damage=$(realpath "$3")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -5,6 +5,8 @@
 # failed PCH write does not end the session, and an edit is still compiled and written.
 # Usage: run_cache_full.sh LCJIT
 set -u
+# The cache folder's own PCHs are what this tests: not the build's prebuilt ones.
+export LCJIT_PREBUILT_DIR=
 lcjit=$(realpath "$1")
 work=$(mktemp -d)
 trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT

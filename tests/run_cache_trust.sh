@@ -5,6 +5,8 @@
 # run compiles into a private folder instead, which is gone when it ends.
 # Usage: run_cache_trust.sh LCJIT MODEL.l (a model whose string holds A(9))
 set -u
+# The cache folder's own PCHs are what this tests: not the build's prebuilt ones.
+export LCJIT_PREBUILT_DIR=
 lcjit=$(realpath "$1") model=$(realpath "$2")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
