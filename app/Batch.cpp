@@ -66,6 +66,20 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
   return llvm::Error::success();
 }
 
+// -dtf/-dtfes: lpfg's turtle text of the current string, streamed to `path`; the time it took is
+// added to `interpretMs`.
+llvm::Error writeInterpretation(runtime::Engine& engine, const std::string& path, double& interpretMs) {
+  auto t0 = Clock::now();
+  std::ofstream f(path, std::ios::binary);
+  if (!f) return runtime::textfile::fail(path, 0, "cannot write file");
+  llvm::Error e = engine.writeTurtleText(f);
+  f.close();
+  interpretMs += jit::msSince(t0);
+  if (e) return e;
+  if (!f) return runtime::textfile::fail(path, 0, "write failed (is the disk full?)");
+  return llvm::Error::success();
+}
+
 // What a batch of file changes re-reads (§1.3's actions, merged); nothing for the animation or
 // environment files, which a batch run does not use.
 std::optional<ReloadParts> partsFor(const std::vector<Action>& actions) {
@@ -134,15 +148,12 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     hooks.afterStep = [&](int step) {
       if (options.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
       if (!options.dumpInterpretedEach || interpretFailed) return;
-      std::string text;
-      if (auto e = engine.interpret(nullptr, nullptr, &text)) {
-        report(std::move(e));
-        interpretFailed = true;
-        return;
-      }
       char suffix[16];
       std::snprintf(suffix, sizeof suffix, "%08d", step);
-      std::ofstream(stemInWorkingFolder(files.lsystem) + suffix + ".str", std::ios::binary) << text;
+      if (auto e = writeInterpretation(engine, stemInWorkingFolder(files.lsystem) + suffix + ".str", times.interpretMs)) {
+        report(std::move(e));
+        interpretFailed = true;
+      }
     };
   if (options.verbose)
     std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled in %.1f ms (%s)\n",
@@ -177,14 +188,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       report(std::move(e));
       return 1;
     }
-  if (options.dumpInterpreted) {
-    std::string text;
-    if (auto e = engine.interpret(nullptr, nullptr, &text)) {
+  if (options.dumpInterpreted)
+    if (auto e = writeInterpretation(engine, stemInWorkingFolder(files.lsystem) + ".str", times.interpretMs)) {
       report(std::move(e));
       return 1;
     }
-    std::ofstream(stemInWorkingFolder(files.lsystem) + ".str", std::ios::binary) << text;
-  }
   if (!verifyString(engine, files.lsystem, options.quiet)) return 1;
   if (options.verbose)
     std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,

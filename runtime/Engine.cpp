@@ -636,6 +636,20 @@ llvm::Error Engine::interpret(const std::function<void(const char*)>& sink, Geom
   return llvm::Error::success();
 }
 
+llvm::Error Engine::writeTurtleText(std::ostream& out, int vgroup) {
+  constexpr size_t kChunk = 1 << 20;
+  std::string text;
+  text.reserve(2 * kChunk);
+  auto written = [&](const char*) {  // after each module the turtle executed
+    if (text.size() < kChunk) return;
+    out.write(text.data(), (std::streamsize)text.size());
+    text.clear();
+  };
+  llvm::Error e = interpret(written, nullptr, &text, vgroup);
+  out.write(text.data(), (std::streamsize)text.size());
+  return e;
+}
+
 void Engine::interpretGuarded(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
                               int vgroup) {
   Turtle& turtle = acquireTurtle();

@@ -125,6 +125,10 @@ class Engine {
   llvm::Error interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
                         std::string* transcript = nullptr, int vgroup = 0);
   llvm::Error interpret(Geometry& geometry, int vgroup = 0) { return interpret(nullptr, &geometry, nullptr, vgroup); }
+  // lpfg's `-dtf` text of the current string written to `out` as the turtle goes, a megabyte at
+  // a time (interpret's `transcript` holds it all: 23 MB for 2 M turtle commands). An
+  // interpretation fault is the error, after the text up to it.
+  llvm::Error writeTurtleText(std::ostream& out, int vgroup = 0);
   // UseView/CloseView (§6.4): the views the model has opened, in order.
   void useView(int id);
   void closeView(int id);

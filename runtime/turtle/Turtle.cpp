@@ -304,9 +304,10 @@ void Turtle::popBranch() {
 
 void Turtle::execute(char* rec) {
   if (!transcript_) return executeModule(rec);
-  TurtleState before = state_;
+  const V3f position = state_.position;  // not the whole state: a copy a module cost -dtf a tenth
+  const float width = state_.width;
   executeModule(rec);
-  describeTurtleCommand(*transcript_, rec, before, state_);
+  describeTurtleCommand(*transcript_, rec, position, width, state_.position);
 }
 
 void Turtle::executeModule(char* rec) {

@@ -83,8 +83,10 @@ struct TropismField {
   float twistLength = 0;
 };
 
-// Appends lpfg's `-dtf` line(s) for one executed module (TurtleText.cpp).
-void describeTurtleCommand(std::string& out, const char* rec, const TurtleState& before, const TurtleState& after);
+// Appends lpfg's `-dtf` line(s) for one executed module (TurtleText.cpp), given where the turtle
+// was and its width before the module, and where it is after.
+void describeTurtleCommand(std::string& out, const char* rec, const V3f& positionBefore, float widthBefore,
+                           const V3f& positionAfter);
 
 class Turtle {
  public:

@@ -3,6 +3,7 @@
 // user modules are not written; some commands also write the command they are made of, e.g.
 // G(d) then F(d), Circle0 then Circle(width/2), LineTo then F(length)). Names and cascades were
 // read from lpfg's TextFileTurtle.
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,7 +30,14 @@ struct Line {
     ((append(args, first)), ...);
     out += ')';
   }
-  void append(float v, bool& first) { sep(first); fmt("%f", (double)v); }
+  // printf's %f (std::to_chars with a precision rounds as printf does), without printf's
+  // arbitrary-precision arithmetic, where most of -dtf's time went. The largest float takes 46
+  // characters.
+  void append(float v, bool& first) {
+    sep(first);
+    char b[64];
+    out.append(b, std::to_chars(b, b + sizeof b, (double)v, std::chars_format::fixed, 6).ptr);
+  }
   void append(int v, bool& first) {
     sep(first);
     out += std::to_string(v);
@@ -38,11 +46,6 @@ struct Line {
   void sep(bool& first) {
     if (!first) out += ", ";
     first = false;
-  }
-  void fmt(const char* f, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    out += b;
   }
   void end() { out += '\n'; }
 };
@@ -58,16 +61,17 @@ V3f vec(const char* rec, size_t off, int kind) {
 
 }  // namespace
 
-void describeTurtleCommand(std::string& out, const char* rec, const TurtleState& before, const TurtleState& after) {
+void describeTurtleCommand(std::string& out, const char* rec, const V3f& positionBefore, float widthBefore,
+                           const V3f& positionAfter) {
   Line l{out};
   __lc_ModuleId id = ModuleTable::idAt(rec);
   auto fp = [&](size_t off) { return param<float>(rec, off); };
   auto ip = [&](size_t off) { return param<int>(rec, off); };
-  float moved = (after.position - before.position).Length();
   auto three = [&](const char* n, V3f v) { l.call(n, v.x, v.y, v.z); };
   auto lineThenF = [&](const char* n, V3f v) {
     three(n, v);
     l.end();
+    float moved = (positionAfter - positionBefore).Length();
     if (moved >= 1e-5f) l.call("F", moved), l.end();
   };
 #define OFF(M, P) offsetof(__lc_R_##M, P)
@@ -89,11 +93,11 @@ void describeTurtleCommand(std::string& out, const char* rec, const TurtleState&
     case __lc_id_SetWidth: l.call("SetWidth", fp(OFF(SetWidth, p0))); break;
     case __lc_id_Label: l.call("Label", param<const char*>(rec, OFF(Label, p0))); break;
     case __lc_id_Circle: l.call("Circle", fp(OFF(Circle, p0))); break;
-    case __lc_id_Circle0: l.name("Circle0"), l.end(), l.call("Circle", before.width / 2); break;
+    case __lc_id_Circle0: l.name("Circle0"), l.end(), l.call("Circle", widthBefore / 2); break;
     case __lc_id_CircleFront: l.call("CircleFront", fp(OFF(CircleFront, p0))); break;
-    case __lc_id_CircleFront0: l.name("CircleFront0"), l.end(), l.call("CircleFront", before.width / 2); break;
+    case __lc_id_CircleFront0: l.name("CircleFront0"), l.end(), l.call("CircleFront", widthBefore / 2); break;
     case __lc_id_Sphere: l.call("Sphere", fp(OFF(Sphere, p0))); break;
-    case __lc_id_Sphere0: l.name("Sphere0"), l.end(), l.call("Sphere", before.width / 2); break;
+    case __lc_id_Sphere0: l.name("Sphere0"), l.end(), l.call("Sphere", widthBefore / 2); break;
     case __lc_id_MoveTo: three("MoveTo", V3f(fp(OFF(MoveTo, p0)), fp(OFF(MoveTo, p1)), fp(OFF(MoveTo, p2)))); break;
     case __lc_id_MoveTo2f: three("MoveTo", vec(rec, OFF(MoveTo2f, p0), 0)); break;
     case __lc_id_MoveTo2d: three("MoveTo", vec(rec, OFF(MoveTo2d, p0), 1)); break;

@@ -225,6 +225,26 @@ TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
   EXPECT_EQ(whole.substr(0, 22), "A(0,0)\nSB\nEB\nA(1,0.25)");
 }
 
+// -dtf's turtle text streamed as the turtle goes is the text interpret() gives whole, across
+// chunk edges (issue 16).
+TEST(EngineText, TurtleTextWrittenAsInterpretedIsTheWholeText) {
+  ScratchModel m("dtf", "#include <lpfgall.h>\nderivation length: 1;\nmodule B;\naxiom: B;\n"
+                        "B : { for (int i = 0; i < 60000; ++i) nproduce F(i * 0.5f) SB() Left(30) f(0.25) EB() "
+                        "Circle0(); produce; }\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  ASSERT_FALSE(bool(e.run()));
+  std::string whole;
+  ASSERT_FALSE(bool(e.interpret(nullptr, nullptr, &whole)));
+  ASSERT_GT(whole.size(), size_t(3) << 20);  // several chunks
+  std::ostringstream streamed;
+  ASSERT_FALSE(bool(e.writeTurtleText(streamed)));
+  EXPECT_EQ(streamed.str(), whole);
+  // lpfg's TextFileTurtle: %f numbers; Circle0 also writes the Circle of half the width.
+  const std::string first = "F(0.000000)\nLeft(30.000000)\nf(0.250000)\nCircle0\nCircle(0.500000)\nF(0.500000)\n";
+  EXPECT_EQ(whole.substr(0, first.size()), first);
+}
+
 // §5.9: a record the host builds (MouseInsPos, inserted where the user clicked) gets the id
 // repeated in its last two bytes even where its layout has padding there: the string is also
 // scanned backwards (left context), from those bytes.
