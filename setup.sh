@@ -7,6 +7,8 @@ cd "$(dirname "$0")"
 packages=(
   cmake ninja-build g++ pkg-config
   llvm-19-dev libclang-19-dev libclang-cpp19-dev clang-19 libclang-common-19-dev
+  libpolly-19-dev  # LLVM's static libraries name Polly's: lcjit links them statically (start-up, CMakeLists.txt)
+  hyperfine  # bench/vs_lpfg.py, bench/reload.py: paired timings (not used by the tests)
   libstdc++-12-dev libc6-dev zlib1g-dev libzstd-dev libedit-dev libffi-dev libxml2-dev libcurl4-openssl-dev
   libfmt-dev libcli11-dev libgtest-dev libbenchmark-dev libglm-dev libstb-dev
   libpng-dev libjpeg62-turbo-dev  # textures (stb_image only writes our own pictures)
