@@ -181,6 +181,11 @@ class Session {
   // The model is being edited live (its files watched): quick compiles of it set up the next
   // one's front end ahead (jit::CompileOptions::beginNextAhead).
   void setEditedLive(bool on) { editedLive_ = on; }
+  // -O1 was lcjit's choice, not the user's: a model of more than kLargeModelProductions
+  // productions is compiled at -O0 instead (optLevel() says which), where -O1's passes would
+  // cost more than they save; a better tier takes over if the run is long.
+  void setQuickLevelBySize(bool on) { quickLevelBySize_ = on; }
+  static constexpr size_t kLargeModelProductions = 1000;
   bool installTier(BetterTier tier);
   // The loaded model's tables (modules, rules with their lines and groups); null before a load.
   const __lc_Model* model() const { return model_; }
@@ -227,6 +232,7 @@ class Session {
   std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load
   int replInputs_ = 0;
   int optLevel_ = 0;
+  bool quickLevelBySize_ = false;
   std::atomic<bool> editedLive_{false};
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_

@@ -415,6 +415,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   // it is long, or taken from the cache if an earlier run compiled it (Batch.h).
   if ((watch || window) && app.count("-O") == 0) bo.optLevel = 0, bo.betterTier = 2;
   else if (app.count("-O") == 0 && !compileOnly && !emitCpp) bo.betterTier = 2;
+  (*session)->setQuickLevelBySize(app.count("-O") == 0);
   // Edits are coming: every compile sets up the next one's front end ahead.
   const bool watchedWindow = window && !rmode.empty() && rmode != "expl";
   (*session)->setEditedLive(watch || watchedWindow);

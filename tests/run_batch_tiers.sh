@@ -2,7 +2,8 @@
 # Batch tiers (issue 16): a batch run without -O starts with -O1 code; once the derivation has run
 # --tier-after milliseconds, -O2 compiles in the background, is swapped in between steps and goes
 # into the cache; the next run starts with it. The string is the same whichever code made which
-# step: lpfg's -O3 string, worked out by hand (one A, so `count` goes up once a step).
+# step: lpfg's -O3 string, worked out by hand (one A, so `count` goes up once a step). A model of
+# thousands of productions starts at -O0 instead of -O1.
 # Usage: run_batch_tiers.sh LCJIT MODEL.l
 set -u
 lcjit=$(realpath "$1") model=$(realpath "$2")
@@ -32,4 +33,20 @@ ls "$LCJIT_CACHE_DIR"/objects/*-O2.o >/dev/null 2>&1 || fail "the -O2 build is n
 check "second tiered run"
 grep -q -- '-O2 code of an earlier run from the cache' err.txt || fail "the cached -O2 code was not taken"
 ! grep -q 'compiling -O2 in the background' err.txt || fail "compiled -O2 again"
+# A model of more than 1000 productions (Session::kLargeModelProductions) starts at -O0 unless -O
+# says otherwise: -O1's passes would cost more than they save. lpfg tries A's productions in
+# order; the one for n == 1 applies.
+big() {  # big N: N one-line productions
+  printf '#include <lpfgall.h>\nmodule A(int);\nderivation length: 1;\naxiom: A(1);\n'
+  for ((k = 0; k < $1; ++k)); do echo "A(n) : { if (n == $k) produce A(n+1); }"; done
+}
+big 1001 >big.l
+big 1000 >edge.l
+"$lcjit" -b -v -out out.str big.l 2>err.txt || fail "the 1001-production model failed"
+[ "$(tr -d ' \n' <out.str)" = 'A(2)' ] || fail "1001 productions: the string is $(cat out.str), not A(2)"
+grep -q 'compiled -O0' err.txt || fail "1001 productions were not compiled at -O0 first"
+"$lcjit" -b -v -out out.str edge.l 2>err.txt || fail "the 1000-production model failed"
+grep -q 'compiled -O1' err.txt || fail "1000 productions were not compiled at -O1"
+"$lcjit" -b -v -O1 -out out.str big.l 2>err.txt || fail "the 1001-production model failed at -O1"
+grep -q 'compiled -O1' err.txt || fail "-O1 was asked for, and not given"
 echo "ok: batch tiers"
