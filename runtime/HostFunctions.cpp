@@ -66,13 +66,7 @@ void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra) {
   if (b->cap - b->size >= extra) return;
   // A successor growing without end (nproduce in a loop) stops at the memory limit.
   if (Engine* e = Engine::current()) e->checkGrowth(e->string().size() + b->size + extra);
-  size_t cap = b->cap * 2;
-  if (cap < b->size + extra) cap = b->size + extra;
-  if (cap < 4096) cap = 4096;
-  char* d = static_cast<char*>(std::realloc(b->data, cap));
-  if (!d) throw std::bad_alloc();
-  b->data = d;
-  b->cap = cap;
+  lcjit::runtime::growBuffer(*b, extra);
 }
 
 int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params) {

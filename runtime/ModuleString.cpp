@@ -7,14 +7,16 @@
 
 namespace lcjit::runtime {
 
-void ModuleBuffer::reserve(size_t extra) {
-  if (b_.cap - b_.size >= extra) return;
-  size_t cap = std::max<size_t>({b_.cap * 2, b_.size + extra, size_t(4096)});
-  char* d = static_cast<char*>(std::realloc(b_.data, cap));
+void growBuffer(__lc_Buffer& b, size_t extra) {
+  if (b.cap - b.size >= extra) return;
+  size_t cap = std::max<size_t>({b.cap * 2, b.size + extra, size_t(4096)});
+  char* d = static_cast<char*>(std::realloc(b.data, cap));
   if (!d) throw std::bad_alloc();
-  b_.data = d;
-  b_.cap = cap;
+  b.data = d;
+  b.cap = cap;
 }
+
+void ModuleBuffer::reserve(size_t extra) { growBuffer(b_, extra); }
 
 ModuleTable::ModuleTable() { setUserModules(nullptr, 0); }
 
