@@ -3,6 +3,8 @@
 // context steps out of branches and over whole sibling branches; SB/EB are always considered.
 #include "runtime/Engine.h"
 
+#include <llvm/ADT/ScopeExit.h>
+
 #include <sstream>
 #include <algorithm>
 
@@ -134,7 +136,45 @@ const Engine::RuleList* Engine::candidates(int kind, int group, __lc_ModuleId id
 
 // ---- context scanning
 
+void Engine::bracketsFor(const char* s, size_t n) {
+  leftStop_ = {};
+  brackets_.s = s;
+  brackets_.n = n;
+  brackets_.live = s != nullptr;
+  brackets_.built = false;
+}
+
+const Engine::Brackets* Engine::bracketsOf(const Scan& sc) const {
+  Brackets& b = brackets_;
+  if (!b.live || sc.s != b.s || sc.n != b.n) return nullptr;
+  if (!b.built) {
+    b.bySb.clear();
+    b.byEb.clear();
+    std::vector<size_t> open;  // indexes in bySb of the SBs not closed yet
+    for (size_t p = 0; p < sc.n; p = modules_.next(sc.s, p)) {
+      __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
+      if (id == __lc_id_SB) {
+        open.push_back(b.bySb.size());
+        b.bySb.push_back({p, npos});
+      } else if (id == __lc_id_EB && !open.empty()) {
+        b.bySb[open.back()].second = p;
+        b.byEb.push_back(b.bySb[open.back()]);
+        open.pop_back();
+      }
+    }
+    b.built = true;
+  }
+  return &b;
+}
+
 size_t Engine::findEndOfBranch(const Scan& sc, size_t p) const {
+  // Just after an SB: its EB, from the table.
+  if (p > 0 && p <= sc.n && ModuleTable::idAt(sc.s + modules_.prev(sc.s, p)) == __lc_id_SB)
+    if (const Brackets* b = bracketsOf(sc)) {
+      size_t sb = modules_.prev(sc.s, p);
+      auto it = std::lower_bound(b->bySb.begin(), b->bySb.end(), std::make_pair(sb, size_t(0)));
+      return it != b->bySb.end() && it->first == sb ? it->second : npos;
+    }
   int depth = 1;
   while (p < sc.n) {
     __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
@@ -146,6 +186,11 @@ size_t Engine::findEndOfBranch(const Scan& sc, size_t p) const {
 }
 
 size_t Engine::findStartOfBranch(const Scan& sc, size_t p) const {
+  if (const Brackets* b = bracketsOf(sc)) {  // p is an EB
+    auto it = std::lower_bound(b->byEb.begin(), b->byEb.end(), p,
+                               [](const std::pair<size_t, size_t>& e, size_t at) { return e.second < at; });
+    return it != b->byEb.end() && it->second == p ? it->first : npos;
+  }
   int depth = 1;
   while (p > 0) {
     p = modules_.prev(sc.s, p);
@@ -200,26 +245,38 @@ size_t Engine::scanLeft(const Scan& sc, size_t& p, __lc_ModuleId want, const uin
     }
     return modules_.prev(sc.s, q);
   };
-  size_t q = stepBack(p);
-  size_t guard = sc.n;
-  while (q != npos) {
-    __lc_ModuleId id = ModuleTable::idAt(sc.s + q);
-    if (id == want) {
-      p = q;
-      return q;
+  // Wanting a module the walk would pass over anyway (not ignored, not a bracket), the walk ends at
+  // the first module it cannot pass, whatever is wanted: within a step, the predecessor string's
+  // is kept for the next rule that looks left of the same module.
+  const bool memo = !skip[want] && want != __lc_id_SB && want != __lc_id_EB && brackets_.live && sc.s == brackets_.s;
+  LeftStop& last = leftStop_;
+  size_t q;
+  if (memo && last.s == sc.s && last.from == p && last.skip == skip) {
+    q = last.at;
+  } else {
+    q = stepBack(p);
+    size_t guard = sc.n;
+    while (q != npos) {
+      __lc_ModuleId id = ModuleTable::idAt(sc.s + q);
+      if (id == want) break;
+      if (guard-- == 0) {
+        q = npos;
+        break;
+      }
+      if (skip[id] || id == __lc_id_SB) {
+        q = stepBack(q);
+      } else if (id == __lc_id_EB) {
+        size_t b = findStartOfBranch(sc, q);
+        q = b == npos ? npos : stepBack(b);
+      } else {
+        break;  // neither wanted nor passed over
+      }
     }
-    if (guard-- == 0) return npos;
-    if (skip[id] || id == __lc_id_SB) {
-      q = stepBack(q);
-    } else if (id == __lc_id_EB) {
-      size_t b = findStartOfBranch(sc, q);
-      if (b == npos) return npos;
-      q = stepBack(b);
-    } else {
-      return npos;
-    }
+    if (memo) last = {sc.s, p, skip, q};
   }
-  return npos;
+  if (q == npos || ModuleTable::idAt(sc.s + q) != want) return npos;
+  p = q;
+  return q;
 }
 
 bool Engine::matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Scan& newLeft, const Scan& newRight,
@@ -370,6 +427,8 @@ bool Engine::deriveForward(int group) {
   next_.clear();
   const char* s = string_.data();
   size_t n = string_.size();
+  bracketsFor(s, n);
+  auto noBrackets = llvm::make_scope_exit([&] { bracketsFor(nullptr, 0); });
   Scan old{s, n, ring_};
   Match m;
   m.forward = true;
@@ -421,6 +480,8 @@ bool Engine::deriveBackward(int group) {
   // The result grows leftwards: `next_` holds it at its end, from `front` on.
   const char* s = string_.data();
   size_t n = string_.size();
+  bracketsFor(s, n);
+  auto noBrackets = llvm::make_scope_exit([&] { bracketsFor(nullptr, 0); });
   Scan old{s, n, ring_};
   size_t cap = std::max<size_t>(n * 2, 4096);
   next_.clear();
@@ -834,6 +895,7 @@ void Engine::begin(const EngineHooks& hooks) {
 }
 
 void Engine::beginGuarded() {
+  bracketsFor(nullptr, 0);  // a step that faulted did not reset them
   if (model_->start) {
     calling("Start");
     model_->start();
@@ -876,6 +938,7 @@ bool Engine::step() {
 }
 
 bool Engine::stepGuarded() {
+  bracketsFor(nullptr, 0);
   environmentPass();
   ++step_;
   if (model_->startEach) {
