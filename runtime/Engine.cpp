@@ -432,7 +432,7 @@ bool Engine::deriveForward(int group) {
   Scan old{s, n, ring_};
   Match m;
   m.forward = true;
-  size_t pos = 0;
+  size_t pos = 0, modules = 0;
   while (pos < n) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
     checkStop(n + next_.size());
@@ -453,8 +453,10 @@ bool Engine::deriveForward(int group) {
       if (!rules) continue;
       for (const __lc_Rule* r : *rules) {
         if (!matchRule(*r, old, pos, newLeft, Scan{nullptr, 0, false}, m)) continue;
+        const size_t from = next_.size();
         if (applyRule(*r, m, next_)) {
           applied = true;
+          for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q)) ++modules;  // just written: cached
           // Advance past the strict predecessor (wrapping in a ring ends the step).
           size_t p = pos;
           for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p);
@@ -469,9 +471,11 @@ bool Engine::deriveForward(int group) {
       size_t e = modules_.next(s, pos);
       next_.append(s + pos, e - pos);
       pos = e;
+      ++modules;
     }
   }
   string_.swap(next_);
+  noteCount(modules);
   derived_ = true;
   return true;
 }
@@ -540,6 +544,7 @@ bool Engine::deriveBackward(int group) {
   size_t used = next_.size() - front;
   std::memmove(next_.data(), next_.data() + front, used);
   next_.resize(used);
+  forgetCount();
   string_.swap(next_);
   derived_ = true;
   return true;
@@ -624,6 +629,7 @@ bool Engine::deriveGillespie(int group) {
   next_.append(s, chosen->from);
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
   next_.append(s + chosen->to, n - chosen->to);
+  forgetCount();
   string_.swap(next_);
   derived_ = true;
   return true;
@@ -679,6 +685,7 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
 
 void Engine::decompose(int group) {
   if (!hasDecomposition_) return;
+  forgetCount();
   decomposed_.clear();
   expand(__lc_Decomposition, string_.data(), string_.size(), decompositionDepth_, group, &decomposed_, nullptr, nullptr);
   string_.swap(decomposed_);
@@ -742,6 +749,7 @@ bool Engine::insertBefore(size_t offset, const char* record) {
   // too); in a record built by hand they may be padding.
   std::memcpy(s.data() + offset + size - sizeof(__lc_ModuleId), record, sizeof(__lc_ModuleId));
   s.append(string_.data() + offset, string_.size() - offset);
+  forgetCount();
   string_.swap(s);
   return true;
 }
@@ -890,6 +898,7 @@ void Engine::begin(const EngineHooks& hooks) {
   views_.clear();
   gillespieTime_ = 0;
   queryTropisms_.initialised = false;
+  forgetCount();
   string_.clear();
   if (auto message = guarded(Phase::Begin, [&] { beginGuarded(); })) fail(std::move(*message));
 }
@@ -929,6 +938,7 @@ bool Engine::step() {
   bool more = false;
   if (auto message = guarded(Phase::Step, [&] { more = stepGuarded(); })) {
     // As after cancelStep(): the string and the step count stay as they were before this step.
+    forgetCount();
     if (derived_) string_.swap(next_);
     step_ = before;
     fail(std::move(*message));
@@ -960,7 +970,7 @@ bool Engine::stepGuarded() {
   checkModules();
   if (hooks_->afterDerivation) hooks_->afterDerivation(step_);
   decompose(group);
-  checkModules();
+  if (hasDecomposition_) checkModules();  // else the string is the one just checked
   if (model_->endEach) {
     calling("EndEach");
     model_->endEach();
@@ -1098,6 +1108,7 @@ void Engine::checkModules() const {
 }
 
 size_t Engine::moduleCount() const {
+  if (counted_.s == string_.data() && counted_.n == string_.size() && counted_.s) return counted_.modules;
   size_t count = 0;
   for (size_t p = 0; p < string_.size(); p = modules_.next(string_.data(), p)) ++count;
   return count;
@@ -1165,6 +1176,7 @@ llvm::Error Engine::readBinary(const std::string& path) {
     }
     p += size;
   }
+  forgetCount();
   string_.clear();
   string_.append(bytes.data(), bytes.size());
   return llvm::Error::success();

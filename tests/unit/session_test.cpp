@@ -225,6 +225,28 @@ TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
   EXPECT_EQ(whole.substr(0, 22), "A(0,0)\nSB\nEB\nA(1,0.25)");
 }
 
+// The module count a forward step keeps as it derives (the limit check and --stats use it) is
+// the string's: with successors of several modules, empty ones, a Cut and unchanged modules.
+TEST(EngineCount, CountedAsDerivedIsTheStringsCount) {
+  ScratchModel m("count", "#include <lpfgall.h>\nderivation length: 4;\nmodule A(int);\nmodule B;\nmodule C;\n"
+                          "axiom: A(0) B C SB A(1) Cut() C EB C;\n"
+                          "production:\nA(n) : { produce A(n+1) SB() B C EB() B; }\nB : { produce; }\n"
+                          "int k = 0;\nStartEach: { ++k; }\nC : { if (k % 2) produce C C; }\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  runtime::EngineHooks hooks;
+  e.begin(hooks);
+  for (int step = 1; e.step(); ++step) {
+    size_t walked = 0;
+    for (size_t p = 0; p < e.string().size(); p = e.modules().next(e.string().data(), p)) ++walked;
+    EXPECT_EQ(e.moduleCount(), walked) << "after step " << step;
+    EXPECT_GT(walked, size_t(4));
+  }
+  e.finish();
+  EXPECT_FALSE(bool(e.takeFault()));
+  EXPECT_EQ(e.stepsDone(), 4);
+}
+
 // -dtf's turtle text streamed as the turtle goes is the text interpret() gives whole, across
 // chunk edges (issue 16).
 TEST(EngineText, TurtleTextWrittenAsInterpretedIsTheWholeText) {
