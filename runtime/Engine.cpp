@@ -432,6 +432,10 @@ bool Engine::deriveForward(int group) {
   Scan old{s, n, ring_};
   Match m;
   m.forward = true;
+  // Counting costs about a nanosecond a module; the limit check needs a count only past
+  // 4 bytes × maxModules, so a string a quarter of that size starts counting (one that grows
+  // past it uncounted is walked once by the check, as before).
+  const bool counting = n > limits_.maxModules;
   size_t pos = 0, modules = 0;
   while (pos < n) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
@@ -456,7 +460,8 @@ bool Engine::deriveForward(int group) {
         const size_t from = next_.size();
         if (applyRule(*r, m, next_)) {
           applied = true;
-          for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q)) ++modules;  // just written: cached
+          if (counting)  // the successor just written: in cache
+            for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q)) ++modules;
           // Advance past the strict predecessor (wrapping in a ring ends the step).
           size_t p = pos;
           for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p);
@@ -471,11 +476,12 @@ bool Engine::deriveForward(int group) {
       size_t e = modules_.next(s, pos);
       next_.append(s + pos, e - pos);
       pos = e;
-      ++modules;
+      modules += counting;
     }
   }
   string_.swap(next_);
-  noteCount(modules);
+  if (counting) noteCount(modules);
+  else forgetCount();
   derived_ = true;
   return true;
 }

@@ -254,10 +254,10 @@ class Engine {
   const Brackets* bracketsOf(const Scan& sc) const;
   void bracketsFor(const char* s, size_t n);  // a step begins deriving this string
   mutable Brackets brackets_;
-  // The number of modules of string_ as the derivation step that made it counted them (the
-  // limit check walked the whole string twice a step past 400 MB: 31 % of a 72 M-module run).
-  // Only for the buffer and size it was counted for; anything else that changes the string
-  // forgets it (noteCount()).
+  // The number of modules of string_ as the forward step that made it counted them, once the
+  // string is large enough for the limit check to need a count (it walked the whole string
+  // twice a step past 400 MB: 31 % of a 72 M-module run). Only for the buffer and size it was
+  // counted for; anything else that changes the string forgets it.
   struct Counted {
     const char* s = nullptr;
     size_t n = 0, modules = 0;

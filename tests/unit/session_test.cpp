@@ -233,18 +233,25 @@ TEST(EngineCount, CountedAsDerivedIsTheStringsCount) {
                           "production:\nA(n) : { produce A(n+1) SB() B C EB() B; }\nB : { produce; }\n"
                           "int k = 0;\nStartEach: { ++k; }\nC : { if (k % 2) produce C C; }\n");
   ASSERT_TRUE(m.session);
+  // A step counts once its predecessor string is larger (in bytes) than the module limit.
+  runtime::EngineLimits limits;
+  limits.maxModules = 100;
+  m.session->setLimits(limits);
   runtime::Engine& e = m.session->engine();
   runtime::EngineHooks hooks;
   e.begin(hooks);
+  size_t countedSteps = 0;
   for (int step = 1; e.step(); ++step) {
     size_t walked = 0;
     for (size_t p = 0; p < e.string().size(); p = e.modules().next(e.string().data(), p)) ++walked;
     EXPECT_EQ(e.moduleCount(), walked) << "after step " << step;
     EXPECT_GT(walked, size_t(4));
+    countedSteps += e.string().size() > limits.maxModules;
   }
   e.finish();
   EXPECT_FALSE(bool(e.takeFault()));
   EXPECT_EQ(e.stepsDone(), 4);
+  EXPECT_GE(countedSteps, size_t(2));  // the counting path was taken
 }
 
 // -dtf's turtle text streamed as the turtle goes is the text interpret() gives whole, across
