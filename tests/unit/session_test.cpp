@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <chrono>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <atomic>
 #include <future>
@@ -208,6 +209,14 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
   EXPECT_EQ(e.text(e.string()).find("A(2)"), std::string::npos);
 }
 
+// What `write` streams is `whole`, which spans several of the writers' one-megabyte chunks.
+void expectStreamedAsWhole(const std::string& whole, const std::function<void(std::ostream&)>& write) {
+  ASSERT_GT(whole.size(), size_t(3) << 20);
+  std::ostringstream streamed;
+  write(streamed);
+  EXPECT_EQ(streamed.str(), whole);
+}
+
 // `-out x.str` writes the text as it is formatted, a megabyte at a time: the same text as the
 // string's whole text, across the chunks' edges.
 TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
@@ -218,10 +227,7 @@ TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
   runtime::Engine& e = m.session->engine();
   ASSERT_FALSE(bool(e.run()));
   std::string whole = e.text(e.string());
-  ASSERT_GT(whole.size(), size_t(3) << 20);  // several chunks
-  std::ostringstream streamed;
-  e.writeText(e.string(), streamed);
-  EXPECT_EQ(streamed.str(), whole);
+  expectStreamedAsWhole(whole, [&](std::ostream& out) { e.writeText(e.string(), out); });
   EXPECT_EQ(whole.substr(0, 22), "A(0,0)\nSB\nEB\nA(1,0.25)");
 }
 
@@ -265,10 +271,7 @@ TEST(EngineText, TurtleTextWrittenAsInterpretedIsTheWholeText) {
   ASSERT_FALSE(bool(e.run()));
   std::string whole;
   ASSERT_FALSE(bool(e.interpret(nullptr, nullptr, &whole)));
-  ASSERT_GT(whole.size(), size_t(3) << 20);  // several chunks
-  std::ostringstream streamed;
-  ASSERT_FALSE(bool(e.writeTurtleText(streamed)));
-  EXPECT_EQ(streamed.str(), whole);
+  expectStreamedAsWhole(whole, [&](std::ostream& out) { EXPECT_FALSE(bool(e.writeTurtleText(out))); });
   // lpfg's TextFileTurtle: %f numbers; Circle0 also writes the Circle of half the width.
   const std::string first = "F(0.000000)\nLeft(30.000000)\nf(0.250000)\nCircle0\nCircle(0.500000)\nF(0.500000)\n";
   EXPECT_EQ(whole.substr(0, first.size()), first);
