@@ -200,10 +200,10 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   if (options.stats)
     std::fprintf(stderr,
                  "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"frontend_ms\": %.3f, "
-                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"derive_ms\": %.3f, "
+                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"load_ms\": %.3f, \"derive_ms\": %.3f, "
                  "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
                  times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs,
-                 times.codegenMs, times.deriveMs, times.interpretMs, times.renderMs, engine.stepsDone(),
+                 times.codegenMs, times.loadMs, times.deriveMs, times.interpretMs, times.renderMs, engine.stepsDone(),
                  engine.moduleCount(), times.pchCached ? "true" : "false");
   return interpretFailed ? 1 : 0;
 }
@@ -340,7 +340,8 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
                                                                    times.productionsCompiled == 1 ? "" : "s")) +
                                                       fmtMs(" (frontend %.1f", times.frontendMs) + (times.frontendBegunAhead ? " set up ahead" : "") +
                                                       fmtMs(", optimize %.1f", times.optimizeMs) +
-                                                      fmtMs(", codegen %.1f)", times.codegenMs);
+                                                      fmtMs(", codegen %.1f", times.codegenMs) +
+                                                      fmtMs(", load %.1f)", times.loadMs);
     if (status == 2)
       std::fprintf(stderr, "lcjit: reload %d (%s): %s; its run stopped for a newer change\n", reload, names.c_str(),
                    compiled.c_str());

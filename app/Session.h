@@ -35,7 +35,7 @@ namespace lcjit::app {
 
 struct PhaseTimes {
   double preprocessMs = 0, rewriteMs = 0, compileMs = 0, deriveMs = 0, interpretMs = 0, renderMs = 0;
-  double frontendMs = 0, optimizeMs = 0, codegenMs = 0;  // the parts of compileMs
+  double frontendMs = 0, optimizeMs = 0, codegenMs = 0, loadMs = 0;  // the parts of compileMs
   bool pchCached = false;
   bool objectCached = false;  // the model's object code came from the cache: nothing compiled
   int productionsCompiled = -1;  // an incremental recompile compiled this many; -1: all of them

@@ -420,7 +420,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
     if (auto e = ES.removeJITDylib(JD))
       llvm::consumeError(std::move(e));
     state->takeSessionErrors();
-    job.stats.codegenMs += msSince(loadStart);
+    job.stats.loadMs += msSince(loadStart);
     return llvm::createStringError(demangleMentions(msg));
   };
 
@@ -460,7 +460,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
                            J.mangleAndIntern("__lljit_run_atexits"));
       !sym)
     return fail(sym.takeError(), "JIT link failed");
-  job.stats.codegenMs += msSince(loadStart);
+  job.stats.loadMs += msSince(loadStart);
   auto dylib = std::make_shared<detail::Dylib>();
   dylib->state = state;
   dylib->jd = &JD;

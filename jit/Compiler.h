@@ -87,7 +87,8 @@ struct CompileOptions {
 struct CompileStats {
   double frontendMs = 0;  // parse + IR generation
   double optimizeMs = 0;  // IR pipeline
-  double codegenMs = 0;   // instruction selection, JIT link, static constructors
+  double codegenMs = 0;   // instruction selection into an object file
+  double loadMs = 0;      // JIT link of the object and the model's static constructors
   double pchBuildMs = 0;  // building (or validating) the PCH, when this compile had to
   bool pchCached = false; // an existing PCH from the disk cache was reused
   bool frontendBegunAhead = false;  // the front end was set up before the source came (quick tiers)
