@@ -148,32 +148,41 @@ const Engine::Brackets* Engine::bracketsOf(const Scan& sc) const {
   Brackets& b = brackets_;
   if (!b.live || sc.s != b.s || sc.n != b.n) return nullptr;
   if (!b.built) {
+    b.built = true;
+    b.usable = sc.n / 2 < Brackets::kNone;
     b.bySb.clear();
     b.byEb.clear();
-    std::vector<size_t> open;  // indexes in bySb of the SBs not closed yet
-    for (size_t p = 0; p < sc.n; p = modules_.next(sc.s, p)) {
+    std::vector<uint32_t> open;  // indexes in bySb of the SBs not closed yet
+    const size_t maxPairs = sc.n / 2 / (2 * sizeof(Brackets::Pair));
+    for (size_t p = 0; p < sc.n && b.usable; p = modules_.next(sc.s, p)) {
       __lc_ModuleId id = ModuleTable::idAt(sc.s + p);
+      b.usable = (p & 1) == 0;  // records are structs of 16-bit ids: always at even bytes
       if (id == __lc_id_SB) {
-        open.push_back(b.bySb.size());
-        b.bySb.push_back({p, npos});
+        open.push_back(uint32_t(b.bySb.size()));
+        b.bySb.push_back({uint32_t(p / 2), Brackets::kNone});
+        b.usable = b.usable && b.bySb.size() <= maxPairs;
       } else if (id == __lc_id_EB && !open.empty()) {
-        b.bySb[open.back()].second = p;
+        b.bySb[open.back()].eb = uint32_t(p / 2);
         b.byEb.push_back(b.bySb[open.back()]);
         open.pop_back();
       }
     }
-    b.built = true;
+    if (!b.usable) {
+      std::vector<Brackets::Pair>().swap(b.bySb);
+      std::vector<Brackets::Pair>().swap(b.byEb);
+    }
   }
-  return &b;
+  return b.usable ? &b : nullptr;
 }
 
 size_t Engine::findEndOfBranch(const Scan& sc, size_t p) const {
   // Just after an SB: its EB, from the table.
   if (p > 0 && p <= sc.n && ModuleTable::idAt(sc.s + modules_.prev(sc.s, p)) == __lc_id_SB)
     if (const Brackets* b = bracketsOf(sc)) {
-      size_t sb = modules_.prev(sc.s, p);
-      auto it = std::lower_bound(b->bySb.begin(), b->bySb.end(), std::make_pair(sb, size_t(0)));
-      return it != b->bySb.end() && it->first == sb ? it->second : npos;
+      const uint32_t sb = uint32_t(modules_.prev(sc.s, p) / 2);
+      auto it = std::lower_bound(b->bySb.begin(), b->bySb.end(), sb,
+                                 [](const Brackets::Pair& e, uint32_t at) { return e.sb < at; });
+      return it != b->bySb.end() && it->sb == sb && it->eb != Brackets::kNone ? size_t(it->eb) * 2 : npos;
     }
   int depth = 1;
   while (p < sc.n) {
@@ -187,9 +196,10 @@ size_t Engine::findEndOfBranch(const Scan& sc, size_t p) const {
 
 size_t Engine::findStartOfBranch(const Scan& sc, size_t p) const {
   if (const Brackets* b = bracketsOf(sc)) {  // p is an EB
-    auto it = std::lower_bound(b->byEb.begin(), b->byEb.end(), p,
-                               [](const std::pair<size_t, size_t>& e, size_t at) { return e.second < at; });
-    return it != b->byEb.end() && it->second == p ? it->first : npos;
+    const uint32_t eb = uint32_t(p / 2);
+    auto it = std::lower_bound(b->byEb.begin(), b->byEb.end(), eb,
+                               [](const Brackets::Pair& e, uint32_t at) { return e.eb < at; });
+    return it != b->byEb.end() && it->eb == eb ? size_t(it->sb) * 2 : npos;
   }
   int depth = 1;
   while (p > 0) {

@@ -244,12 +244,18 @@ class Engine {
   // The matched SB/EB pairs of the predecessor string while a step derives it, made on the first
   // branch a context scan skips: a scan otherwise walked every skipped branch module by module
   // (signal.l spent 79 % of its derivation in scanLeft). Only for the string `s` of `n` bytes and
-  // only while `live` (the step that set it is running).
+  // only while `live` (the step that set it is running). Positions are kept in halves (records
+  // start at even bytes), 16 bytes a pair; a table that would outgrow half the string (a string
+  // of brackets) or a string past 8 GB is not made: the scans walk, as before.
   struct Brackets {
+    struct Pair {
+      uint32_t sb, eb;  // byte positions / 2; eb kNone: the SB is never closed
+    };
+    static constexpr uint32_t kNone = UINT32_MAX;
     const char* s = nullptr;
     size_t n = 0;
-    bool live = false, built = false;
-    std::vector<std::pair<size_t, size_t>> bySb, byEb;  // (SB, EB) by SB and by EB; EB npos: unclosed
+    bool live = false, built = false, usable = false;
+    std::vector<Pair> bySb, byEb;  // ordered by SB and by EB
   };
   const Brackets* bracketsOf(const Scan& sc) const;
   void bracketsFor(const char* s, size_t n);  // a step begins deriving this string
