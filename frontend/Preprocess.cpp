@@ -405,9 +405,10 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
 // ccache's direct mode checks them; the change time cannot be set back), then the text; it is
 // used only while every one of them is unchanged. Timestamps move in steps of a few
 // milliseconds, so a file changed shortly before the preprocessor began (20 ms) could change again
-// unseen, within the same step: then nothing is kept. The name is a hash of everything else the text depends on: lcjit's build, the driver
-// arguments (options, defines, the model's path) and the working folder (relative paths). A
-// header added to an earlier include folder, shadowing one listed, is not seen (as with ccache).
+// unseen, within the same step: then nothing is kept. The name is a hash of everything else the
+// text depends on: lcjit's build, the driver arguments (options, defines, the model's path), CPATH
+// and CPLUS_INCLUDE_PATH (the driver adds their folders) and the working folder (relative paths).
+// A header added to an earlier include folder, shadowing one listed, is not seen (as with ccache).
 class KeptText {
 public:
   KeptText(const std::string& cacheDir, const std::vector<std::string>& args, bool plainMarkers) {
@@ -423,6 +424,12 @@ public:
       h.update(llvm::StringRef("\0", 1));
     }
     h.update(plainMarkers ? "plain" : "marked");
+    // The driver adds these folders to the include path (research models keep headers there).
+    for (const char* var : {"CPATH", "CPLUS_INCLUDE_PATH"}) {
+      const char* value = std::getenv(var);
+      h.update(llvm::StringRef("\0", 1));
+      h.update(value ? value : "");
+    }
     path_ = cacheDir + "/preprocessed/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 32);
   }
 

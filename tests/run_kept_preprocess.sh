@@ -36,6 +36,15 @@ printf '#define N 42\n' >part.h
 # The model changes, the header not.
 printf '#include <lpfgall.h>\n#include "part.h"\nmodule A(int);\nderivation length: 0;\naxiom: A(N) A(N + 1);\n' >m.l
 [ "$(string)" = 'A(42)A(43)' ] || fail "the edited model was not seen: $(cat out.str)"
+# A header found through CPLUS_INCLUDE_PATH: the text kept with one value is not used with another.
+mkdir -p "$work/inc1" "$work/inc2"
+printf '#define M 11\n' >"$work/inc1/extra.h"
+printf '#define M 22\n' >"$work/inc2/extra.h"
+printf '#include <lpfgall.h>\n#include <extra.h>\nmodule A(int);\nderivation length: 0;\naxiom: A(M);\n' >m.l
+sleep 0.1
+[ "$(CPLUS_INCLUDE_PATH="$work/inc1" string)" = 'A(11)' ] || fail "CPLUS_INCLUDE_PATH=inc1: $(cat out.str)"
+[ "$(CPLUS_INCLUDE_PATH="$work/inc1" string)" = 'A(11)' ] || fail "CPLUS_INCLUDE_PATH=inc1 again: $(cat out.str)"
+[ "$(CPLUS_INCLUDE_PATH="$work/inc2" string)" = 'A(22)' ] || fail "CPLUS_INCLUDE_PATH=inc2 got inc1's text: $(cat out.str)"
 # Another folder, the same file names, other contents.
 cd "$work/b"
 printf '#define N 7\n' >part.h
