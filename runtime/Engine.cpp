@@ -676,6 +676,9 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
   // A module no rule of `group` matches tries production group 0's rules (of the same view
   // group, for interpretation rules), as lpfg does.
   const int groupZero = kind == __lc_Interpretation ? ruleTableKey(kind, 0, group & 0xffff) : 0;
+  // Without a rule of this kind in either group (most models' interpretation), every module goes
+  // straight to the turtle or the target: no lookups a module.
+  const bool anyRules = byFirst_[kind].count(group) || byFirst_[kind].count(groupZero);
   size_t pos = 0;
   const bool topLevel = src == string_.data() && !target;
   while (pos < n) {
@@ -683,7 +686,7 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
     if (topLevel && tracking_) tracking_->currentSource = (uint32_t)pos;
     succ.clear();
     Scan newLeft = target ? Scan{target->data(), target->size(), false} : Scan{nullptr, 0, false};
-    bool applied = tryRules(kind, group, groupZero, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
+    bool applied = anyRules && tryRules(kind, group, groupZero, old, pos, newLeft, Scan{nullptr, 0, false}, succ, m);
     if (applied && depth > 0) {
       // The successor buffer of this level is reused by deeper levels: work on a copy.
       if (copies_.size() <= copiesInUse_) copies_.push_back(std::make_unique<ModuleBuffer>());
