@@ -157,7 +157,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     };
   if (options.verbose)
     std::fprintf(stderr, "lcjit: %s: preprocessed in %.1f ms, rewritten in %.1f ms, compiled -O%d in %.1f ms (%s)\n",
-                 files.lsystem.c_str(), times.preprocessMs, times.rewriteMs, session.optLevel(), times.compileMs,
+                 files.lsystem.c_str(), times.preprocessMs, times.rewriteMs, times.optLevel >= 0 ? times.optLevel : session.optLevel(), times.compileMs,
                  times.pchCached ? "cached PCH" : "PCH built");
   // A picture or a geometry file is what lpfg's window would save: derived with its camera.
   if (!options.out.empty() && isFrameOutput(options.out))

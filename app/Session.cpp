@@ -469,6 +469,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   times.optimizeMs = stats.optimizeMs;
   times.codegenMs = stats.codegenMs;
   times.loadMs = stats.loadMs;
+  times.optLevel = p.optLevel;
   if (p.model->abiVersion != __lc_AbiVersion) return llvm::createStringError("internal error: model ABI version mismatch");
   p.code = std::move(*code);
   p.cpp = std::move(cpp->cpp);

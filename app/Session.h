@@ -40,6 +40,7 @@ struct PhaseTimes {
   bool objectCached = false;  // the model's object code came from the cache: nothing compiled
   int productionsCompiled = -1;  // an incremental recompile compiled this many; -1: all of them
   bool frontendBegunAhead = false;  // the compile found its front end set up (live editing)
+  int optLevel = -1;  // the level the load compiled at (a better tier may run later)
 };
 
 // A better-optimised build of the loaded model (Session::betterTierJob).
