@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Drives the lcjit window under Xvfb with xdotool: copies DIR/NAME.* to a scratch folder and runs
 # DIR/NAME.drive there (bash) inside the X server, with helpers: start ARGS… (lcjit in the
-# background), wait_file F (up to 10 s), expect_files GLOB NAMES… (exactly those files), fail MSG.
+# background), wait_file F (up to 10 s), wait_window MODEL.l (its window is up), expect_files GLOB
+# NAMES… (exactly those files), fail MSG.
 # The script passes by reaching its end; a failure prints lcjit's stderr.
 # Usage: run_window_script.sh LCJIT DIR NAME
 set -u
@@ -15,6 +16,8 @@ cat > helpers.sh <<EOS
 start() { "$lcjit" "\$@" > out.txt 2> err.txt & }
 fail() { echo "FAIL: \$*"; cat err.txt; exit 1; }
 wait_file() { for _ in \$(seq 1 100); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
+# The window of MODEL.l is up (a slow start on a loaded machine must not lose the first clicks).
+wait_window() { timeout 60 xdotool search --sync --onlyvisible --name "lcjit: \$1" >/dev/null || fail "no window for \$1"; }
 expect_files() {  # expect_files GLOB NAMES…
   local have want; have=\$(ls \$1 2>/dev/null | tr '\n' ' '); shift; want="\$* "
   [ "\$have" = "\$want" ] || fail "expected files: \$want; have: \$have"
