@@ -33,6 +33,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <limits>
 
 #include <cctype>
 #include <map>
@@ -309,11 +310,63 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
   return run;
 }
 
+// Files a cached result was made from, as lines "// F SIZE MTIME CTIME PATH" (times in
+// nanoseconds) before the result: the result holds while every one of them is unchanged (ccache's
+// direct-mode check; the status-change time cannot be set back). Used by the macro image and the
+// kept preprocessed text.
+std::string fileStamp(llvm::StringRef file, int64_t* changed = nullptr) {
+  struct stat st {};
+  if (::stat(file.str().c_str(), &st) != 0)
+    return "";
+  int64_t m = int64_t(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
+  int64_t c = int64_t(st.st_ctim.tv_sec) * 1'000'000'000 + st.st_ctim.tv_nsec;
+  if (changed)
+    *changed = std::max(m, c);
+  return std::to_string(st.st_size) + " " + std::to_string(m) + " " + std::to_string(c);
+}
+
+// The stamp lines of `files`; nullopt when one cannot be read or changed after `notAfter`.
+std::optional<std::string> stampLines(const std::vector<std::string>& files,
+                                      int64_t notAfter = std::numeric_limits<int64_t>::max()) {
+  std::string out;
+  for (const std::string& f : files) {
+    int64_t changed = 0;
+    std::string st = fileStamp(f, &changed);
+    if (st.empty() || changed > notAfter)
+      return std::nullopt;
+    out += "// F " + st + " " + f + "\n";
+  }
+  return out;
+}
+
+// Whether the stamp lines at the start of `text` all still hold and `follows` comes after them (a
+// file of another format or version does not); `rest`: the text after `follows`.
+bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* rest = nullptr) {
+  while (text.starts_with("// F ")) {
+    auto [line, after] = text.split('\n');
+    text = after;
+    line.consume_front("// F ");
+    auto [size, line1] = line.split(' ');
+    auto [mtime, line2] = line1.split(' ');
+    auto [ctime, file] = line2.split(' ');
+    if (fileStamp(file) != (size + " " + mtime + " " + ctime).str())
+      return false;
+  }
+  if (!text.consume_front(follows))
+    return false;
+  if (rest)
+    *rest = text;
+  return true;
+}
+
+constexpr llvm::StringLiteral kMacroImageFollows =
+    "// lcjit: the macros <lpfgall.h> defines (frontend/Preprocess.cpp), made from the files above.\n";
+
 // The macro image of <lpfgall.h>: one header of the #define lines that the real header and the
 // standard headers under it leave defined (predefined macros left out), found before the runtime
 // headers, so that `#include <lpfgall.h>` gives a model every macro lpfg's gives it without
-// lexing a megabyte of standard headers in every reload (~25 ms). Its first lines list the files
-// it was made from (size, mtime); it is made again when one of them changed. Kept on disk under
+// lexing a megabyte of standard headers in every reload (~25 ms). Its first lines are the stamps
+// of the files it was made from (stampLines); it is made again when one of them changed. Kept on disk under
 // `cacheDir` and known per process; nullopt (the real header is used) when it cannot be made.
 std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, const std::string& cacheDir,
                                          const std::string& prebuiltDir, const std::string& languageStandard) {
@@ -337,26 +390,11 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     return memo->second;
   std::optional<std::string>& result = known[image];
 
-  auto current = [](llvm::StringRef text) {
-    for (llvm::StringRef rest = text; !rest.empty();) {
-      auto [line, r] = rest.split('\n');
-      rest = r;
-      if (!line.consume_front("// D "))
-        break;
-      auto [size, rest1] = line.split(' ');
-      auto [mtime, path] = rest1.split(' ');
-      llvm::sys::fs::file_status st;
-      if (llvm::sys::fs::status(path, st) || std::to_string(st.getSize()) != size ||
-          std::to_string(llvm::sys::toTimeT(st.getLastModificationTime())) != mtime)
-        return false;
-    }
-    return true;
-  };
-  if (auto existing = llvm::MemoryBuffer::getFile(image, /*IsText=*/true); existing && current((*existing)->getBuffer()))
+  if (auto existing = llvm::MemoryBuffer::getFile(image, /*IsText=*/true); existing && stampsHold((*existing)->getBuffer(), kMacroImageFollows))
     return result = dir;
   if (!prebuiltDir.empty())
     if (auto prebuilt = llvm::MemoryBuffer::getFile(prebuiltDir + name + "/lpfgall.h", /*IsText=*/true);
-        prebuilt && current((*prebuilt)->getBuffer()))
+        prebuilt && stampsHold((*prebuilt)->getBuffer(), kMacroImageFollows))
       return result = prebuiltDir + name;
 
   std::string empty = cacheDir + "/preprocessor/lcjit-empty.cpp";
@@ -376,15 +414,11 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     builtIn.insert(line);
     rest = r;
   }
-  std::string text;
-  for (const std::string& path : all->fs->openedFiles()) {
-    llvm::sys::fs::file_status st;
-    if (llvm::sys::fs::status(path, st))
-      return result;
-    text += "// D " + std::to_string(st.getSize()) + " " +
-            std::to_string(llvm::sys::toTimeT(st.getLastModificationTime())) + " " + path + "\n";
-  }
-  text += "// lcjit: the macros <lpfgall.h> defines (frontend/Preprocess.cpp), made from the files above.\n";
+  std::optional<std::string> stamps = stampLines(all->fs->openedFiles());
+  if (!stamps)
+    return result;
+  std::string text = std::move(*stamps);
+  text += kMacroImageFollows;
   text += "#ifndef __LPFGALL_H__\n";
   for (llvm::StringRef rest = all->printed; !rest.empty();) {
     auto [line, r] = rest.split('\n');
@@ -400,10 +434,8 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
 }
 
 // A model's preprocessed text kept in the cache folder, so that a run of an unchanged model skips
-// Clang's driver and preprocessor (3 ms of a 11 ms run from the cache). The file lists the files
-// the preprocessor read, each with its size and its modification and status-change times (as
-// ccache's direct mode checks them; the change time cannot be set back), then the text; it is
-// used only while every one of them is unchanged. Timestamps move in steps of a few
+// Clang's driver and preprocessor (3 ms of a 11 ms run from the cache): the stamps of the files the
+// preprocessor read (stampLines), then the text. Timestamps move in steps of a few
 // milliseconds, so a file changed shortly before the preprocessor began (20 ms) could change again
 // unseen, within the same step: then nothing is kept. The name is a hash of everything else the
 // text depends on: lcjit's build, the driver arguments (options, defines, the model's path), CPATH
@@ -436,57 +468,27 @@ public:
   // The kept text, if every file it was made from is as it was.
   std::optional<std::string> find() const {
     auto kept = llvm::MemoryBuffer::getFile(path_, /*IsText=*/false, /*RequiresNullTerminator=*/false);
-    if (!kept)
-      return std::nullopt;
-    llvm::StringRef rest = (*kept)->getBuffer();
-    for (;;) {
-      auto [line, after] = rest.split('\n');
-      rest = after;
-      if (line == kTextFollows)
-        return rest.str();
-      if (!line.consume_front("// F "))
-        return std::nullopt;  // damaged, or another version's
-      auto [size, line1] = line.split(' ');
-      auto [mtime, line2] = line1.split(' ');
-      auto [ctime, file] = line2.split(' ');
-      if (stamp(file) != (size + " " + mtime + " " + ctime).str())
-        return std::nullopt;
-    }
+    llvm::StringRef rest;
+    if (!kept || !stampsHold((*kept)->getBuffer(), kTextFollows, &rest))
+      return std::nullopt;  // changed files, or damaged
+    return rest.str();
   }
 
   // When the preprocessor began: files changed after `started` less a timestamp step are not kept.
   void begin() { started_ = nowNs(); }
 
   void keep(const std::vector<std::string>& files, const std::string& text) const {
-    std::string out;
-    const int64_t recent = started_ - 20'000'000;
-    for (const std::string& f : files) {
-      int64_t changed = 0;
-      std::string st = stamp(f, &changed);
-      if (st.empty() || changed > recent)
-        return;  // gone meanwhile, or just written
-      out += "// F " + st + " " + f + "\n";
-    }
-    out += kTextFollows;
-    out += '\n';
-    out += text;
+    std::optional<std::string> out = stampLines(files, started_ - 20'000'000);
+    if (!out)
+      return;  // a file gone meanwhile, or just written
+    *out += kTextFollows;
+    *out += text;
     llvm::sys::fs::create_directories(llvm::sys::path::parent_path(path_));
-    writeCacheFile(path_, out);  // failing only costs the next run a preprocess
+    writeCacheFile(path_, *out);  // failing only costs the next run a preprocess
   }
 
 private:
-  static constexpr llvm::StringLiteral kTextFollows = "// lcjit: the preprocessed text follows";
-  // "SIZE MTIME CTIME" (nanoseconds), or "" when it cannot be read; `changed`: the later time.
-  static std::string stamp(llvm::StringRef file, int64_t* changed = nullptr) {
-    struct stat st {};
-    if (::stat(file.str().c_str(), &st) != 0)
-      return "";
-    int64_t m = int64_t(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
-    int64_t c = int64_t(st.st_ctim.tv_sec) * 1'000'000'000 + st.st_ctim.tv_nsec;
-    if (changed)
-      *changed = std::max(m, c);
-    return std::to_string(st.st_size) + " " + std::to_string(m) + " " + std::to_string(c);
-  }
+  static constexpr llvm::StringLiteral kTextFollows = "// lcjit: the preprocessed text follows\n";
   static int64_t nowNs() {
     struct timespec ts {};
     ::clock_gettime(CLOCK_REALTIME, &ts);
