@@ -723,18 +723,26 @@ llvm::Error Engine::interpret(const std::function<void(const char*)>& sink, Geom
   return llvm::Error::success();
 }
 
-llvm::Error Engine::writeTurtleText(std::ostream& out, int vgroup) {
-  constexpr size_t kChunk = 1 << 20;
-  std::string text;
-  text.reserve(2 * kChunk);
-  auto written = [&](const char*) {  // after each module the turtle executed
+namespace {
+// Text made in `text` and written to a stream a megabyte at a time (spill()), the rest when it
+// goes: a string's text need not be held whole.
+struct ChunkedText {
+  static constexpr size_t kChunk = size_t(1) << 20;
+  explicit ChunkedText(std::ostream& out) : out(out) { text.reserve(kChunk + 4096); }
+  ~ChunkedText() { out.write(text.data(), (std::streamsize)text.size()); }
+  void spill() {
     if (text.size() < kChunk) return;
     out.write(text.data(), (std::streamsize)text.size());
     text.clear();
-  };
-  llvm::Error e = interpret(written, nullptr, &text, vgroup);
-  out.write(text.data(), (std::streamsize)text.size());
-  return e;
+  }
+  std::ostream& out;
+  std::string text;
+};
+}  // namespace
+
+llvm::Error Engine::writeTurtleText(std::ostream& out, int vgroup) {
+  ChunkedText chunks(out);
+  return interpret([&](const char*) { chunks.spill(); }, nullptr, &chunks.text, vgroup);  // after each module
 }
 
 void Engine::interpretGuarded(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
@@ -1140,18 +1148,12 @@ std::string Engine::text(const ModuleBuffer& str) const {
 }
 
 void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
-  constexpr size_t kChunk = size_t(1) << 20;
-  std::string buf;
-  buf.reserve(kChunk + 4096);
+  ChunkedText chunks(out);
   for (size_t p = 0; p < str.size() && out; p = modules_.next(str.data(), p)) {
-    modules_.format(str.data() + p, buf);
-    buf += '\n';
-    if (buf.size() >= kChunk) {
-      out.write(buf.data(), (std::streamsize)buf.size());
-      buf.clear();
-    }
+    modules_.format(str.data() + p, chunks.text);
+    chunks.text += '\n';
+    chunks.spill();
   }
-  out.write(buf.data(), (std::streamsize)buf.size());
 }
 
 llvm::Error Engine::writeBinary(const std::string& path) const {
