@@ -472,6 +472,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   times.optLevel = p.optLevel;
   if (p.model->abiVersion != __lc_AbiVersion) return llvm::createStringError("internal error: model ABI version mismatch");
   p.code = std::move(*code);
+  p.objectKey = stats.objectKey;
   p.cpp = std::move(cpp->cpp);
   p.bufferName = co.bufferName;
   // lpfg starts the environmental program once the model has compiled.
@@ -496,6 +497,7 @@ llvm::Error Session::install(PreparedModel p) {
     code_ = std::move(p.code);
     model_ = p.model;
     optLevel_ = p.optLevel;
+    objectKey_ = std::move(p.objectKey);
     ++generation_;
     runningCpp_ = std::move(p.cpp);
     bufferName_ = std::move(p.bufferName);
@@ -616,7 +618,11 @@ std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& c
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCache) const {
   return [compiler = compiler_.get(), owners = stateOwners_, sources = sourceCode_, cpp = runningCpp_, name = bufferName_,
-          generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_)]() -> BetterTier {
+          generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_),
+          mark = objectKey_.empty() ? std::string()
+                                    : compiler_->cacheDir() + "/objects/" + objectKey_ + ".better-O" + std::to_string(optLevel)]()
+             -> BetterTier {
+    if (onlyFromCache && (mark.empty() || !std::filesystem::exists(mark))) return {};
     auto t0 = std::chrono::steady_clock::now();
     jit::CompileOptions co;
     co.optLevel = optLevel;
@@ -633,6 +639,7 @@ std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCa
       return t;
     }
     t.code = std::move(*code);
+    if (t.code && !mark.empty() && !onlyFromCache) std::ofstream{mark};  // for the next run's lookup
     t.generation = generation;
     t.optLevel = optLevel;
     t.compileMs = jit::msSince(t0);

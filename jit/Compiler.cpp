@@ -250,6 +250,8 @@ llvm::Error Compiler::Impl::setUp(Job& job) {
   }
   llvm::StringRef unitKind = job.options.plainUnit ? "plain" : job.used.pchFallback ? "text" : "pch";
   job.key = objectKey(job.used.pchPath, unitKind, job.bufferName, job.source, job.shared, job.level);
+  if (job.options.useObjectCache)
+    job.stats.objectKey = job.key;
   return llvm::Error::success();
 }
 

@@ -96,6 +96,8 @@ struct CompileStats {
   enum class ObjectFrom { Compiled, Memory, Disk } object = ObjectFrom::Compiled;
   // For the user: cache files that were damaged or would not load, deleted and compiled again.
   std::vector<std::string> notes;
+  // The object cache's key of this compile ("" without the cache): a name for what it made.
+  std::string objectKey;
 };
 
 namespace detail {
