@@ -137,7 +137,7 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   jtmb->getOptions().FunctionSections = true;
   impl->jtmb = *jtmb;
 
-  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols);
+  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->cacheDir);
   if (!state)
     return state.takeError();
   impl->state = std::move(*state);

@@ -1,12 +1,22 @@
 // The JIT's long-lived state of OrcState.h: the LLJIT and its host symbols, code generation with
-// kept TargetMachines, and the end of a loaded version.
+// kept TargetMachines, ORC's own support objects kept between runs, and the end of a loaded version.
 #include "jit/OrcState.h"
+#include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
 
+#include <llvm/ADT/StringExtras.h>
+#include <llvm/Config/llvm-config.h>
 #include <llvm/ExecutionEngine/Orc/CompileUtils.h>
 #include <llvm/ExecutionEngine/Orc/IRCompileLayer.h>
+#include <llvm/Object/ELFObjectFile.h>
+#include <llvm/Support/Endian.h>
+#include <llvm/Support/SHA256.h>
 #include <llvm/Support/raw_ostream.h>
+
+#include <filesystem>
+#include <map>
+#include <optional>
 
 namespace lcjit::jit {
 
@@ -55,27 +65,152 @@ llvm::Error Codegen::optimize(llvm::Module& m, int level, orc::JITTargetMachineB
   return llvm::Error::success();
 }
 
+namespace {
+
+// ORC's generic platform compiles small IR modules of its own on first use: the __cxa_atexit
+// wrapper, and per JITDylib its __dso_handle and atexit helpers. Compiling them was 1.5 ms of a
+// run whose model came from the object cache (most of it making a TargetMachine that run needs
+// for nothing else), and again on every reload. Their object code is kept by the module's text,
+// in memory and in the cache folder. The one value that differs between JITDylibs, __dso_handle
+// (the JITDylib's address), is compiled as a marker and written into a copy of the object.
+class PlatformObjects {
+public:
+  PlatformObjects(const orc::JITTargetMachineBuilder& b, std::string cacheDir) : cacheDir_(std::move(cacheDir)) {
+    target_ = b.getTargetTriple().str() + " " + b.getCPU() + " " + b.getFeatures().getString() + " " +
+              LLVM_VERSION_STRING;
+  }
+
+  llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> compile(llvm::Module& m,
+                                                               const std::function<llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>>(llvm::Module&)>& codegen) {
+    // The JITDylib's address, replaced by the marker while the module is hashed and compiled.
+    std::optional<uint64_t> dsoHandle;
+    llvm::GlobalVariable* handle = m.getNamedGlobal("__dso_handle");
+    if (handle && handle->hasInitializer()) {
+      auto* value = llvm::dyn_cast<llvm::ConstantInt>(handle->getInitializer());
+      if (!value || value->getBitWidth() != 64)
+        return codegen(m);
+      dsoHandle = value->getZExtValue();
+      handle->setInitializer(llvm::ConstantInt::get(value->getType(), kMarker));
+    }
+    std::string text;
+    llvm::raw_string_ostream os(text);
+    m.print(os, nullptr);
+    llvm::SHA256 h;
+    h.update("lcjit-platform-object 1\n" + target_ + "\n");
+    h.update(text);
+    std::string key = llvm::toHex(h.final(), /*LowerCase=*/true);
+
+    std::string object = find(key);
+    if (object.empty()) {
+      auto compiled = codegen(m);
+      if (!compiled)
+        return compiled.takeError();
+      object = (*compiled)->getBuffer().str();
+      keep(key, object);
+    }
+    if (dsoHandle && !patchDsoHandle(object, *dsoHandle))
+      return llvm::createStringError("lcjit: __dso_handle not found in ORC's support object");
+    return llvm::MemoryBuffer::getMemBufferCopy(object, m.getModuleIdentifier());
+  }
+
+private:
+  static constexpr uint64_t kMarker = 0x6c636a69745f6473;  // "lcjit_ds": not zero, so not in .bss
+
+  std::string path(const std::string& key) const { return cacheDir_ + "/objects/platform-" + key + ".obj"; }
+
+  std::string find(const std::string& key) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (auto it = memory_.find(key); it != memory_.end())
+        return it->second;
+    }
+    if (cacheDir_.empty())
+      return {};
+    frontend::CheckedRead read = frontend::readCheckedCacheFile(path(key));
+    if (!read.bytes)
+      return {};
+    std::lock_guard<std::mutex> lock(mutex_);
+    return memory_[key] = std::move(*read.bytes);
+  }
+
+  void keep(const std::string& key, const std::string& object) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      memory_[key] = object;
+    }
+    if (cacheDir_.empty())
+      return;
+    std::error_code ec;
+    std::filesystem::create_directories(cacheDir_ + "/objects", ec);
+    frontend::writeCheckedCacheFile(path(key), object);
+  }
+
+  // Writes `value` over the marker that __dso_handle holds in the relocatable object `object`.
+  static bool patchDsoHandle(std::string& object, uint64_t value) {
+    auto file = llvm::object::ELF64LEObjectFile::create(llvm::MemoryBufferRef(object, "platform"));
+    if (!file) {
+      llvm::consumeError(file.takeError());
+      return false;
+    }
+    for (const llvm::object::ELFSymbolRef& sym : file->symbols()) {
+      auto name = sym.getName();
+      if (!name || *name != "__dso_handle") {
+        if (!name)
+          llvm::consumeError(name.takeError());
+        continue;
+      }
+      auto elfSym = file->getSymbol(sym.getRawDataRefImpl());
+      if (!elfSym) {
+        llvm::consumeError(elfSym.takeError());
+        return false;
+      }
+      auto section = file->getELFFile().getSection((*elfSym)->st_shndx);
+      if (!section) {
+        llvm::consumeError(section.takeError());
+        return false;
+      }
+      uint64_t at = (*section)->sh_offset + (*elfSym)->st_value;
+      if ((*section)->sh_type != llvm::ELF::SHT_PROGBITS || at + 8 > object.size() ||
+          llvm::support::endian::read64le(object.data() + at) != kMarker)
+        return false;
+      llvm::support::endian::write64le(object.data() + at, value);
+      return true;
+    }
+    return false;
+  }
+
+  std::string cacheDir_;
+  std::string target_;
+  std::mutex mutex_;
+  std::map<std::string, std::string> memory_;
+};
+
+}  // namespace
+
 llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetMachineBuilder& jtmb,
-                                                           const std::vector<HostSymbol>& hostSymbols) {
+                                                           const std::vector<HostSymbol>& hostSymbols,
+                                                           const std::string& cacheDir) {
   auto state = std::make_shared<JitState>();
   // Model code arrives as object files (Impl::emitObject); what ORC still compiles from IR is
-  // its own small support modules (__dso_handle, the atexit helpers of each JITDylib), with the
-  // quick tiers' TargetMachine.
+  // its own small support modules, with the quick tiers' TargetMachine, once (PlatformObjects).
   struct SupportCompiler : orc::IRCompileLayer::IRCompiler {
-    SupportCompiler(orc::JITTargetMachineBuilder b, Codegen& cg)
-        : IRCompiler(orc::irManglingOptionsFromTargetOptions(b.getOptions())), jtmb(std::move(b)), cg(cg) {}
+    SupportCompiler(orc::JITTargetMachineBuilder b, Codegen& cg, std::shared_ptr<PlatformObjects> kept)
+        : IRCompiler(orc::irManglingOptionsFromTargetOptions(b.getOptions())), jtmb(std::move(b)), cg(cg),
+          kept(std::move(kept)) {}
     llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> operator()(llvm::Module& m) override {
-      return cg.compile(m, jtmb, llvm::CodeGenOptLevel::None);
+      return kept->compile(m, [&](llvm::Module& mod) { return cg.compile(mod, jtmb, llvm::CodeGenOptLevel::None); });
     }
     orc::JITTargetMachineBuilder jtmb;
     Codegen& cg;
+    std::shared_ptr<PlatformObjects> kept;
   };
+  auto kept = std::make_shared<PlatformObjects>(jtmb, cacheDir);
   Codegen& fast = state->codegen[0];
   auto jit = orc::LLJITBuilder()
                  .setJITTargetMachineBuilder(jtmb)
-                 .setCompileFunctionCreator([&fast](orc::JITTargetMachineBuilder b)
+                 .setCompileFunctionCreator([&fast, kept](orc::JITTargetMachineBuilder b)
                                                 -> llvm::Expected<std::unique_ptr<orc::IRCompileLayer::IRCompiler>> {
-                   return std::make_unique<SupportCompiler>(std::move(b), fast);
+                   return std::make_unique<SupportCompiler>(std::move(b), fast, kept);
                  })
                  .create();
   if (!jit)
