@@ -2,6 +2,7 @@
 #include "frontend/CacheFiles.h"
 
 #include <llvm/ADT/StringExtras.h>
+#include <llvm/Support/BLAKE3.h>
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/raw_ostream.h>
@@ -95,7 +96,10 @@ void removeCacheFolder(const std::string& dir) {
   std::filesystem::remove_all(dir, ec);
 }
 
-void hashDirectoryTree(llvm::SHA256& h, const std::string& dir) {
+void hashDirectoryTree(llvm::SHA256& out, const std::string& dir) {
+  // BLAKE3 over the contents (several times SHA-256's speed: this runs on every start), its
+  // digest into `out`.
+  llvm::BLAKE3 h;
   namespace fs = std::filesystem;
   std::vector<fs::path> files;
   std::error_code ec;
@@ -127,6 +131,48 @@ void hashDirectoryTree(llvm::SHA256& h, const std::string& dir) {
                        std::to_string(ec2 ? 0 : t.time_since_epoch().count());
     h.update(meta);
   }
+  out.update(h.final());
+}
+
+std::string fileStamp(llvm::StringRef file, int64_t* changed) {
+  struct stat st {};
+  if (::stat(file.str().c_str(), &st) != 0)
+    return "";
+  int64_t m = int64_t(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
+  int64_t c = int64_t(st.st_ctim.tv_sec) * 1'000'000'000 + st.st_ctim.tv_nsec;
+  if (changed)
+    *changed = std::max(m, c);
+  return std::to_string(st.st_size) + " " + std::to_string(m) + " " + std::to_string(c);
+}
+
+std::optional<std::string> stampLines(const std::vector<std::string>& files, int64_t notAfter) {
+  std::string out;
+  for (const std::string& f : files) {
+    int64_t changed = 0;
+    std::string st = fileStamp(f, &changed);
+    if (st.empty() || changed > notAfter)
+      return std::nullopt;
+    out += "// F " + st + " " + f + "\n";
+  }
+  return out;
+}
+
+bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* rest) {
+  while (text.starts_with("// F ")) {
+    auto [line, after] = text.split('\n');
+    text = after;
+    line.consume_front("// F ");
+    auto [size, line1] = line.split(' ');
+    auto [mtime, line2] = line1.split(' ');
+    auto [ctime, file] = line2.split(' ');
+    if (fileStamp(file) != (size + " " + mtime + " " + ctime).str())
+      return false;
+  }
+  if (!text.consume_front(follows))
+    return false;
+  if (rest)
+    *rest = text;
+  return true;
 }
 
 }  // namespace lcjit::frontend

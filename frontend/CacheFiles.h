@@ -6,8 +6,11 @@
 #include <llvm/Support/Error.h>
 #include <llvm/Support/SHA256.h>
 
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lcjit::frontend {
 
@@ -38,5 +41,19 @@ void removeCacheFolder(const std::string& dir);
 // Adds every regular file under `dir` (names and contents, in name order) to `h`: what a cache
 // entry made from the runtime headers depends on.
 void hashDirectoryTree(llvm::SHA256& h, const std::string& dir);
+
+// Files a cached result was made from, as lines "// F SIZE MTIME CTIME PATH" (times in
+// nanoseconds) before the result: the result holds while every one of them is unchanged (ccache's
+// direct-mode check; the status-change time cannot be set back). Folders may be stamped too (an
+// entry added or removed changes their times). Used by the macro image, the kept preprocessed
+// text and the kept cc1 lines.
+// A file's stamp ("" when it cannot be read); `changed`: its latest modification or status change.
+std::string fileStamp(llvm::StringRef file, int64_t* changed = nullptr);
+// The stamp lines of `files`; nullopt when one cannot be read or changed after `notAfter`.
+std::optional<std::string> stampLines(const std::vector<std::string>& files,
+                                      int64_t notAfter = std::numeric_limits<int64_t>::max());
+// Whether the stamp lines at the start of `text` all still hold and `follows` comes after them (a
+// file of another format or version does not); `rest`: the text after `follows`.
+bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* rest = nullptr);
 
 }  // namespace lcjit::frontend

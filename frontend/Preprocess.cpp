@@ -310,54 +310,6 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
   return run;
 }
 
-// Files a cached result was made from, as lines "// F SIZE MTIME CTIME PATH" (times in
-// nanoseconds) before the result: the result holds while every one of them is unchanged (ccache's
-// direct-mode check; the status-change time cannot be set back). Used by the macro image and the
-// kept preprocessed text.
-std::string fileStamp(llvm::StringRef file, int64_t* changed = nullptr) {
-  struct stat st {};
-  if (::stat(file.str().c_str(), &st) != 0)
-    return "";
-  int64_t m = int64_t(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
-  int64_t c = int64_t(st.st_ctim.tv_sec) * 1'000'000'000 + st.st_ctim.tv_nsec;
-  if (changed)
-    *changed = std::max(m, c);
-  return std::to_string(st.st_size) + " " + std::to_string(m) + " " + std::to_string(c);
-}
-
-// The stamp lines of `files`; nullopt when one cannot be read or changed after `notAfter`.
-std::optional<std::string> stampLines(const std::vector<std::string>& files,
-                                      int64_t notAfter = std::numeric_limits<int64_t>::max()) {
-  std::string out;
-  for (const std::string& f : files) {
-    int64_t changed = 0;
-    std::string st = fileStamp(f, &changed);
-    if (st.empty() || changed > notAfter)
-      return std::nullopt;
-    out += "// F " + st + " " + f + "\n";
-  }
-  return out;
-}
-
-// Whether the stamp lines at the start of `text` all still hold and `follows` comes after them (a
-// file of another format or version does not); `rest`: the text after `follows`.
-bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* rest = nullptr) {
-  while (text.starts_with("// F ")) {
-    auto [line, after] = text.split('\n');
-    text = after;
-    line.consume_front("// F ");
-    auto [size, line1] = line.split(' ');
-    auto [mtime, line2] = line1.split(' ');
-    auto [ctime, file] = line2.split(' ');
-    if (fileStamp(file) != (size + " " + mtime + " " + ctime).str())
-      return false;
-  }
-  if (!text.consume_front(follows))
-    return false;
-  if (rest)
-    *rest = text;
-  return true;
-}
 
 constexpr llvm::StringLiteral kMacroImageFollows =
     "// lcjit: the macros <lpfgall.h> defines (frontend/Preprocess.cpp), made from the files above.\n";

@@ -1,6 +1,7 @@
 // The Clang front end of ClangFrontend.h: each level's invocation from the driver's command line,
 // the two-halved front-end run, and the quick tiers' next front end begun ahead.
 #include "jit/ClangFrontend.h"
+#include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 
 #include <clang/Basic/DiagnosticOptions.h>
@@ -8,9 +9,14 @@
 #include <clang/Basic/Stack.h>
 #include <clang/Frontend/Utils.h>
 #include <clang/Lex/PreprocessorOptions.h>
+#include <llvm/ADT/StringExtras.h>
 #include <llvm/IR/DiagnosticHandler.h>
 #include <llvm/IR/DiagnosticInfo.h>
 #include <llvm/IR/DiagnosticPrinter.h>
+#include <llvm/Support/FileSystem.h>
+#include <llvm/Support/MemoryBuffer.h>
+#include <llvm/Support/Path.h>
+#include <llvm/Support/SHA256.h>
 #include <llvm/Support/raw_ostream.h>
 
 #include <algorithm>
@@ -122,8 +128,38 @@ Frontend::Result Frontend::finish(llvm::StringRef source) {
   return r;
 }
 
+// A level's cc1 line kept in the cache folder (keptCc1Path): the folders the driver chose from
+// stamped (stampLines), then this marker, then the arguments, each ending in a NUL.
+constexpr llvm::StringLiteral kCc1Follows = "// lcjit-cc1 1\n";
+
+// Where the cc1 line of the driver arguments `args` is kept. The name hashes everything else the
+// driver reads: lcjit's build (the driver is in it), the host CPU (-march=native), the working
+// folder and the variables that add include folders.
+std::string Compiler::Impl::keptCc1Path(const std::vector<std::string>& args) const {
+  llvm::SHA256 h;
+  static constexpr const char* kBuild = __DATE__ " " __TIME__;
+  const std::string features = jtmb.getFeatures().getString();
+  for (llvm::StringRef part : {llvm::StringRef(kBuild), llvm::StringRef(jtmb.getCPU()), llvm::StringRef(features)}) {
+    h.update(part);
+    h.update(llvm::StringRef("\0", 1));
+  }
+  llvm::SmallString<256> cwd;
+  llvm::sys::fs::current_path(cwd);
+  h.update(cwd);
+  for (const auto& a : args) {
+    h.update(llvm::StringRef("\0", 1));
+    h.update(a);
+  }
+  for (const char* var : {"CPATH", "C_INCLUDE_PATH", "CPLUS_INCLUDE_PATH", "CCC_OVERRIDE_OPTIONS", "COMPILER_PATH"}) {
+    const char* value = std::getenv(var);
+    h.update(llvm::StringRef("\0", 1));
+    h.update(value ? value : "");
+  }
+  return cacheDir + "/levels/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 32);
+}
+
 llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
-  if (L.base)
+  if (!L.cc1Args.empty())
     return llvm::Error::success();
   std::vector<std::string> args = {kClangPath,
                                    // gnu++14 unless the model asks (CompilerConfig).
@@ -153,25 +189,88 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
     args.push_back(d);
   }
   args.insert(args.end(), {"-c", kPlaceholderInput, "-o", "lcjit-output.o"});
+
+  // The driver's cc1 line from an earlier run: the driver was a tenth of a run whose model came
+  // from the object cache, which needs the line for the cache's keys and no invocation at all.
+  const std::string kept = keptCc1Path(args);
+  if (auto file = llvm::MemoryBuffer::getFile(kept, /*IsText=*/false, /*RequiresNullTerminator=*/false)) {
+    llvm::StringRef rest;
+    if (frontend::stampsHold((*file)->getBuffer(), kCc1Follows, &rest) && rest.starts_with("-cc1") &&
+        rest.ends_with(llvm::StringRef("\0", 1))) {
+      llvm::SmallVector<llvm::StringRef, 64> parts;
+      rest.drop_back().split(parts, '\0', /*MaxSplit=*/-1, /*KeepEmpty=*/true);
+      for (llvm::StringRef arg : parts)
+        L.cc1Args.push_back(arg.str());
+      return llvm::Error::success();
+    }
+  }
+
   std::vector<const char*> argv;
   for (const auto& a : args)
     argv.push_back(a.c_str());
-
   frontend::DiagCollector dc;
   clang::CreateInvocationOptions opts;
   opts.Diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
   opts.CC1Args = &L.cc1Args;
   std::unique_ptr<clang::CompilerInvocation> inv = clang::createInvocation(argv, std::move(opts));
-  if (!inv)
+  if (!inv) {
+    L.cc1Args.clear();
     return llvm::createStringError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
-  inv->getFrontendOpts().DisableFree = false; // createInvocation leaves it on: ~6 MB leak per compile
-  inv->getCodeGenOpts().DisableFree = false;  // and this one: clang's back end buried a TargetMachine (~28 KB) per compile
-  inv->getLangOpts().PCHInstantiateTemplates = true;
-  // IR passes run in runIRPipeline so that their time is measured and level 1 can differ.
-  inv->getCodeGenOpts().DisableLLVMPasses = true;
-  // Otherwise ExecuteAction prints "N errors generated." to stderr.
-  inv->getDiagnosticOpts().ShowCarets = false;
+  }
+  adjustInvocation(*inv);
   L.base = std::shared_ptr<clang::CompilerInvocation>(std::move(inv));
+
+  // The folders the driver searched: the include folders it chose and their parents up to the
+  // GCC installation's (installing or removing a GCC changes one of them).
+  std::vector<std::string> searched;
+  for (size_t i = 0; i + 1 < L.cc1Args.size(); ++i) {
+    llvm::StringRef opt = L.cc1Args[i];
+    if (opt != "-internal-isystem" && opt != "-internal-externc-isystem")
+      continue;
+    llvm::SmallString<256> dir(L.cc1Args[i + 1]);
+    llvm::sys::path::remove_dots(dir, /*remove_dot_dot=*/true);
+    for (int up = 0; up < 3 && !dir.empty() && dir != "/"; ++up, llvm::sys::path::remove_filename(dir))
+      if (llvm::sys::fs::is_directory(dir) &&
+          std::find(searched.begin(), searched.end(), dir.str()) == searched.end())
+        searched.push_back(dir.str().str());
+  }
+  if (auto stamps = frontend::stampLines(searched)) {
+    std::string text = *stamps + kCc1Follows.str();
+    for (const auto& a : L.cc1Args)
+      text += a + '\0';
+    std::error_code ec = llvm::sys::fs::create_directories(cacheDir + "/levels");
+    if (!ec)
+      frontend::writeCacheFile(kept, text);
+  }
+  return llvm::Error::success();
+}
+
+void Compiler::Impl::adjustInvocation(clang::CompilerInvocation& inv) {
+  inv.getFrontendOpts().DisableFree = false; // createInvocation leaves it on: ~6 MB leak per compile
+  inv.getCodeGenOpts().DisableFree = false;  // and this one: clang's back end buried a TargetMachine (~28 KB) per compile
+  inv.getLangOpts().PCHInstantiateTemplates = true;
+  // IR passes run in runIRPipeline so that their time is measured and level 1 can differ.
+  inv.getCodeGenOpts().DisableLLVMPasses = true;
+  // Otherwise ExecuteAction prints "N errors generated." to stderr.
+  inv.getDiagnosticOpts().ShowCarets = false;
+}
+
+llvm::Error Compiler::Impl::ensureBase(LevelSetup& L, int level) {
+  if (auto err = setupLevel(L, level))
+    return err;
+  if (L.base)
+    return llvm::Error::success();
+  // From the kept cc1 line, as createInvocation makes it from the driver's.
+  std::vector<const char*> argv;
+  for (const auto& a : L.cc1Args)
+    argv.push_back(a.c_str());
+  frontend::DiagCollector dc;
+  auto diags = clang::CompilerInstance::createDiagnostics(new clang::DiagnosticOptions, &dc, false);
+  auto inv = std::make_shared<clang::CompilerInvocation>();
+  if (!clang::CompilerInvocation::CreateFromArgs(*inv, argv, *diags, kClangPath))
+    return llvm::createStringError("lcjit: cannot set up the clang invocation:\n" + trimTrailingNewlines(dc.text));
+  adjustInvocation(*inv);
+  L.base = std::move(inv);
   return llvm::Error::success();
 }
 

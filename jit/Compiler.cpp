@@ -232,7 +232,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
   }
 }
 
-// Under the level's lock: the level's invocation (set up on first use), its PCH made sure of and,
+// Under the level's lock: the level's cc1 line (set up on first use), its PCH made sure of and,
 // at level 0, the PCH's support code started; then the object cache's key from what the object
 // is to be made with.
 llvm::Error Compiler::Impl::setUp(Job& job) {
@@ -240,13 +240,16 @@ llvm::Error Compiler::Impl::setUp(Job& job) {
   std::lock_guard<std::mutex> lock(L.mutex);
   if (auto err = setupLevel(L, job.level))
     return err;
-  job.used.base = L.base;
   if (!job.options.plainUnit) {
     ensurePch(L, job.level, false, job.stats);
     job.used.pchPath = L.pchPath;
     job.used.pchFallback = L.pchFallback;
-    if (pchCodegen(job.level) && !job.used.pchFallback)
+    if (pchCodegen(job.level) && !job.used.pchFallback) {
+      if (auto err = ensureBase(L, job.level))
+        return err;
+      job.used.base = L.base;
       startSupport(job.used, job.used.pchPath);
+    }
   }
   llvm::StringRef unitKind = job.options.plainUnit ? "plain" : job.used.pchFallback ? "text" : "pch";
   job.key = objectKey(job.used.pchPath, unitKind, job.bufferName, job.source, job.shared, job.level);
@@ -284,11 +287,15 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
     }
     auto t0 = Clock::now();
     // Snapshot the PCH decision; another thread may rebuild concurrently.
-    if (!options.plainUnit) {
+    {
       std::lock_guard<std::mutex> lock(L.mutex);
+      if (auto err = ensureBase(L, job.level))
+        return std::move(err);
       job.used.base = L.base;
-      job.used.pchPath = L.pchPath;
-      job.used.pchFallback = L.pchFallback;
+      if (!options.plainUnit) {
+        job.used.pchPath = L.pchPath;
+        job.used.pchFallback = L.pchFallback;
+      }
     }
     std::unique_ptr<Frontend> fe;
     if (quickTier && attempt == 0)

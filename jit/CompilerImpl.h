@@ -90,8 +90,13 @@ struct Compiler::Impl {
   // entries. Failures only cost a later compile.
   void storeObject(const std::string& key, const CachedObject& object);
 
-  // The level's invocation, set up once (ClangFrontend.cpp).
+  // The level's cc1 line (L.cc1Args), made once: kept in the cache folder from an earlier run, or
+  // from Clang's driver, which also makes L.base (ClangFrontend.cpp). Enough for the keys.
   llvm::Error setupLevel(LevelSetup& L, int level);
+  std::string keptCc1Path(const std::vector<std::string>& driverArgs) const;
+  // setupLevel, and the level's invocation (L.base) too: what parsing and PCH builds need.
+  llvm::Error ensureBase(LevelSetup& L, int level);
+  static void adjustInvocation(clang::CompilerInvocation& inv);
 
   // The PCH of each level (Pch.cpp).
   std::string pchKey(const LevelSetup& L, int level);

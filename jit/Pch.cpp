@@ -98,6 +98,10 @@ bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& final
     diagnostics = "cannot create cache directory '" + cacheDir + "': " + ec.message();
     return false;
   }
+  if (llvm::Error err = ensureBase(L, level)) {
+    diagnostics = llvm::toString(std::move(err));
+    return false;
+  }
   auto inv = std::make_shared<clang::CompilerInvocation>(*L.base);
   auto& fo = inv->getFrontendOpts();
   fo.Inputs.clear();

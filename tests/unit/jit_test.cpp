@@ -538,6 +538,73 @@ TEST(JitCacheTest, PlatformObjectsAreKeptAndPatchedPerVersion) {
   EXPECT_EQ(platformFiles(), kept);  // read, not compiled and written again
 }
 
+// A level's cc1 line is kept in the cache folder, so that a run whose code comes from the cache
+// does not run Clang's driver. It must give the keys the driver's line gives (an object compiled
+// after the driver ran is found through the kept line), and a kept line that is damaged, or whose
+// searched folders changed, is made again by the driver.
+TEST(JitCacheTest, KeptCc1LineGivesTheDriversKeys) {
+  const std::string dir = g_cacheRoot + "/cc1";
+  std::filesystem::remove_all(dir);
+  const std::string src = "extern \"C\" int seven() { return 7; }\n";
+  auto compileIn = [&](CompileStats& st) {
+    auto c = makeCompiler(dir);
+    if (!c)
+      return false;
+    CompileOptions o;
+    o.optLevel = 1;
+    auto code = c->compile(src, o, &st);
+    if (!code) {
+      ADD_FAILURE() << llvm::toString(code.takeError());
+      return false;
+    }
+    auto fn = lookupFn<int (*)()>(**code, "seven");
+    return fn && fn() == 7;
+  };
+  auto keptLines = [&] {
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir + "/levels"))
+      files.push_back(e.path().string());
+    return files;
+  };
+  auto read = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  auto write = [](const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; };
+
+  CompileStats first;
+  ASSERT_TRUE(compileIn(first));  // the driver ran, its line was kept
+  EXPECT_EQ(first.object, CompileStats::ObjectFrom::Compiled);
+  auto files = keptLines();
+  ASSERT_EQ(files.size(), 1u);
+  const std::string kept = read(files[0]);
+  EXPECT_TRUE(llvm::StringRef(kept).starts_with("// F "));  // the folders the driver searched
+  EXPECT_NE(kept.find(std::string("-cc1\0-triple\0", 13)), std::string::npos);
+
+  CompileStats second;  // a new process, with the kept line: the same keys
+  ASSERT_TRUE(compileIn(second));
+  EXPECT_EQ(second.object, CompileStats::ObjectFrom::Disk);
+  EXPECT_EQ(second.objectKey, first.objectKey);
+  EXPECT_TRUE(second.pchCached);
+
+  write(files[0], "// lcjit-cc1 1\ngarbage");  // damaged: the driver again, the line rewritten
+  CompileStats third;
+  ASSERT_TRUE(compileIn(third));
+  EXPECT_EQ(third.objectKey, first.objectKey);
+  EXPECT_EQ(read(files[0]), kept);
+
+  // A searched folder that changed (its stamp no longer holds): made again.
+  std::string stale = kept;
+  size_t space = stale.find(' ', 5);  // "// F SIZE MTIME...": the size of the first folder
+  ASSERT_NE(space, std::string::npos);
+  stale.insert(space, "0");
+  write(files[0], stale);
+  CompileStats fourth;
+  ASSERT_TRUE(compileIn(fourth));
+  EXPECT_EQ(fourth.objectKey, first.objectKey);
+  EXPECT_EQ(read(files[0]), kept);
+}
+
 // Each function in its own section: JITLink (LLVM 19) splits a shared .text at every function's
 // unwind entry, quadratic in the functions (finding 018: 20,000 productions took 5.3 GB).
 TEST(JitCacheTest, EachFunctionHasItsOwnSection) {
@@ -836,9 +903,10 @@ TEST(JitCacheTest, ConcurrentPchBuildsIntoSameCacheDir) {
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
     if (e.path().extension() == ".pch")
       ++pchFiles;
-    else if (!(e.path().filename() == "objects" || e.path().extension() == ".o" ||
-               e.path().extension() == ".obj"))  // the object cache
-      ++leftovers;
+    else if (e.path().filename().string().find(".tmp-") != std::string::npos ||
+             !(e.path().filename() == "objects" || e.path().extension() == ".o" || e.path().extension() == ".obj" ||
+               e.path().filename() == "levels" || e.path().parent_path().filename() == "levels"))
+      ++leftovers;  // besides the object cache and the kept cc1 lines
   }
   EXPECT_EQ(pchFiles, 1);
   EXPECT_EQ(leftovers, 0); // no temp files left behind
