@@ -80,6 +80,32 @@ public:
               LLVM_VERSION_STRING;
   }
 
+  // The target's data layout, which LLJIT would make a TargetMachine to learn (0.15 ms of a run
+  // whose code comes from the cache): kept beside the objects, by the same key.
+  std::optional<llvm::DataLayout> dataLayout(const orc::JITTargetMachineBuilder& b) {
+    llvm::SHA256 h;
+    h.update("lcjit-data-layout 1\n" + target_);
+    const std::string path = cacheDir_.empty() ? "" : cacheDir_ + "/objects/platform-" +
+                                                          llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl";
+    if (auto kept = llvm::MemoryBuffer::getFile(path, /*IsText=*/true); !path.empty() && kept) {
+      auto dl = llvm::DataLayout::parse((*kept)->getBuffer());
+      if (dl)
+        return *dl;
+      llvm::consumeError(dl.takeError());  // damaged: made again
+    }
+    auto dl = orc::JITTargetMachineBuilder(b).getDefaultDataLayoutForTarget();
+    if (!dl) {
+      llvm::consumeError(dl.takeError());
+      return std::nullopt;  // LLJIT finds out why
+    }
+    if (!path.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(cacheDir_ + "/objects", ec);
+      frontend::writeCacheFile(path, dl->getStringRepresentation());
+    }
+    return *dl;
+  }
+
   llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> compile(llvm::Module& m,
                                                                const std::function<llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>>(llvm::Module&)>& codegen) {
     // The JITDylib's address, replaced by the marker while the module is hashed and compiled.
@@ -208,6 +234,7 @@ llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetM
   Codegen& fast = state->codegen[0];
   auto jit = orc::LLJITBuilder()
                  .setJITTargetMachineBuilder(jtmb)
+                 .setDataLayout(kept->dataLayout(jtmb))
                  .setCompileFunctionCreator([&fast, kept](orc::JITTargetMachineBuilder b)
                                                 -> llvm::Expected<std::unique_ptr<orc::IRCompileLayer::IRCompiler>> {
                    return std::make_unique<SupportCompiler>(std::move(b), fast, kept);

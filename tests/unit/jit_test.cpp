@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/Object/ObjectFile.h>
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
@@ -469,7 +470,8 @@ TEST_F(JitTest, IdenticalSourceComesFromTheObjectCache) {
 // ORC's generic platform compiles small support modules of its own (the atexit wrappers and each
 // version's __dso_handle, which holds its JITDylib's address). Their object code is kept in the
 // cache folder and reused by the next process, with each version's own value written in; and
-// destroying one version still runs its own static destructors and no other's.
+// destroying one version still runs its own static destructors and no other's. The target's data
+// layout is kept there too.
 TEST(JitCacheTest, PlatformObjectsAreKeptAndPatchedPerVersion) {
   const std::string dir = g_cacheRoot + "/platform";
   std::filesystem::remove_all(dir);
@@ -523,7 +525,15 @@ TEST(JitCacheTest, PlatformObjectsAreKeptAndPatchedPerVersion) {
     v2.reset();
     EXPECT_EQ(g_notes, (std::vector<int>{1, 2, -1, -2}));
     kept = platformFiles();
-    EXPECT_EQ(kept.size(), 2u);  // the process-wide wrappers and the per-version module
+    EXPECT_EQ(kept.size(), 3u);  // the process-wide wrappers, the per-version module, the data layout
+    std::string layout;
+    for (const auto& [name, inode] : kept)
+      if (llvm::StringRef(name).ends_with(".dl"))
+        layout = llvm::cantFail(llvm::errorOrToExpected(llvm::MemoryBuffer::getFile(dir + "/objects/" + name)))
+                     ->getBuffer()
+                     .str();
+    auto host = llvm::cantFail(llvm::orc::JITTargetMachineBuilder::detectHost());
+    EXPECT_EQ(layout, llvm::cantFail(host.getDefaultDataLayoutForTarget()).getStringRepresentation());
   }
   g_notes.clear();
   auto second = makeCompiler(dir);
