@@ -23,6 +23,7 @@
 #include "app/FileMonitor.h"
 #include "app/Frame.h"
 #include "app/PlainErrors.h"
+#include "app/ProgramPages.h"
 #include "runtime/WindowInput.h"
 #include "jit/Elapsed.h"
 #include "runtime/files/TextLines.h"
@@ -131,7 +132,8 @@ void takeBetterTier(Background<BetterTier>& tier, Session& session, const BatchO
                  session.optLevel(), session.engine().stepsDone(), cached ? "loaded from the cache" : "compiled", ms);
 }
 
-// `betweenSteps`: called after each step with the derivation's time so far (ms).
+// `betweenSteps`: called after each step with the derivation's time so far (ms). Without it,
+// the program's pages are released once the string is large (ProgramPages.h); with it, it does.
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
             FrameWriter& frames, const std::atomic<bool>* stopped = nullptr,
             const std::function<void(double)>& betweenSteps = {}) {
@@ -169,8 +171,12 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     };
   auto t0 = Clock::now();
   engine.begin(hooks);
-  while (engine.step())
-    if (betweenSteps) betweenSteps(jit::msSince(t0));
+  while (engine.step()) {
+    if (betweenSteps)
+      betweenSteps(jit::msSince(t0));
+    else
+      releaseProgramPagesOnceAt(engine.string().size());
+  }
   engine.finish();
   if (auto e = engine.takeFault()) {
     if (stopped && *stopped) {
@@ -230,6 +236,8 @@ int runBatch(Session& session, const ModelFiles& files, const BatchOptions& opti
       tier.start(session.betterTierJob(options.betterTier));
     }
     if (started) takeBetterTier(tier, session, options);
+    // Not while a better tier compiles: the compiler's pages would fault straight back.
+    if (!tier.running()) releaseProgramPagesOnceAt(session.engine().string().size());
   };
   int status = runOnce(session, files, options, times, frames, nullptr, betweenSteps);
   if (tier.running() && options.verbose)

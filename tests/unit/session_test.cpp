@@ -16,6 +16,7 @@
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
 #include "app/PlainErrors.h"
+#include "app/ProgramPages.h"
 #include "app/Session.h"
 #include "runtime/WindowInput.h"
 
@@ -650,4 +651,33 @@ TEST(SessionTablet, TheTabletFollowsTheMouse) {
   runtime::Mouse::instance().update(pointer);
   ASSERT_FALSE(bool(m.session->engine().run()));
   EXPECT_EQ(m.session->engine().text(m.session->engine().string()), "T(1,120,1)\n");
+}
+
+// The program's read-only pages released from the process (ProgramPages.h): its resident file
+// pages go down, and its code, the compiler's included, still runs (from the page cache).
+long rssFileKiB() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("RssFile:", 0) == 0)
+      return std::stol(line.substr(8));
+  return -1;
+}
+
+TEST(ProgramPages, ReleasedAndTheCodeStillRuns) {
+  ScratchModel before("pages", "#include <lpfgall.h>\nderivation length: 3;\nmodule A(int);\n"
+                               "axiom: A(0);\nproduction:\nA(n) : { produce A(n+1) A(n+2); }\n");
+  ASSERT_TRUE(before.session);
+  const long resident = rssFileKiB();
+  ASSERT_GT(resident, 0);
+  const size_t released = app::releaseProgramPages();
+  EXPECT_GT(released, size_t(1) << 20);  // the test program's code and constants
+  EXPECT_LT(rssFileKiB(), resident);
+  // A new session compiles (front end, code generation, JIT link) and derives after it.
+  ScratchModel after("pages2", "#include <lpfgall.h>\nderivation length: 3;\nmodule A(int);\n"
+                               "axiom: A(0);\nproduction:\nA(n) : { produce A(n+1) A(n+2); }\n");
+  ASSERT_TRUE(after.session);
+  runtime::Engine& e = after.session->engine();
+  ASSERT_FALSE(bool(e.run()));
+  EXPECT_EQ(e.moduleCount(), 8u);  // A(0) doubles each of 3 steps
+  EXPECT_EQ(e.text(e.string()).rfind("A(3)\nA(4)\nA(4)\nA(5)\n", 0), 0u) << e.text(e.string());
 }
