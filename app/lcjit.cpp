@@ -443,8 +443,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return lcjit::app::answerWindow(**session, *files, std::move(loaded), wo);
   }
   if (auto e = std::move(loaded)) {
-    std::string text = llvm::toString(std::move(e));
-    std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(lcjit::app::withSourceLines(text)).c_str() : text.c_str());
+    // As g++ prints them for lpfg, and as --watch prints a failed reload: the line and a caret.
+    std::string text = lcjit::app::withSourceLines(llvm::toString(std::move(e)));
+    std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(text).c_str() : text.c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
