@@ -320,10 +320,42 @@ class Rewriter {
     return t;
   }
   const Token& expect(const char* s, const char* what) {
-    if (!atText(s)) throw RewriteError{cur(), std::string("expected '") + s + "' " + what};
+    if (!atText(s)) throw RewriteError{std::string_view(s) == ";" ? justAfterPrevious() : cur(),
+                                       std::string("expected '") + s + "' " + what};
     return next();
   }
   [[noreturn]] void fail(const Token& t, std::string msg) { throw RewriteError{t, std::move(msg)}; }
+  // Where a missing ';' is reported: just after the statement's last token, where clang and g++
+  // point too, not where the reading stopped (often the next line, or a section later).
+  Token justAfterPrevious() const {
+    Token at = pos_ > 0 ? lx_.tokens[pos_ - 1] : cur();
+    at.col += (int)at.text.size();
+    return at;
+  }
+  // A statement that ran into the next one (atNextStatement).
+  [[noreturn]] void failMissingSemicolon(const std::string& after) {
+    fail(justAfterPrevious(), "expected ';' after the " + after);
+  }
+  // Whether the current token begins the next statement rather than continuing this one: a C++
+  // statement keyword or `produce`; or, first on its line, a label (`production:`, `Start:`,
+  // `axiom:`) or a word only an L+C statement begins with. Module lists and L+C's expressions
+  // hold none of them.
+  bool atNextStatement() const {
+    const Token& t = cur();
+    if (t.kind != Token::Identifier || pos_ == 0) return false;
+    static const std::set<std::string> statements = {"else",  "if",       "for",  "while",   "do",
+                                                     "switch", "return",  "break", "continue", "goto",
+                                                     "case",  "default",  "produce", "nproduce"};
+    if (statements.count(t.text)) return true;
+    // After a token that can end a statement (not `?` in `c ?\n a : b`), and first on its line.
+    const Token& before = lx_.tokens[pos_ - 1];
+    bool canEnd = before.kind == Token::Identifier || before.kind == Token::Number || before.kind == Token::String ||
+                  before.kind == Token::Char || before.is(")") || before.is("]");
+    if (!canEnd || before.line == t.line) return false;
+    static const std::set<std::string> starts = {"module",   "derivation", "maximum", "group", "endgroup",
+                                                 "vgroup",   "ggroup",     "ring",    "consider", "ignore"};
+    return peek().is(":") || starts.count(t.text) > 0;
+  }
 
   const ModuleEntry* findModule(const std::string& name) const {
     auto it = modules_.find(name);
@@ -381,7 +413,7 @@ class Rewriter {
       haveAxiom_ = true;
       // Runs once: optimising it gains nothing and cost seconds on a 32,000-module axiom (finding 006).
       out_.glueAt(t, "__attribute__((optnone, noinline)) static void __lc_axiom(__lc_Ctx* __lc_ctx) {");
-      successorList(";", /*isProduce=*/false);
+      successorList(";", "axiom");
       expect(";", "after the axiom");
       out_.glue("}");
       return true;
@@ -633,6 +665,7 @@ class Rewriter {
     int depth = 0;
     while (!(depth == 0 && atText(";"))) {
       if (at(Token::End)) fail(cur(), std::string("expected ';' after the ") + what + " expression");
+      if (depth == 0 && atNextStatement()) failMissingSemicolon(std::string(what) + " expression");
       const Token& t = next();
       if (t.is("(") || t.is("{") || t.is("[")) ++depth;
       if (t.is(")") || t.is("}") || t.is("]")) --depth;
@@ -803,7 +836,7 @@ class Rewriter {
       if (final && where == Where::Control) fail(t, "'produce' can only be used in a production or rule body");
       next();
       out_.glueAt(t, where == Where::Rule ? "{" : "{ __lc_Ctx* __lc_ctx = lcjit_current_ctx();");
-      successorList(";", false);
+      successorList(";", "successor");
       const Token& semi = expect(";", "after the successor");
       out_.glueAt(semi, final ? "__lc_ctx->produced = 1; return; }" : "}");
       return true;
@@ -822,7 +855,7 @@ class Rewriter {
       }
       const Token& p = next();
       out_.glueAt(p, "));");
-      successorList(";", false);
+      successorList(";", "successor");
       const Token& semi = expect(";", "after the successor");
       out_.glueAt(semi, "__lc_ctx->produced = 1; }");
       return true;
@@ -860,14 +893,16 @@ class Rewriter {
     out_.glueAt(close, "return true; }())");
   }
 
-  // A module list in an axiom or successor, up to (not including) `terminator` at depth 0.
-  void successorList(const char* terminator, bool /*unused*/) {
+  // A module list in an axiom or successor (`statement`: which), up to (not including)
+  // `terminator` at depth 0.
+  void successorList(const char* terminator, const char* statement) {
     while (!atText(terminator)) {
       const Token& t = cur();
       if (t.kind == Token::End) fail(t, std::string("expected '") + terminator + "' after the module list");
+      if (terminator[0] == ';' && (t.is("}") || atNextStatement())) failMissingSemicolon(statement);
       if (t.is("(")) {  // produce( A B ); groups are transparent
         next();
-        successorList(")", false);
+        successorList(")", statement);
         next();
         continue;
       }

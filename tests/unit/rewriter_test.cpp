@@ -578,7 +578,8 @@ TEST(RewriterErrors, ModuleDeclarations) {
             "m.l:1:12: error: module id 5 is taken: ids below 103 are the predefined modules'");
   EXPECT_EQ(err("module A = 200;\nmodule B = 150;\nderivation length: 1;\naxiom: A;\n"),
             "m.l:2:12: error: module id 150 is taken: ids up to 200 are given already");
-  EXPECT_EQ(err("module A\nderivation length: 1;\naxiom: A;\n"), "m.l:2:1: error: expected ';' after the module declaration");
+  // A missing ';' is reported just after the statement's last token (as clang and g++ do).
+  EXPECT_EQ(err("module A\nderivation length: 1;\naxiom: A;\n"), "m.l:1:9: error: expected ';' after the module declaration");
 }
 
 TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
@@ -592,6 +593,27 @@ TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
   EXPECT_EQ(err("module A;\naxiom: A;\nderivation length: 1\n"), "m.l:3:21: error: expected ';' after the derivation length expression");
 }
 
+// A statement without its ';' that runs into the next one is reported where the ';' is missing,
+// not at the next statement (which read as more of the first: `derivation length: 2 module
+// A(int)`, `axiom: A(0) production:`), nor at the body's '}' (issue 17's trial: the window's
+// hint was about a module).
+TEST(RewriterErrors, MissingSemicolonBeforeTheNextStatement) {
+  EXPECT_EQ(err("derivation length: 2\nmodule A(int);\naxiom: A(0);\n"),
+            "m.l:1:21: error: expected ';' after the derivation length expression");
+  EXPECT_EQ(err("module A(int);\nderivation length: 2;\naxiom: A(0)\nproduction:\nA(n): { produce A(n); }\n"),
+            "m.l:3:12: error: expected ';' after the axiom");
+  EXPECT_EQ(err("module A(int);\nderivation length: 2;\naxiom: A(0)\nmodule B;\n"),
+            "m.l:3:12: error: expected ';' after the axiom");
+  EXPECT_EQ(err("module A(int);\nderivation length: 2;\naxiom: A(0);\nproduction:\nA(n): {\n  produce A(n + 1)\n}\n"),
+            "m.l:6:19: error: expected ';' after the successor");
+  EXPECT_EQ(err("module A(int);\nderivation length: 2;\naxiom: A(0);\nproduction:\nA(n): {\n  if (n) produce A(n)\n  else produce A(1);\n}\n"),
+            "m.l:6:22: error: expected ';' after the successor");
+  // A conditional over lines is one expression.
+  EXPECT_TRUE(bool(rewrite(model("module A;\nbool quick = true;\nint a = 2, b = 3;\nderivation length: quick ?\n  a : b;\naxiom: A;\n"), "m.l")));
+  // A module list may go on over lines.
+  EXPECT_TRUE(bool(rewrite(model("module A(int);\nmodule B;\nderivation length: 2;\naxiom: A(0)\n  B A(1)\n  B;\n"), "m.l")));
+}
+
 TEST(RewriterErrors, Bodies) {
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): {\n  if (x > 0) {\n    produce A(x);\n}\n"), "m.l:4:7: error: unterminated '{'");
   EXPECT_EQ(err(std::string(kMinimal) + "Start: {\n"), "m.l:4:8: error: unterminated '{'");
@@ -600,7 +622,7 @@ TEST(RewriterErrors, Bodies) {
             "m.l:5:6: error: expected ':' after the predecessor of a decomposition rule");
   EXPECT_EQ(err(std::string(kMinimal) + "interpretation:\nA(x): F(x);\n"),
             "m.l:5:7: error: expected '{' or 'produce' to start the body of an interpretation rule");
-  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) }\n"), "m.l:4:22: error: expected a module name in the module list, found '}'");
+  EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) }\n"), "m.l:4:21: error: expected ';' after the successor");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x ; }\n"), "m.l:4:21: error: expected ')' to close the parameters of module 'A'");
   EXPECT_EQ(err(std::string(kMinimal) + "A(x): { produce A(x) + 1; }\n"),
             "m.l:4:22: error: expected a module name in the module list, found '+'");
