@@ -671,6 +671,11 @@ bool Session::installTier(BetterTier tier) {
 // function run once). That unit shares every global with the running code, so statements change
 // the model's state. A declaration's unit becomes the running code: new productions take part in
 // the next step and new globals live there.
+// What declarations typed at the REPL follow, whatever section or group the model's file ended
+// in: a rule typed there is a production of the main group (lpfg's default), unless the input
+// names its section or group itself (`interpretation:`, `group 2:`).
+static const std::string kReplSection = "\nendgroup\nendvgroup\nproduction:\n";
+
 llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   if (!engine_) return llvm::createStringError("error: no model is loaded");
   std::string text = input;
@@ -679,16 +684,20 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   if (start == std::string::npos) return std::string();
   enum class Form { Expression, Statements, Declarations };
   char last = text.back();
-  std::vector<Form> tries = last == ';' || last == '}' ? std::vector{Form::Declarations, Form::Statements}
-                                                       : std::vector{Form::Expression, Form::Statements};
+  const bool ended = last == ';' || last == '}';
+  // Without its ';', a declaration (`int count = 0`) is one still, as at cling's prompt: tried
+  // before the statements, which would take it as a local variable, dropped when they return.
+  std::vector<Form> tries = ended ? std::vector{Form::Declarations, Form::Statements}
+                                  : std::vector{Form::Expression, Form::Declarations, Form::Statements};
   std::vector<std::string> errors;
   for (Form form : tries) {
     int n = ++replInputs_;
     std::string entry = "__lc_repl_input_" + std::to_string(n);
-    std::string typed = "#line 1 \"<repl>\"\n" + text + "\n";
+    std::string declared = ended ? text : text + ";";
+    std::string typed = "#line 1 \"<repl>\"\n" + (form == Form::Declarations ? declared : text) + "\n";
     std::string wrapped;
     switch (form) {
-      case Form::Declarations: wrapped = typed; break;
+      case Form::Declarations: wrapped = kReplSection + typed; break;
       case Form::Statements: wrapped = "extern \"C\" void " + entry + "() {\n" + typed + ";}\n"; break;
       case Form::Expression:
         // The closing on the input's line: "expected expression" then points just after it.
@@ -697,7 +706,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
         break;
     }
     std::string source = "#include \"" + lsystem_ + "\"\n";
-    for (const std::string& d : replDeclarations_) source += "#line 1 \"<repl>\"\n" + d + "\n";
+    for (const std::string& d : replDeclarations_) source += kReplSection + "#line 1 \"<repl>\"\n" + d + "\n";
     source += wrapped;
 
     frontend::PreprocessOptions pp = preprocess_;
@@ -733,7 +742,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
       model_ = model;
       code_ = unit;
       stateOwners_.push_back(unit);
-      replDeclarations_.push_back(text);
+      replDeclarations_.push_back(declared);
       runningCpp_ = cpp->cpp;  // a better tier now compiles the model with them
       bufferName_ = co.bufferName;
       ++generation_;
@@ -753,7 +762,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   const std::string& shown = tries[0] == Form::Declarations && errors.size() == 2 &&
                                      errors[1].find("not allowed here") == std::string::npos
                                  ? errors[1]
-                                 : errors[0];
+                                 : errors[0];  // unended input: the expression's
   return llvm::createStringError(shown);
 }
 

@@ -378,7 +378,10 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   std::ofstream(dir / "r.l") << "#include <lpfgall.h>\n#include <vector>\n#define START 3\nderivation length: 2;\n"
                                 "module A(int);\nmodule B(float);\naxiom: A(START) B(0.5);\n"
                                 "float total = 0;\nstatic std::vector<int> seen;\n"
-                                "A(n) : { total += n; seen.push_back(n); produce A(n + 1); }\n";
+                                "A(n) : { total += n; seen.push_back(n); produce A(n + 1); }\n"
+                                // The file ends in another section: rules typed at the prompt
+                                // are productions all the same (issue 17's trial).
+                                "interpretation:\nA(n) : { produce F(1); }\n";
   auto session = Session::create();
   ASSERT_TRUE(bool(session));
   Session& s = **session;
@@ -399,6 +402,10 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   EXPECT_EQ(eval("total"), "100");
   EXPECT_EQ(eval("float twice(float v) { return 2 * v; }"), "");  // a declaration stays
   EXPECT_EQ(eval("twice(total) + 1"), "201");
+  // Without its ';' a declaration is one still: a global the next input sees (issue 17's trial:
+  // it became a local variable of a statement, dropped at once).
+  EXPECT_EQ(eval("int count = 5"), "");
+  EXPECT_EQ(eval("count + 1"), "6");
   EXPECT_EQ(eval("V3f(1, 2, 3)"), "(1, 2, 3)");
   EXPECT_EQ(eval("Printf(\"hello\\n\")"), "");         // void: run, nothing printed here
 
