@@ -134,15 +134,34 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
 
 }  // namespace
 
+std::string installedDataDir() {
+  static const std::string dir = [] {
+    std::error_code ec;
+    std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return std::string();
+    std::filesystem::path share = exe.parent_path().parent_path() / "share" / "lcjit";
+    return std::filesystem::is_regular_file(share / "include" / "lpfgall.h", ec) ? share.string() : std::string();
+  }();
+  return dir;
+}
+
 std::string runtimeIncludeDir() {
   if (const char* e = std::getenv("LCJIT_RUNTIME_INCLUDE")) return e;
+  if (std::string installed = installedDataDir(); !installed.empty()) return installed + "/include";
   return LCJIT_RUNTIME_INCLUDE_DIR;
 }
 
 std::string prebuiltDir() {
-  // Made by the build (app/CMakeLists.txt); LCJIT_PREBUILT_DIR="" goes without (tests of the cache).
+  // Made by the build (app/CMakeLists.txt) or the install; LCJIT_PREBUILT_DIR="" goes without
+  // (tests of the cache).
   if (const char* e = std::getenv("LCJIT_PREBUILT_DIR")) return e;
+  if (std::string installed = installedDataDir(); !installed.empty()) return installed + "/prebuilt";
   return LCJIT_PREBUILT_DIR;
+}
+
+std::string examplesDir() {
+  if (std::string installed = installedDataDir(); !installed.empty()) return installed + "/examples";
+  return LCJIT_EXAMPLES_DIR;
 }
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths) {

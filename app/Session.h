@@ -260,11 +260,16 @@ class Session {
   runtime::EngineLimits limits_;
 };
 
-// Where the model API header (lpfgall.h) lives: next to the binary's source tree at build time,
-// overridable with LCJIT_RUNTIME_INCLUDE.
+// An installed lcjit's data folder, PREFIX/share/lcjit beside PREFIX/bin/lcjit (`cmake --install`,
+// app/CMakeLists.txt), when it holds the runtime headers; "" for a program in its build tree.
+std::string installedDataDir();
+// Where the model API header (lpfgall.h) lives: the installed data folder's include/, else the
+// source tree the program was built from; overridable with LCJIT_RUNTIME_INCLUDE.
 std::string runtimeIncludeDir();
-// The folder of what the build precompiled (jit::CompilerConfig::prebuiltDir), overridable with
-// LCJIT_PREBUILT_DIR ("": none).
+// The folder of what the build or the install precompiled (jit::CompilerConfig::prebuiltDir),
+// overridable with LCJIT_PREBUILT_DIR ("": none).
 std::string prebuiltDir();
+// The example models (the built-in example of the quick start among them).
+std::string examplesDir();
 
 }  // namespace lcjit::app

@@ -30,6 +30,7 @@
 #include "viewer/Window.h"
 #endif
 #include "app/Session.h"
+#include <llvm/Config/llvm-config.h>
 
 namespace {
 
@@ -115,6 +116,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_flag("--dtfes", bo.dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
   app.add_flag("-q", bo.quiet, "quiet: no messages");
   app.add_flag("-v", bo.verbose, "verbose: phase timings and sizes on stderr");
+  app.set_version_flag("--version", std::string("lcjit " LCJIT_VERSION " (LLVM and Clang " LLVM_VERSION_STRING ")"));
   app.add_option("--rmode", rmode, "(-rmode) refresh mode: expl, cont, trig")->check(CLI::IsMember({"expl", "cont", "trig"}));
   app.add_option("-w", winSize, "window size")->expected(2)->allow_extra_args(false);
   app.add_option("--wp", winPos, "(-wp) window position")->expected(2)->allow_extra_args(false);
@@ -213,12 +215,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   const bool haveDisplay = LCJIT_HAVE_WINDOW && (std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"));
   const char* shownAs = LCJIT_HAVE_RENDERING ? ".png" : ".str";
   if (inputs.empty()) {
-    for (const char* f : {"tree.l", "tree.v", "tree.mat"}) inputs.push_back(std::string(LCJIT_EXAMPLES_DIR) + "/" + f);
+    for (const char* f : {"tree.l", "tree.v", "tree.mat"}) inputs.push_back(lcjit::app::examplesDir() + "/" + f);
     if (bo.out.empty()) bo.out = std::string("tree") + shownAs;
     batch = true;
     if (!bo.quiet)
-      std::fprintf(stderr, "lcjit: no model given; %s the built-in example %s\n",
-                   LCJIT_HAVE_RENDERING ? "rendering" : "deriving", inputs[0].c_str());
+      std::fprintf(stderr, "lcjit: no model given; %s the built-in example %s into %s\n",
+                   LCJIT_HAVE_RENDERING ? "rendering" : "deriving", inputs[0].c_str(),
+                   std::filesystem::absolute(bo.out).c_str());
   }
 
   for (auto& dir : includeDirs) dir = std::filesystem::absolute(dir).lexically_normal().string();
