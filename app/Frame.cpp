@@ -1,6 +1,8 @@
 // Pictures of the model (see Frame.h).
 #include "app/Frame.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -101,7 +103,10 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
     in.textureFiles = drawing.textureFiles;
     in.width = width_;
     in.height = height_;
+    std::string note;
+    in.note = &note;
     if (auto e = runtime::exportGeometry(path, in)) return e;
+    if (!note.empty()) std::fprintf(stderr, "lcjit: warning: %s\n", note.c_str());
   }
   if (times) times->renderMs = jit::msSince(t0);
   return llvm::Error::success();

@@ -7,7 +7,7 @@
 //                  s/t when textured), triangle faces, segments as `edge` elements.
 //   .stl           binary (ASCII with `ascii`): triangles only — STL holds nothing else, so
 //                  segments and labels are left out; colours as VisCAM/SolidView 15-bit RGB.
-//   .gltf / .glb   glTF 2.0 (tinygltf; .gltf writes NAME.bin beside it): one TRIANGLES primitive
+//   .gltf / .glb   glTF 2.0 (tinygltf; .gltf writes NAME.gltf.bin beside it): one TRIANGLES primitive
 //                  per material (colour index, texture), segments as LINES primitives.
 //   .svg           the 2D picture the renderer shows: projected with frameView/projectToWindow,
 //                  painter-sorted back to front (coplanar things in drawing order), flat colours
@@ -53,6 +53,10 @@ struct ExportInput {
   int viewId = 0;
   ViewAdjustment adjust;
   std::optional<CameraMatrices> camera;
+
+  // When given: what the file leaves out of a picture that has it, for the user (an STL of a
+  // model drawn only with lines holds no triangle: said, not written silently). "" otherwise.
+  std::string* note = nullptr;
 
   bool ascii = false;     // PLY/STL: ASCII instead of binary
   bool shade = false;     // SVG/PS: Lambert-shade triangles with the view's lights (lpfg: flat)

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <unordered_map>
 
@@ -229,6 +230,10 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
   model.defaultScene = 0;
   model.buffers[0].name = "geometry";
   if (b.buf.empty()) model.buffers.clear();
+  // .gltf: the buffer beside it as NAME.gltf.bin, not tinygltf's NAME.bin, which is also the
+  // binary string lpfg and lcjit write for `-out NAME.bin`: saving both must keep both.
+  if (!binary && !model.buffers.empty())
+    model.buffers[0].uri = std::filesystem::path(cx.path).filename().string() + ".bin";
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageWriter(nullptr, nullptr);  // images stay references to the texture files

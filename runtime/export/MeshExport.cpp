@@ -202,6 +202,10 @@ llvm::Error writeStl(const Context& cx) {
   FileWriter w;
   if (auto e = w.open(cx.path, !ascii)) return e;
   const size_t count = g.triangleCount();
+  if (count == 0 && !g.segments.empty() && cx.in.note)
+    *cx.in.note = fmt::format("{} holds no triangles: STL keeps only surfaces, and the model draws {} line "
+                              "segments and no surface (.obj, .ply and .gltf keep lines)",
+                              cx.path, g.segments.size());
   if (ascii) {
     w.text("solid lcjit\n");
   } else {

@@ -465,6 +465,25 @@ TEST_F(ExportTest, StlBinary) {
   EXPECT_EQ(perColor[word(6)], kDiscSides);
 }
 
+// A model drawn only with lines has nothing STL can hold: the file has no triangle, and the
+// exporter says so instead of leaving it silently empty (issue 17's trial); a mesh says nothing.
+TEST_F(ExportTest, StlOfLinesOnlySaysSo) {
+  std::string note;
+  in.note = &note;
+  exportTo("tree.stl");
+  EXPECT_EQ(note, "");
+  Geometry lines;
+  lines.segments.push_back({V3f(0, 0, 0), V3f(0, 1, 0)});
+  lines.segments.push_back({V3f(0, 1, 0), V3f(1, 1, 0)});
+  in.geometry = &lines;
+  fs::path p = exportTo("lines.stl");
+  std::string data = readAll(p);
+  ASSERT_EQ(data.size(), 84u);  // the header and a count of 0
+  EXPECT_EQ(data.substr(80, 4), std::string(4, '\0'));
+  EXPECT_EQ(note, p.string() + " holds no triangles: STL keeps only surfaces, and the model draws 2 line segments "
+                               "and no surface (.obj, .ply and .gltf keep lines)");
+}
+
 TEST_F(ExportTest, StlAscii) {
   in.ascii = true;
   std::string text = readAll(exportTo("tree.stl"));
@@ -550,8 +569,10 @@ TEST_F(ExportTest, Glb) {
 
 TEST_F(ExportTest, Gltf) {
   fs::path p = exportTo("tree.gltf");
-  EXPECT_TRUE(fs::exists(dir / "tree.bin"));
-  EXPECT_NE(readAll(p).find("\"tree.bin\""), std::string::npos);
+  // The buffer is NAME.gltf.bin: NAME.bin is the binary string `-out NAME.bin` writes.
+  EXPECT_TRUE(fs::exists(dir / "tree.gltf.bin"));
+  EXPECT_FALSE(fs::exists(dir / "tree.bin"));
+  EXPECT_NE(readAll(p).find("\"tree.gltf.bin\""), std::string::npos);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(noImages, nullptr);
   tinygltf::Model model;
