@@ -497,7 +497,9 @@ TEST_F(ExportTest, StlAscii) {
 
 // ---------------------------------------------------------------------------------------------
 
-void checkGltf(const tinygltf::Model& model, const Geometry& g, const Palette& palette, const Bounds& want) {
+// `embedded`: the texture's bytes (a .glb carries them); "": the image refers to the file.
+void checkGltf(const tinygltf::Model& model, const Geometry& g, const Palette& palette, const Bounds& want,
+               const std::string& embedded = "") {
   ASSERT_EQ(model.meshes.size(), 1u);
   ASSERT_EQ(model.nodes.size(), 1u);
   const tinygltf::Mesh& mesh = model.meshes[0];
@@ -537,9 +539,19 @@ void checkGltf(const tinygltf::Model& model, const Geometry& g, const Palette& p
   EXPECT_EQ(trianglesPerMaterial["s002_t0"], 1);
   EXPECT_EQ(trianglesPerMaterial["s006"], kDiscSides);
   EXPECT_EQ(lineIndices, 2 * g.segments.size());
-  // The textured material refers to the texture file.
+  // The textured material refers to the texture file, or carries it.
   ASSERT_EQ(model.images.size(), 1u);
-  EXPECT_EQ(model.images[0].uri, "leaf.png");
+  if (embedded.empty()) {
+    EXPECT_EQ(model.images[0].uri, "leaf.png");
+  } else {
+    EXPECT_EQ(model.images[0].uri, "");
+    EXPECT_EQ(model.images[0].mimeType, "image/png");
+    ASSERT_GE(model.images[0].bufferView, 0);
+    const tinygltf::BufferView& v = model.bufferViews[model.images[0].bufferView];
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(model.buffers[v.buffer].data.data()) + v.byteOffset,
+                          v.byteLength),
+              embedded);
+  }
   for (const tinygltf::Material& m : model.materials)
     EXPECT_EQ(m.pbrMetallicRoughness.baseColorTexture.index >= 0, m.name == "s002_t0") << m.name;
   // Unit normals everywhere (the zero ones were replaced).
@@ -564,7 +576,8 @@ TEST_F(ExportTest, Glb) {
   tinygltf::Model model;
   std::string err, warn;
   ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, p.string())) << err;
-  checkGltf(model, geometry, palette, meshBounds());
+  // A .glb is one file: it carries its texture (issue 17's trial: it referred into the checkout).
+  checkGltf(model, geometry, palette, meshBounds(), readAll(dir / "leaf.png"));
 }
 
 TEST_F(ExportTest, Gltf) {
