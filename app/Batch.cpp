@@ -132,6 +132,30 @@ void takeBetterTier(Background<BetterTier>& tier, Session& session, const BatchO
                  session.optLevel(), session.engine().stepsDone(), cached ? "loaded from the cache" : "compiled", ms);
 }
 
+// The progress line of a long derivation on a terminal (runOnce).
+// LCJIT_PROGRESS_AFTER_MS: when the line first appears (default 500; 0 from the first step).
+struct TerminalProgress {
+  explicit TerminalProgress(bool on) : enabled(on) {
+    if (const char* e = std::getenv("LCJIT_PROGRESS_AFTER_MS")) afterMs = std::atof(e);
+  }
+  ~TerminalProgress() { clear(); }
+  template <class Text>
+  void update(double ms, Text text) {
+    if (ms < afterMs || ms - lastMs < 500) return;
+    lastMs = ms;
+    std::fprintf(stderr, "\rlcjit: %s\033[K", text().c_str());
+    showing = true;
+  }
+  void clear() {
+    if (showing) std::fprintf(stderr, "\r\033[K");
+    showing = false;
+  }
+  const bool enabled;
+  double afterMs = 500;
+  double lastMs = -1e9;
+  bool showing = false;
+};
+
 // `betweenSteps`: called after each step with the derivation's time so far (ms). Without it,
 // the program's pages are released once the string is large (ProgramPages.h); with it, it does.
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
@@ -170,6 +194,22 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       if (step) step(n);
     };
   auto t0 = Clock::now();
+  // On a terminal, a derivation that has run half a second shows how far it is, one line
+  // rewritten at most twice a second (the module count can walk the string: not more often),
+  // cleared when it ends. Short runs and logs see nothing.
+  TerminalProgress shown(!options.quiet && ::isatty(STDERR_FILENO));
+  if (shown.enabled)  // the model's output starts on a line of its own
+    hooks.print = [&](const char* text) {
+      shown.clear();
+      std::fputs(text, stdout);
+    };
+  if (shown.enabled)
+    hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
+      if (step) step(n);
+      shown.update(jit::msSince(t0), [&] {
+        return fmtMs("step %d of %d: %zu modules", n, engine.derivationLength(), engine.moduleCount());
+      });
+    };
   engine.begin(hooks);
   while (engine.step()) {
     if (betweenSteps)
@@ -188,6 +228,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     return 1;
   }
   times.deriveMs = jit::msSince(t0);
+  shown.clear();
   if (options.progress) options.progress(-1);
   if (!options.out.empty())
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
