@@ -86,9 +86,13 @@ class Repl {
         report(load(ReloadParts::all(), 0, "loaded"));
       }
     }
-    if (options_.lab) {  // the model on screen, and every save of its files reloads it
+    if (options_.lab) {  // the model on screen, derived to its end as lpfg opens it, and every
+                         // save of its files reloads it (to the step it is at)
       report(cmdWatch({"on"}));
-      if (session_->loaded()) report(cmdView({}));
+      if (session_->loaded()) {
+        report(cmdRun({}));
+        report(cmdView({}));
+      }
     }
     while (!quit_) {
       std::fflush(stdout);  // all of it shows before the wait: a script may wait for it
