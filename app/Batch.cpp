@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,8 @@
 #include <optional>
 #include <thread>
 #include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "app/Background.h"
 #include "runtime/turtle/Drawing.h"
@@ -244,14 +247,18 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   if (options.verbose)
     std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
                  engine.moduleCount());
-  if (options.stats)
-    std::fprintf(stderr,
-                 "{\"preprocess_ms\": %.3f, \"rewrite_ms\": %.3f, \"compile_ms\": %.3f, \"frontend_ms\": %.3f, "
-                 "\"optimize_ms\": %.3f, \"codegen_ms\": %.3f, \"load_ms\": %.3f, \"derive_ms\": %.3f, "
-                 "\"interpret_ms\": %.3f, \"render_ms\": %.3f, \"steps\": %d, \"modules\": %zu, \"pch_cached\": %s}\n",
-                 times.preprocessMs, times.rewriteMs, times.compileMs, times.frontendMs, times.optimizeMs,
-                 times.codegenMs, times.loadMs, times.deriveMs, times.interpretMs, times.renderMs, engine.stepsDone(),
-                 engine.moduleCount(), times.pchCached ? "true" : "false");
+  if (options.stats) {  // one line of JSON; milliseconds to the microsecond
+    auto ms = [](double v) { return std::round(v * 1000) / 1000; };
+    nlohmann::ordered_json stats = {
+        {"preprocess_ms", ms(times.preprocessMs)}, {"rewrite_ms", ms(times.rewriteMs)},
+        {"compile_ms", ms(times.compileMs)},       {"frontend_ms", ms(times.frontendMs)},
+        {"optimize_ms", ms(times.optimizeMs)},     {"codegen_ms", ms(times.codegenMs)},
+        {"load_ms", ms(times.loadMs)},             {"derive_ms", ms(times.deriveMs)},
+        {"interpret_ms", ms(times.interpretMs)},   {"render_ms", ms(times.renderMs)},
+        {"steps", engine.stepsDone()},             {"modules", engine.moduleCount()},
+        {"pch_cached", times.pchCached}};
+    std::fprintf(stderr, "%s\n", stats.dump().c_str());
+  }
   return interpretFailed ? 1 : 0;
 }
 

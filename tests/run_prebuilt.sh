@@ -23,13 +23,13 @@ run() {  # run CACHE LEVEL [ENV...]: derive the model; the string must be right
 # Every level, from an empty cache folder: the prebuilt PCHs, none built.
 for level in 0 1 2; do
   run "$work/fresh$level" $level
-  grep -q '"pch_cached": true' err.txt || fail "-O$level built a PCH"
+  grep -q '"pch_cached":true' err.txt || fail "-O$level built a PCH"
   ! ls "$work/fresh$level"/*.pch >/dev/null 2>&1 || fail "-O$level wrote a PCH into the cache folder"
 done
 
 # Without the prebuilt folder: the cache folder gets its own.
 run "$work/own" 1 LCJIT_PREBUILT_DIR=
-grep -q '"pch_cached": false' err.txt || fail "no PCH was built without the prebuilt folder"
+grep -q '"pch_cached":false' err.txt || fail "no PCH was built without the prebuilt folder"
 ls "$work/own"/*-O1-*.pch >/dev/null 2>&1 || fail "the PCH built is not in the cache folder"
 
 # A prebuilt folder others may write to is not trusted: its code would run.
