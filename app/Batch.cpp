@@ -15,6 +15,7 @@
 #include <fstream>
 #include <future>
 #include <optional>
+#include <regex>
 #include <thread>
 #include <utility>
 
@@ -68,6 +69,20 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
   f.close();
   if (!f) return runtime::textfile::fail(out, 0, "write failed (is the disk full?)");
   return llvm::Error::success();
+}
+
+// `-out frame%04d.png` (Context Free's style): the file name holds one printf integer
+// conversion (%d, %4d, %04d), and the run writes the axiom and every step to numbered files.
+std::optional<std::string> numberedOutput(const std::string& pattern, int step) {
+  static const std::regex conversion("%0?[0-9]{0,2}d");
+  const std::string name = std::filesystem::path(pattern).filename().string();
+  std::smatch m;
+  if (!std::regex_search(name, m, conversion) || name.find('%', m.position(0) + m.length(0)) != std::string::npos ||
+      name.find('%') != size_t(m.position(0)))
+    return std::nullopt;
+  char number[32];
+  std::snprintf(number, sizeof number, m.str(0).c_str(), step);
+  return (std::filesystem::path(pattern).parent_path() / (m.prefix().str() + number + m.suffix().str())).string();
 }
 
 // -dtf/-dtfes: lpfg's turtle text of the current string, streamed to `path`; the time it took is
@@ -213,7 +228,24 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
         return fmtMs("step %d of %d: %zu modules", n, engine.derivationLength(), engine.moduleCount());
       });
     };
+  // -out frame%04d.png: the axiom (step 0) and every step to a numbered file of the kind.
+  const bool numbered = !options.out.empty() && numberedOutput(options.out, 0).has_value();
+  bool frameFailed = false;
+  auto writeNumbered = [&](int step) {
+    if (frameFailed) return;
+    if (auto e = writeOutput(*numberedOutput(options.out, step), engine, session.drawing(), frames, times)) {
+      report(std::move(e));
+      frameFailed = true;
+      engine.stop();
+    }
+  };
+  if (numbered)
+    hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
+      writeNumbered(n);
+      if (step) step(n);
+    };
   engine.begin(hooks);
+  if (numbered) writeNumbered(0);
   while (engine.step()) {
     if (betweenSteps)
       betweenSteps(jit::msSince(t0));
@@ -233,7 +265,8 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   times.deriveMs = jit::msSince(t0);
   shown.clear();
   if (options.progress) options.progress(-1);
-  if (!options.out.empty())
+  if (frameFailed) return 1;
+  if (!options.out.empty() && !numbered)
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
       report(std::move(e));
       return 1;
