@@ -639,7 +639,7 @@ std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCa
   return [compiler = compiler_.get(), owners = stateOwners_, sources = sourceCode_, cpp = runningCpp_, name = bufferName_,
           generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_),
           mark = objectKey_.empty() ? std::string()
-                                    : compiler_->cacheDir() + "/objects/" + objectKey_ + ".better-O" + std::to_string(optLevel)]()
+                                    : compiler_->objectsDir() + "/" + objectKey_ + ".better-O" + std::to_string(optLevel)]()
              -> BetterTier {
     if (onlyFromCache && (mark.empty() || !std::filesystem::exists(mark))) return {};
     auto t0 = std::chrono::steady_clock::now();
@@ -684,16 +684,17 @@ bool Session::installTier(BetterTier tier) {
   return true;
 }
 
+// What declarations typed at the REPL follow, whatever section or group the model's file ended
+// in: a rule typed there is a production of the main group (lpfg's default), unless the input
+// names its section or group itself (`interpretation:`, `group 2:`).
+static const std::string kReplSection = "\nendgroup\nendvgroup\nproduction:\n";
+
 // C++ at the REPL. The input is compiled as the last part of the model: the .l file (included,
 // so its macros, modules and functions are there), the declarations typed so far, then the input
 // as a declaration (file scope), as statements, or as an expression whose value is printed (in a
 // function run once). That unit shares every global with the running code, so statements change
 // the model's state. A declaration's unit becomes the running code: new productions take part in
 // the next step and new globals live there.
-// What declarations typed at the REPL follow, whatever section or group the model's file ended
-// in: a rule typed there is a production of the main group (lpfg's default), unless the input
-// names its section or group itself (`interpretation:`, `group 2:`).
-static const std::string kReplSection = "\nendgroup\nendvgroup\nproduction:\n";
 
 llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   if (!engine_) return llvm::createStringError("error: no model is loaded");

@@ -93,6 +93,7 @@ private:
 Compiler::Compiler(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Compiler::~Compiler() = default;
 const std::string& Compiler::cacheDir() const { return impl_->cacheDir; }
+std::string Compiler::objectsDir() const { return impl_->objectsDir(); }
 const std::string& Compiler::cacheWarning() const { return impl_->cacheWarning; }
 
 llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config) {
@@ -137,7 +138,7 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   jtmb->getOptions().FunctionSections = true;
   impl->jtmb = *jtmb;
 
-  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->cacheDir);
+  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->objectsDir());
   if (!state)
     return state.takeError();
   impl->state = std::move(*state);

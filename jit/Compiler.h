@@ -148,6 +148,9 @@ public:
 
   // The resolved cache directory.
   const std::string& cacheDir() const;
+  // Its folder of object code (the object cache's), where a caller may leave marks beside an
+  // object (CompileStats::objectKey names it).
+  std::string objectsDir() const;
   // Why the configured (or default) cache folder is not used, when it is not: it is not the
   // user's alone (frontend::useAsCacheFolder). Empty when it is used.
   const std::string& cacheWarning() const;

@@ -83,7 +83,10 @@ struct Compiler::Impl {
   std::shared_ptr<const CachedObject> findObject(const std::string& key, bool& fromDisk, std::string& problem);
   // Forgets the entry in memory and on disk (it would not load).
   void dropObject(const std::string& key);
-  std::string objectPath(const std::string& key) const { return cacheDir + "/objects/" + key + ".o"; }
+  // The object cache's folder: compiled objects by key (objectPath), ORC's own support objects
+  // (OrcState.cpp) and the marks the program leaves beside an object.
+  std::string objectsDir() const { return cacheDir + "/objects"; }
+  std::string objectPath(const std::string& key) const { return objectsDir() + "/" + key + ".o"; }
   void keepObject(const std::string& key, std::shared_ptr<const CachedObject> object);
   // Writes the object to the disk cache (temporary file + rename, as for the PCH) and, every so
   // many stores (listing the folder is not free), keeps the cache to its newest kObjectsOnDisk

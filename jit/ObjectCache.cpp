@@ -119,7 +119,7 @@ void Compiler::Impl::dropObject(const std::string& key) {
 void Compiler::Impl::storeObject(const std::string& key, const CachedObject& object) {
   static std::atomic<unsigned> stores{0};
   namespace fs = std::filesystem;
-  const std::string dir = cacheDir + "/objects";
+  const std::string dir = objectsDir();
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!frontend::writeCheckedCacheFile(objectPath(key), serialize(object)))

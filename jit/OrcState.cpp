@@ -75,7 +75,7 @@ namespace {
 // (the JITDylib's address), is compiled as a marker and written into a copy of the object.
 class PlatformObjects {
 public:
-  PlatformObjects(const orc::JITTargetMachineBuilder& b, std::string cacheDir) : cacheDir_(std::move(cacheDir)) {
+  PlatformObjects(const orc::JITTargetMachineBuilder& b, std::string objectsDir) : dir_(std::move(objectsDir)) {
     target_ = b.getTargetTriple().str() + " " + b.getCPU() + " " + b.getFeatures().getString() + " " +
               LLVM_VERSION_STRING;
   }
@@ -85,10 +85,13 @@ public:
   std::optional<llvm::DataLayout> dataLayout(const orc::JITTargetMachineBuilder& b) {
     llvm::SHA256 h;
     h.update("lcjit-data-layout 1\n" + target_);
-    const std::string path = cacheDir_.empty() ? "" : cacheDir_ + "/objects/platform-" +
-                                                          llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl";
-    if (auto kept = llvm::MemoryBuffer::getFile(path, /*IsText=*/true); !path.empty() && kept) {
-      auto dl = llvm::DataLayout::parse((*kept)->getBuffer());
+    const std::string file = path(llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl");
+    std::unique_ptr<llvm::MemoryBuffer> kept;
+    if (!file.empty())
+      if (auto read = llvm::MemoryBuffer::getFile(file, /*IsText=*/true))
+        kept = std::move(*read);
+    if (kept) {
+      auto dl = llvm::DataLayout::parse(kept->getBuffer());
       if (dl)
         return *dl;
       llvm::consumeError(dl.takeError());  // damaged: made again
@@ -98,11 +101,7 @@ public:
       llvm::consumeError(dl.takeError());
       return std::nullopt;  // LLJIT finds out why
     }
-    if (!path.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(cacheDir_ + "/objects", ec);
-      frontend::writeCacheFile(path, dl->getStringRepresentation());
-    }
+    write(file, dl->getStringRepresentation(), /*checked=*/false);  // checked by parsing it
     return *dl;
   }
 
@@ -142,7 +141,18 @@ public:
 private:
   static constexpr uint64_t kMarker = 0x6c636a69745f6473;  // "lcjit_ds": not zero, so not in .bss
 
-  std::string path(const std::string& key) const { return cacheDir_ + "/objects/platform-" + key + ".obj"; }
+  // A file of ours in the objects folder ("" without one).
+  std::string path(const std::string& name) const { return dir_.empty() ? "" : dir_ + "/platform-" + name; }
+  void write(const std::string& file, llvm::StringRef bytes, bool checked) {
+    if (file.empty())
+      return;
+    std::error_code ec;
+    std::filesystem::create_directories(dir_, ec);
+    if (checked)
+      frontend::writeCheckedCacheFile(file, bytes);
+    else
+      frontend::writeCacheFile(file, bytes);
+  }
 
   std::string find(const std::string& key) {
     {
@@ -150,9 +160,9 @@ private:
       if (auto it = memory_.find(key); it != memory_.end())
         return it->second;
     }
-    if (cacheDir_.empty())
+    if (dir_.empty())
       return {};
-    frontend::CheckedRead read = frontend::readCheckedCacheFile(path(key));
+    frontend::CheckedRead read = frontend::readCheckedCacheFile(path(key + ".obj"));
     if (!read.bytes)
       return {};
     std::lock_guard<std::mutex> lock(mutex_);
@@ -164,11 +174,7 @@ private:
       std::lock_guard<std::mutex> lock(mutex_);
       memory_[key] = object;
     }
-    if (cacheDir_.empty())
-      return;
-    std::error_code ec;
-    std::filesystem::create_directories(cacheDir_ + "/objects", ec);
-    frontend::writeCheckedCacheFile(path(key), object);
+    write(path(key + ".obj"), object, /*checked=*/true);
   }
 
   // Writes `value` over the marker that __dso_handle holds in the relocatable object `object`.
@@ -205,7 +211,7 @@ private:
     return false;
   }
 
-  std::string cacheDir_;
+  std::string dir_;
   std::string target_;
   std::mutex mutex_;
   std::map<std::string, std::string> memory_;
@@ -215,7 +221,7 @@ private:
 
 llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetMachineBuilder& jtmb,
                                                            const std::vector<HostSymbol>& hostSymbols,
-                                                           const std::string& cacheDir) {
+                                                           const std::string& objectsDir) {
   auto state = std::make_shared<JitState>();
   // Model code arrives as object files (Impl::emitObject); what ORC still compiles from IR is
   // its own small support modules, with the quick tiers' TargetMachine, once (PlatformObjects).
@@ -230,7 +236,7 @@ llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetM
     Codegen& cg;
     std::shared_ptr<PlatformObjects> kept;
   };
-  auto kept = std::make_shared<PlatformObjects>(jtmb, cacheDir);
+  auto kept = std::make_shared<PlatformObjects>(jtmb, objectsDir);
   Codegen& fast = state->codegen[0];
   auto jit = orc::LLJITBuilder()
                  .setJITTargetMachineBuilder(jtmb)

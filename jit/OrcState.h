@@ -61,11 +61,11 @@ struct Codegen {
 // last ModelCode released its JITDylib (the reverse order is a use-after-free).
 struct JitState {
   // The LLJIT for `jtmb`'s target, with the host symbols defined in a JITDylib of their own.
-  // `cacheDir`: where the object code of ORC's own support modules is kept between runs ("":
+  // `objectsDir`: where the object code of ORC's own support modules is kept between runs ("":
   // in memory only).
   static llvm::Expected<std::shared_ptr<JitState>> create(const orc::JITTargetMachineBuilder& jtmb,
                                                           const std::vector<HostSymbol>& hostSymbols,
-                                                          const std::string& cacheDir);
+                                                          const std::string& objectsDir);
 
   std::unique_ptr<orc::LLJIT> jit;
   orc::JITDylib* hostJD = nullptr;
