@@ -81,19 +81,25 @@ const CameraMatrices& Context::camera() const {
   return *camera_;
 }
 
-std::string Context::texturePath(int t) const {
+std::string Context::textureFile(int t) const {
   if (t < 0 || t >= (int)in.textureFiles.size() || in.textureFiles[t].empty()) return {};
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::path file(in.textureFiles[t]);
   if (file.is_relative() && !in.textureDirectory.empty()) file = fs::path(in.textureDirectory) / file;
   fs::path absFile = fs::absolute(file, ec);
-  if (ec) return file.generic_string();
+  return (ec ? file : absFile.lexically_normal()).generic_string();
+}
+
+std::string Context::texturePath(int t) const {
+  namespace fs = std::filesystem;
+  const fs::path absFile = textureFile(t);
+  if (absFile.empty() || absFile.is_relative()) return absFile.generic_string();
+  std::error_code ec;
   fs::path outDir = fs::absolute(fs::path(path), ec).parent_path();
-  if (ec) return absFile.lexically_normal().generic_string();
-  fs::path rel = absFile.lexically_normal().lexically_relative(outDir.lexically_normal());
-  if (rel.empty()) return absFile.lexically_normal().generic_string();
-  return rel.generic_string();
+  if (ec) return absFile.generic_string();
+  fs::path rel = absFile.lexically_relative(outDir.lexically_normal());
+  return (rel.empty() ? absFile : rel).generic_string();
 }
 
 int clampColor(int index) { return index < 0 ? 0 : index > 255 ? 255 : index; }

@@ -70,8 +70,10 @@ struct Context {
     return colors[index < 0 ? 0 : index > 255 ? 255 : index];
   }
   const CameraMatrices& camera() const;  // in.camera, else frameView (computed once)
-  // Texture `t`'s file as the output should name it (relative to the output's directory when
-  // possible); "" when `t` names no file.
+  // Texture `t`'s file on disk (absolute when it can be made so); "" when `t` names no file.
+  std::string textureFile(int t) const;
+  // The same file as the output should name it (relative to the output's directory when
+  // possible).
   std::string texturePath(int t) const;
 
  private:

@@ -17,9 +17,8 @@ namespace {
 
 // The glTF image type of a texture file by its extension: PNG and JPEG are glTF's; "" others.
 std::string gltfImageType(const std::string& file) {
-  std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
-  return ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
+  const std::string ext = lowerExtension(file);
+  return ext == "png" ? "image/png" : ext == "jpg" || ext == "jpeg" ? "image/jpeg" : "";
 }
 
 struct Builder {
@@ -110,16 +109,15 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
           // A .glb carries its textures (PNG and JPEG, the images glTF holds): the one file is
           // what users take to Blender or a web viewer. A .gltf, or another image format,
           // refers to the file, relative to the output's folder.
-          std::string mime = gltfImageType(file);
-          auto bytes = binary && !mime.empty()
-                           ? textfile::readFile((std::filesystem::absolute(cx.path).parent_path() / file).string(), /*text=*/false)
-                           : llvm::createStringError("refers to the file");
-          if (bytes) {
-            image.bufferView = b.view((*bytes)->getBufferStart(), (*bytes)->getBufferSize(), 0);
-            image.mimeType = mime;
-          } else {
-            llvm::consumeError(bytes.takeError());  // the image stays a reference
-            image.uri = file;
+          image.uri = file;
+          if (std::string mime = gltfImageType(file); binary && !mime.empty()) {
+            if (auto bytes = textfile::readFile(cx.textureFile(key.texture), /*text=*/false)) {
+              image.bufferView = b.view((*bytes)->getBufferStart(), (*bytes)->getBufferSize(), 0);
+              image.mimeType = mime;
+              image.uri.clear();
+            } else {
+              llvm::consumeError(bytes.takeError());  // unreadable: it stays a reference
+            }
           }
           model.images.push_back(image);
           if (model.samplers.empty()) {
