@@ -216,18 +216,18 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   // rewritten at most twice a second (the module count can walk the string: not more often),
   // cleared when it ends. Short runs and logs see nothing.
   TerminalProgress shown(!options.quiet && ::isatty(STDERR_FILENO));
-  if (shown.enabled)  // the model's output starts on a line of its own
-    hooks.print = [&](const char* text) {
+  if (shown.enabled) {
+    hooks.print = [&](const char* text) {  // the model's output starts on a line of its own
       shown.clear();
       std::fputs(text, stdout);
     };
-  if (shown.enabled)
     hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
       if (step) step(n);
       shown.update(jit::msSince(t0), [&] {
         return fmtMs("step %d of %d: %zu modules", n, engine.derivationLength(), engine.moduleCount());
       });
     };
+  }
   // -out frame%04d.png: the axiom (step 0) and every step to a numbered file of the kind.
   const bool numbered = !options.out.empty() && numberedOutput(options.out, 0).has_value();
   bool frameFailed = false;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The progress line of a long derivation on a terminal (issue 17): on a terminal (a pty from
-# script(1)) lcjit writes "lcjit: step K of N: M modules", rewritten in place, and clears it when
-# the derivation ends; LCJIT_PROGRESS_AFTER_MS=0 shows it from the first step (by default a run
+# script(1)) lcjit writes "lcjit: step K of N: M modules", rewritten in place, clears it before
+# the model's own output and when the derivation ends; LCJIT_PROGRESS_AFTER_MS=0 shows it from the first step (by default a run
 # must have gone on for half a second). Not on a pipe or a file, not with -q.
 # Usage: run_progress.sh LCJIT MODEL.l (tests/models/progress.l: step K leaves 2^K modules)
 set -u
@@ -20,8 +20,13 @@ lines=$(tr '\r' '\n' < tty.txt | grep -o 'lcjit: step [0-9]* of 8: [0-9]* module
 while read -r _ _ k _ _ m _; do
   [ "$m" = $((1 << ${k})) ] || fail "step $k shows $m modules, not $((1 << k))"
 done <<< "$lines"
-# The line is cleared once the derivation is over: the last thing written.
-[ "$(tail -c 4 tty.txt | od -An -c | tr -d ' ')" = '\r033[K' ] || fail "the progress line is not cleared at the end"
+# The model's own output starts on a line of its own: the progress line is cleared before it.
+grep -q $'modules\e\[K\r\e\[Kdone' tty.txt || fail "the model's output does not clear the progress line first"
+# Without output of the model's, the line is cleared when the derivation ends: the last thing written.
+sed '/EndEach/d' "$model" > silent.l
+LCJIT_PROGRESS_AFTER_MS=0 script -qfec "'$lcjit' -b -out silent.str silent.l" /dev/null > silent.txt || fail "lcjit failed"
+grep -q 'lcjit: step 1 of 8' silent.txt || fail "no progress line for the silent model"
+[ "$(tail -c 4 silent.txt | od -An -c | tr -d ' ')" = '\r033[K' ] || fail "the progress line is not cleared at the end"
 
 LCJIT_PROGRESS_AFTER_MS=0 "$lcjit" -b -out file.str "$model" 2> err.txt || fail "lcjit failed"
 grep -q 'step' err.txt && fail "a progress line on a file: $(cat -A err.txt)"
