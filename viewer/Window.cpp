@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include <epoxy/gl.h>
 // GLFW after epoxy: no GL header of its own.
@@ -156,6 +157,9 @@ struct Window::Impl {
   std::array<char, 1024> saveName{};
   std::map<std::string, std::array<float, 4>> itemRects;
   std::string saveError;
+  // Panels: which are open (by title), and where the last frame drew their items ("title\nlabel").
+  std::set<std::string> openPanels;
+  std::map<std::string, std::array<float, 4>> panelRects;
 
   // Offscreen target of grabImage().
   GLuint fbo = 0, colorRb = 0, depthRb = 0;
@@ -394,8 +398,98 @@ struct Window::Impl {
   void menuItem(const char* label, const std::function<void()>& action, std::function<void()>& chosen,
                 const char* shortcut = nullptr) {
     if (ImGui::MenuItem(label, shortcut, false, bool(action))) chosen = action;
+    noteLastItem(label);
+  }
+  void noteLastItem(const std::string& label) {
     ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
     itemRects[label] = {a.x, a.y, b.x, b.y};
+  }
+
+  // ImGui::BeginMenu, noting where its label is (once open, ImGui's last item is the submenu's
+  // window, so the place is taken before).
+  bool beginMenu(const char* label) {
+    ImVec2 at = ImGui::GetCursorScreenPos();
+    float w = ImGui::GetContentRegionAvail().x, h = ImGui::GetFrameHeight();
+    bool open = ImGui::BeginMenu(label);
+    itemRects[label] = {at.x, at.y, at.x + w, at.y + h};
+    return open;
+  }
+
+  void notePanelItem(const std::string& title, const std::string& label) {
+    ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    panelRects[title + "\n" + label] = {a.x, a.y, b.x, b.y};
+  }
+
+  // One open panel, stacked down the right side at first (the user may move it); its edits become
+  // `chosen` actions, run after the frame as menu choices are.
+  void drawPanel(const Panel& p, int index, std::vector<std::function<void()>>& chosen) {
+    ImGuiIO& io = ImGui::GetIO();
+    constexpr float kWidth = 340;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kWidth - 8, 8 + 40.0f * index), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kWidth, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowBgAlpha(0.88f);
+    bool open = true;
+    if (ImGui::Begin(p.title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+      for (size_t i = 0; i < p.controls.size(); ++i) {
+        const PanelControl& c = p.controls[i];
+        ImGui::PushID(int(i));
+        float v = c.value;
+        bool edited = false;
+        switch (c.kind) {
+          case PanelControl::Kind::Text:
+            ImGui::TextUnformatted(c.label.c_str());
+            break;
+          case PanelControl::Kind::Toggle: {
+            bool on = c.value != 0;
+            if (c.group >= 0 ? ImGui::RadioButton(c.label.c_str(), on) : ImGui::Checkbox(c.label.c_str(), &on)) {
+              v = c.group >= 0 ? 1.0f : (on ? 1.0f : 0.0f);
+              edited = true;
+            }
+            break;
+          }
+          case PanelControl::Kind::Slider:
+            ImGui::SetNextItemWidth(kWidth * 0.55f);
+            if (c.min < c.max) {
+              edited = ImGui::SliderFloat(c.label.c_str(), &v, c.min, c.max, "%.6g");
+              if (edited && c.step > 0) v = std::round(v / c.step) * c.step;
+            } else {
+              edited = ImGui::DragFloat(c.label.c_str(), &v, std::max(std::fabs(c.value) / 100.0f, 0.001f), 0, 0, "%.6g");
+            }
+            break;
+        }
+        notePanelItem(p.title, c.label);
+        if (c.kind == PanelControl::Kind::Slider) {  // the slider's frame, without its label
+          std::array<float, 4>& r = panelRects[p.title + "\n" + c.label];
+          r[2] = r[0] + kWidth * 0.55f;
+        }
+        if (!c.tooltip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", c.tooltip.c_str());
+        if (edited && v != c.value && p.changed) chosen.push_back([f = p.changed, i, v] { f(i, v); });
+        ImGui::PopID();
+      }
+      if (!p.columns.empty() &&
+          ImGui::BeginTable("##table", int(p.columns.size()),
+                            ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
+        for (const std::string& c : p.columns) ImGui::TableSetupColumn(c.c_str());
+        ImGui::TableHeadersRow();
+        for (const auto& row : p.rows) {
+          ImGui::TableNextRow();
+          for (size_t k = 0; k < row.size() && k < p.columns.size(); ++k) {
+            ImGui::TableSetColumnIndex(int(k));
+            ImGui::TextUnformatted(row[k].c_str());
+          }
+        }
+        ImGui::EndTable();
+      }
+      for (size_t b = 0; b < p.buttons.size(); ++b) {
+        if (b) ImGui::SameLine();
+        bool pressed = ImGui::Button(p.buttons[b].c_str());
+        notePanelItem(p.title, p.buttons[b]);
+        if (pressed && p.pressed) chosen.push_back([f = p.pressed, b] { f(b); });
+      }
+      if (!p.status.empty()) ImGui::TextWrapped("%s", p.status.c_str());
+    }
+    ImGui::End();
+    if (!open) openPanels.erase(p.title);
   }
 };
 
@@ -603,7 +697,7 @@ bool Window::frame(const MenuActions& actions) {
     };
     m.menuItem("Save", save, chosen);
     m.menuItem("Save as...", saveAs, chosen);
-    if (ImGui::BeginMenu("String")) {
+    if (m.beginMenu("String")) {
       m.menuItem("Input", actions.stringInput, chosen);
       m.menuItem("Output", actions.stringOutput, chosen);
       ImGui::EndMenu();
@@ -622,10 +716,25 @@ bool Window::frame(const MenuActions& actions) {
     } else {
       m.menuItem("Animate", actions.animate, chosen);
     }
-    if (actions.setRefreshMode && ImGui::BeginMenu("Refresh mode")) {
-      if (ImGui::MenuItem("Explicit", nullptr, !actions.monitoring)) chosen = [&actions] { actions.setRefreshMode(false); };
-      if (ImGui::MenuItem("Triggered/Continuous", nullptr, actions.monitoring))
-        chosen = [&actions] { actions.setRefreshMode(true); };
+    if (!actions.panels.empty() && m.beginMenu("Panels")) {
+      for (const Panel& p : actions.panels) {
+        bool open = m.openPanels.count(p.title) != 0;
+        if (ImGui::MenuItem(p.title.c_str(), nullptr, open))
+          chosen = [&m, title = p.title, open] {
+            if (open) m.openPanels.erase(title);
+            else m.openPanels.insert(title);
+          };
+        m.noteLastItem(p.title);
+      }
+      ImGui::EndMenu();
+    }
+    if (actions.setRefreshMode && m.beginMenu("Refresh mode")) {
+      std::function<void()> explicitMode = [&actions] { actions.setRefreshMode(false); };
+      std::function<void()> monitorMode = [&actions] { actions.setRefreshMode(true); };
+      if (ImGui::MenuItem("Explicit", nullptr, !actions.monitoring)) chosen = explicitMode;
+      m.noteLastItem("Explicit");
+      if (ImGui::MenuItem("Triggered/Continuous", nullptr, actions.monitoring)) chosen = monitorMode;
+      m.noteLastItem("Triggered/Continuous");
       ImGui::EndMenu();
     }
     ImGui::Separator();
@@ -696,6 +805,11 @@ bool Window::frame(const MenuActions& actions) {
     ImGui::EndPopup();
   }
   m.saveIsOpen = ImGui::IsPopupOpen(kSaveId);
+  m.panelRects.clear();
+  std::vector<std::function<void()>> edits;
+  int shownPanels = 0;
+  for (const Panel& p : actions.panels)
+    if (m.openPanels.count(p.title)) m.drawPanel(p, shownPanels++, edits);
   if (!m.message.empty()) {
     // Over the picture's top left corner, which stays the last good model's: the problem with
     // the edit (compile diagnostics with their source lines, a fault in model code).
@@ -726,6 +840,7 @@ bool Window::frame(const MenuActions& actions) {
 
   // Actions run after the frame: they may replace the scene (setScene) or reset the view.
   if (chosen) chosen();
+  for (const auto& edit : edits) edit();
   if (!saveTo.empty()) m.save(saveTo, actions, *this);
   return !exitChosen && !glfwWindowShouldClose(m.window);
 }
@@ -838,6 +953,17 @@ Window::Pointer Window::takePointer() {
   p.insert = m.comboPushed ? m.insert : 0;
   m.comboPushed = m.comboReleased = false;
   return p;
+}
+
+void Window::showPanel(const std::string& title, bool open) {
+  if (open) impl_->openPanels.insert(title);
+  else impl_->openPanels.erase(title);
+}
+bool Window::panelOpen(const std::string& title) const { return impl_->openPanels.count(title) != 0; }
+std::optional<std::array<float, 4>> Window::panelItemRect(const std::string& title, const std::string& label) const {
+  auto it = impl_->panelRects.find(title + "\n" + label);
+  if (it == impl_->panelRects.end()) return std::nullopt;
+  return it->second;
 }
 
 bool Window::menuOpen() const { return impl_->menuIsOpen; }

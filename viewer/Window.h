@@ -17,6 +17,7 @@
 //   right button            the main menu
 // Command (macOS) is GLFW's Super key; it counts as Ctrl.
 #pragma once
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -46,6 +47,33 @@ struct WindowOptions {
   bool visible = true;  // tests may create a hidden window (it still draws)
 };
 
+// A panel beside the view (the Parameters panel, the profiler): data the caller owns and rebuilds
+// as it likes, drawn in a side window of its own that the main menu's Panels submenu opens and
+// closes. Edits come back through `changed` and `pressed`, called after the frame, like menu items.
+struct PanelControl {
+  enum class Kind {
+    Slider,  // min < max: a slider (vlab's); min == max: a field dragged by 1/100 of its value
+    Toggle,  // a check box; toggles with the same group >= 0 are exclusive (vlab's button groups)
+    Text,    // a line of text (vlab's labels)
+  } kind = Kind::Slider;
+  std::string label;  // unique within its panel
+  float value = 0, min = 0, max = 0;
+  float step = 0;     // a slider snaps to multiples of it (vlab's whole steps over a scale); 0: none
+  int group = -1;
+  std::string tooltip;  // where the value lives (file, #define), shown on hover
+};
+struct Panel {
+  std::string title;  // unique; the Panels submenu's item
+  std::vector<PanelControl> controls;
+  // A table under the controls (the profiler): its column titles and rows of cells.
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> buttons;  // a row of buttons at the bottom ("Save values")
+  std::string status;                // a line under them (what Save did, an error)
+  std::function<void(size_t control, float value)> changed;
+  std::function<void(size_t button)> pressed;
+};
+
 // The main menu's actions. An empty function greys its item out.
 struct MenuActions {
   std::function<void()> newModel, newLsystem, newRun, newView, newRendering, exit;
@@ -71,6 +99,8 @@ struct MenuActions {
   std::function<void(int code)> userChoice;
   // Esc (outside the Save as… dialog): interrupt the model code running now (docs/faults.md).
   std::function<void()> interrupt;
+  // The panels the Panels submenu offers (none: no submenu).
+  std::vector<Panel> panels;
 };
 
 // Mouse buttons, actions and modifier bits are GLFW's (GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS,
@@ -151,6 +181,11 @@ class Window {
   bool userMenuOpen() const;
   bool saveDialogOpen() const;
   std::optional<std::array<float, 4>> menuItemRect(const std::string& label) const;
+  // Panels by title: open or close one (the Panels submenu does the same), whether it is open.
+  void showPanel(const std::string& title, bool open);
+  bool panelOpen(const std::string& title) const;
+  // Where the last frame drew a panel's control or button (its label); nothing if not drawn.
+  std::optional<std::array<float, 4>> panelItemRect(const std::string& title, const std::string& label) const;
   // Where the last frame drew setMessage()'s text; nothing when there is none.
   std::optional<std::array<float, 4>> messageRect() const;
   // The last Save/Save as… error (empty if none).

@@ -504,6 +504,89 @@ TEST_F(WindowTest, SaveAndSaveAs) {
   std::filesystem::remove_all(dir);
 }
 
+// Opens a submenu of the main menu (a click on its label) and clicks its item `label`.
+TEST_F(WindowTest, RefreshModeMenuSetsTheMode) {
+  std::vector<bool> set;
+  MenuActions a;
+  a.setRefreshMode = [&set](bool monitoring) { set.push_back(monitoring); };
+  auto pick = [&](const std::string& item) {
+    click(60, 60, a, GLFW_MOUSE_BUTTON_RIGHT);
+    w->frame(a);
+    auto sub = w->menuItemRect("Refresh mode");
+    ASSERT_TRUE(sub.has_value());
+    click(((*sub)[0] + (*sub)[2]) / 2, ((*sub)[1] + (*sub)[3]) / 2, a);
+    w->frame(a);
+    auto r = w->menuItemRect(item);
+    ASSERT_TRUE(r.has_value()) << item;
+    click(((*r)[0] + (*r)[2]) / 2, ((*r)[1] + (*r)[3]) / 2, a);
+  };
+  pick("Triggered/Continuous");
+  a.monitoring = true;
+  pick("Explicit");
+  EXPECT_EQ(set, (std::vector<bool>{true, false}));
+  EXPECT_FALSE(w->menuOpen());
+}
+
+TEST_F(WindowTest, PanelsOpenFromTheMenuAndReportEdits) {
+  std::vector<std::pair<size_t, float>> changes;
+  std::vector<size_t> presses;
+  MenuActions a;
+  Panel p;
+  p.title = "Parameters";
+  PanelControl steps;
+  steps.label = "STEPS";
+  steps.value = 3, steps.min = 0, steps.max = 10, steps.step = 1;
+  PanelControl on, off;
+  on.kind = off.kind = PanelControl::Kind::Toggle;
+  on.label = "On", off.label = "Off";
+  on.group = off.group = 0;
+  on.value = 1;
+  p.controls = {steps, on, off};
+  p.buttons = {"Save values"};
+  p.changed = [&changes](size_t i, float v) { changes.emplace_back(i, v); };
+  p.pressed = [&presses](size_t b) { presses.push_back(b); };
+  a.panels = {p};
+  EXPECT_FALSE(w->panelOpen("Parameters"));
+  // Panels > Parameters opens it.
+  click(60, 60, a, GLFW_MOUSE_BUTTON_RIGHT);
+  w->frame(a);
+  auto sub = w->menuItemRect("Panels");
+  ASSERT_TRUE(sub.has_value());
+  click(((*sub)[0] + (*sub)[2]) / 2, ((*sub)[1] + (*sub)[3]) / 2, a);
+  w->frame(a);
+  auto item = w->menuItemRect("Parameters");
+  ASSERT_TRUE(item.has_value());
+  click(((*item)[0] + (*item)[2]) / 2, ((*item)[1] + (*item)[3]) / 2, a);
+  w->frame(a);
+  ASSERT_TRUE(w->panelOpen("Parameters"));
+  w->frame(a);
+  auto slider = w->panelItemRect("Parameters", "STEPS");
+  ASSERT_TRUE(slider.has_value());
+  // A click at the slider's right end gives its maximum, snapped to whole steps.
+  Image before = grab();
+  click((*slider)[2] - 2, ((*slider)[1] + (*slider)[3]) / 2, a);
+  ASSERT_FALSE(changes.empty());
+  EXPECT_EQ(changes.back().first, 0u);
+  EXPECT_FLOAT_EQ(changes.back().second, 10.0f);
+  // Clicking in the panel did not turn the view.
+  w->showPanel("Parameters", false);
+  w->frame(a);
+  EXPECT_EQ(differingPixels(before, grab()), 0);
+  w->showPanel("Parameters", true);
+  w->frame(a);
+  changes.clear();
+  auto off2 = w->panelItemRect("Parameters", "Off");
+  ASSERT_TRUE(off2.has_value());
+  click((*off2)[0] + 6, ((*off2)[1] + (*off2)[3]) / 2, a);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].first, 2u);  // the group's other button is turned on
+  EXPECT_FLOAT_EQ(changes[0].second, 1.0f);
+  auto save = w->panelItemRect("Parameters", "Save values");
+  ASSERT_TRUE(save.has_value());
+  click(((*save)[0] + (*save)[2]) / 2, ((*save)[1] + (*save)[3]) / 2, a);
+  EXPECT_EQ(presses, std::vector<size_t>{0});
+}
+
 TEST_F(WindowTest, ExitEndsTheLoop) {
   Counters c;
   MenuActions a = allActions(c);
