@@ -19,6 +19,7 @@
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
 #include "app/Frame.h"
+#include "app/Parameters.h"
 #include "app/PlainErrors.h"
 #include "jit/Elapsed.h"
 #include "runtime/WindowInput.h"
@@ -46,6 +47,7 @@ class InteractiveModel {
       };
     for (const std::string& f : files.other)
       if (std::filesystem::path(f).extension() == ".a") animationFile_ = f;
+    parameters_.load(files_, session_.functions());
   }
   ~InteractiveModel() {
     if (work_.valid()) work_.wait();
@@ -97,6 +99,7 @@ class InteractiveModel {
       shownAt_ = Clock::now();
     }
     swapInWhenReady();
+    if (!busy()) applyPanelEdits();
     if (!busy()) {
       // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
       // made outside a derivation step (Start, End).
@@ -109,6 +112,27 @@ class InteractiveModel {
     if (running_ && !busy() && Clock::now() - shownAt_ >= std::chrono::milliseconds(animation_.swapIntervalMs()))
       advance(mode_);
   }
+
+  // The Parameters panel's edits, once the worker has let go of the model: .vset values are set
+  // and the model re-runs (to the step shown, when animating); a file a panel item rewrote is
+  // re-read as its change would be under -rmode cont (an included header recompiles the L-system).
+  void applyPanelEdits() {
+    std::map<std::string, float> values = parameters_.takeParameters();
+    for (const auto& [name, value] : values) report(session_.setParameter(name, value));
+    for (const std::string& f : parameters_.takeChangedFiles()) {
+      FileKind kind = fileKindOf(f);
+      Action a = kind == FileKind::Other ? Action::NewLsystem : actionForChange(kind, RefreshMode::Continuous);
+      if (a != Action::None) apply(a);
+    }
+    if (values.empty() || busy()) return;
+    if (!animating_) return run();
+    int at = session_.engine().stepNo();
+    launch([this, at] {
+      session_.engine().begin(hooks_);
+      deriveTo(at);
+    });
+  }
+  void forgetUnsavedParameters() { parameters_.forgetUnsaved(); }
 
   // ---- animate mode (§1.2.3)
 
@@ -237,6 +261,7 @@ class InteractiveModel {
     bool recompiled = p.model->what.lsystem;
     if (auto e = session_.install(std::move(*p.model))) report(std::move(e));  // the model's constructors threw
     ++installs_;
+    parameters_.load(files_, session_.functions());
     window_.setMessage("");
     if (options_.verbose && recompiled)
       std::fprintf(stderr, "lcjit: reloaded %s in %.1f ms: preprocessed in %.1f ms, rewritten in %.1f ms, %s in %.1f ms\n",
@@ -293,6 +318,7 @@ class InteractiveModel {
     a.startRecording = [this] { recording_ = true; };
     a.userMenu = runtime::UserMenu::instance().items();
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
+    if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
     if (busy()) return a;
     a.newModel = [this] { apply(Action::NewModel); };
     a.newLsystem = [this] { apply(Action::NewLsystem); };
@@ -461,6 +487,7 @@ class InteractiveModel {
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
   RenderLook look_;
+  ParameterPanel parameters_;
   // What the worker hands the window: the main view's geometry and, with UseView, the panes.
   struct Scene {
     runtime::Geometry main;
@@ -498,12 +525,16 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     std::fprintf(stderr, "lcjit: cannot open a window: %s\n", llvm::toString(window.takeError()).c_str());
     return 1;
   }
+  for (const std::string& title : options.panels) (*window)->showPanel(title, true);
   InteractiveModel model(session, files, **window, options);
   if (options.animate) model.enterAnimate();
   else model.run();
   model.startBetterTier();
   FileMonitor monitor;
-  bool watching = options.refresh != RefreshMode::Explicit;
+  // Refresh mode > Triggered/Continuous turns monitoring on as the command line's mode would
+  // (continuous when it said explicit); Explicit turns it off (lpfg's View::SetContinuousMode).
+  RefreshMode refresh = options.refresh;
+  bool watching = refresh != RefreshMode::Explicit;
   std::vector<std::string> watched = watchedFiles(files, session.drawing());
   int watchedAfter = model.installs();
   if (watching && !monitor.watch(watched) && !options.quiet)
@@ -513,10 +544,25 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     model.feedMouse();
     model.feedCamera();
     viewer::MenuActions actions = model.actions();
+    actions.monitoring = watching;
+    actions.setRefreshMode = [&](bool on) {
+      if (on == watching) return;
+      watching = on;
+      if (!on) return monitor.clear();
+      if (refresh == RefreshMode::Explicit) refresh = RefreshMode::Continuous;
+      watched = watchedFiles(files, session.drawing());
+      if (!monitor.watch(watched) && !options.quiet)
+        std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+    };
     if (model.exitRequested() || !(*window)->frame(actions)) break;
     // Redraw on input; while the worker runs, look for its picture often; files a few times a second.
     (*window)->waitEvents(model.busy() ? 0.01 : 0.1);
-    if (watching) for (Action a : actionsForChanges(monitor.poll(0), options.refresh)) model.apply(a);
+    if (watching) {
+      std::vector<std::string> changed = monitor.poll(0);
+      for (const std::string& f : changed)
+        if (fileKindOf(f) == FileKind::Parameters) model.forgetUnsavedParameters();
+      for (Action a : actionsForChanges(changed, refresh)) model.apply(a);
+    }
     model.applyDeferred();
     if (watching && !model.busy()) {
       // A reload may have named other files (the view file's surfaces, meshes, textures).

@@ -3,6 +3,7 @@
 // keeps the last good model on screen.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "app/FileMonitor.h"
 #include "app/Session.h"
@@ -24,6 +25,7 @@ struct InteractiveOptions {
   bool animate = false;                         // -a: start in animate mode at the first frame
   bool verbose = false;                         // -v: reload timings on stderr
   bool debug = false;                           // -d: module count after every step on stdout
+  std::vector<std::string> panels;              // --panel: panels open from the start, by title
 };
 
 // Runs until the window closes; returns the process exit status.

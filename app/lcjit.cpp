@@ -148,6 +148,11 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "batch runs without -O: compile -O2 in the background once the derivation has run this many "
                  "milliseconds (default 250)")
       ->check(CLI::NonNegativeNumber);
+  std::vector<std::string> panels;
+  app.add_option("--panel", panels,
+                 "open this panel of the window at start (Parameters, Profile); the main menu's Panels "
+                 "submenu opens and closes them (docs/studio.md)")
+      ->allow_extra_args(false);
   app.add_flag("--lab", lab,
                "classroom mode: the window, file monitoring and the REPL at once; nothing written outside the "
                "model's folder (caches in .lcjit-cache there); compile errors in plain language first; every run "
@@ -465,6 +470,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       io.animate = animate;
       io.verbose = bo.verbose;
       io.debug = bo.debug;
+      io.panels = panels;
       return lcjit::app::runInteractive(**session, *files, w, io);
     }
 #endif

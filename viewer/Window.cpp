@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <set>
@@ -405,6 +406,37 @@ struct Window::Impl {
     itemRects[label] = {a.x, a.y, b.x, b.y};
   }
 
+  // LCJIT_WINDOW_LAYOUT=FILE: where the menu's items and the panels' controls are, one per line
+  // ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL"), rewritten when it changes. Scripts that
+  // drive the window from outside (xdotool, tests/interactive) click what they name, not a guess.
+  void writeLayout() {
+    static const char* path = std::getenv("LCJIT_WINDOW_LAYOUT");
+    if (!path || (layoutSettling > 0 && layoutSettling--)) return;
+    std::string text;
+    auto add = [&text](const std::string& label, const std::array<float, 4>& r) {
+      char b[96];
+      std::snprintf(b, sizeof b, "\t%.0f %.0f %.0f %.0f\n", r[0], r[1], r[2], r[3]);
+      text += label + b;
+    };
+    if (menuIsOpen || userMenuIsOpen || saveIsOpen)
+      for (const auto& [label, r] : itemRects) add(label, r);
+    for (const auto& [key, r] : panelRects) {
+      std::string label = key;
+      label[label.find('\n')] = '/';
+      add(label, r);
+    }
+    if (text == layoutWritten) return;
+    layoutWritten = text;
+    std::string temporary = std::string(path) + ".new";
+    if (FILE* f = std::fopen(temporary.c_str(), "w")) {
+      std::fputs(text.c_str(), f);
+      std::fclose(f);
+      std::rename(temporary.c_str(), path);
+    }
+  }
+  std::string layoutWritten;
+  int layoutSettling = 0;  // frames before the layout is written again
+
   // ImGui::BeginMenu, noting where its label is (once open, ImGui's last item is the submenu's
   // window, so the place is taken before).
   bool beginMenu(const char* label) {
@@ -425,11 +457,15 @@ struct Window::Impl {
   void drawPanel(const Panel& p, int index, std::vector<std::function<void()>>& chosen) {
     ImGuiIO& io = ImGui::GetIO();
     constexpr float kWidth = 340;
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kWidth - 8, 8 + 40.0f * index), ImGuiCond_FirstUseEver);
+    // Right-aligned: the panel grows leftwards to fit its longest label.
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 8, 8 + 40.0f * index), ImGuiCond_FirstUseEver, ImVec2(1, 0));
     ImGui::SetNextWindowSize(ImVec2(kWidth, 0), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowBgAlpha(0.88f);
     bool open = true;
     if (ImGui::Begin(p.title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+      // A panel sizes itself over its first frames, and moves with its size (it hangs from the
+      // right edge): its layout is not told until that is over.
+      if (ImGui::IsWindowAppearing()) layoutSettling = 3;
       for (size_t i = 0; i < p.controls.size(); ++i) {
         const PanelControl& c = p.controls[i];
         ImGui::PushID(int(i));
@@ -832,6 +868,7 @@ bool Window::frame(const MenuActions& actions) {
   }
   ImGui::Render();
   m.wantMouse = io.WantCaptureMouse;
+  m.writeLayout();
 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   m.drawScene();

@@ -7,3 +7,10 @@ add_test(NAME session_test COMMAND lcjit_session_test)
 add_executable(lcjit_sandbox_reply_test ${CMAKE_CURRENT_LIST_DIR}/sandbox_reply_test.cpp)
 target_link_libraries(lcjit_sandbox_reply_test PRIVATE lcjit_session GTest::gtest_main)
 add_test(NAME sandbox_reply_test COMMAND lcjit_sandbox_reply_test)
+
+# The window's Parameters panel (app/Parameters.h): .vset values and vlab panels' edits.
+if(LCJIT_WITH_WINDOW)
+  add_executable(lcjit_parameters_test ${CMAKE_CURRENT_LIST_DIR}/parameters_test.cpp)
+  target_link_libraries(lcjit_parameters_test PRIVATE lcjit_session GTest::gtest_main)
+  add_test(NAME parameters_test COMMAND lcjit_parameters_test)
+endif()

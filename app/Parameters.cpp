@@ -1,0 +1,207 @@
+// The Parameters panel (Parameters.h).
+#include "app/Parameters.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/Session.h"
+#include "runtime/Functions.h"
+#include "runtime/files/TextLines.h"
+
+namespace lcjit::app {
+namespace {
+
+llvm::Expected<std::string> readAll(const std::string& path) {
+  auto buf = runtime::textfile::readFile(path, /*text=*/false);
+  if (!buf) return buf.takeError();
+  return (*buf)->getBuffer().str();
+}
+
+// Written beside the file and renamed over it: an editor or the file monitor never sees half a file.
+llvm::Error writeAll(const std::string& path, const std::string& text) {
+  std::string temporary = path + ".lcjit-new";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out << text;
+    if (!out.flush()) return runtime::textfile::fail(path, 0, "cannot write file");
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) return runtime::textfile::fail(path, 0, "cannot replace file: " + ec.message());
+  return llvm::Error::success();
+}
+
+bool samePath(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return std::filesystem::equivalent(a, b, ec);
+}
+
+}  // namespace
+
+void ParameterPanel::load(const ModelFiles& files, const runtime::FunctionStore& functions) {
+  controls_.clear();
+  status_.clear();
+  vsetPath_ = files.parameters;
+  std::map<std::string, size_t> byParameter;
+  for (int id = 1; id <= functions.size(); ++id) {
+    if (!functions.isParameter(id)) continue;
+    Control c;
+    c.parameter = std::string(functions.nameOf(id));
+    c.shown.label = c.parameter;
+    c.shown.value = functions.val(id);
+    if (auto kept = unsaved_.find(c.parameter); kept != unsaved_.end())
+      c.shown.value = pendingParameters_[c.parameter] = kept->second;  // the reload read the file's
+    c.shown.tooltip = "#define " + c.parameter + " in " + files.parameters;
+    byParameter[c.parameter] = controls_.size();
+    controls_.push_back(std::move(c));
+  }
+  std::string dir = std::filesystem::path(files.lsystem).parent_path().string();
+  int groupBase = 0;
+  for (const runtime::PanelAndTarget& found : runtime::findPanels(dir)) {
+    auto text = readAll(found.panel);
+    llvm::Expected<runtime::PanelFile> panel =
+        text ? runtime::parsePanel(*text, found.panel) : llvm::Expected<runtime::PanelFile>(text.takeError());
+    if (!panel) {
+      status_ += llvm::toString(panel.takeError()) + "\n";
+      continue;
+    }
+    auto target = readAll(found.target);
+    std::string targetText = target ? *target : (llvm::consumeError(target.takeError()), std::string());
+    const bool targetIsVset = !vsetPath_.empty() && samePath(found.target, vsetPath_);
+    int groups = 0;
+    for (const runtime::PanelItem& item : panel->items) {
+      using Kind = runtime::PanelItem::Kind;
+      if (item.kind == Kind::Menu || item.kind == Kind::Page) continue;
+      Control c;
+      c.target = found.target;
+      c.message = item.message;
+      c.shown.label = item.name;
+      c.shown.tooltip = item.message.empty() ? "" : "'" + item.message + "' to " + found.target;
+      std::optional<runtime::AwkpedEdit> asDefine = runtime::awkpedEdit(item.message, 1);
+      const bool define = asDefine && asDefine->kind == runtime::AwkpedEdit::Kind::Define;
+      if (item.kind == Kind::Label) {
+        c.shown.kind = viewer::PanelControl::Kind::Text;
+      } else if (item.kind == Kind::Button) {
+        c.shown.kind = viewer::PanelControl::Kind::Toggle;
+        if (item.group >= 0) c.shown.group = groupBase + item.group, groups = std::max(groups, item.group + 1);
+        // On when the file holds the value the button writes (vlab starts from the panel's own).
+        std::optional<double> now = define ? runtime::definedValue(targetText, asDefine->name) : std::nullopt;
+        c.shown.value = now ? float(*now == asDefine->value) : float(item.value == 1);
+      } else {
+        // A slider writes %d/SCALE: shown in the file's units, moving in steps of 1/SCALE.
+        if (define && asDefine->value != 0) c.scale = float(1.0 / asDefine->value);
+        c.shown.min = item.min / c.scale;
+        c.shown.max = item.max / c.scale;
+        c.shown.step = 1 / c.scale;
+        std::optional<double> now = define ? runtime::definedValue(targetText, asDefine->name) : std::nullopt;
+        c.shown.value = now ? float(*now) : item.value / c.scale;
+        // A .vset value a panel drives is one control: the panel gives it its range.
+        if (targetIsVset && define) {
+          if (auto p = byParameter.find(asDefine->name); p != byParameter.end()) {
+            Control& v = controls_[p->second];
+            v.shown.min = c.shown.min, v.shown.max = c.shown.max, v.shown.step = c.shown.step;
+            v.shown.label = item.name == v.parameter ? item.name : item.name + " (" + v.parameter + ")";
+            continue;
+          }
+        }
+      }
+      controls_.push_back(std::move(c));
+    }
+    groupBase += groups;
+  }
+  // Labels must be unique within the panel: a repeated one gets an invisible suffix (ImGui's ##).
+  std::map<std::string, int> seen;
+  for (Control& c : controls_)
+    if (int n = seen[c.shown.label]++; n > 0) c.shown.label += "##" + std::to_string(n);
+}
+
+viewer::Panel ParameterPanel::panel() {
+  viewer::Panel p;
+  p.title = kTitle;
+  for (const Control& c : controls_) p.controls.push_back(c.shown);
+  if (!vsetPath_.empty()) p.buttons = {"Save values"};
+  p.status = status_;
+  p.changed = [this](size_t i, float v) { changed(i, v); };
+  p.pressed = [this](size_t) {
+    if (auto e = saveParameters()) status_ = llvm::toString(std::move(e));
+  };
+  return p;
+}
+
+void ParameterPanel::changed(size_t index, float value) {
+  if (index >= controls_.size()) return;
+  Control& c = controls_[index];
+  if (!c.parameter.empty()) {
+    c.shown.value = value;
+    pendingParameters_[c.parameter] = unsaved_[c.parameter] = value;
+    return;
+  }
+  if (c.shown.kind == viewer::PanelControl::Kind::Toggle) {
+    // A group's button turns the others off; each writes its own message with %d = 1 when on.
+    if (c.shown.group >= 0)
+      for (Control& other : controls_)
+        if (other.shown.group == c.shown.group) other.shown.value = 0;
+    c.shown.value = value;
+    edit(c, int(value));
+    return;
+  }
+  c.shown.value = value;
+  edit(c, int(std::lround(value * c.scale)));
+}
+
+void ParameterPanel::edit(const Control& c, int shown) {
+  std::optional<runtime::AwkpedEdit> e = runtime::awkpedEdit(c.message, shown);
+  if (!e) {
+    status_ = "'" + c.message + "' is not a message lcjit can apply (awkped's d or n)";
+    return;
+  }
+  auto text = readAll(c.target);
+  if (!text) {
+    status_ = llvm::toString(text.takeError());
+    return;
+  }
+  auto edited = runtime::applyAwkped(*text, *e, c.target);
+  if (!edited) {
+    status_ = llvm::toString(edited.takeError());
+    return;
+  }
+  if (*edited == *text) return;
+  if (auto err = writeAll(c.target, *edited)) {
+    status_ = llvm::toString(std::move(err));
+    return;
+  }
+  status_.clear();
+  if (std::find(changedFiles_.begin(), changedFiles_.end(), c.target) == changedFiles_.end())
+    changedFiles_.push_back(c.target);
+}
+
+std::map<std::string, float> ParameterPanel::takeParameters() { return std::exchange(pendingParameters_, {}); }
+std::vector<std::string> ParameterPanel::takeChangedFiles() { return std::exchange(changedFiles_, {}); }
+
+llvm::Error ParameterPanel::saveParameters() {
+  if (vsetPath_.empty()) return llvm::createStringError("the model has no .vset file");
+  auto text = readAll(vsetPath_);
+  if (!text) return text.takeError();
+  std::string out = *text;
+  int saved = 0;
+  for (const Control& c : controls_) {
+    if (c.parameter.empty()) continue;
+    runtime::AwkpedEdit e;
+    e.name = c.parameter;
+    e.value = c.shown.value;
+    auto edited = runtime::applyAwkped(out, e, vsetPath_);
+    if (!edited) return edited.takeError();
+    out = std::move(*edited);
+    ++saved;
+  }
+  if (out != *text)
+    if (auto e = writeAll(vsetPath_, out)) return e;
+  unsaved_.clear();
+  status_ = "saved " + std::to_string(saved) + " value" + (saved == 1 ? "" : "s") + " to " + vsetPath_;
+  return llvm::Error::success();
+}
+
+}  // namespace lcjit::app

@@ -1,0 +1,66 @@
+// The window's Parameters panel: the model's .vset values (manual §6.7) and the items of its vlab
+// panels (vlab tools manual §2), as sliders. A .vset value changes in memory and re-runs the model
+// with no recompile (the REPL's :set); "Save values" writes them back to the .vset. A panel item
+// edits its target file as vlab's awkped does, and the file's change reloads the model.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include <llvm/Support/Error.h>
+
+#include "runtime/files/PanelFile.h"
+#include "viewer/Window.h"
+
+namespace lcjit::runtime {
+class FunctionStore;
+}
+
+namespace lcjit::app {
+
+struct ModelFiles;
+
+class ParameterPanel {
+ public:
+  static constexpr const char* kTitle = "Parameters";
+
+  // Reads the .vset values and the model folder's panels (runtime::findPanels); again after each
+  // load, keeping values not yet applied. Panels that cannot be read are reported in status().
+  void load(const ModelFiles& files, const runtime::FunctionStore& functions);
+
+  // What the window draws; its edits land here (they may come while the model derives).
+  viewer::Panel panel();
+  bool empty() const { return controls_.empty(); }
+
+  // .vset values changed since the last call, for FunctionStore::setParameter and a re-run.
+  std::map<std::string, float> takeParameters();
+  // Files a panel item has rewritten since the last call: the model must reload what reads them.
+  std::vector<std::string> takeChangedFiles();
+
+  // The .vset with its values as they are now (Save values); only the values' characters change.
+  llvm::Error saveParameters();
+  // The .vset changed on disk: its values win over those moved in the panel and not saved. (Until
+  // then a reload, which reads the .vset again, keeps the panel's values.)
+  void forgetUnsaved() { unsaved_.clear(); }
+  const std::string& status() const { return status_; }
+
+ private:
+  struct Control {
+    viewer::PanelControl shown;
+    std::string parameter;  // a .vset value's name, or ""
+    std::string target;     // the file a panel item edits
+    std::string message;    // its awkped message (%d: the slider's whole value)
+    float scale = 1;        // a `d NAME %d SCALE` slider shows value/scale
+  };
+  void changed(size_t index, float value);
+  void edit(const Control& c, int shown);
+
+  std::vector<Control> controls_;
+  std::string vsetPath_;
+  std::map<std::string, float> pendingParameters_;
+  std::map<std::string, float> unsaved_;
+  std::vector<std::string> changedFiles_;
+  std::string status_;
+};
+
+}  // namespace lcjit::app
