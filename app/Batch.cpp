@@ -1,5 +1,6 @@
 // Batch runs and --watch (see Batch.h).
 #include "app/Batch.h"
+#include "app/ProfileReport.h"
 
 #include "runtime/turtle/Camera.h"
 
@@ -244,6 +245,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       writeNumbered(n);
       if (step) step(n);
     };
+  engine.setProfiling(!options.profile.empty());
   engine.begin(hooks);
   if (numbered) writeNumbered(0);
   while (engine.step()) {
@@ -277,6 +279,14 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       return 1;
     }
   if (!verifyString(engine, files.lsystem, options.quiet)) return 1;
+  if (!options.profile.empty()) {
+    std::ofstream out(options.profile);
+    out << profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs);
+    if (!out.flush()) {
+      report(llvm::createStringError(options.profile + ": error: cannot write the profile"));
+      return 1;
+    }
+  }
   if (options.verbose)
     std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
                  engine.moduleCount());

@@ -24,6 +24,9 @@ struct BatchOptions {
   bool quiet = false, verbose = false, debug = false, stats = false;
   bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;
+  // --profile: per-rule counts and times (ProfileReport.h) written as JSON to this file after
+  // the run and its outputs (their interpretation included).
+  std::string profile;
   // Told each derivation step done, and -1 once the derivation is over: a sandboxed run's
   // progress for its parent, who names it when the run dies of a limit (Sandbox.h).
   std::function<void(int step)> progress;

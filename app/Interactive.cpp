@@ -20,6 +20,7 @@
 #include "runtime/Engine.h"
 #include "app/Frame.h"
 #include "app/Parameters.h"
+#include "app/ProfileReport.h"
 #include "app/PlainErrors.h"
 #include "jit/Elapsed.h"
 #include "runtime/WindowInput.h"
@@ -84,6 +85,8 @@ class InteractiveModel {
         return;
       }
       shown_ = std::move(scene.main);
+      if (const runtime::Profile* p = session_.engine().profile())
+        profileRows_ = profileRows(*p, session_.engine().model());
       const runtime::DrawingFiles& d = session_.drawing();
       const RenderLook& look = look_.of(d);
       // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
@@ -133,6 +136,43 @@ class InteractiveModel {
     });
   }
   void forgetUnsavedParameters() { parameters_.forgetUnsaved(); }
+
+  void syncProfiling() {
+    const bool wanted = window_.panelOpen(kProfileTitle);
+    if (wanted == (session_.engine().profile() != nullptr)) return;
+    session_.engine().setProfiling(wanted);
+    profileRows_.clear();
+  }
+
+  // The Profile panel: the rules by time, from the last picture's run. Counting is on while the
+  // panel is open (it costs two clock readings per rule body); opening it counts from the next run.
+  static constexpr const char* kProfileTitle = "Profile";
+  viewer::Panel profilePanel() {
+    if (!busy()) syncProfiling();
+    viewer::Panel p;
+    p.title = kProfileTitle;
+    p.columns = {"rule", "where", "applied", "ms", "last step"};
+    constexpr size_t kShown = 40;
+    for (size_t i = 0; i < profileRows_.size() && i < kShown; ++i) {
+      const ProfileRow& r = profileRows_[i];
+      char ms[32], last[48];
+      std::snprintf(ms, sizeof ms, "%.3f", r.ms);
+      std::snprintf(last, sizeof last, "%llu (%.3f ms)", (unsigned long long)r.appliedLastStep, r.msLastStep);
+      // "p A(n) < B": the kind's initial and the predecessor, cut short (the where column finds it).
+      std::string rule = r.kind.substr(0, 1) + " " + r.rule;
+      if (rule.size() > 34) rule = rule.substr(0, 31) + "...";
+      p.rows.push_back({rule, r.where, std::to_string(r.applied), ms, last});
+    }
+    p.status = profileRows_.empty() ? "counting from the next run" : std::to_string(profileRows_.size()) + " rules ran";
+    if (profileRows_.size() > kShown) p.status += " (the " + std::to_string(kShown) + " hottest shown)";
+    p.buttons = {"Run again"};
+    p.pressed = [this](size_t) {
+      if (busy()) return;
+      if (animating_) return rewind();
+      run();
+    };
+    return p;
+  }
 
   // ---- animate mode (§1.2.3)
 
@@ -319,6 +359,7 @@ class InteractiveModel {
     a.userMenu = runtime::UserMenu::instance().items();
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
+    a.panels.push_back(profilePanel());
     if (busy()) return a;
     a.newModel = [this] { apply(Action::NewModel); };
     a.newLsystem = [this] { apply(Action::NewLsystem); };
@@ -413,6 +454,7 @@ class InteractiveModel {
   // Runs `work` on the worker thread, then interprets the string there; poll() shows it.
   void launch(std::function<void()> work) {
     if (busy()) return;
+    syncProfiling();
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
       Scene scene;
@@ -488,6 +530,7 @@ class InteractiveModel {
   FrameWriter frames_;
   RenderLook look_;
   ParameterPanel parameters_;
+  std::vector<ProfileRow> profileRows_;  // of the run the window shows
   // What the worker hands the window: the main view's geometry and, with UseView, the panes.
   struct Scene {
     runtime::Geometry main;

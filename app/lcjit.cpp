@@ -140,6 +140,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "compiled code comes from lcjit's cache");
   app.add_option("--lp", libPath, "(-lp) accepted");
   app.add_flag("--stats", bo.stats, "print a JSON object of phase timings on stderr");
+  app.add_option("--profile", bo.profile,
+                 "write how often each production, decomposition and interpretation rule ran and the time it took, "
+                 "per step and in total, hottest first, to this JSON file (docs/studio.md)");
   app.add_option("-O", bo.optLevel,
                  "optimisation level of model code: 0, 1 or 2; without it, -O1 code first (-O0 live) and -O2 "
                  "compiled in the background and swapped in when the run is long enough to gain (docs/performance.md)")

@@ -28,6 +28,8 @@
 #include "repl/LineReader.h"
 #include "app/PlainErrors.h"
 #include "repl/ReplText.h"
+#include "app/ProfileReport.h"
+#include <llvm/ADT/ScopeExit.h>
 #include "app/Session.h"
 #include "repl/ReplView.h"
 #include "jit/Elapsed.h"
@@ -139,6 +141,10 @@ class Repl {
         {":set", "[NAME VALUE]", "give a .vset parameter a value and re-run to the current step; alone: list them",
          &Repl::cmdSet, true},
         {":time", "", "time a whole derivation, and the interpretation of its string", &Repl::cmdTime, true},
+        {":profile", "[N]",
+         "derive the whole model and interpret it, counting each rule: the N (20) hottest, with applications and "
+         "milliseconds",
+         &Repl::cmdProfile, true},
         {":save", "FILE",
          "write the string (.str .strb), a picture (.png .jpg .bmp) or geometry (.obj .ply .stl .gltf .glb .svg .ps .eps .pov)",
          &Repl::cmdSave, true},
@@ -451,6 +457,25 @@ class Repl {
     double interpretMs = jit::msSince(t0);
     std::printf("derived %s in %.2f ms, interpreted in %.2f ms: %s\n", plural(engine().stepNo(), "step").c_str(),
                 deriveMs, interpretMs, plural(engine().moduleCount(), "module").c_str());
+    return llvm::Error::success();
+  }
+
+  llvm::Error cmdProfile(const Args& args) {
+    size_t limit = 20;
+    if (args.size() > 1) return llvm::createStringError("error: usage: :profile [N]");
+    if (args.size() == 1) {
+      auto n = parseFloat(args[0]);
+      if (!n || *n < 1) return llvm::createStringError("error: '" + args[0] + "' is not a number of rules");
+      limit = size_t(*n);
+    }
+    runtime::Engine& e = engine();
+    e.setProfiling(true);
+    auto off = llvm::make_scope_exit([&e] { e.setProfiling(false); });
+    begin();
+    deriveTo(INT_MAX);
+    runtime::Geometry geometry;
+    if (auto err = e.interpret(geometry)) return err;
+    std::fputs(app::profileTable(app::profileRows(*e.profile(), e.model()), limit).c_str(), stdout);
     return llvm::Error::success();
   }
 

@@ -408,7 +408,13 @@ bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
   __lc_Ctx* savedCtx = activeCtx_;
   runningRule_ = &r;
   activeCtx_ = &ctx;
-  r.body(&ctx, m.params);
+  if (profile_) {
+    auto t0 = Profile::Clock::now();
+    r.body(&ctx, m.params);
+    profile_->record(size_t(&r - model_->rules), ctx.produced != 0, Profile::Clock::now() - t0);
+  } else {
+    r.body(&ctx, m.params);
+  }
   activeCtx_ = savedCtx;
   runningRule_ = savedRule;
   if (!ctx.produced) out.resize(mark);
@@ -718,8 +724,11 @@ void Engine::closeView(int id) { views_.erase(std::remove(views_.begin(), views_
 llvm::Error Engine::interpret(const std::function<void(const char*)>& sink, Geometry* geometry, std::string* transcript,
                               int vgroup) {
   CurrentScope scope(this);
-  if (auto message = guarded(Phase::Interpret, [&] { interpretGuarded(sink, geometry, transcript, vgroup); }))
-    return llvm::createStringError(*message);
+  // OutputFrame's interpretation inside a step (or End) counts as that step's.
+  const bool nested = activeCtx_ || runningCall_;
+  auto message = guarded(Phase::Interpret, [&] { interpretGuarded(sink, geometry, transcript, vgroup); });
+  if (profile_ && !nested) profile_->interpreted();
+  if (message) return llvm::createStringError(*message);
   return llvm::Error::success();
 }
 
@@ -927,7 +936,16 @@ void Engine::begin(const EngineHooks& hooks) {
   queryTropisms_.initialised = false;
   forgetCount();
   string_.clear();
+  if (profile_) profile_->reset(model_->nRules);
   if (auto message = guarded(Phase::Begin, [&] { beginGuarded(); })) fail(std::move(*message));
+  if (profile_) profile_->endStep(0);
+}
+
+void Engine::setProfiling(bool on) {
+  if (!on) return profile_.reset();
+  if (profile_) return;
+  profile_ = std::make_unique<Profile>();
+  profile_->reset(model_->nRules);
 }
 
 void Engine::beginGuarded() {
@@ -971,6 +989,7 @@ bool Engine::step() {
     fail(std::move(*message));
     return false;
   }
+  if (profile_) profile_->endStep(step_);
   return more;
 }
 

@@ -15,6 +15,7 @@
 #include "runtime/ModuleString.h"
 #include "runtime/Random.h"
 #include "runtime/Environment.h"
+#include "runtime/Profile.h"
 #include "runtime/turtle/Turtle.h"
 #include "runtime/include/lcjit/abi.h"
 #include <llvm/Support/Error.h>
@@ -115,6 +116,11 @@ class Engine {
   void clearCancel() { cancel_ = false; }
   int derivationLength() const { return length_; }
   bool ended() const { return ended_; }
+
+  // Profiling (Profile.h): per-rule counts and times from the next begin() (or now, when turned
+  // on between steps). Off: nothing is counted. Read profile() only while no step runs.
+  void setProfiling(bool on);
+  const Profile* profile() const { return profile_.get(); }
 
   // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
   // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
@@ -342,6 +348,7 @@ class Engine {
   EngineLimits limits_;
   // What model code is running, for fault messages: a rule, else a named function (Start…).
   const __lc_Rule* runningRule_ = nullptr;
+  std::unique_ptr<Profile> profile_;
   const char* runningCall_ = nullptr;
   Phase phase_ = Phase::Begin;
   bool derived_ = false;  // this step's string has replaced the old one (which is in next_)

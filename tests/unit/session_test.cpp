@@ -688,3 +688,61 @@ TEST(ProgramPages, ReleasedAndTheCodeStillRuns) {
   EXPECT_EQ(e.moduleCount(), 8u);  // A(0) doubles each of 3 steps
   EXPECT_EQ(e.text(e.string()).rfind("A(3)\nA(4)\nA(4)\nA(5)\n", 0), 0u) << e.text(e.string());
 }
+
+// The profile counts what the rules did, counted here by hand: A(n) applies once a step; the
+// first B rule runs on every B and never produces; the second then applies (B doubles: 0, 1, 3 Bs
+// before steps 1, 2, 3); the interpretation rule runs on each of the 7 Bs at the end.
+TEST(EngineProfile, CountsEachRulesApplicationsPerStep) {
+  ScratchModel m("profile", "#include <lpfgall.h>\nderivation length: 3;\nmodule A(int);\nmodule B;\n"
+                            "int never = 0;\naxiom: A(0);\n"
+                            "A(n) : { produce A(n+1) B; }\n"        // line 7
+                            "B : { if (never) produce; }\n"         // line 8
+                            "B : { produce B B; }\n"                // line 9
+                            "interpretation:\nB : { produce F(1); }\n");  // line 11
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  EXPECT_EQ(e.profile(), nullptr);
+  e.setProfiling(true);
+  ASSERT_FALSE(bool(e.run()));
+  runtime::Geometry g;
+  ASSERT_FALSE(bool(e.interpret(g)));
+  const runtime::Profile* p = e.profile();
+  ASSERT_NE(p, nullptr);
+  std::vector<runtime::RuleSource> src = runtime::ruleSources(e.model());
+  auto rule = [&](int line) {
+    for (size_t i = 0; i < src.size(); ++i)
+      if (src[i].line == line) return i;
+    ADD_FAILURE() << "no rule on line " << line;
+    return size_t(0);
+  };
+  const size_t a = rule(7), never = rule(8), doubles = rule(9), draw = rule(11);
+  EXPECT_EQ(src[a].predecessor, "A(n)");
+  EXPECT_EQ(src[a].kind, "production");
+  EXPECT_EQ(src[draw].kind, "interpretation");
+  EXPECT_EQ(fs::path(src[a].file).filename(), "profile.l");
+  const auto& t = p->total();
+  EXPECT_EQ(t[a].produced, 3u);
+  EXPECT_EQ(t[a].ran, 3u);
+  EXPECT_EQ(t[never].ran, 4u);
+  EXPECT_EQ(t[never].produced, 0u);
+  EXPECT_EQ(t[doubles].produced, 4u);
+  EXPECT_EQ(t[draw].produced, 7u);
+  EXPECT_EQ(p->interpretation()[draw].produced, 7u);
+  EXPECT_EQ(p->interpretation()[a].ran, 0u);
+  // Per step: 1, then 1 + 1, then 1 + 3 (step 0, the axiom, ran no rule).
+  ASSERT_EQ(p->steps().size(), 3u);
+  std::vector<std::vector<uint64_t>> perStep;
+  for (const auto& s : p->steps()) {
+    std::vector<uint64_t> produced(src.size(), 0);
+    for (const auto& [i, c] : s.rules) produced[i] = c.produced;
+    perStep.push_back({uint64_t(s.step), produced[a], produced[doubles]});
+  }
+  EXPECT_EQ(perStep, (std::vector<std::vector<uint64_t>>{{1, 1, 0}, {2, 1, 1}, {3, 1, 3}}));
+  // Hottest first leaves out what never ran; a second run starts counting afresh.
+  std::vector<size_t> hot = runtime::hottestRules(t);
+  EXPECT_EQ(hot.size(), 4u);
+  ASSERT_FALSE(bool(e.run()));
+  EXPECT_EQ(e.profile()->total()[a].produced, 3u);
+  e.setProfiling(false);
+  EXPECT_EQ(e.profile(), nullptr);
+}
