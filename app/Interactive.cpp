@@ -21,6 +21,7 @@
 #include "app/Frame.h"
 #include "app/Parameters.h"
 #include "app/ProfileReport.h"
+#include "app/StringDebugger.h"
 #include "app/PlainErrors.h"
 #include "jit/Elapsed.h"
 #include "runtime/WindowInput.h"
@@ -61,10 +62,23 @@ class InteractiveModel {
     for (const std::string& w : session_.warnings())
       if (!options_.quiet) std::fprintf(stderr, "%s\n", w.c_str());
     launch([this] {
-      session_.engine().begin(hooks_);
-      while (session_.engine().step()) {
-      }
-      session_.engine().finish();
+      runtime::Engine& e = session_.engine();
+      e.begin(hooks_);
+      while (e.step())
+        if (e.takeBreak()) return;  // the String panel's "stop when": End waits for the rest
+      e.finish();
+    });
+  }
+
+  // The String panel's Step, Step back and Run: to step `target` (from the axiom when behind),
+  // stopping early where its "stop when" production applies.
+  void debugDeriveTo(int target) {
+    launch([this, target] {
+      runtime::Engine& e = session_.engine();
+      if (target < e.stepNo() || e.ended()) e.begin(hooks_);
+      while (e.stepNo() < target && e.step())
+        if (e.takeBreak()) return;
+      if (e.stepNo() >= e.derivationLength()) e.finish();
     });
   }
 
@@ -142,6 +156,17 @@ class InteractiveModel {
     if (wanted == (session_.engine().profile() != nullptr)) return;
     session_.engine().setProfiling(wanted);
     profileRows_.clear();
+  }
+
+  // The String panel (StringDebugger.h); provenance is tracked while it is open.
+  viewer::Panel stringPanel() {
+    if (!window_.panelOpen(StringDebugger::kTitle)) {
+      if (!busy()) session_.engine().setProvenance(false);
+      viewer::Panel closed;
+      closed.title = StringDebugger::kTitle;
+      return closed;
+    }
+    return debugger_.panel(session_.engine(), busy(), {[this](int step) { debugDeriveTo(step); }});
   }
 
   // The Profile panel: the rules by time, from the last picture's run. Counting is on while the
@@ -360,6 +385,7 @@ class InteractiveModel {
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
     a.panels.push_back(profilePanel());
+    a.panels.push_back(stringPanel());
     if (busy()) return a;
     a.newModel = [this] { apply(Action::NewModel); };
     a.newLsystem = [this] { apply(Action::NewLsystem); };
@@ -428,6 +454,9 @@ class InteractiveModel {
     s.lbReleased = p.released;
     runtime::Mouse::instance().update(s);
     if (p.insert && !busy()) insertAtPointer(p.insert, p.fbX, p.fbY, s);
+    if (p.clicked && !busy() && window_.panelOpen(StringDebugger::kTitle))
+      if (std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), p.clickFbX, p.clickFbY))
+        debugger_.select(session_.engine(), *source);
   }
 
   // §5.9: MouseIns (1) or MouseInsPos(status) (2) goes into the string before the module whose
@@ -531,6 +560,7 @@ class InteractiveModel {
   RenderLook look_;
   ParameterPanel parameters_;
   std::vector<ProfileRow> profileRows_;  // of the run the window shows
+  StringDebugger debugger_;
   // What the worker hands the window: the main view's geometry and, with UseView, the panes.
   struct Scene {
     runtime::Geometry main;

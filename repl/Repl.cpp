@@ -28,6 +28,7 @@
 #include "repl/LineReader.h"
 #include "app/PlainErrors.h"
 #include "repl/ReplText.h"
+#include "app/ModuleReport.h"
 #include "app/ProfileReport.h"
 #include <llvm/ADT/ScopeExit.h>
 #include "app/Session.h"
@@ -267,6 +268,7 @@ class Repl {
   }
 
   void begin() {
+    engine().setProvenance(true);  // :module tells where a module came from
     engine().begin(hooks_);
     if (engine().faulted()) report(engine().takeFault());  // Start or the axiom: model code
     view_.markChanged();
@@ -412,6 +414,7 @@ class Repl {
     std::string text;
     table.format(rec, text);
     std::printf("%ld: %s\n", *index, text.c_str());
+    std::printf("  made by: %s\n", app::originText(engine(), size_t(*index)).c_str());
     if (m.nFields == 0) std::printf("  no parameters\n");
     for (uint32_t k = 0; k < m.nFields; ++k) {
       text.clear();

@@ -408,16 +408,18 @@ bool Engine::applyRule(const __lc_Rule& r, Match& m, ModuleBuffer& out) {
   __lc_Ctx* savedCtx = activeCtx_;
   runningRule_ = &r;
   activeCtx_ = &ctx;
-  if (profile_) {
+  if (!inspecting()) {
+    r.body(&ctx, m.params);
+  } else {
     auto t0 = Profile::Clock::now();
     r.body(&ctx, m.params);
-    profile_->record(size_t(&r - model_->rules), ctx.produced != 0, Profile::Clock::now() - t0);
-  } else {
-    r.body(&ctx, m.params);
+    if (profile_) profile_->record(size_t(&r - model_->rules), ctx.produced != 0, Profile::Clock::now() - t0);
+    if (ctx.produced && &r - model_->rules == breakRule_) breakHit_ = true;
   }
   activeCtx_ = savedCtx;
   runningRule_ = savedRule;
   if (!ctx.produced) out.resize(mark);
+  else lastApplied_ = &r;
   return ctx.produced != 0;
 }
 
@@ -453,6 +455,11 @@ bool Engine::deriveForward(int group) {
   // past it uncounted is walked once by the check, as before).
   const bool counting = n > limits_.maxModules;
   size_t pos = 0, modules = 0;
+  // Provenance: `at` counts the old string's modules up to pos.
+  const bool origins = tracking_origins_;
+  size_t at = 0;
+  if (origins) nextOrigins_.clear();
+  auto originAt = [&](size_t k) { return k < origins_.size() ? origins_[k] : Origin{}; };
   while (pos < n) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
     checkStop(n + next_.size());
@@ -461,6 +468,8 @@ bool Engine::deriveForward(int group) {
       // The Cut and the rest of its branch go; the closing EB is processed normally.
       size_t e = findEndOfBranch(old, modules_.next(s, pos));
       if (e == npos) break;
+      if (origins)
+        for (size_t q = pos; q < e; q = modules_.next(s, q)) ++at;
       pos = e;
       continue;
     }
@@ -478,9 +487,12 @@ bool Engine::deriveForward(int group) {
           applied = true;
           if (counting)  // the successor just written: in cache
             for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q)) ++modules;
+          if (origins)
+            for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q))
+              nextOrigins_.push_back({int32_t(r - model_->rules), step_});
           // Advance past the strict predecessor (wrapping in a ring ends the step).
           size_t p = pos;
-          for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p);
+          for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p), ++at;
           if (p <= pos) p = n;
           pos = p;
           break;
@@ -493,9 +505,11 @@ bool Engine::deriveForward(int group) {
       next_.append(s + pos, e - pos);
       pos = e;
       modules += counting;
+      if (origins) nextOrigins_.push_back(originAt(at++));
     }
   }
   string_.swap(next_);
+  if (origins) origins_.swap(nextOrigins_);
   if (counting) noteCount(modules);
   else forgetCount();
   derived_ = true;
@@ -528,6 +542,12 @@ bool Engine::deriveBackward(int group) {
   };
   Match m;
   m.forward = false;
+  // Provenance, built right to left and turned round at the end: `fromRight` counts the old
+  // string's modules right of pos.
+  const bool origins = tracking_origins_;
+  size_t fromRight = 0;
+  if (origins) nextOrigins_.clear();
+  auto originFromRight = [&](size_t k) { return k < origins_.size() ? origins_[origins_.size() - 1 - k] : Origin{}; };
   size_t pos = n;
   while (pos > 0) {
     if (cancel_.load(std::memory_order_relaxed)) return false;  // Stop during a long step
@@ -552,6 +572,11 @@ bool Engine::deriveBackward(int group) {
         scratch_.clear();
         if (applyRule(*r, m, scratch_)) {
           prepend(scratch_.data(), scratch_.size());
+          if (origins) {
+            for (size_t k = 0; k < scratch_.size(); k = modules_.next(scratch_.data(), k))
+              nextOrigins_.push_back({int32_t(r - model_->rules), step_});
+            fromRight += size_t(r->nStrict);
+          }
           pos = start;
           applied = true;
           break;
@@ -561,12 +586,17 @@ bool Engine::deriveBackward(int group) {
     if (!applied) {
       prepend(s + q, pos - q);
       pos = q;
+      if (origins) nextOrigins_.push_back(originFromRight(fromRight++));
     }
   }
   size_t used = next_.size() - front;
   std::memmove(next_.data(), next_.data() + front, used);
   next_.resize(used);
   forgetCount();
+  if (origins) {
+    std::reverse(nextOrigins_.begin(), nextOrigins_.end());
+    origins_.swap(nextOrigins_);
+  }
   string_.swap(next_);
   derived_ = true;
   return true;
@@ -652,6 +682,7 @@ bool Engine::deriveGillespie(int group) {
   next_.append(pieces.data() + chosen->succFrom, chosen->succTo - chosen->succFrom);
   next_.append(s + chosen->to, n - chosen->to);
   forgetCount();
+  forgetOrigins();
   string_.swap(next_);
   derived_ = true;
   return true;
@@ -670,7 +701,15 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
   Match m;
   m.forward = true;
   m.contexts = false;
+  // Provenance of decomposition: a module left as it was keeps its origin; what a rule made has
+  // the innermost rule's (expandOrigin_, set around the recursion).
+  const bool origins = tracking_origins_ && target == &decomposed_;
+  const bool topLevel = src == string_.data() && !target;
+  const bool topOfString = src == string_.data();
+  size_t at = 0;
   auto emit = [&](char* rec) {
+    if (origins)
+      decomposedOrigins_.push_back(!topOfString ? expandOrigin_ : at < origins_.size() ? origins_[at] : Origin{});
     if (target) {
       target->append(rec, modules_.recordSize(ModuleTable::idAt(rec)));
     } else {
@@ -686,7 +725,6 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
   // straight to the turtle or the target: no lookups a module.
   const bool anyRules = byFirst_[kind].count(group) || byFirst_[kind].count(groupZero);
   size_t pos = 0;
-  const bool topLevel = src == string_.data() && !target;
   while (pos < n) {
     checkStop(target ? string_.size() + target->size() : 0);
     if (topLevel && tracking_) tracking_->currentSource = (uint32_t)pos;
@@ -699,12 +737,16 @@ void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleB
       ModuleBuffer& local = *copies_[copiesInUse_++];
       local.clear();
       local.append(succ.data(), succ.size());
+      const Origin outer = expandOrigin_;
+      if (origins) expandOrigin_ = {int32_t(lastApplied_ - model_->rules), step_};
       expand(kind, local.data(), local.size(), depth - 1, group, target, turtle, sink, level + 1);
+      expandOrigin_ = outer;
       --copiesInUse_;
     } else {
       emit(src + pos);
     }
     pos = modules_.next(src, pos);
+    ++at;
   }
 }
 
@@ -712,8 +754,21 @@ void Engine::decompose(int group) {
   if (!hasDecomposition_) return;
   forgetCount();
   decomposed_.clear();
+  decomposedOrigins_.clear();
   expand(__lc_Decomposition, string_.data(), string_.size(), decompositionDepth_, group, &decomposed_, nullptr, nullptr);
   string_.swap(decomposed_);
+  if (tracking_origins_) origins_.swap(decomposedOrigins_);
+}
+
+void Engine::setProvenance(bool on) {
+  tracking_origins_ = on;
+  if (!on) origins_.clear(), nextOrigins_.clear(), decomposedOrigins_.clear();
+}
+
+Engine::Origin Engine::originOf(size_t index) const {
+  // Any change of the string made outside the tracked paths shows in the count.
+  if (!tracking_origins_ || index >= origins_.size() || origins_.size() != moduleCount()) return {};
+  return origins_[index];
 }
 
 void Engine::useView(int id) {
@@ -785,6 +840,11 @@ bool Engine::insertBefore(size_t offset, const char* record) {
   // too); in a record built by hand they may be padding.
   std::memcpy(s.data() + offset + size - sizeof(__lc_ModuleId), record, sizeof(__lc_ModuleId));
   s.append(string_.data() + offset, string_.size() - offset);
+  if (tracking_origins_ && origins_.size() == moduleCount()) {  // the inserted module comes from no rule
+    size_t index = 0;
+    for (size_t p = 0; p < offset; p = modules_.next(string_.data(), p)) ++index;
+    origins_.insert(origins_.begin() + std::ptrdiff_t(index), Origin{});
+  }
   forgetCount();
   string_.swap(s);
   return true;
@@ -971,6 +1031,7 @@ void Engine::beginGuarded() {
     model_->axiom(&ctx);
     calling(nullptr);
   }
+  if (tracking_origins_) origins_.assign(moduleCount(), Origin{Origin::kAxiom, 0});
   decompose(group_);
   checkModules();
 }
@@ -984,7 +1045,7 @@ bool Engine::step() {
   if (auto message = guarded(Phase::Step, [&] { more = stepGuarded(); })) {
     // As after cancelStep(): the string and the step count stay as they were before this step.
     forgetCount();
-    if (derived_) string_.swap(next_);
+    if (derived_) string_.swap(next_), origins_.swap(nextOrigins_);
     step_ = before;
     fail(std::move(*message));
     return false;
@@ -1217,6 +1278,7 @@ llvm::Error Engine::readBinary(const std::string& path) {
     p += size;
   }
   forgetCount();
+  forgetOrigins();
   string_.clear();
   string_.append(bytes.data(), bytes.size());
   return llvm::Error::success();

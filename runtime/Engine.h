@@ -122,6 +122,28 @@ class Engine {
   void setProfiling(bool on);
   const Profile* profile() const { return profile_.get(); }
 
+  // Provenance (the window's String panel): which rule made each module of the string, in which
+  // step. On from the next begin(); forward and backward steps and decomposition keep it; a change
+  // of the string they do not make (a Gillespie step, String input, the REPL's edits) leaves the
+  // modules' origin unknown; a MouseIns insertion is unknown itself.
+  struct Origin {
+    static constexpr int32_t kAxiom = -1, kUnknown = -2;
+    int32_t rule = kUnknown;  // index in model().rules, or kAxiom / kUnknown
+    int32_t step = 0;
+  };
+  void setProvenance(bool on);
+  bool provenance() const { return tracking_origins_; }
+  // The origin of the string's module `index` (0-based, in string order).
+  Origin originOf(size_t index) const;
+  // Break: a step in which rule `rule` (index in model().rules; -1: none) applies sets the flag
+  // takeBreak() returns (and clears); the caller stops stepping there.
+  void breakOn(int rule) {
+    breakRule_ = rule;
+    breakHit_ = false;
+  }
+  int breakRule() const { return breakRule_; }
+  bool takeBreak() { return std::exchange(breakHit_, false); }
+
   // Interprets the current string: interpretation rules (with `maximum depth`) then the turtle.
   // `sink` sees each module the turtle executes, after the turtle did; `geometry`, when given,
   // receives what the turtle draws.
@@ -349,6 +371,17 @@ class Engine {
   // What model code is running, for fault messages: a rule, else a named function (Start…).
   const __lc_Rule* runningRule_ = nullptr;
   std::unique_ptr<Profile> profile_;
+  // What rule bodies are watched for (applyRule's slow path): a profile, a break.
+  bool inspecting() const { return profile_ || breakRule_ >= 0; }
+  int breakRule_ = -1;
+  bool breakHit_ = false;
+  // Provenance: the origins of string_'s modules; of the string a forward step makes; of the one
+  // decomposition makes (apart, so that a fault after the step can put the step's back).
+  bool tracking_origins_ = false;
+  std::vector<Origin> origins_, nextOrigins_, decomposedOrigins_;
+  const __lc_Rule* lastApplied_ = nullptr;  // the rule whose body produced last (decomposition)
+  Origin expandOrigin_;                     // decomposition: the origin of what the rule running makes
+  void forgetOrigins() { origins_.clear(); }
   const char* runningCall_ = nullptr;
   Phase phase_ = Phase::Begin;
   bool derived_ = false;  // this step's string has replaced the old one (which is in next_)

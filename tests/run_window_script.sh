@@ -29,6 +29,12 @@ click_item() {
   [ "\${2:-}" = right ] && x=\$((x1 - 3))
   xdotool mousemove \$x \$(((y0 + y1) / 2)) click 1
 }
+# wait_item LABEL: waits up to 20 s until the window's layout lists LABEL (its start: a panel's
+# text lines are listed by their text).
+wait_item() {
+  for _ in \$(seq 1 200); do grep -qF "\$1" layout.txt 2>/dev/null && return 0; sleep 0.1; done
+  fail "no \$1 in the window's layout: \$(cat layout.txt 2>/dev/null)"
+}
 expect_files() {  # expect_files GLOB NAMES…
   local have want; have=\$(ls \$1 2>/dev/null | tr '\n' ' '); shift; want="\$* "
   [ "\$have" = "\$want" ] || fail "expected files: \$want; have: \$have"

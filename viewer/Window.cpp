@@ -30,6 +30,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <imgui.h>
+#include <imgui_internal.h>  // a panel's content size, to tell when its layout has settled
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
@@ -144,6 +145,8 @@ struct Window::Impl {
   bool down[3] = {false, false, false}, justPressed[3] = {false, false, false};
   bool digitHeld[3] = {false, false, false};  // the 1/2/3 keys: lpfg's mouse-insertion keys
   bool comboDown = false, comboPushed = false, comboReleased = false;
+  bool clickArmed = false, clicked = false;
+  double clickX = 0, clickY = 0;
   int insert = 0;  // the module the last combination push asks for (Pointer::insert)
   Task task = Task::Idle;
   double lastX = 0, lastY = 0;
@@ -298,6 +301,14 @@ struct Window::Impl {
         insert = (shift && ctrl) || digitHeld[0] ? 1 : (alt && ctrl) || digitHeld[1] ? 2 : 0;
       }
       if (action == GLFW_RELEASE && comboDown) comboDown = false, comboReleased = true;
+      // A plain click: pressed with no key on the picture, released where it was pressed.
+      if (action == GLFW_PRESS) {
+        clickArmed = !mods && !uiHasMouse() && !combo;
+        clickX = cursorX, clickY = cursorY;
+      } else if (action == GLFW_RELEASE && clickArmed) {
+        clickArmed = false;
+        if (std::abs(cursorX - clickX) <= 3 && std::abs(cursorY - clickY) <= 3) clicked = true;
+      }
     }
     if (action == GLFW_PRESS) {
       down[button] = true;
@@ -436,6 +447,7 @@ struct Window::Impl {
   }
   std::string layoutWritten;
   int layoutSettling = 0;  // frames before the layout is written again
+  std::map<std::string, ImVec2> panelSizes;  // each panel's size in the last frame
 
   // ImGui::BeginMenu, noting where its label is (once open, ImGui's last item is the submenu's
   // window, so the place is taken before).
@@ -444,6 +456,7 @@ struct Window::Impl {
     float w = ImGui::GetContentRegionAvail().x, h = ImGui::GetFrameHeight();
     bool open = ImGui::BeginMenu(label);
     itemRects[label] = {at.x, at.y, at.x + w, at.y + h};
+    if (open && ImGui::IsWindowAppearing()) layoutSettling = 3;  // the submenu places itself first
     return open;
   }
 
@@ -454,15 +467,20 @@ struct Window::Impl {
 
   // One open panel, stacked down the right side at first (the user may move it); its edits become
   // `chosen` actions, run after the frame as menu choices are.
-  void drawPanel(const Panel& p, int index, std::vector<std::function<void()>>& chosen) {
+  // `top`: where the panel starts; set to where the next one may start.
+  void drawPanel(const Panel& p, float& top, std::vector<std::function<void()>>& chosen) {
     ImGuiIO& io = ImGui::GetIO();
     constexpr float kWidth = 340;
-    // Right-aligned: the panel grows leftwards to fit its longest label.
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 8, 8 + 40.0f * index), ImGuiCond_FirstUseEver, ImVec2(1, 0));
-    ImGui::SetNextWindowSize(ImVec2(kWidth, 0), ImGuiCond_FirstUseEver);
+    // A column down the right edge: each panel hangs from it (growing leftwards to fit its
+    // longest label or row), below the one before; at most 60 % of the width, scrolled beyond.
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 8, top), ImGuiCond_Always, ImVec2(1, 0));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kWidth, 0),
+                                        ImVec2(std::max(kWidth, io.DisplaySize.x * 0.6f), io.DisplaySize.y - top - 8));
     ImGui::SetNextWindowBgAlpha(0.88f);
     bool open = true;
-    if (ImGui::Begin(p.title.c_str(), &open, ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+    constexpr ImGuiWindowFlags kFlags = ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize |
+                                        ImGuiWindowFlags_HorizontalScrollbar | ImGuiWindowFlags_NoMove;
+    if (ImGui::Begin(p.title.c_str(), &open, kFlags)) {
       // A panel sizes itself over its first frames, and moves with its size (it hangs from the
       // right edge): its layout is not told until that is over.
       if (ImGui::IsWindowAppearing()) layoutSettling = 3;
@@ -473,8 +491,28 @@ struct Window::Impl {
         bool edited = false;
         switch (c.kind) {
           case PanelControl::Kind::Text:
+            if (c.sameLine) ImGui::SameLine();
             ImGui::TextUnformatted(c.label.c_str());
             break;
+          case PanelControl::Kind::Button:
+            if (c.sameLine) ImGui::SameLine();
+            edited = ImGui::Button(c.label.c_str());
+            v = c.value + 1;  // any change: the press
+            break;
+          case PanelControl::Kind::Choice: {
+            int chosen = int(c.value);
+            ImGui::SetNextItemWidth(kWidth * 0.55f);
+            const char* preview = chosen >= 0 && chosen < int(c.options.size()) ? c.options[size_t(chosen)].c_str() : "";
+            if (ImGui::BeginCombo(c.label.c_str(), preview)) {
+              if (ImGui::IsWindowAppearing()) layoutSettling = 3;  // the list places itself first
+              for (int k = 0; k < int(c.options.size()); ++k) {
+                if (ImGui::Selectable(c.options[size_t(k)].c_str(), k == chosen)) v = float(k), edited = true;
+                notePanelItem(p.title, c.options[size_t(k)]);
+              }
+              ImGui::EndCombo();
+            }
+            break;
+          }
           case PanelControl::Kind::Toggle: {
             bool on = c.value != 0;
             if (c.group >= 0 ? ImGui::RadioButton(c.label.c_str(), on) : ImGui::Checkbox(c.label.c_str(), &on)) {
@@ -524,6 +562,19 @@ struct Window::Impl {
       }
       if (!p.status.empty()) ImGui::TextWrapped("%s", p.status.c_str());
     }
+    top = ImGui::GetWindowPos().y + ImGui::GetWindowSize().y + 8;
+    // A panel whose contents grew or shrank resizes (and, hanging from the right edge, moves) over
+    // the next frames: its layout is not told until it has stopped.
+    // ImGui sizes a window from its previous frame's contents (ImGuiWindow::ContentSizeIdeal, as
+    // ImGui computes it): contents that differ now move it in the next frame.
+    const ImGuiWindow* w = ImGui::GetCurrentWindow();
+    const ImVec2 ideal(std::floor(std::max(w->DC.CursorMaxPos.x, w->DC.IdealMaxPos.x) - w->DC.CursorStartPos.x),
+                       std::floor(std::max(w->DC.CursorMaxPos.y, w->DC.IdealMaxPos.y) - w->DC.CursorStartPos.y));
+    if (ideal.x != w->ContentSizeIdeal.x || ideal.y != w->ContentSizeIdeal.y) layoutSettling = std::max(layoutSettling, 2);
+    ImVec2 size = ImGui::GetWindowSize();
+    auto [last, added] = panelSizes.try_emplace(p.title, size);
+    if (!added && (last->second.x != size.x || last->second.y != size.y)) layoutSettling = std::max(layoutSettling, 2);
+    last->second = size;
     ImGui::End();
     if (!open) openPanels.erase(p.title);
   }
@@ -715,6 +766,7 @@ bool Window::frame(const MenuActions& actions) {
   m.menuIsOpen = false;
   if (ImGui::BeginPopup(kMenuId)) {
     m.menuIsOpen = true;
+    if (ImGui::IsWindowAppearing()) m.layoutSettling = 3;
     m.itemRects.clear();
     // lpfg §1.2.2, with the animate menu of §1.2.3 in place of "Animate" while animating.
     m.menuItem("New model", actions.newModel, chosen);
@@ -785,6 +837,7 @@ bool Window::frame(const MenuActions& actions) {
   }
   if (ImGui::BeginPopup(kUserMenuId)) {
     m.itemRects.clear();
+    if (ImGui::IsWindowAppearing()) m.layoutSettling = 3;
     if (actions.userMenu.empty()) ImGui::TextDisabled("(no user menu items)");
     for (const auto& [label, code] : actions.userMenu) {
       std::function<void()> pick;
@@ -843,9 +896,9 @@ bool Window::frame(const MenuActions& actions) {
   m.saveIsOpen = ImGui::IsPopupOpen(kSaveId);
   m.panelRects.clear();
   std::vector<std::function<void()>> edits;
-  int shownPanels = 0;
+  float panelTop = 8;
   for (const Panel& p : actions.panels)
-    if (m.openPanels.count(p.title)) m.drawPanel(p, shownPanels++, edits);
+    if (m.openPanels.count(p.title)) m.drawPanel(p, panelTop, edits);
   if (!m.message.empty()) {
     // Over the picture's top left corner, which stays the last good model's: the problem with
     // the edit (compile diagnostics with their source lines, a fault in model code).
@@ -989,6 +1042,9 @@ Window::Pointer Window::takePointer() {
   p.released = m.comboReleased;
   p.insert = m.comboPushed ? m.insert : 0;
   m.comboPushed = m.comboReleased = false;
+  p.clicked = std::exchange(m.clicked, false);
+  p.clickFbX = float(m.clickX) * sx;
+  p.clickFbY = float(m.clickY) * sy;
   return p;
 }
 

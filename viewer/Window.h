@@ -55,12 +55,16 @@ struct PanelControl {
     Slider,  // min < max: a slider (vlab's); min == max: a field dragged by 1/100 of its value
     Toggle,  // a check box; toggles with the same group >= 0 are exclusive (vlab's button groups)
     Text,    // a line of text (vlab's labels)
+    Choice,  // one of `options`; value: the chosen one's index
+    Button,  // a button on a line of its own (value: unused); pressing it reports its value
   } kind = Kind::Slider;
+  std::vector<std::string> options;
   std::string label;  // unique within its panel
   float value = 0, min = 0, max = 0;
   float step = 0;     // a slider snaps to multiples of it (vlab's whole steps over a scale); 0: none
   int group = -1;
-  std::string tooltip;  // where the value lives (file, #define), shown on hover
+  bool sameLine = false;  // drawn right of the control before it
+  std::string tooltip;    // where the value lives (file, #define), shown on hover
 };
 struct Panel {
   std::string title;  // unique; the Panels submenu's item
@@ -172,6 +176,10 @@ class Window {
     // The module a push asks to insert (§7.4's table): 1 MouseIns (Shift+Ctrl, Shift+Alt+Ctrl or
     // the 1 key), 2 MouseInsPos (Alt+Ctrl or 2), 0 none (Shift+Alt or 3).
     int insert = 0;
+    // A plain left click on the picture (no key held, released within 3 px of the press; a drag
+    // rotates instead), latched like pushed: where, in framebuffer pixels.
+    bool clicked = false;
+    float clickFbX = 0, clickFbY = 0;
   };
   Pointer takePointer();
 

@@ -19,6 +19,10 @@
 #include "app/ProgramPages.h"
 #include "app/Session.h"
 #include "runtime/WindowInput.h"
+#include "runtime/include/lcjit/modules.h"
+
+#include <algorithm>
+#include <cstring>
 
 using namespace lcjit;
 using namespace lcjit::app;
@@ -746,3 +750,52 @@ TEST(EngineProfile, CountsEachRulesApplicationsPerStep) {
   e.setProfiling(false);
   EXPECT_EQ(e.profile(), nullptr);
 }
+
+// Provenance: a history worked out by hand. Step 1: A(0) → A(1) B (line 9); C is the axiom's.
+// Step 2: A(1) → A(2) B (line 9), B → E (line 10), and E decomposes into D D (line 12).
+void checkOrigins(const std::string& name, const std::string& startEach) {
+  ScratchModel m(name, "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\nmodule B;\nmodule C;\n"
+                            "module E;\nmodule D;\naxiom: A(0) C;\n"
+                            "A(n) : { produce A(n+1) B; }\n"   // line 9
+                            "B : { produce E; }\n"             // line 10
+                            "decomposition:\n"
+                            "E : { produce D D; }\n" + startEach);  // line 12
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  std::vector<runtime::RuleSource> src = runtime::ruleSources(e.model());
+  auto lineOf = [&](runtime::Engine::Origin o) {
+    return o.rule == runtime::Engine::Origin::kAxiom ? 0 : o.rule < 0 ? -1 : src[size_t(o.rule)].line;
+  };
+  auto history = [&] {
+    std::vector<std::pair<int, int>> h;  // (line, step) per module; line 0: the axiom, -1 unknown
+    for (size_t i = 0; i < e.moduleCount(); ++i) h.emplace_back(lineOf(e.originOf(i)), e.originOf(i).step);
+    return h;
+  };
+  e.setProvenance(true);
+  e.breakOn(int(std::find_if(src.begin(), src.end(), [](auto& r) { return r.line == 10; }) - src.begin()));
+  runtime::EngineHooks hooks;
+  e.begin(hooks);
+  EXPECT_EQ(history(), (std::vector<std::pair<int, int>>{{0, 0}, {0, 0}}));
+  ASSERT_TRUE(e.step());
+  EXPECT_FALSE(e.takeBreak());  // no B yet
+  EXPECT_EQ(history(), (std::vector<std::pair<int, int>>{{9, 1}, {9, 1}, {0, 0}}));
+  e.step();
+  EXPECT_TRUE(e.takeBreak());
+  EXPECT_FALSE(e.takeBreak());
+  EXPECT_EQ(e.text(e.string()), "A(2)\nB\nD\nD\nC\n");
+  EXPECT_EQ(history(), (std::vector<std::pair<int, int>>{{9, 2}, {9, 2}, {12, 2}, {12, 2}, {0, 0}}));
+  // An insertion (MouseIns) comes from no rule; the others keep theirs.
+  size_t offsetOfC = 0;
+  for (int k = 0; k < 4; ++k) offsetOfC = e.modules().next(e.string().data(), offsetOfC);
+  __lc_R_MouseIns r;
+  std::memset(&r, 0, sizeof r);
+  r.id = r.id2 = __lc_id_MouseIns;
+  ASSERT_TRUE(e.insertBefore(offsetOfC, reinterpret_cast<const char*>(&r)));
+  EXPECT_EQ(history(), (std::vector<std::pair<int, int>>{{9, 2}, {9, 2}, {12, 2}, {12, 2}, {-1, 0}, {0, 0}}));
+  e.setProvenance(false);
+  EXPECT_EQ(e.originOf(0).rule, runtime::Engine::Origin::kUnknown);
+}
+
+TEST(EngineProvenance, EachModuleNamesTheRuleAndStepThatMadeIt) { checkOrigins("origins", ""); }
+// The same history derived right to left (Backward(), as vlab's Lychnis does every step).
+TEST(EngineProvenance, BackwardStepsKeepTheOriginsToo) { checkOrigins("backorigins", "StartEach: { Backward(); }\n"); }
