@@ -19,6 +19,7 @@
 #include "runtime/Engine.h"
 #include "app/Batch.h"
 #include "app/Frame.h"
+#include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
 #include "app/Sandbox.h"
 #include "app/SandboxWindow.h"
@@ -109,9 +110,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry; with a printf number in its name "
                  "(frame%04d.png) the axiom and every step to numbered files; .mp4/.webm: the axiom and every "
                  "step as a video's frames");
-  app.add_option("--fps", bo.fps, "frames per second of a video (-out movie.mp4)")
+  app.add_option("--fps", bo.fps, "frames per second of a video (-out movie.mp4, --record movie.webm)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  std::string record;
+  app.add_option("--record", record,
+                 "where the window's Animate > Start recording writes the frames it shows: a video (.mp4, "
+                 ".webm) or numbered files (frame%04d.png); default lpfg's MODEL0000.png, MODEL0001.png …");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly,
                "compile the model only (exit 0 if it compiles, 1 if not); the compiled code is cached, so the next "
@@ -209,6 +214,12 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   } catch (const CLI::ParseError& e) {
     // --help exits 0; every usage error exits 1, like every other lcjit error.
     return app.exit(e) == 0 ? 0 : 1;
+  }
+
+  if (!record.empty() && !lcjit::app::isFrameSequence(record)) {
+    std::fprintf(stderr, "lcjit: --record %s: frames go to a video (.mp4, .webm) or to numbered files (a name with "
+                         "one printf number, frame%%04d.png)\n", record.c_str());
+    return 1;
   }
 
   if (*repl) {
@@ -471,6 +482,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       io.animate = animate;
       io.verbose = bo.verbose;
       io.debug = bo.debug;
+      io.record = record;
+      io.fps = bo.fps;
       return lcjit::app::runInteractive(**session, *files, w, io);
     }
 #endif

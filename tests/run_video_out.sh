@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # -out movie.mp4 / movie.webm (issue 17): a batch run writes the axiom and every step as one video
 # frame each, the same frames `-out frame%04d.png` writes as numbered pictures; --fps sets the
-# rate. An unwritable place is an error with status 1 that names it.
+# rate. An unwritable place or a --record name that is neither a video nor numbered is an error
+# with status 1 that names it.
 # Usage: run_video_out.sh LCJIT VIDEO_PROBE IMAGE_DIFF MODEL.l (tests/models/numbered.l: step K
 # draws K segments)
 set -u
@@ -25,7 +26,7 @@ for video in v.mp4 v.webm; do
   *.webm) [[ "$codec" = vp9 || "$codec" = vp8 ]] || fail "$video: codec $codec" ;;
   esac
   [ "$w $h" = "320 240" ] || fail "$video is ${w}x$h, not 320x240"
-  [ "$fps" = 25/1 ] || fail "$video: $fps frames per second, not the default 25"
+  [ "$fps" = 25 ] || fail "$video: $fps frames per second, not the default 25"
   [ "$n" = "$frames" ] || fail "$video has $n frames, not $frames ($steps steps and the axiom)"
   # Frame K is step K's picture: the numbered picture of the same run, up to the codec's loss
   # (none at image_diff's threshold here), and not step K-1's (steps differ by some 40 pixels).
@@ -40,7 +41,7 @@ done
 
 "$lcjit" -b -w 320 240 --fps 10 -out ten.mp4 numbered.l 2>err.txt || fail "--fps 10 failed"
 read -r _ _ _ fps _ < <("$probe" ten.mp4)
-[ "$fps" = 10/1 ] || fail "--fps 10 gave $fps"
+[ "$fps" = 10 ] || fail "--fps 10 gave $fps"
 
 # An odd size is padded to the next even one (yuv420p).
 "$lcjit" -b -w 321 241 -out odd.mp4 numbered.l 2>err.txt || fail "an odd size failed"
@@ -51,5 +52,8 @@ read -r _ w h _ _ < <("$probe" odd.mp4)
 "$lcjit" -b -out no/such/folder/v.mp4 numbered.l 2>err.txt && fail "an unwritable video succeeded"
 grep -q "cannot write no/such/folder/v.mp4: cannot create the file: No such file or directory" err.txt ||
   fail "no message naming the unwritable video"
+"$lcjit" -b --record v.avi numbered.l 2>err.txt && fail "--record v.avi succeeded"
+grep -q -- "--record v.avi: frames go to a video (.mp4, .webm) or to numbered files" err.txt ||
+  fail "no message naming the bad --record name"
 "$lcjit" -b --fps 0 -out v.mp4 numbered.l 2>err.txt && fail "--fps 0 succeeded"
 echo ok

@@ -1,7 +1,8 @@
 // video_probe VIDEO [PREFIX]
 // What the end-to-end tests know of a video lcjit wrote, read with FFmpeg's demuxer and decoder:
-// one line `codec WIDTH HEIGHT FPS FRAMES` (e.g. `h264 800 800 25/1 4`); with PREFIX, every
-// frame also to PREFIX0000.png, PREFIX0001.png … (for tests/tools/image_diff).
+// one line `codec WIDTH HEIGHT FPS FRAMES` (e.g. `h264 800 800 25 4`; FPS from the first and last
+// frames' timestamps, since a .webm stores none; 0 for one frame); with PREFIX, every frame also to
+// PREFIX0000.png, PREFIX0001.png … (for tests/tools/image_diff).
 // Exit status: 0, or 2 when the file cannot be read as a video.
 #include <cstdio>
 #include <string>
@@ -44,8 +45,10 @@ int main(int argc, char** argv) {
   AVFrame* frame = av_frame_alloc();
   SwsContext* scale = nullptr;
   int frames = 0;
+  int64_t first = 0, last = 0;
   auto receive = [&] {
     while (avcodec_receive_frame(context, frame) >= 0) {
+      (frames == 0 ? first : last) = frame->best_effort_timestamp;
       if (!prefix.empty()) {
         scale = sws_getCachedContext(scale, frame->width, frame->height, AVPixelFormat(frame->format), frame->width,
                                      frame->height, AV_PIX_FMT_RGB24, SWS_BILINEAR, nullptr, nullptr, nullptr);
@@ -71,8 +74,9 @@ int main(int argc, char** argv) {
   }
   avcodec_send_packet(context, nullptr);
   receive();
-  std::printf("%s %d %d %d/%d %d\n", avcodec_get_name(stream->codecpar->codec_id), stream->codecpar->width,
-              stream->codecpar->height, stream->avg_frame_rate.num, stream->avg_frame_rate.den, frames);
+  const double seconds = double(last - first) * av_q2d(stream->time_base);
+  std::printf("%s %d %d %.0f %d\n", avcodec_get_name(stream->codecpar->codec_id), stream->codecpar->width,
+              stream->codecpar->height, frames > 1 && seconds > 0 ? (frames - 1) / seconds : 0.0, frames);
   sws_freeContext(scale);
   av_frame_free(&frame);
   av_packet_free(&packet);
