@@ -145,7 +145,7 @@ struct VideoWriter::Impl {
       context->bit_rate = 0;  // constant quality
       set("crf", "32");
       set("deadline", "good");
-      set("cpu-used", "4");  // the default (1) is several times slower for a barely better picture
+      set("cpu-used", "4");  // faster than the default (1): a recording should keep up with its frames
       set("row-mt", "1");
     } else if (name == "libvpx") {
       context->bit_rate = 8'000'000;  // VP8's crf is bounded by a bit rate

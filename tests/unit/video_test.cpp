@@ -163,6 +163,32 @@ TEST_F(VideoTest, Mp4FramesReadBack) { roundTrip(file("colours.mp4"), 64, 48, {"
 TEST_F(VideoTest, WebmFramesReadBack) { roundTrip(file("colours.webm"), 64, 48, {"libvpx-vp9", "libvpx"}); }
 TEST_F(VideoTest, OddSizeIsPadded) { roundTrip(file("odd.MP4"), 33, 21, {"libx264", "mpeg4"}); }
 
+// The padding repeats the last column and row, not another part of the picture: a picture
+// whose last column and row have their own colour keeps it in the added ones.
+TEST_F(VideoTest, PaddingRepeatsTheLastColumnAndRow) {
+  const int w = 33, h = 21;
+  Image im = solid(w, h, kColours[0]);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (x >= w - 8 || y >= h - 8)  // a border wide enough to survive the codec's blocks
+        for (int ch = 0; ch < 3; ++ch) im.rgba[(size_t(y) * w + x) * 4 + ch] = uint8_t(kColours[2][ch]);
+  auto video = VideoWriter::create(file("border.mp4"));
+  ASSERT_TRUE(bool(video)) << llvm::toString(video.takeError());
+  ASSERT_FALSE(bool((*video)->add(im)));
+  ASSERT_FALSE(bool((*video)->finish()));
+  Decoded d = decode(file("border.mp4"));
+  ASSERT_EQ(d.frames.size(), 1u) << d.error;
+  const Image& f = d.frames[0];
+  ASSERT_EQ(f.width, w + 1);
+  ASSERT_EQ(f.height, h + 1);
+  for (auto [x, y] : {std::pair{w, h / 2}, std::pair{w / 2, h}, std::pair{w, h}}) {
+    auto p = f.pixel(x, y);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(p[ch], kColours[2][ch], 16) << "pixel " << x << "," << y << " channel " << ch;
+  }
+  auto inside = f.pixel(4, 4);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(inside[ch], kColours[0][ch], 16) << "channel " << ch;
+}
+
 TEST_F(VideoTest, FrameOfAnotherSizeIsAnErrorNamingTheFile) {
   auto video = VideoWriter::create(file("sizes.mp4"));
   ASSERT_TRUE(bool(video)) << llvm::toString(video.takeError());
