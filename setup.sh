@@ -16,6 +16,7 @@ packages=(
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
   libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # videos (-out movie.mp4/.webm, --record): FFmpeg's H.264/VP9 encoders and muxers
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
   bubblewrap  # --sandbox (docs/security.md): the model's run in a child process without the user's files
 )

@@ -16,7 +16,6 @@
 #include <fstream>
 #include <future>
 #include <optional>
-#include <regex>
 #include <thread>
 #include <utility>
 
@@ -27,6 +26,7 @@
 #include "runtime/Engine.h"
 #include "app/FileMonitor.h"
 #include "app/Frame.h"
+#include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
 #include "app/ProgramPages.h"
 #include "runtime/WindowInput.h"
@@ -70,20 +70,6 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
   f.close();
   if (!f) return runtime::textfile::fail(out, 0, "write failed (is the disk full?)");
   return llvm::Error::success();
-}
-
-// `-out frame%04d.png` (Context Free's style): the file name holds one printf integer
-// conversion (%d, %4d, %04d), and the run writes the axiom and every step to numbered files.
-std::optional<std::string> numberedOutput(const std::string& pattern, int step) {
-  static const std::regex conversion("%0?[0-9]{0,2}d");
-  const std::string name = std::filesystem::path(pattern).filename().string();
-  std::smatch m;
-  if (!std::regex_search(name, m, conversion) || name.find('%', m.position(0) + m.length(0)) != std::string::npos ||
-      name.find('%') != size_t(m.position(0)))
-    return std::nullopt;
-  char number[32];
-  std::snprintf(number, sizeof number, m.str(0).c_str(), step);
-  return (std::filesystem::path(pattern).parent_path() / (m.prefix().str() + number + m.suffix().str())).string();
 }
 
 // -dtf/-dtfes: lpfg's turtle text of the current string, streamed to `path`; the time it took is
@@ -212,6 +198,18 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       options.progress(n);
       if (step) step(n);
     };
+  // -out frame%04d.png or movie.mp4 (FrameSequence.h): the axiom (step 0) and every step, each
+  // to a numbered file of the kind or as a video's frame. A video's file is made before the
+  // derivation runs: one that cannot be written fails at once.
+  std::unique_ptr<FrameSequence> sequence;
+  if (!options.out.empty() && isFrameSequence(options.out)) {
+    auto opened = FrameSequence::open(options.out, options.fps);
+    if (!opened) {
+      report(opened.takeError());
+      return 1;
+    }
+    sequence = std::move(*opened);
+  }
   auto t0 = Clock::now();
   // On a terminal, a derivation that has run half a second shows how far it is, one line
   // rewritten at most twice a second (the module count can walk the string: not more often),
@@ -229,25 +227,32 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       });
     };
   }
-  // -out frame%04d.png: the axiom (step 0) and every step to a numbered file of the kind.
-  const bool numbered = !options.out.empty() && numberedOutput(options.out, 0).has_value();
+  FrameSource source;
+  source.writeFile = [&](const std::string& path) { return writeOutput(path, engine, session.drawing(), frames, times); };
+  source.picture = [&]() -> llvm::Expected<viewer::Image> {
+    FrameTimes ft;
+    auto image = frames.picture(engine, session.drawing(), &ft);
+    times.interpretMs = ft.interpretMs;
+    times.renderMs = ft.renderMs;
+    return image;
+  };
   bool frameFailed = false;
-  auto writeNumbered = [&](int step) {
+  auto writeFrame = [&](int step) {
     if (frameFailed) return;
-    if (auto e = writeOutput(*numberedOutput(options.out, step), engine, session.drawing(), frames, times)) {
+    if (auto e = sequence->add(step, source)) {
       report(std::move(e));
       frameFailed = true;
       engine.stop();
     }
   };
-  if (numbered)
+  if (sequence)
     hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
-      writeNumbered(n);
+      writeFrame(n);
       if (step) step(n);
     };
   engine.setProfiling(!options.profile.empty());
   engine.begin(hooks);
-  if (numbered) writeNumbered(0);
+  if (sequence) writeFrame(0);
   while (engine.step()) {
     if (betweenSteps)
       betweenSteps(jit::msSince(t0));
@@ -268,7 +273,12 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   shown.clear();
   if (options.progress) options.progress(-1);
   if (frameFailed) return 1;
-  if (!options.out.empty() && !numbered)
+  if (sequence)
+    if (auto e = sequence->finish()) {
+      report(std::move(e));
+      return 1;
+    }
+  if (!options.out.empty() && !sequence)
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
       report(std::move(e));
       return 1;

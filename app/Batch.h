@@ -10,8 +10,11 @@
 namespace lcjit::app {
 
 struct BatchOptions {
-  std::string out;  // -out: string (.str/.txt), binary string (.strb) or a picture/geometry file
+  // -out: string (.str/.txt), binary string (.strb), a picture/geometry file, numbered files of
+  // one (frame%04d.png) or a video (.mp4, .webm): FrameSequence.h
+  std::string out;
   int width = 800, height = 800;  // pictures (-w)
+  int fps = 25;                   // a video's frames per second (--fps)
   int optLevel = 1;
   // A better tier (no second tier when not above optLevel): under --watch, after each load
   // the model compiles again at this level in the background and is swapped in when ready.

@@ -39,7 +39,9 @@ const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
   return *this;
 }
 
-bool isFrameOutput(const std::string& path) { return viewer::isImageFileName(path) || runtime::isExportFormat(path); }
+bool isFrameOutput(const std::string& path) {
+  return viewer::isImageFileName(path) || viewer::isVideoFileName(path) || runtime::isExportFormat(path);
+}
 
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
   std::vector<viewer::ViewPane> panes;
@@ -63,8 +65,50 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& en
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
 FrameWriter::~FrameWriter() = default;
 
+llvm::Expected<viewer::Image> FrameWriter::picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                                                   FrameTimes* times) {
+  auto t0 = std::chrono::steady_clock::now();
+  runtime::Geometry geometry;
+  if (auto e = engine.interpret(geometry)) return std::move(e);
+  if (times) {
+    times->interpretMs = jit::msSince(t0);
+    times->triangles = geometry.triangleCount();
+    times->segments = geometry.segments.size();
+  }
+  return render(geometry, engine, drawing, times);
+}
+
+llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geometry, runtime::Engine& engine,
+                                                  const runtime::DrawingFiles& drawing, FrameTimes* times) {
+#if !LCJIT_HAVE_RENDERING
+  (void)geometry, (void)engine, (void)drawing, (void)times;
+  return llvm::createStringError("this lcjit was built without pictures (LCJIT_WITH_RENDERING=OFF); strings, -dtf "
+                                 "and the exports (.obj, .gltf, .svg …) work");
+#else
+  auto t0 = std::chrono::steady_clock::now();
+  if (!renderer_) {
+    auto r = viewer::HeadlessRenderer::create();
+    if (!r) return r.takeError();
+    renderer_ = std::move(*r);
+  }
+  viewer::HeadlessOptions options;
+  options.width = width_;
+  options.height = height_;
+  const RenderLook& look = look_.of(drawing);
+  auto panes = interpretViews(engine, drawing.view);
+  if (!panes) return panes.takeError();
+  auto image = panes->empty() ? renderer_->render(geometry, drawing.view, look.palette, look.textures, options)
+                              : renderer_->renderPanes(*panes, drawing.view, look.palette, look.textures, options);
+  if (times) times->renderMs = jit::msSince(t0);
+  return image;
+#endif
+}
+
 llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
                                FrameTimes* times) {
+  if (viewer::isVideoFileName(path))
+    return llvm::createStringError("cannot write " + path + ": a video is made of many frames: name it with -out (every "
+                                   "step of a batch run) or --record (the window's Start recording)");
   auto t0 = std::chrono::steady_clock::now();
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return e;
@@ -75,26 +119,9 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   }
   t0 = std::chrono::steady_clock::now();
   if (viewer::isImageFileName(path)) {
-#if !LCJIT_HAVE_RENDERING
-    return llvm::createStringError("cannot write " + path + ": this lcjit was built without pictures "
-                                   "(LCJIT_WITH_RENDERING=OFF); strings, -dtf and the exports (.obj, .gltf, .svg …) work");
-#else
-    if (!renderer_) {
-      auto r = viewer::HeadlessRenderer::create();
-      if (!r) return r.takeError();
-      renderer_ = std::move(*r);
-    }
-    viewer::HeadlessOptions options;
-    options.width = width_;
-    options.height = height_;
-    const RenderLook& look = look_.of(drawing);
-    auto panes = interpretViews(engine, drawing.view);
-    if (!panes) return panes.takeError();
-    auto image = panes->empty() ? renderer_->render(geometry, drawing.view, look.palette, look.textures, options)
-                                : renderer_->renderPanes(*panes, drawing.view, look.palette, look.textures, options);
-    if (!image) return image.takeError();
+    auto image = render(geometry, engine, drawing, nullptr);
+    if (!image) return llvm::createStringError("cannot write " + path + ": " + llvm::toString(image.takeError()));
     if (auto e = viewer::writeImage(*image, path)) return e;
-#endif
   } else {
     runtime::ExportInput in;
     in.geometry = &geometry;

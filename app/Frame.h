@@ -1,12 +1,14 @@
 // Pictures of the model: `-out FILE` and OutputFrame("FILE") from model code. The extension
 // chooses: .png/.jpg/.jpeg/.bmp render headless through EGL with the viewer's renderer (in a build
 // with LCJIT_WITH_RENDERING); .obj, .ply, .stl, .gltf, .glb, .svg, .ps, .eps and .pov go through
-// the exporters. Every output is the same interpreted Geometry framed by the same camera.
+// the exporters; a video's frames (.mp4, .webm) are the pictures, written by FrameSequence.
+// Every output is the same interpreted Geometry framed by the same camera.
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "viewer/ImageFiles.h"
 #include "viewer/Renderer.h"
 #include <llvm/Support/Error.h>
 
@@ -52,8 +54,13 @@ class FrameWriter {
   // Interprets the engine's current string and writes it to `path`.
   llvm::Error write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
                     FrameTimes* times = nullptr);
+  // The same picture as `write` makes of a picture file (a video's frame).
+  llvm::Expected<viewer::Image> picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                                        FrameTimes* times = nullptr);
 
  private:
+  llvm::Expected<viewer::Image> render(const runtime::Geometry& geometry, runtime::Engine& engine,
+                                       const runtime::DrawingFiles& drawing, FrameTimes* times);
   int width_, height_;
 #if LCJIT_HAVE_RENDERING
   std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused

@@ -19,6 +19,7 @@
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
 #include "app/Frame.h"
+#include "app/FrameSequence.h"
 #include "app/Parameters.h"
 #include "app/ProfileReport.h"
 #include "app/StringDebugger.h"
@@ -53,6 +54,7 @@ class InteractiveModel {
   }
   ~InteractiveModel() {
     if (work_.valid()) work_.wait();
+    stopRecording();
   }
 
   bool busy() const { return work_.valid(); }
@@ -112,7 +114,7 @@ class InteractiveModel {
       if (animating_ && animation_.newViewBetweenFrames) window_.resetView();
       if (scene.panes.empty()) window_.setScene(shown_, d.view, look.palette, look.textures, framing);
       else window_.setViews(scene.panes, d.view, look.palette, look.textures);
-      if (recording_) record();
+      if (recordingWanted_) record();
       shownAt_ = Clock::now();
     }
     swapInWhenReady();
@@ -242,7 +244,8 @@ class InteractiveModel {
     mode_ = mode;
   }
   void leaveAnimate() {
-    running_ = recording_ = false;
+    running_ = false;
+    stopRecording();
     animating_ = false;
     schedule_.reset();
   }
@@ -380,7 +383,7 @@ class InteractiveModel {
       if (!busy()) launch([] {});
     };
     a.newAnimate = [this] { readAnimationFile(); };
-    a.startRecording = [this] { recording_ = true; };
+    a.startRecording = [this] { recordingWanted_ = true; };
     a.userMenu = runtime::UserMenu::instance().items();
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
@@ -533,15 +536,38 @@ class InteractiveModel {
         std::fprintf(stderr, "%s:%d:%d: warning: %s\n", w.file.c_str(), w.line, w.column, w.message.c_str());
   }
 
-  // Start recording: every displayed frame to a numbered picture (lpfg's Save format, PNG).
+  // Start recording: every frame shown from then on, to --record's video or numbered files, by
+  // default lpfg's numbered pictures (MODELNNNN.png, lpfg's Save format) in the .a file's frame
+  // dump folder. The numbers are the .a file's (frame count or step), from 0.
   void record() {
+    if (!recording_) {
+      std::string out = options_.record;
+      if (out.empty()) out = (std::filesystem::path(animation_.frameDumpPath) / (stem() + "%04d.png")).string();
+      auto opened = FrameSequence::open(out, options_.fps);
+      if (!opened) {
+        report(opened.takeError());
+        recordingWanted_ = false;
+        return;
+      }
+      recording_ = std::move(*opened);
+    }
     int number = animation_.frameNumbers == runtime::AnimationSettings::FrameNumbers::StepNo ? session_.engine().stepNo()
                                                                                             : recorded_;
-    char name[32];
-    std::snprintf(name, sizeof name, "%04d.png", number);
-    std::filesystem::path dir(animation_.frameDumpPath);  // "" = the working folder
-    report(window_.saveImage((dir / (stem() + name)).string()));
+    FrameSource source;
+    source.writeFile = [this](const std::string& path) { return window_.saveImage(path); };
+    source.picture = [this] { return window_.grabImage(); };
+    if (auto e = recording_->add(number, source)) {
+      report(std::move(e));
+      stopRecording();  // a video keeps the frames it got
+      return;
+    }
     ++recorded_;
+  }
+  // Leaving animate mode or closing the window ends a recording: a video is finished then.
+  void stopRecording() {
+    recordingWanted_ = false;
+    if (recording_) report(recording_->finish());
+    recording_.reset();
   }
 
   std::string stem() const { return std::filesystem::path(files_.lsystem).stem().string(); }
@@ -574,7 +600,9 @@ class InteractiveModel {
   std::string animationFile_;
   runtime::AnimationSettings animation_;
   std::optional<runtime::AnimationSchedule> schedule_;
-  bool animating_ = false, running_ = false, recording_ = false;
+  bool animating_ = false, running_ = false;
+  bool recordingWanted_ = false;                // Start recording was chosen (and not ended)
+  std::unique_ptr<FrameSequence> recording_;    // where they go, opened at the first frame
   bool refit_ = false;  // the next picture frames itself (first frame, reloads)
   std::atomic<bool> runRequested_{false}, pauseRequested_{false};  // set on the worker thread
   runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;

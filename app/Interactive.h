@@ -26,6 +26,10 @@ struct InteractiveOptions {
   bool verbose = false;                         // -v: reload timings on stderr
   bool debug = false;                           // -d: module count after every step on stdout
   std::vector<std::string> panels;              // --panel: panels open from the start, by title
+  // --record: where Start recording writes the frames shown, a video or numbered files
+  // (FrameSequence.h); "" is lpfg's MODELNNNN.png in the .a file's frame dump folder.
+  std::string record;
+  int fps = 25;  // --fps, of a recorded video
 };
 
 // Runs until the window closes; returns the process exit status.

@@ -19,6 +19,7 @@
 #include "runtime/Engine.h"
 #include "app/Batch.h"
 #include "app/Frame.h"
+#include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
 #include "app/Sandbox.h"
 #include "app/SandboxWindow.h"
@@ -60,6 +61,7 @@ std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const
   if (!compileOnly && !emitCpp) a.push_back("-b");
   if (!bo.out.empty()) a.insert(a.end(), {"--out", fs::absolute(bo.out).lexically_normal().string()});
   if (winSize.size() == 2) a.insert(a.end(), {"-w", std::to_string((int)winSize[0]), std::to_string((int)winSize[1])});
+  a.insert(a.end(), {"--fps", std::to_string(bo.fps)});
   if (explicitO) a.insert(a.end(), {"-O", std::to_string(bo.optLevel)});
   for (auto [on, flag] : {std::pair{bo.debug, "-d"}, {bo.dumpSteps, "--ds"}, {bo.dumpInterpreted, "--dtf"},
                           {bo.dumpInterpretedEach, "--dtfes"}, {bo.quiet, "-q"}, {bo.verbose, "-v"},
@@ -105,7 +107,16 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
   app.add_option("--out", bo.out,
                  "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
-                 ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry");
+                 ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry; with a printf number in its name "
+                 "(frame%04d.png) the axiom and every step to numbered files; .mp4/.webm: the axiom and every "
+                 "step as a video's frames");
+  app.add_option("--fps", bo.fps, "frames per second of a video (-out movie.mp4, --record movie.webm)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  std::string record;
+  app.add_option("--record", record,
+                 "where the window's Animate > Start recording writes the frames it shows: a video (.mp4, "
+                 ".webm) or numbered files (frame%04d.png); default lpfg's MODEL0000.png, MODEL0001.png …");
   app.add_flag("-a", animate, "animate mode: stop at the animation file's first frame (window)");
   app.add_flag("-c", compileOnly,
                "compile the model only (exit 0 if it compiles, 1 if not); the compiled code is cached, so the next "
@@ -211,6 +222,12 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   } catch (const CLI::ParseError& e) {
     // --help exits 0; every usage error exits 1, like every other lcjit error.
     return app.exit(e) == 0 ? 0 : 1;
+  }
+
+  if (!record.empty() && !lcjit::app::isFrameSequence(record)) {
+    std::fprintf(stderr, "lcjit: --record %s: frames go to a video (.mp4, .webm) or to numbered files (a name with "
+                         "one printf number, frame%%04d.png)\n", record.c_str());
+    return 1;
   }
 
   if (*repl) {
@@ -474,6 +491,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       io.verbose = bo.verbose;
       io.debug = bo.debug;
       io.panels = panels;
+      io.record = record;
+      io.fps = bo.fps;
       return lcjit::app::runInteractive(**session, *files, w, io);
     }
 #endif

@@ -18,6 +18,11 @@ pictures)
   "$lcjit" -b -out t.png tree.l tree.v tree.mat 2>err.txt && fail "-out t.png succeeded"
   grep -q "t.png: this lcjit was built without pictures (LCJIT_WITH_RENDERING=OFF)" err.txt || fail "no message naming the feature"
   [ ! -e t.png ] || fail "t.png written"
+  # A video is made of pictures: the same, before anything is derived.
+  "$lcjit" -b -out t.mp4 tree.l tree.v tree.mat 2>err.txt && fail "-out t.mp4 succeeded"
+  grep -q "t.mp4: this lcjit was built without pictures (LCJIT_WITH_RENDERING=OFF), which a video is made of" err.txt ||
+    fail "no message naming the feature for a video"
+  [ ! -e t.mp4 ] || fail "t.mp4 written"
   # The exports and strings are there.
   "$lcjit" -b -out t.obj tree.l tree.v tree.mat 2>err.txt || fail "-out t.obj failed"
   grep -q '^f ' t.obj || fail "t.obj has no faces"

@@ -25,6 +25,13 @@ bool isImageFileName(const std::string& path) {
   return ext == "png" || ext == "jpg" || ext == "jpeg" || ext == "bmp";
 }
 
+const char* const kVideoFileTypes = ".mp4 or .webm";
+
+bool isVideoFileName(const std::string& path) {
+  const std::string ext = imageExtension(path);
+  return ext == "mp4" || ext == "webm";
+}
+
 llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, int jpegQuality) {
   if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
     return llvm::createStringError("cannot write " + path + ": empty image");

@@ -1,6 +1,7 @@
 // Picture files: an RGBA image and the types lcjit writes pictures as (.png, .jpg/.jpeg, .bmp,
-// chosen by extension, through stb_image_write). No OpenGL: a build without rendering still
-// knows a picture's name when it sees one, to say that it cannot make it.
+// chosen by extension, through stb_image_write), and the names of videos (VideoFile.h). No
+// OpenGL: a build without rendering still knows a picture's or a video's name when it sees one,
+// to say that it cannot make it.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -26,6 +27,12 @@ extern const char* const kImageFileTypes;
 
 // Whether writeImage writes `path`'s type (any case).
 bool isImageFileName(const std::string& path);
+
+// The video types, as messages name them: ".mp4 or .webm".
+extern const char* const kVideoFileTypes;
+
+// Whether `path` names a video VideoWriter writes (.mp4, .webm; any case).
+bool isVideoFileName(const std::string& path);
 
 // Writes by extension: .png (RGB, or RGBA with `alpha`), .jpg/.jpeg (RGB, `jpegQuality`), .bmp.
 llvm::Error writeImage(const Image& image, const std::string& path, bool alpha = false, int jpegQuality = 95);
