@@ -16,6 +16,9 @@ packages=(
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
   libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)
+  libharfbuzz-dev  # labels shaped (kerning, marks, any script) in pictures and the SVG/PS/PDF exports
+  fonts-droid-fallback  # a face for CJK labels, fontconfig's fallback (tests/unit/text_test.cpp)
+  libxml2-utils  # xmllint: the tests check that SVG with any label text is well-formed XML
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
   bubblewrap  # --sandbox (docs/security.md): the model's run in a child process without the user's files
 )
