@@ -767,8 +767,9 @@ TEST_F(ExportTest, Svg) {
   EXPECT_TRUE(near(text[0], {window(1, 1).first, window(1, 1).second + 2}));
 }
 
-// Labels in any script: SVG keeps the text (UTF-8, escaped, well-formed XML even from bytes that
-// are no UTF-8), PostScript and PDF draw the shaped glyphs' outlines, one filled path per glyph.
+// Labels in any script: SVG and POV-Ray keep the text (UTF-8; SVG's escaped and well-formed XML
+// even from bytes that are no UTF-8), PostScript and PDF draw the shaped glyphs' outlines, one
+// filled path per glyph.
 TEST_F(ExportTest, NonAsciiLabels) {
   const std::string mixed = "\xc3\xa9 \xc3\xbc \xc3\x9f \xce\xa9 \xe6\x9c\xa8";  // "é ü ß Ω 木"
   geometry.labels = {{{1, 1, 0}, mixed, 7}, {{2, 1, 0}, "bad\xff<\x01", 7}};
@@ -794,6 +795,11 @@ TEST_F(ExportTest, NonAsciiLabels) {
   EXPECT_EQ(glyphs(pdf, "h\nf\n"), 5u);
   EXPECT_EQ(glyphs(readAll(exportTo("u.eps")), "h\nfill\n"), 5u);
   EXPECT_EQ(pdf.find("/Font"), std::string::npos);  // nothing relies on a font
+  // POV-Ray keeps the text, as UTF-8 in a scene that says so.
+  std::string pov = readAll(exportTo("u.pov"));
+  EXPECT_NE(pov.find("charset utf8"), std::string::npos);
+  EXPECT_NE(pov.find("\"" + mixed + "\""), std::string::npos);
+  EXPECT_NE(pov.find("\"bad\xef\xbf\xbd<\""), std::string::npos);
 }
 
 // A bushy picture's SVG: thousands of small triangles and chained segments in a few colours. The
