@@ -1204,15 +1204,23 @@ struct Renderer::Impl {
       return g;
     g.left = b.left, g.top = b.top, g.width = b.width, g.height = b.height;
     if (glyphs.pixels.empty()) glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
-    if (!packGlyph(key, b.pixels)) {
-      while (glyphs.atlasSize < 4096) {
-        glyphs.atlasSize *= 2;
-        glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
-        glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
-        bool fits = packGlyph(key, b.pixels);
-        for (auto& [k, bits] : glyphs.bitmaps) fits = fits && packGlyph(k, bits);
-        if (fits) break;
-      }
+    bool fits = packGlyph(key, b.pixels);
+    while (!fits && glyphs.atlasSize < 4096) {
+      glyphs.atlasSize *= 2;
+      glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
+      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
+      fits = packGlyph(key, b.pixels);
+      for (auto& [k, bits] : glyphs.bitmaps) fits = fits && packGlyph(k, bits);
+    }
+    if (!fits) {  // the largest atlas is full: start it afresh (glyphs already placed this frame are skipped)
+      glyphs.glyphs.clear(), glyphs.bitmaps.clear();
+      std::fill(glyphs.pixels.begin(), glyphs.pixels.end(), 0);
+      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
+      Glyph& fresh = glyphs.glyphs[key];
+      fresh.left = b.left, fresh.top = b.top, fresh.width = b.width, fresh.height = b.height;
+      if (!packGlyph(key, b.pixels)) fresh.width = 0;
+      glyphs.bitmaps[key] = std::move(b.pixels);
+      return fresh;
     }
     glyphs.bitmaps[key] = std::move(b.pixels);
     return g;
