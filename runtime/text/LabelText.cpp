@@ -8,13 +8,54 @@
 #include <mutex>
 #include <unordered_map>
 
+#include <dlfcn.h>
+
 #include <fontconfig/fontconfig.h>
 #include <ft2build.h>
+#include FT_ADVANCES_H
 #include FT_FREETYPE_H
 #include FT_OUTLINE_H
 #include <hb.h>
 
 namespace lcjit::runtime::text {
+
+namespace {
+
+// HarfBuzz is loaded when the first label is shaped, not with the program: it and what it loads
+// (GLib, Graphite, a shared FreeType …) are nine libraries, 0.7 ms of every run's start-up, and
+// most runs draw no label. Without it labels are still drawn, one glyph per character from the
+// face's cmap, with the face's advances.
+#define LCJIT_HARFBUZZ_FUNCTIONS(X)                                                                          \
+  X(hb_blob_create_from_file_or_fail) X(hb_blob_destroy) X(hb_face_create) X(hb_face_destroy)               \
+  X(hb_face_get_glyph_count) X(hb_font_create) X(hb_font_destroy) X(hb_font_set_scale)                        \
+  X(hb_font_get_glyph_h_advance) X(hb_buffer_create) X(hb_buffer_destroy) X(hb_buffer_clear_contents)         \
+  X(hb_buffer_add_utf32) X(hb_buffer_guess_segment_properties) X(hb_shape) X(hb_buffer_get_glyph_infos)       \
+  X(hb_buffer_get_glyph_positions) X(hb_unicode_funcs_get_default) X(hb_unicode_general_category)             \
+  X(hb_unicode_script)
+
+struct HarfBuzz {
+#define LCJIT_DECLARE(name) decltype(&::name) name = nullptr;
+  LCJIT_HARFBUZZ_FUNCTIONS(LCJIT_DECLARE)
+#undef LCJIT_DECLARE
+  bool loaded = false;
+};
+
+const HarfBuzz& hb() {
+  static const HarfBuzz loaded = [] {
+    HarfBuzz h;
+    void* library = dlopen("libharfbuzz.so.0", RTLD_NOW | RTLD_LOCAL);
+    if (!library) return h;
+    bool all = true;
+#define LCJIT_RESOLVE(name) all = all && (h.name = reinterpret_cast<decltype(&::name)>(dlsym(library, #name)));
+    LCJIT_HARFBUZZ_FUNCTIONS(LCJIT_RESOLVE)
+#undef LCJIT_RESOLVE
+    h.loaded = all;
+    return h;
+  }();
+  return loaded;
+}
+
+}  // namespace
 
 int pixelSizeForPoints(int points) { return std::max(1, (int)std::lround(points * 96.0 / 72.0)); }
 
@@ -75,11 +116,11 @@ struct Face {
   int index = 0;
   FT_Face ft = nullptr;
   int ftPixelSize = 0;
-  hb_face_t* hb = nullptr;
+  hb_face_t* hbFace = nullptr;     // null without HarfBuzz
   std::map<int, hb_font_t*> fonts;  // by scale
   ~Face() {
-    for (auto& [s, f] : fonts) hb_font_destroy(f);
-    if (hb) hb_face_destroy(hb);
+    for (auto& [s, f] : fonts) hb().hb_font_destroy(f);
+    if (hbFace) hb().hb_face_destroy(hbFace);
     if (ft) FT_Done_Face(ft);
   }
 };
@@ -109,7 +150,8 @@ int fcWeight(int weight) {
 }
 
 bool isMark(char32_t c) {
-  switch (hb_unicode_general_category(hb_unicode_funcs_get_default(), c)) {
+  if (!hb().loaded) return false;
+  switch (hb().hb_unicode_general_category(hb().hb_unicode_funcs_get_default(), c)) {
     case HB_UNICODE_GENERAL_CATEGORY_NON_SPACING_MARK:
     case HB_UNICODE_GENERAL_CATEGORY_SPACING_MARK:
     case HB_UNICODE_GENERAL_CATEGORY_ENCLOSING_MARK:
@@ -120,7 +162,8 @@ bool isMark(char32_t c) {
 }
 
 hb_script_t scriptOf(char32_t c) {
-  hb_script_t s = hb_unicode_script(hb_unicode_funcs_get_default(), c);
+  if (!hb().loaded) return HB_SCRIPT_INVALID;
+  hb_script_t s = hb().hb_unicode_script(hb().hb_unicode_funcs_get_default(), c);
   return s == HB_SCRIPT_COMMON || s == HB_SCRIPT_INHERITED || s == HB_SCRIPT_UNKNOWN ? HB_SCRIPT_INVALID : s;
 }
 
@@ -149,14 +192,14 @@ struct Fonts::Impl {
       auto f = std::make_unique<Face>();
       f->file = file, f->index = index;
       if (!FT_New_Face(library, file.c_str(), index, &f->ft) && FT_IS_SCALABLE(f->ft)) {
-        hb_blob_t* blob = hb_blob_create_from_file_or_fail(file.c_str());
+        hb_blob_t* blob = hb().loaded ? hb().hb_blob_create_from_file_or_fail(file.c_str()) : nullptr;
         if (blob) {
-          f->hb = hb_face_create(blob, (unsigned)index);
-          hb_blob_destroy(blob);
-          if (hb_face_get_glyph_count(f->hb) > 0) {
-            id = (int)faces.size();
-            faces.push_back(std::move(f));
-          }
+          f->hbFace = hb().hb_face_create(blob, (unsigned)index);
+          hb().hb_blob_destroy(blob);
+        }
+        if (!hb().loaded || hb().hb_face_get_glyph_count(f->hbFace) > 0) {
+          id = (int)faces.size();
+          faces.push_back(std::move(f));
         }
       }
     }
@@ -168,9 +211,17 @@ struct Fonts::Impl {
     int scale = (int)std::lround(pixelSize * kUnits);
     auto& fonts = faces[face]->fonts;
     if (auto it = fonts.find(scale); it != fonts.end()) return it->second;
-    hb_font_t* f = hb_font_create(faces[face]->hb);
-    hb_font_set_scale(f, scale, scale);
+    hb_font_t* f = hb().hb_font_create(faces[face]->hbFace);
+    hb().hb_font_set_scale(f, scale, scale);
     return fonts[scale] = f;
+  }
+
+  // The unhinted advance from FreeType (HarfBuzz's own when it is there).
+  float advance(int face, uint32_t glyph, float pixelSize) {
+    FT_Face ft = faces[face]->ft;
+    FT_Fixed a = 0;
+    if (FT_Get_Advance(ft, glyph, FT_LOAD_NO_SCALE, &a)) return 0;
+    return float(a) * pixelSize / float(ft->units_per_EM ? ft->units_per_EM : 1000);
   }
 
   bool has(int face, char32_t c) { return face >= 0 && FT_Get_Char_Index(faces[face]->ft, c) != 0; }
@@ -279,8 +330,18 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
   std::vector<int> faceOf(text.size());
   for (size_t i = 0; i < text.size(); ++i)
     faceOf[i] = i > 0 && isMark(text[i]) && impl_->has(faceOf[i - 1], text[i]) ? faceOf[i - 1] : impl_->pick(sf, text[i]);
+  if (!hb().loaded) {  // no shaping: the cmap's glyph per character, the face's advances
+    float pen = 0;
+    for (size_t i = 0; i < text.size(); ++i) {
+      uint32_t glyph = FT_Get_Char_Index(impl_->faces[faceOf[i]]->ft, text[i]);
+      out.glyphs.push_back({faceOf[i], glyph, pen, 0});
+      pen += impl_->advance(faceOf[i], glyph, pixelSize);
+    }
+    out.advance = pen;
+    return out;
+  }
   // Runs of one face and one script (characters common to all scripts join either side).
-  hb_buffer_t* buffer = hb_buffer_create();
+  hb_buffer_t* buffer = hb().hb_buffer_create();
   float pen = 0;
   for (size_t start = 0; start < text.size();) {
     hb_script_t script = scriptOf(text[start]);
@@ -290,16 +351,16 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
       if (s != HB_SCRIPT_INVALID && script != HB_SCRIPT_INVALID && s != script) break;
       if (script == HB_SCRIPT_INVALID) script = s;
     }
-    hb_buffer_clear_contents(buffer);
-    hb_buffer_add_utf32(buffer, reinterpret_cast<const uint32_t*>(text.data()), (int)text.size(), (unsigned)start,
+    hb().hb_buffer_clear_contents(buffer);
+    hb().hb_buffer_add_utf32(buffer, reinterpret_cast<const uint32_t*>(text.data()), (int)text.size(), (unsigned)start,
                         (int)(end - start));
-    hb_buffer_guess_segment_properties(buffer);
+    hb().hb_buffer_guess_segment_properties(buffer);
     const int face = faceOf[start];
     const hb_feature_t noKerning{HB_TAG('k', 'e', 'r', 'n'), 0, HB_FEATURE_GLOBAL_START, HB_FEATURE_GLOBAL_END};
-    hb_shape(impl_->font(face, pixelSize), buffer, spec.kerning ? nullptr : &noKerning, spec.kerning ? 0 : 1);
+    hb().hb_shape(impl_->font(face, pixelSize), buffer, spec.kerning ? nullptr : &noKerning, spec.kerning ? 0 : 1);
     unsigned n = 0;
-    const hb_glyph_info_t* info = hb_buffer_get_glyph_infos(buffer, &n);
-    const hb_glyph_position_t* pos = hb_buffer_get_glyph_positions(buffer, &n);
+    const hb_glyph_info_t* info = hb().hb_buffer_get_glyph_infos(buffer, &n);
+    const hb_glyph_position_t* pos = hb().hb_buffer_get_glyph_positions(buffer, &n);
     for (unsigned i = 0; i < n; ++i) {
       out.glyphs.push_back({face, info[i].codepoint, pen + float(pos[i].x_offset) / kUnits,
                             -float(pos[i].y_offset) / kUnits});
@@ -307,7 +368,7 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
     }
     start = end;
   }
-  hb_buffer_destroy(buffer);
+  hb().hb_buffer_destroy(buffer);
   out.advance = pen;
   return out;
 }
@@ -315,7 +376,8 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
 float Fonts::glyphAdvance(int face, uint32_t glyph, float pixelSize) {
   std::lock_guard lock(impl_->mutex);
   if (face < 0 || face >= (int)impl_->faces.size()) return 0;
-  return float(hb_font_get_glyph_h_advance(impl_->font(face, pixelSize), glyph)) / kUnits;
+  if (!hb().loaded) return impl_->advance(face, glyph, pixelSize);
+  return float(hb().hb_font_get_glyph_h_advance(impl_->font(face, pixelSize), glyph)) / kUnits;
 }
 
 GlyphOutline Fonts::outline(int face, uint32_t glyph, float pixelSize) {
