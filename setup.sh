@@ -17,6 +17,9 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev nlohmann-json3-dev fonts-dejavu-core xvfb xdotool
   libfontconfig-dev libfreetype-dev fonts-urw-base35  # labels as Qt draws lpfg's (Times: Nimbus Roman)
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev  # videos (-out movie.mp4/.webm, --record): FFmpeg's H.264/VP9 encoders and muxers
+  libharfbuzz-dev  # labels shaped (kerning, marks, any script) in pictures and the SVG/PS/PDF exports
+  fonts-droid-fallback  # a face for CJK labels, fontconfig's fallback (tests/unit/text_test.cpp)
+  libxml2-utils  # xmllint: the tests check that SVG with any label text is well-formed XML
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
   bubblewrap  # --sandbox (docs/security.md): the model's run in a child process without the user's files
 )

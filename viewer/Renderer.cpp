@@ -52,13 +52,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <map>
-#include <mutex>
 #include <tuple>
-#include <fontconfig/fontconfig.h>
-
-#include <ft2build.h>
-#include FT_FREETYPE_H
-#include FT_OUTLINE_H
 
 namespace lcjit::viewer {
 
@@ -394,21 +388,30 @@ struct SegmentChunk {
   std::vector<WidthGroup> groups;  // empty unless the widths are fragmented
 };
 
-// The printable ASCII glyphs of the label font, rendered by FreeType into one atlas.
+// Label glyphs, rendered by FreeType into one atlas as the labels need them.
 struct Glyph {
   int x = 0, y = 0, width = 0, height = 0;  // in the atlas
   int left = 0, top = 0;                    // bitmap offset from the pen, y up
-  float advance = 0;  // unhinted: Qt lays the pen out in fractions
 };
-// Each glyph four times, drawn a quarter pixel further right each time: Qt positions light-hinted
-// glyphs to a quarter pixel (its subpixel positions), and the coverage of the edges shows it.
+// Each glyph up to four times, drawn a quarter pixel further right each time: Qt positions
+// light-hinted glyphs to a quarter pixel (its subpixel positions), and the coverage of the edges
+// shows it.
 constexpr int kSubpixelPositions = 4;
+struct GlyphKey {
+  int face;
+  uint32_t glyph;
+  int phase;
+  bool operator<(const GlyphKey& o) const { return std::tie(face, glyph, phase) < std::tie(o.face, o.glyph, o.phase); }
+};
 struct GlyphSet {
   int pixelSize = 0;
-  bool loaded = false;
   GLuint atlas = 0;
-  int atlasSize = 512;
-  Glyph chars[kSubpixelPositions][96];
+  int atlasSize = 256;
+  bool dirty = false;  // the texture lags the bitmaps
+  std::map<GlyphKey, Glyph> glyphs;
+  std::map<GlyphKey, std::vector<uint8_t>> bitmaps;  // kept to re-pack into a bigger atlas
+  std::vector<uint8_t> pixels;                     // atlasSize²
+  int x = 1, y = 1, rowHeight = 0;                 // the shelf packer's pen
 };
 
 }  // namespace
@@ -452,7 +455,10 @@ struct Renderer::Impl {
   bool paletteDirty = true;
 
   GlyphSet glyphs;
-  std::string fontFile;
+  // The labels shaped (runtime/text), for this font and size; redone when either changes.
+  std::vector<runtime::text::ShapedText> shaped;
+  runtime::text::FontSpec shapedSpec;
+  int shapedSize = 0;
 
   std::string* error = nullptr;
   RenderStats* stats = nullptr;
@@ -557,6 +563,7 @@ struct Renderer::Impl {
     }
     discs = g.discs;
     labels = g.labels;
+    shaped.clear();
 
     // Segments: 32 bytes each, in chunks that fit a buffer texture.
     segmentCount = (uint32_t)g.segments.size();
@@ -1171,102 +1178,118 @@ struct Renderer::Impl {
 
   // FreeType with light hinting, as Qt draws lpfg's labels on Linux (fontconfig's usual
   // "hintslight"): the same face at an em of pixelSize gives the same pixels, near enough.
-  bool ensureGlyphs(const std::string& file, int pixelSize) {
-    if (glyphs.loaded && glyphs.pixelSize == pixelSize && fontFile == file) return true;
-    FT_Library library = nullptr;
-    if (FT_Init_FreeType(&library)) return false;
-    struct Done {
-      FT_Library library;
-      FT_Face face = nullptr;
-      ~Done() {
-        if (face) FT_Done_Face(face);
-        FT_Done_FreeType(library);
-      }
-    } done{library};
-    if (FT_New_Face(library, file.c_str(), 0, &done.face) || FT_Set_Pixel_Sizes(done.face, 0, pixelSize)) return false;
-    FT_Face face = done.face;
-    int size = 256;
-    std::vector<unsigned char> bitmap;
-    for (;; size *= 2) {  // shelf-pack the glyphs; a bigger atlas if they do not fit
-      bitmap.assign(size_t(size) * size, 0);
-      int x = 1, y = 1, rowHeight = 0;
-      bool fits = true;
-      for (int k = 0; k < 96 * kSubpixelPositions && fits; ++k) {
-        int c = 32 + k % 96, phase = k / 96;
-        if (c == 127) continue;
-        Glyph& g = glyphs.chars[phase][c - 32];
-        g = Glyph();
-        if (FT_Load_Char(face, c, FT_LOAD_DEFAULT | FT_LOAD_TARGET_LIGHT)) continue;
-        if (face->glyph->format == FT_GLYPH_FORMAT_OUTLINE)
-          FT_Outline_Translate(&face->glyph->outline, phase * 64 / kSubpixelPositions, 0);
-        if (FT_Render_Glyph(face->glyph, FT_RENDER_MODE_LIGHT)) continue;
-        const FT_Bitmap& b = face->glyph->bitmap;
-        g.left = face->glyph->bitmap_left;
-        g.top = face->glyph->bitmap_top;
-        g.advance = face->glyph->linearHoriAdvance / 65536.0f;
-        g.width = (int)b.width;
-        g.height = (int)b.rows;
-        if (x + g.width + 1 > size) x = 1, y += rowHeight + 1, rowHeight = 0;
-        if (y + g.height + 1 > size) {
-          fits = false;
-          break;
-        }
-        g.x = x, g.y = y;
-        for (int r = 0; r < g.height; ++r)
-          std::memcpy(&bitmap[size_t(y + r) * size + x], b.buffer + (ptrdiff_t)r * b.pitch, (size_t)g.width);
-        x += g.width + 1;
-        rowHeight = std::max(rowHeight, g.height);
-      }
-      if (fits || size >= 4096) break;
+  // Glyphs are shelf-packed into the atlas as they first appear; a full atlas doubles and
+  // everything is packed again.
+  bool packGlyph(const GlyphKey& key, const std::vector<uint8_t>& bits) {
+    Glyph& g = glyphs.glyphs[key];
+    if (g.width == 0) return true;
+    const int size = glyphs.atlasSize;
+    if (glyphs.x + g.width + 1 > size) glyphs.x = 1, glyphs.y += glyphs.rowHeight + 1, glyphs.rowHeight = 0;
+    if (glyphs.y + g.height + 1 > size) return false;
+    g.x = glyphs.x, g.y = glyphs.y;
+    for (int r = 0; r < g.height; ++r)
+      std::memcpy(&glyphs.pixels[size_t(g.y + r) * size + g.x], &bits[size_t(r) * g.width], (size_t)g.width);
+    glyphs.x += g.width + 1;
+    glyphs.rowHeight = std::max(glyphs.rowHeight, g.height);
+    glyphs.dirty = true;
+    return true;
+  }
+
+  const Glyph& glyph(const GlyphKey& key) {
+    if (auto it = glyphs.glyphs.find(key); it != glyphs.glyphs.end()) return it->second;
+    runtime::text::GlyphBitmap b;
+    Glyph& g = glyphs.glyphs[key];
+    if (!runtime::text::Fonts::shared().bitmap(key.face, key.glyph, glyphs.pixelSize,
+                                               float(key.phase) / kSubpixelPositions, b))
+      return g;
+    g.left = b.left, g.top = b.top, g.width = b.width, g.height = b.height;
+    if (glyphs.pixels.empty()) glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
+    bool fits = packGlyph(key, b.pixels);
+    while (!fits && glyphs.atlasSize < 4096) {
+      glyphs.atlasSize *= 2;
+      glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
+      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
+      fits = packGlyph(key, b.pixels);
+      for (auto& [k, bits] : glyphs.bitmaps) fits = fits && packGlyph(k, bits);
     }
-    fontFile = file;
+    if (!fits) {  // the largest atlas is full: start it afresh (glyphs already placed this frame are skipped)
+      glyphs.glyphs.clear(), glyphs.bitmaps.clear();
+      std::fill(glyphs.pixels.begin(), glyphs.pixels.end(), 0);
+      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
+      Glyph& fresh = glyphs.glyphs[key];
+      fresh.left = b.left, fresh.top = b.top, fresh.width = b.width, fresh.height = b.height;
+      if (!packGlyph(key, b.pixels)) fresh.width = 0;
+      glyphs.bitmaps[key] = std::move(b.pixels);
+      return fresh;
+    }
+    glyphs.bitmaps[key] = std::move(b.pixels);
+    return g;
+  }
+
+  void uploadAtlas() {
     if (!glyphs.atlas) glGenTextures(1, &glyphs.atlas);
     glBindTexture(GL_TEXTURE_2D, glyphs.atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, size, size, 0, GL_RED, GL_UNSIGNED_BYTE, bitmap.data());
+    if (glyphs.pixels.empty()) glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, glyphs.atlasSize, glyphs.atlasSize, 0, GL_RED, GL_UNSIGNED_BYTE,
+                 glyphs.pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
-    glyphs.atlasSize = size;
-    glyphs.pixelSize = pixelSize;
-    glyphs.loaded = true;
-    return true;
+    glyphs.dirty = false;
   }
 
   void drawLabels(const ViewSettings& view, const CameraMatrices& cam, const RenderOptions& options) {
     if (labels.empty() || !options.drawLabels) return;
-    int pixelSize = std::max(1, (int)std::lround(view.winFontSize * 96.0 / 72.0));
-    std::string file = options.fontFile.empty() ? labelFontFile(view) : options.fontFile;
-    if (!ensureGlyphs(file, pixelSize)) {
-      fail("cannot load the label font " + file);
-      return;
+    const int pixelSize = runtime::text::pixelSizeForPoints(view.winFontSize);
+    runtime::text::FontSpec spec = labelFont(view);
+    spec.file = options.fontFile;
+    if (shaped.size() != labels.size() || !(spec == shapedSpec) || shapedSize != pixelSize) {
+      shaped.clear();
+      for (const runtime::Label& l : labels)
+        shaped.push_back(runtime::text::Fonts::shared().shape(l.text, spec, (float)pixelSize));
+      shapedSpec = spec, shapedSize = pixelSize;
     }
-    std::vector<float> v;
-    for (const runtime::Label& l : labels) {
+    if (glyphs.pixelSize != pixelSize) {
+      glyphs = GlyphSet{.pixelSize = pixelSize, .atlas = glyphs.atlas};
+    }
+    // Quads first (they may grow the atlas), the texture coordinates once the atlas is final.
+    struct Quad {
+      float x0, y0;
+      GlyphKey key;
+      std::array<float, 4> col;
+    };
+    std::vector<Quad> quads;
+    for (size_t i = 0; i < labels.size(); ++i) {
+      const runtime::Label& l = labels[i];
       glm::vec4 c = cam.projection * cam.view * glm::vec4(l.position.x, l.position.y, l.position.z, 1);
       if (c.w <= 0) continue;
       glm::vec3 w = runtime::projectToWindow(cam, l.position);
       float x = std::round(w.x), y = std::round(w.y) + 2;  // baseline 2 px below the anchor
       auto col = palette.textColor(l.color);
-      for (unsigned char ch : l.text) {
-        if (ch < 32 || ch >= 128) ch = '?';
+      for (const runtime::text::PlacedGlyph& pg : shaped[i].glyphs) {
         // The pen's whole pixel, and its fraction down to a quarter (Qt's subPixelPositionForX).
-        float whole = std::floor(x);
-        int phase = std::min(kSubpixelPositions - 1, int((x - whole) * kSubpixelPositions));
-        const Glyph& g = glyphs.chars[phase][ch - 32];
-        const float n = 1.0f / glyphs.atlasSize;
-        float x0 = whole + g.left, y0 = y - g.top, x1 = x0 + g.width, y1 = y0 + g.height;
-        float s0 = g.x * n, t0 = g.y * n, s1 = (g.x + g.width) * n, t1 = (g.y + g.height) * n;
-        x += g.advance;
+        float px = x + pg.x, whole = std::floor(px);
+        int phase = std::min(kSubpixelPositions - 1, int((px - whole) * kSubpixelPositions));
+        GlyphKey key{pg.face, pg.glyph, phase};
+        const Glyph& g = glyph(key);
         if (g.width == 0) continue;
-        float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
-                            {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
-        for (auto& p : quad) {
-          v.insert(v.end(), {p[0], p[1], p[2], p[3], col[0], col[1], col[2], 1.0f});
-        }
+        quads.push_back({whole + g.left, std::round(y + pg.y) - g.top, key, {col[0], col[1], col[2], 1}});
       }
     }
-    if (v.empty()) return;
+    if (quads.empty()) return;
+    if (glyphs.dirty || !glyphs.atlas) uploadAtlas();
+    std::vector<float> v;
+    v.reserve(quads.size() * 48);
+    const float n = 1.0f / glyphs.atlasSize;
+    for (const Quad& q : quads) {
+      const Glyph& g = glyphs.glyphs[q.key];
+      float x0 = q.x0, y0 = q.y0, x1 = x0 + g.width, y1 = y0 + g.height;
+      float s0 = g.x * n, t0 = g.y * n, s1 = (g.x + g.width) * n, t1 = (g.y + g.height) * n;
+      float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
+                          {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
+      for (auto& p : quad) v.insert(v.end(), {p[0], p[1], p[2], p[3], q.col[0], q.col[1], q.col[2], 1.0f});
+    }
     glBindVertexArray(textVao);
     glBindBuffer(GL_ARRAY_BUFFER, textVbo);
     if (v.size() * sizeof(float) > textVboSize) {
@@ -1439,38 +1462,11 @@ struct Renderer::Impl {
 // ---------------------------------------------------------------------------------------------
 // Label fonts (fontconfig) and the Renderer's public face
 
-std::string labelFontFile(const ViewSettings& view) {
-  // The face Qt draws lpfg's labels with: fontconfig's match for the family, weight and slant
-  // (Times is Nimbus Roman where the URW fonts are installed, else DejaVu Serif).
-  static std::mutex mutex;
-  static std::map<std::tuple<std::string, int, bool>, std::string> known;
-  std::lock_guard<std::mutex> lock(mutex);
-  auto key = std::make_tuple(view.winFont, view.winFontWeight, view.winFontItalic);
-  if (auto it = known.find(key); it != known.end()) return it->second;
-  std::string file = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  if (FcInit()) {
-    FcPattern* pattern = FcPatternCreate();
-    FcPatternAddString(pattern, FC_FAMILY, reinterpret_cast<const FcChar8*>(view.winFont.c_str()));
-    int weight = view.winFontWeight;
-    FcPatternAddInteger(pattern, FC_WEIGHT,
-                        weight <= 25   ? FC_WEIGHT_LIGHT
-                        : weight <= 50 ? FC_WEIGHT_REGULAR
-                        : weight <= 63 ? FC_WEIGHT_DEMIBOLD
-                        : weight <= 75 ? FC_WEIGHT_BOLD
-                                       : FC_WEIGHT_BLACK);
-    FcPatternAddInteger(pattern, FC_SLANT, view.winFontItalic ? FC_SLANT_ITALIC : FC_SLANT_ROMAN);
-    FcConfigSubstitute(nullptr, pattern, FcMatchPattern);
-    FcDefaultSubstitute(pattern);
-    FcResult result;
-    if (FcPattern* match = FcFontMatch(nullptr, pattern, &result)) {
-      FcChar8* path = nullptr;
-      if (FcPatternGetString(match, FC_FILE, 0, &path) == FcResultMatch && path) file = reinterpret_cast<const char*>(path);
-      FcPatternDestroy(match);
-    }
-    FcPatternDestroy(pattern);
-  }
-  return known[key] = file;
+runtime::text::FontSpec labelFont(const ViewSettings& view) {
+  return {.family = view.winFont, .weight = view.winFontWeight, .italic = view.winFontItalic, .kerning = false};
 }
+
+std::string labelFontFile(const ViewSettings& view) { return runtime::text::Fonts::shared().primaryFile(labelFont(view)); }
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   impl_->error = &error_;

@@ -28,6 +28,7 @@
 #include "runtime/turtle/Geometry.h"
 #include "runtime/files/Palette.h"
 #include "runtime/files/ViewFile.h"
+#include "runtime/text/LabelText.h"
 
 namespace lcjit::viewer {
 
@@ -74,8 +75,8 @@ struct RenderPalette {
 
 struct RenderOptions {
   bool drawLabels = true;
-  // A TrueType file for labels; empty: the DejaVu face closest to `winfont:` (Times → Serif,
-  // Courier → Mono, else Sans; bold/italic) in /usr/share/fonts/truetype/dejavu.
+  // A font file for labels; empty: fontconfig's match for `winfont:` (labelFontFile). Either
+  // way, characters the face lacks come from fontconfig's fallback faces.
   std::string fontFile;
   bool clear = true;             // clear to the background colour first
   float backgroundAlpha = 1;     // lpfg clears with alpha 0; 1 gives an opaque image
@@ -88,8 +89,10 @@ struct RenderStats {
   size_t triangles = 0, segments = 0, discs = 0, labels = 0, drawCalls = 0;
 };
 
-// The font file RenderOptions::fontFile = "" stands for.
+// The font file RenderOptions::fontFile = "" stands for, and the request it is fontconfig's
+// match for (the view file's `winfont:`).
 std::string labelFontFile(const runtime::ViewSettings& view);
+runtime::text::FontSpec labelFont(const runtime::ViewSettings& view);
 
 class Renderer {
  public:

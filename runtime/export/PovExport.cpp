@@ -9,6 +9,7 @@
 
 #include "runtime/export/ExportCommon.h"
 #include "runtime/export/ExportFormats.h"
+#include "runtime/text/LabelText.h"
 
 namespace lcjit::runtime::exporting {
 namespace {
@@ -54,9 +55,11 @@ const char* imageType(const std::string& file) {
   return nullptr;
 }
 
+// A string literal: valid UTF-8 (the scene says charset utf8), quotes and backslashes escaped,
+// controls dropped.
 std::string povString(std::string_view s) {
   std::string out;
-  for (char c : s) {
+  for (char c : text::cleanUtf8(s)) {
     if (c == '"' || c == '\\') out += '\\';
     if ((unsigned char)c >= 0x20) out += c;
   }
@@ -90,7 +93,8 @@ llvm::Error writePov(const Context& cx) {
   if (lights.empty()) lights.push_back(Light());
   Rgb ambient{0.2f, 0.2f, 0.2f};  // OpenGL's global ambient, plus every light's
   for (const Light& l : lights) ambient.r += l.ambient.r, ambient.g += l.ambient.g, ambient.b += l.ambient.b;
-  w.print("global_settings {{ assumed_gamma 1.0 ambient_light srgb <{},{},{}> }}\n", ambient.r, ambient.g, ambient.b);
+  w.print("global_settings {{ assumed_gamma 1.0 ambient_light srgb <{},{},{}> charset utf8 }}\n", ambient.r, ambient.g,
+          ambient.b);
   const Rgba& bg = cx.color(0);
   w.print("background {{ srgb <{},{},{}> }}\n\n", bg[0], bg[1], bg[2]);
 

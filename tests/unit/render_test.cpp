@@ -479,6 +479,58 @@ TEST(Render, Label) {
   EXPECT_EQ(outside, 0);
 }
 
+// Labels in any script (the bug: "é ü" drawn as "??"): each character of "é ü ß Ω 木" has ink
+// where the shaping puts it, and none of them is the '?' glyph or the empty-box .notdef glyph.
+TEST(Render, LabelNonAscii) {
+  ViewSettings v;
+  v.winFontSize = 15;  // 20 px
+  auto picture = [&](const std::string& text) {
+    Geometry g;
+    g.addSegment({{-1, -1, 0}, {-1, -1, 0}, 1, 1});
+    g.addSegment({{1, 1, 0}, {1, 1, 0}, 1, 1});
+    g.labels.push_back({{-0.9f, 0, 0}, text, 2});
+    return render(g, v, colors());
+  };
+  Geometry frame;
+  frame.addSegment({{-1, -1, 0}, {-1, -1, 0}, 1, 1});
+  frame.addSegment({{1, 1, 0}, {1, 1, 0}, 1, 1});
+  frame.labels.push_back({{-0.9f, 0, 0}, "x", 2});
+  CameraMatrices cam = frameView(v, frame.framingBounds(), std::nullopt, 200, 200);
+  glm::vec3 at = projectToWindow(cam, {-0.9f, 0, 0});
+  const float x0 = std::round(at.x), baseline = std::round(at.y) + 2;
+  const int em = runtime::text::pixelSizeForPoints(v.winFontSize);
+
+  // Ink (colour 2, green) in a box of columns [x, x + width) from an em above the baseline to a
+  // third of one below, as a bit mask.
+  auto mask = [&](const Image& im, int x, int width) {
+    std::vector<bool> m;
+    for (int y = int(baseline) - em; y < int(baseline) + em / 3; ++y)
+      for (int c = x; c < x + width; ++c) m.push_back(c >= 0 && c < 200 && y >= 0 && y < 200 && im.pixel(c, y)[1] > 100);
+    return m;
+  };
+  auto differ = [](const std::vector<bool>& a, const std::vector<bool>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
+    return n;
+  };
+  const std::string label = "\xc3\xa9 \xc3\xbc \xc3\x9f \xce\xa9 \xe6\x9c\xa8";
+  runtime::text::ShapedText shaped = runtime::text::Fonts::shared().shape(label, labelFont(v), (float)em);
+  ASSERT_EQ(shaped.glyphs.size(), 9u);
+  Image im = picture(label), question = picture("?"), notdef = picture("\xf4\x8f\xbf\xbd");  // U+10FFFD: no face has it
+  for (size_t i = 0; i < shaped.glyphs.size(); i += 2) {  // the characters, not the spaces between
+    float next = i + 1 < shaped.glyphs.size() ? shaped.glyphs[i + 1].x : shaped.advance;
+    int x = int(std::floor(x0 + shaped.glyphs[i].x)), width = int(std::ceil(next - shaped.glyphs[i].x));
+    std::vector<bool> m = mask(im, x, width);
+    size_t ink = std::count(m.begin(), m.end(), true);
+    EXPECT_GE(ink, 12u) << "character " << i / 2;
+    EXPECT_GT(differ(m, mask(question, int(x0), width)), ink / 4) << "character " << i / 2 << " is a '?'";
+    EXPECT_GT(differ(m, mask(notdef, int(x0), width)), ink / 4) << "character " << i / 2 << " is .notdef";
+  }
+  // Nothing beyond the shaped advance.
+  std::vector<bool> after = mask(im, int(std::ceil(x0 + shaped.advance)) + 2, 30);
+  EXPECT_EQ(std::count(after.begin(), after.end(), true), 0);
+}
+
 TEST(Render, Shadows) {
   Geometry g;
   auto quad = [&](float x0, float y0, float x1, float y1, float z, int color) {
