@@ -165,6 +165,8 @@ struct Window::Impl {
   struct CurveDrag {
     int point = -1;
     std::array<float, 4> box{};
+    std::array<float, 2> from{};  // the point when pressed: it moves by the pointer's motion, so a
+                                  // straight up drag keeps x exactly
   };
   std::map<std::string, CurveDrag> curveDrags;
 
@@ -489,6 +491,7 @@ struct Window::Impl {
         const float d2 = (q.x - mouse.x) * (q.x - mouse.x) + (q.y - mouse.y) * (q.y - mouse.y);
         if (d2 <= best) best = d2, d.point = int(k);
       }
+      if (d.point >= 0) d.from = c.points[d.point];
       curveDrags[key] = d;
     } else if (!active) {
       curveDrags.erase(key);
@@ -504,8 +507,9 @@ struct Window::Impl {
     // A press without a move is no edit (a point's screen place does not map back to its exact value).
     const ImVec2 pressed = ImGui::GetIO().MouseClickedPos[ImGuiMouseButton_Left];
     if (dragged < 0 || (mouse.x == pressed.x && mouse.y == pressed.y)) return;
-    float x = box[0] + (mouse.x - at.x) / w * (box[2] - box[0]);
-    const float y = box[1] + (at.y + h - mouse.y) / h * (box[3] - box[1]);
+    const std::array<float, 2> from = drag->second.from;
+    float x = mouse.x == pressed.x ? from[0] : from[0] + (mouse.x - pressed.x) / w * (box[2] - box[0]);
+    const float y = mouse.y == pressed.y ? from[1] : from[1] - (mouse.y - pressed.y) / h * (box[3] - box[1]);
     if (c.function) {
       if (dragged == 0) x = 0;
       else if (size_t(dragged) == n - 1) x = 1;
