@@ -544,30 +544,34 @@ struct Window::Impl {
     ImGui::PopStyleVar();
   }
 
-  // One colour: a swatch with its label, and a slider for each of its bytes.
+  // One colour on one line: a swatch, its label, and a slider for each of its bytes (a material's
+  // four colours fit the panel one under the other).
   void drawColor(const Panel& p, size_t index, std::vector<std::function<void()>>& chosen) {
     const PanelControl& c = p.controls[index];
     std::array<float, 4> q = c.colors.empty() ? std::array<float, 4>{0, 0, 0, 1} : c.colors[0];
-    ImGui::ColorButton("##swatch", ImVec4(q[0], q[1], q[2], 1), ImGuiColorEditFlags_NoAlpha, ImVec2(40, 40));
+    const float height = ImGui::GetFrameHeight();
+    ImGui::ColorButton("##swatch", ImVec4(q[0], q[1], q[2], 1), ImGuiColorEditFlags_NoAlpha, ImVec2(height, height));
     ImGui::SameLine();
-    ImGui::BeginGroup();
+    const float labelAt = ImGui::GetCursorPosX();
+    ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted(c.label.c_str());
+    if (!c.tooltip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", c.tooltip.c_str());
     static const char* names[3] = {"R", "G", "B"};
+    static const char* formats[3] = {"R %d", "G %d", "B %d"};
+    constexpr float kSliderWidth = 64;
     bool edited = false;
     for (int k = 0; k < 3; ++k) {
+      ImGui::SameLine(k == 0 ? labelAt + 84 : 0);
       int byte = int(std::lround(q[k] * 255));
-      constexpr float kSliderWidth = 240;
       ImGui::SetNextItemWidth(kSliderWidth);
-      if (ImGui::SliderInt(names[k], &byte, 0, 255)) {
+      ImGui::PushID(k);
+      if (ImGui::SliderInt("##byte", &byte, 0, 255, formats[k])) {
         q[k] = float(byte) / 255.0f;
         edited = true;
       }
+      ImGui::PopID();
       notePanelItem(p.title, c.label + " " + names[k]);
-      std::array<float, 4>& r = panelRects[p.title + "\n" + c.label + " " + names[k]];
-      r[2] = r[0] + kSliderWidth;  // the slider's frame, without its label
     }
-    ImGui::EndGroup();
-    if (!c.tooltip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", c.tooltip.c_str());
     if (edited && !c.colors.empty() && q != c.colors[0] && p.edited)
       chosen.push_back([f = p.edited, index, q] { f(index, 0, q); });
   }
