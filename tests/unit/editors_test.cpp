@@ -189,3 +189,36 @@ TEST_F(EditorsTest, AModelWithoutAColourFileGetsAColormapPanel) {
   panels = editors.panels();
   EXPECT_EQ(panel(panels, "Colormap")->status.rfind("saved m.map", 0), 0u);
 }
+
+TEST_F(EditorsTest, AMovedContourPointRerunsTheModel) {
+  // An open contour from (0,0) to (2,0) in a gallery; the segment is as long as the curve's end's x.
+  std::ofstream(dir / "m.l") << "#include <lpfgall.h>\nderivation length: 1;\nmodule A;\naxiom: A;\n"
+                                "A : { produce F(curveX(edge, 1)); }\n";
+  const std::string set = "contourgalleryver 1 1\nitems: 1\ncver 1 3\nname: edge\npoints: 4 8\ntype: or\nsamples: 8\n"
+                          "0.000000 0.000000 0.000000 3\n0.500000 1.000000 0.000000 1\n"
+                          "1.500000 1.000000 0.000000 1\n2.000000 0.000000 0.000000 3\n";
+  std::ofstream(dir / "shapes.cset", std::ios::binary) << set;
+  files.functions.clear();
+  files.contours = {(dir / "shapes.cset").string()};
+  load(files);
+  EXPECT_NEAR(length(), 2.0f, 1e-4);
+  Editors editors(files, runtime::Palette::lcjitDefault());
+  std::vector<viewer::Panel> panels = editors.panels();
+  viewer::Panel* p = panel(panels, "Contour edge");
+  ASSERT_NE(p, nullptr);
+  const viewer::PanelControl& curve = p->controls[1];
+  EXPECT_FALSE(curve.function);
+  EXPECT_FALSE(curve.closed);
+  ASSERT_EQ(curve.points.size(), 4u);
+  ASSERT_FALSE(curve.curve.empty());
+  EXPECT_NEAR(curve.curve.back()[0], 2.0f, 1e-4);  // the contour as the model samples it
+  p->edited(1, 3, {3, 0, 0, 0});  // the end point (multiplicity 3) moves to x = 3
+  EXPECT_EQ(editors.takeAction(), Action::NewRun);
+  load(editors.files(files), ReloadParts::newRun());
+  EXPECT_NEAR(length(), 3.0f, 1e-4);
+  EXPECT_EQ(readText(dir / "shapes.cset"), set);  // until saved
+  p->pressed(0);
+  std::string saved = set;
+  saved.replace(saved.find("2.000000 0.000000 0.000000 3"), 28, "3.000000 0.000000 0.000000 3");
+  EXPECT_EQ(readText(dir / "shapes.cset"), saved);
+}
