@@ -3,6 +3,7 @@
 // all this reader needs to know, the model's readers check the rest.
 #include "runtime/files/CurveFiles.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -106,6 +107,7 @@ class Reader {
     if (done()) return error("expected a function");
     if (!keyed(lines_[at], "fver") && !keyed(lines_[at], "range:")) return error("expected 'fver 1 1' or 'range:'");
     c.name = stemOf(file_);
+    c.multiplicityWord = 2;
     for (; !done(); ++at) {
       std::vector<std::string_view> rest;
       c.header.emplace_back(lines_[at]);
@@ -113,6 +115,7 @@ class Reader {
       if (keyed(lines_[at], "points:", &rest)) {
         long n = 0;
         if (rest.size() != 1 || !toLong(rest[0], &n)) return error("expected 'points: n'");
+        c.countLine = int(c.header.size() - 1);
         ++at;
         return points(c, n);
       }
@@ -129,12 +132,14 @@ class Reader {
     std::vector<std::string_view> first = words(clean(lines_[at]));
     long n = 0;
     if (first.size() == 3 && toLong(first[0], &n)) {
+      c.countLine = int(c.header.size());
       c.header.emplace_back(lines_[at++]);
       c.closed = first[2] == "closed";
       return points(c, n);
     }
     if (!keyed(lines_[at], "cver") && !keyed(lines_[at], "version:")) return error("expected 'cver 1 3'");
     c.header.emplace_back(lines_[at++]);
+    c.multiplicityWord = 3;
     bool counted = false;
     while (!done()) {
       std::string_view l = clean(lines_[at]);
@@ -142,7 +147,10 @@ class Reader {
       if (w.empty() || w[0].back() != ':') break;  // the first point
       std::vector<std::string_view> rest(w.begin() + 1, w.end());
       if (w[0] == "name:") c.name = std::string(trim(l.substr(5)));
-      if (w[0] == "points:") counted = !rest.empty() && toLong(rest[0], &n);
+      if (w[0] == "points:") {
+        counted = !rest.empty() && toLong(rest[0], &n);
+        c.countLine = int(c.header.size());
+      }
       if (w[0] == "type:" && !rest.empty()) c.closed = rest[0] == "closed" || rest[0] == "cr" || rest[0] == "ce";
       c.header.emplace_back(lines_[at++]);
     }
@@ -212,8 +220,39 @@ std::string pointLine(const CurvePoint& p, const std::string& model) {
   return out;
 }
 
+long multiplicity(const Curve& c, const CurvePoint& p) {
+  std::vector<std::string_view> w = words(clean(p.line));
+  long m = 1;
+  if (c.multiplicityWord >= 0 && size_t(c.multiplicityWord) < w.size() && !toLong(w[c.multiplicityWord], &m)) m = 1;
+  return m;
+}
+
+// The count line after points were added or removed: its numbers replaced (a contour's second
+// one is the points counted with their multiplicities), its other words kept.
+std::string countLine(const Curve& c, const std::string& line) {
+  std::string_view l = line;
+  const bool cr = !l.empty() && l.back() == '\r';
+  std::vector<std::string_view> w = words(clean(l));
+  long total = 0;
+  for (const CurvePoint& p : c.points) total += multiplicity(c, p);
+  const int counts = c.multiplicityWord == 3 ? 2 : 1;  // a 1.0 contour's second number is its dimension
+  std::string out;
+  int numbers = 0;
+  for (std::string_view word : w) {
+    long ignored = 0;
+    std::string piece(word);
+    if (toLong(word, &ignored) && numbers < counts) piece = std::to_string(numbers++ == 0 ? long(c.points.size()) : total);
+    out += (out.empty() ? "" : " ") + piece;
+  }
+  if (cr) out += '\r';
+  return out;
+}
+
 void appendCurve(const Curve& c, std::vector<std::string>& lines) {
+  const size_t start = lines.size();
   lines.insert(lines.end(), c.header.begin(), c.header.end());
+  if (c.recount && c.countLine >= 0 && size_t(c.countLine) < c.header.size())
+    lines[start + c.countLine] = countLine(c, c.header[c.countLine]);
   // A moved point follows the shape of its own old line, else of the file's first point.
   std::string model = c.points.empty() ? std::string() : c.points.front().line;
   for (const CurvePoint& p : c.points) {
@@ -253,6 +292,28 @@ void movePoint(Curve& curve, size_t index, double x, double y) {
   p.x = x;
   p.y = y;
   if (!p.line.empty()) p.line = pointLine(p, p.line);
+}
+
+void insertPoint(Curve& curve, size_t index, double x, double y) {
+  index = std::min(index, curve.points.size());
+  CurvePoint p{x, y, ""};
+  if (!curve.points.empty()) {
+    // The neighbour's line is the new one's model: its z and the like, multiplicity 1.
+    const CurvePoint& model = curve.points[index < curve.points.size() ? index : index - 1];
+    std::vector<std::string_view> w = words(clean(model.line));
+    std::string line = "0 0";
+    for (size_t k = 2; k < w.size(); ++k) line += " " + (int(k) == curve.multiplicityWord ? std::string("1") : std::string(w[k]));
+    if (!model.line.empty() && model.line.back() == '\r') line += '\r';
+    p.line = pointLine(p, line);
+  }
+  curve.points.insert(curve.points.begin() + long(index), std::move(p));
+  curve.recount = true;
+}
+
+void removePoint(Curve& curve, size_t index) {
+  if (index >= curve.points.size()) return;
+  curve.points.erase(curve.points.begin() + long(index));
+  curve.recount = true;
 }
 
 llvm::Error writeCurveFile(const CurveFile& file, const std::string& path) {

@@ -26,6 +26,12 @@ struct Curve {
   bool closed = false;   // contours: `type: closed/cr/ce`, or a 1.0 file's `closed`
   std::vector<std::string> header;  // the lines before the points, as read
   std::vector<CurvePoint> points;
+  // The header line that counts the points (`points: n`, a contour's `points: n total`, a 1.0
+  // contour's `n dim type`), rewritten once points were added or removed (`recount`). The word of
+  // a point's line that is its multiplicity (-1: none).
+  int countLine = -1;
+  bool recount = false;
+  int multiplicityWord = -1;
 };
 
 struct CurveFile {
@@ -52,5 +58,9 @@ llvm::Error writeCurveFile(const CurveFile& file, const std::string& path);
 // Moves a point: its line gets x and y in "%f", its other words unchanged. Not moving it (the same
 // x and y) leaves the line as it was.
 void movePoint(Curve& curve, size_t index, double x, double y);
+// Adds a point before `index` (funcedit's and cuspy's Add), with multiplicity 1 and the other
+// words (a contour's z) of its neighbour; removes one. The count line follows.
+void insertPoint(Curve& curve, size_t index, double x, double y);
+void removePoint(Curve& curve, size_t index);
 
 }  // namespace lcjit::runtime

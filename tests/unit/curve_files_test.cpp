@@ -169,3 +169,41 @@ TEST(CurveFiles, AMovedContourPointIsWhatTheModelReads) {
   movePoint(v14->curves[0], 0, 0.5, -0.5);
   EXPECT_NE(curveFileText(*v14).find("type: bspline\n0.500000 -0.500000 0 3\n"), std::string::npos);
 }
+
+TEST(CurveFiles, AddedAndRemovedPointsAreCounted) {
+  // A function gets a fifth point (funcedit's Add): counted, multiplicity 1, readable by lpfg's rules.
+  auto f = parseCurveFile(kFunc, CurveFile::Kind::Function, "grow.func");
+  ASSERT_TRUE(bool(f));
+  insertPoint(f->curves[0], 2, 0.5, 0.9);
+  std::string text = curveFileText(*f);
+  EXPECT_NE(text.find("points: 5\n0.000000 0.250000 1\n0.333333 0.500000 1\n0.500000 0.900000 1\n0.666667 0.750000 2\n"),
+            std::string::npos)
+      << text;
+  std::string path = writeText("added.func", text);
+  FunctionStore store;
+  ASSERT_EQ(errorText(store.loadFunction(path)), "");
+  removePoint(f->curves[0], 2);
+  EXPECT_EQ(curveFileText(*f), std::string(kFunc));  // back as it was
+  // An old two-column file's new point has two columns.
+  auto two = parseCurveFile(kOldColumns, CurveFile::Kind::Function, "old.func");
+  ASSERT_TRUE(bool(two));
+  insertPoint(two->curves[0], 1, 0.1, 0.15);
+  EXPECT_NE(curveFileText(*two).find("points: 5\n0.000000 0.100000\n0.100000 0.150000\n0.300000"), std::string::npos);
+  // Contours count their points twice, the second time with multiplicities.
+  auto set = parseCurveFile(kContourSet, CurveFile::Kind::Contour, "set.cset");
+  ASSERT_TRUE(bool(set));
+  removePoint(set->curves[1], 0);           // an end point of multiplicity 3
+  insertPoint(set->curves[0], 4, 0, 2);     // the square gets a fifth corner
+  text = curveFileText(*set);
+  EXPECT_NE(text.find("name: square\npoints: 5 5\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("-1.000000 1.000000 0.000000 1\n0.000000 2.000000 0.000000 1\ncver 1 2"), std::string::npos) << text;
+  EXPECT_NE(text.find("name: open\npoints: 3 5\ntype: oe\n0.300000"), std::string::npos) << text;
+  ContourStore contours;
+  ASSERT_EQ(errorText(contours.loadSet(writeText("edited.cset", text))), "");
+  EXPECT_EQ(contours.size(), 3);
+  // A 1.0 contour's header counts its points; its second number is the dimension.
+  auto old = parseCurveFile(kContour10, CurveFile::Kind::Contour, "circle.con");
+  ASSERT_TRUE(bool(old));
+  insertPoint(old->curves[0], 1, 0.7, 0.7);
+  EXPECT_EQ(curveFileText(*old), "5 2 closed\n1.0 0.0\n0.700000 0.700000\n0.0 1.0\n-1.0 0.0\n0.0 -1.0\n");
+}
