@@ -248,13 +248,28 @@ void Editors::addCurvePanels(CurveDoc& doc, std::vector<viewer::Panel>& out) {
     curve.closed = c.closed;
     for (const runtime::CurvePoint& q : c.points) curve.points.push_back({float(q.x), float(q.y)});
     curve.curve = doc.drawn[k];
-    curve.tooltip = function ? "drag a point; the ends stay at x = 0 and 1" : "drag a point";
     p.controls.push_back(std::move(curve));
+    p.controls.push_back(text("Ctrl+click: add; Shift+Ctrl+click: remove"));  // funcedit's keys
     p.buttons = {"Save", "Revert"};
     p.status = doc.status;
     CurveDoc* d = &doc;
     p.edited = [this, d, k](size_t, size_t point, std::array<float, 4> v) {
       runtime::movePoint(d->file.curves[k], point, v[0], v[1]);
+      d->drawn[k] = d->sample(k);
+      edited(d->path, runtime::curveFileText(d->file), Action::NewRun, d->status);
+    };
+    // A curve keeps the 4 points lpfg needs (functions and contours alike).
+    p.added = [this, d, k](size_t, size_t at, std::array<float, 2> q) {
+      runtime::insertPoint(d->file.curves[k], at, q[0], q[1]);
+      d->drawn[k] = d->sample(k);
+      edited(d->path, runtime::curveFileText(d->file), Action::NewRun, d->status);
+    };
+    p.removed = [this, d, k](size_t, size_t index) {
+      if (d->file.curves[k].points.size() <= 4) {
+        d->status = "a curve needs at least 4 points";
+        return;
+      }
+      runtime::removePoint(d->file.curves[k], index);
       d->drawn[k] = d->sample(k);
       edited(d->path, runtime::curveFileText(d->file), Action::NewRun, d->status);
     };

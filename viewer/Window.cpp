@@ -146,6 +146,7 @@ struct Window::Impl {
   int insert = 0;  // the module the last combination push asks for (Pointer::insert)
   Task task = Task::Idle;
   double lastX = 0, lastY = 0;
+  int pressMods = 0;  // the modifiers of the last button press (a curve's Ctrl+click adds a point)
 
   // Menu.
   bool openMenu = false, menuIsOpen = false;
@@ -301,7 +302,8 @@ struct Window::Impl {
       const bool shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
       const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
       const bool combo = (shift && ctrl) || (alt && ctrl) || (shift && alt) || digitHeld[0] || digitHeld[1] || digitHeld[2];
-      if (action == GLFW_PRESS && combo) {
+      // In a panel, the combinations are its own (a curve's Shift+Ctrl+click), not the model's.
+      if (action == GLFW_PRESS && combo && !uiHasMouse()) {
         comboDown = comboPushed = true;
         insert = (shift && ctrl) || digitHeld[0] ? 1 : (alt && ctrl) || digitHeld[1] ? 2 : 0;
       }
@@ -310,6 +312,7 @@ struct Window::Impl {
     if (action == GLFW_PRESS) {
       down[button] = true;
       justPressed[button] = true;
+      pressMods = mods;
     } else if (action == GLFW_RELEASE) {
       down[button] = false;
     }
@@ -429,6 +432,32 @@ struct Window::Impl {
     panelRects[title + "\n" + label] = {a.x, a.y, b.x, b.y};
   }
 
+  // Where a point added at `q` goes: a function's in x order, strictly between its ends; a
+  // contour's into the side of its control polygon nearest the pointer (screen distance).
+  template <class ToScreen>
+  static std::optional<size_t> insertionPlace(const PanelControl& c, std::array<float, 2> q, const ToScreen& toScreen,
+                                              ImVec2 mouse) {
+    const size_t n = c.points.size();
+    if (c.function) {
+      if (n < 2 || !(q[0] > c.points.front()[0] && q[0] < c.points.back()[0])) return std::nullopt;
+      size_t k = 1;
+      while (k < n - 1 && c.points[k][0] <= q[0]) ++k;
+      return k;
+    }
+    if (n < 2) return n;
+    std::optional<size_t> place;
+    float best = 0;
+    const size_t sides = c.closed ? n : n - 1;
+    for (size_t k = 0; k < sides; ++k) {
+      const ImVec2 a = toScreen(c.points[k]), b = toScreen(c.points[(k + 1) % n]);
+      const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+      const float t = len2 > 0 ? std::clamp(((mouse.x - a.x) * dx + (mouse.y - a.y) * dy) / len2, 0.0f, 1.0f) : 0;
+      const float ex = a.x + t * dx - mouse.x, ey = a.y + t * dy - mouse.y, d2 = ex * ex + ey * ey;
+      if (!place || d2 < best) best = d2, place = k + 1;
+    }
+    return place;
+  }
+
   // A curve editor: the control polygon and the curve in a box fitted around them (a contour's
   // with equal scales on both axes), the points as handles the left button drags.
   void drawCurve(const Panel& p, size_t index, std::vector<std::function<void()>>& chosen) {
@@ -490,6 +519,20 @@ struct Window::Impl {
         const ImVec2 q = toScreen(c.points[k]);
         const float d2 = (q.x - mouse.x) * (q.x - mouse.x) + (q.y - mouse.y) * (q.y - mouse.y);
         if (d2 <= best) best = d2, d.point = int(k);
+      }
+      const bool ctrl = pressMods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER), shift = pressMods & GLFW_MOD_SHIFT;
+      if (ctrl && shift) {  // funcedit's Delete; a function keeps its ends
+        const bool end = c.function && (d.point == 0 || d.point == int(n) - 1);
+        if (d.point >= 0 && !end && p.removed) chosen.push_back([f = p.removed, index, k = size_t(d.point)] { f(index, k); });
+        d.point = -1;
+      } else if (ctrl) {  // funcedit's Add, away from the points
+        if (d.point < 0 && p.added) {
+          const std::array<float, 2> q = {box[0] + (mouse.x - at.x) / w * (box[2] - box[0]),
+                                          box[1] + (at.y + h - mouse.y) / h * (box[3] - box[1])};
+          if (std::optional<size_t> before = insertionPlace(c, q, toScreen, mouse))
+            chosen.push_back([f = p.added, index, k = *before, q] { f(index, k, q); });
+        }
+        d.point = -1;
       }
       if (d.point >= 0) d.from = c.points[d.point];
       curveDrags[key] = d;

@@ -56,7 +56,9 @@ struct PanelControl {
     Toggle,  // a check box; toggles with the same group >= 0 are exclusive (vlab's button groups)
     Text,    // a line of text (vlab's labels)
     // Control points to drag (vlab's funcedit, cuspy): `points`, the `curve` through them drawn
-    // under them. A moved point comes back through Panel::edited (item: the point, value: x, y).
+    // under them. A moved point comes back through Panel::edited (item: the point, value: x, y);
+    // as in funcedit, Ctrl+click adds a point (Panel::added), Shift+Ctrl+click on one removes it
+    // (Panel::removed).
     Curve,
     // A grid of `colors` (vlab's palette, medit); a click selects one: `changed(control, index)`.
     // `value` is the selected index.
@@ -89,6 +91,10 @@ struct Panel {
   std::function<void(size_t button)> pressed;
   // A Curve's point moved ({x, y, 0, 0}) or a Color changed (RGBA).
   std::function<void(size_t control, size_t item, std::array<float, 4> value)> edited;
+  // A Curve's point added before index `at` (a function's in x order, a contour's on the nearest
+  // side of its polygon), or removed (never a function's first or last).
+  std::function<void(size_t control, size_t at, std::array<float, 2> point)> added;
+  std::function<void(size_t control, size_t index)> removed;
 };
 
 // The main menu's actions. An empty function greys its item out.

@@ -84,7 +84,7 @@ TEST_F(EditorsTest, AMovedFunctionPointRerunsTheModelAndSaveWritesIt) {
   std::vector<viewer::Panel> panels = editors.panels();
   viewer::Panel* p = panel(panels, "Function len");
   ASSERT_NE(p, nullptr);
-  ASSERT_EQ(p->controls.size(), 2u);
+  ASSERT_EQ(p->controls.size(), 3u);  // the file, the curve, a line of help
   const viewer::PanelControl& curve = p->controls[1];
   ASSERT_EQ(curve.kind, viewer::PanelControl::Kind::Curve);
   EXPECT_TRUE(curve.function);
@@ -115,6 +115,26 @@ TEST_F(EditorsTest, AMovedFunctionPointRerunsTheModelAndSaveWritesIt) {
   EXPECT_EQ(editors.files(files).functions, files.functions);
   load(editors.files(files), ReloadParts::newRun());
   EXPECT_NEAR(length(), 2.5f, 1e-5);
+  // Ctrl+click's new point re-runs too and is counted in the file; a removal back to 4 points
+  // is allowed, below 4 not.
+  panels = editors.panels();
+  p = panel(panels, "Function len");
+  p->added(1, 2, {0.5f, 5.0f});
+  EXPECT_EQ(editors.takeAction(), Action::NewRun);
+  load(editors.files(files), ReloadParts::newRun());
+  EXPECT_GT(length(), 3.0f);
+  panels = editors.panels();
+  p = panel(panels, "Function len");
+  EXPECT_EQ(p->controls[1].points.size(), 5u);
+  p->pressed(0);
+  EXPECT_NE(readText(dir / "len.func").find("points: 5\n"), std::string::npos);
+  p->removed(1, 2);
+  p->removed(1, 1);
+  panels = editors.panels();
+  p = panel(panels, "Function len");
+  EXPECT_EQ(p->controls[1].points.size(), 4u);
+  EXPECT_EQ(p->status, "a curve needs at least 4 points");
+  p->pressed(0);
   // Revert after a change on disk reads the file again, and asks for a re-run.
   std::ofstream(dir / "len.func", std::ios::binary) << kFunc;
   panels = editors.panels();

@@ -945,6 +945,34 @@ TEST_F(WindowTest, CurveAndColourControlsReportEdits) {
   EXPECT_EQ(std::get<1>(edits.back()), 0u);
   EXPECT_EQ(std::get<2>(edits.back())[0], 0.0f);
   EXPECT_GT(std::get<2>(edits.back())[1], 0.0f);
+  // Ctrl+click between points 1 and 2 adds a point there (funcedit's Add); Shift+Ctrl+click on
+  // point 2 removes it, on the last point nothing (a function keeps its ends).
+  std::vector<std::tuple<size_t, size_t, std::array<float, 2>>> added;
+  std::vector<std::pair<size_t, size_t>> removed;
+  a.panels[0].added = [&added](size_t c, size_t at, std::array<float, 2> q) { added.emplace_back(c, at, q); };
+  a.panels[0].removed = [&removed](size_t c, size_t i) { removed.emplace_back(c, i); };
+  auto p1 = w->panelItemRect("Function grow", "grow#1"), p2 = w->panelItemRect("Function grow", "grow#2");
+  auto p3 = w->panelItemRect("Function grow", "grow#3");
+  ASSERT_TRUE(p1 && p2 && p3);
+  auto clickWith = [&](double cx, double cy, int mods) {
+    w->injectCursor(cx, cy);
+    w->frame(a);
+    w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods);
+    w->frame(a);
+    w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods);
+    w->frame(a);
+  };
+  const double midX = ((*p1)[0] + (*p1)[2] + (*p2)[0] + (*p2)[2]) / 4, midY = ((*p1)[1] + (*p1)[3]) / 2 + 30;
+  clickWith(midX, midY, GLFW_MOD_CONTROL);
+  ASSERT_EQ(added.size(), 1u);
+  EXPECT_EQ(std::get<1>(added[0]), 2u);  // before the old point 2, in x order
+  EXPECT_GT(std::get<2>(added[0])[0], 0.3f);
+  EXPECT_LT(std::get<2>(added[0])[0], 0.7f);
+  clickWith(((*p2)[0] + (*p2)[2]) / 2, ((*p2)[1] + (*p2)[3]) / 2, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  clickWith(((*p3)[0] + (*p3)[2]) / 2, ((*p3)[1] + (*p3)[3]) / 2, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  EXPECT_EQ(removed, (std::vector<std::pair<size_t, size_t>>{{0, 2}}));
+  EXPECT_EQ(added.size(), 1u);            // Shift+Ctrl+clicks add nothing
+  EXPECT_EQ(w->takePointer().insert, 0);  // nor ask the model for MouseIns (§7.4's Shift+Ctrl)
   // The drags in the panel did not turn the view.
   w->showPanel("Function grow", false);
   w->frame(a);
