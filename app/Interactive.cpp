@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "app/Background.h"
+#include "app/Editors.h"
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
 #include "app/Frame.h"
@@ -86,6 +87,7 @@ class InteractiveModel {
 
   // Called every frame: shows the worker's picture once it is ready, and keeps an animation going.
   void poll() {
+    if (Action edit = editors_.takeAction(); edit != Action::None) apply(edit);  // waits while busy
     if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
       Scene scene = work_.get();
       session_.engine().clearCancel();
@@ -254,12 +256,12 @@ class InteractiveModel {
   // A recompile (New model, New L-system, an edited .l file) runs on another thread while the
   // running model goes on deriving and drawing; poll() swaps the new one in when it is ready.
   void reload(ReloadParts what, bool rerun, bool resetView) {
-    auto job = [this, what, rerun, resetView] {
+    auto job = [this, what, rerun, resetView, files = editors_.files(files_)] {
       Prepared r;
       r.rerun = rerun;
       r.resetView = resetView;
       auto t0 = Clock::now();
-      auto p = session_.prepare(files_, options_.optLevel, r.times, what);
+      auto p = session_.prepare(files, options_.optLevel, r.times, what);
       if (p) r.model = std::move(*p);
       else r.error = llvm::toString(p.takeError());
       r.ms = jit::msSince(t0);
@@ -389,6 +391,7 @@ class InteractiveModel {
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
     a.panels.push_back(profilePanel());
     a.panels.push_back(stringPanel());
+    for (viewer::Panel& p : editors_.panels()) a.panels.push_back(std::move(p));
     if (busy()) return a;
     a.newModel = [this] { apply(Action::NewModel); };
     a.newLsystem = [this] { apply(Action::NewLsystem); };
@@ -612,6 +615,7 @@ class InteractiveModel {
   std::optional<Prepared> waiting_;  // compiled while the worker ran the old version
   bool replacing_ = false;           // the worker was interrupted for waiting_
   std::vector<Action> deferred_;     // changes that wait for the worker
+  Editors editors_{files_, runtime::Palette::lcjitDefault()};  // the Panels submenu's file editors
   // Declared last: destroyed first, they wait for their jobs, which use the members above.
   Background<Prepared> compile_;
   Background<BetterTier> tier_;

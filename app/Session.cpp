@@ -38,7 +38,7 @@ std::string besideView(const std::string& viewFile, const std::string& name) {
 // unreadable colormap and goes on drawing with what it has.
 std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files, const ReloadParts& what,
                                                        const runtime::DrawingFiles* current, const std::string& cacheDir,
-                                                       std::vector<std::string>& warnings) {
+                                                       bool lcjitColours, std::vector<std::string>& warnings) {
   // What is not re-read is carried over from the model as it is.
   auto d = current ? std::make_unique<runtime::DrawingFiles>(*current) : std::make_unique<runtime::DrawingFiles>();
   // A drawing file that cannot be read is left out and the run goes on (as lpfg does), so its
@@ -84,7 +84,8 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
     warn(d->contours.loadFiles(files.contours));
   }
   if (!what.rendering) return d;
-  d->palette = runtime::Palette();
+  const bool colourFile = !files.colormap.empty() || !files.materials.empty();
+  d->palette = lcjitColours && !colourFile ? runtime::Palette::lcjitDefault() : runtime::Palette();
   if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap, &warnings));
   if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));
   d->shapes = runtime::ShapeLibrary();
@@ -363,7 +364,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       if (auto e = functions->loadFunction(f)) return e;
   }
 
-  p.drawing = loadDrawingFiles(files, what, drawing_.get(), compiler_->cacheDir(), p.warnings);
+  p.drawing = loadDrawingFiles(files, what, drawing_.get(), compiler_->cacheDir(), lcjitColours_, p.warnings);
   // New run: the compiled model stays and a new engine re-runs it. New view / New rendering:
   // the string stays too; only what it is drawn with changes.
   if (!what.lsystem) return llvm::Error::success();

@@ -211,6 +211,10 @@ class Session {
   // constructors and destructors of the model run behind the same guard and time limit.
   void setLimits(const runtime::EngineLimits& limits);
   const runtime::EngineLimits& limits() const { return limits_; }
+  // A model without a .map or .mat drawn in lcjit's colours (runtime::Palette::lcjitDefault: the
+  // window) rather than lpfg's white on black (the default: batch pictures, which are compared
+  // with lpfg's). From the next load on.
+  void setLcjitColours(bool on) { lcjitColours_ = on; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
@@ -238,6 +242,7 @@ class Session {
   int optLevel_ = 0;
   std::string objectKey_;  // of the running code's load (PreparedModel::objectKey)
   bool quickLevelBySize_ = false;
+  bool lcjitColours_ = false;
   std::atomic<bool> editedLive_{false};
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_

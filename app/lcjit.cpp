@@ -447,6 +447,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   // Edits are coming: every compile sets up the next one's front end ahead.
   const bool watchedWindow = window && !rmode.empty() && rmode != "expl";
   (*session)->setEditedLive(watch || watchedWindow);
+  // The window (and a sandboxed window's child, which draws for it) shows a model without colour
+  // files in colours (docs/editors.md); batch pictures stay lpfg's, which the comparison with
+  // lpfg relies on.
+  (*session)->setLcjitColours(window || replyFd >= 0);
   lcjit::app::PhaseTimes times;
   if (emitCpp) {
     // Show the rewritten model even when it does not compile.

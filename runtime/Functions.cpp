@@ -218,6 +218,7 @@ public:
   explicit FunctionFileParser(std::string path) : path_(std::move(path)) {}
 
   llvm::Error open() {
+    if (buf_) return llvm::Error::success();  // given as text
     auto buf = llvm::MemoryBuffer::getFile(path_, /*IsText=*/true);
     if (!buf) return llvm::createStringError(path_ + ": error: cannot open file");
     buf_ = std::move(*buf);
@@ -484,7 +485,7 @@ public:
 
   enum class FileKind { Function, Set, Parameters };
   static llvm::Error parseFile(const std::string& path, FileKind kind,
-                               std::vector<Entry>& out);
+                               std::vector<Entry>& out, const std::string_view* text = nullptr);
 
 private:
   std::string path_;
@@ -497,8 +498,9 @@ private:
 // lpfg decides between gallery and timeline by the header line, not by the
 // file name, so either set loader accepts either set.
 llvm::Error FunctionFileParser::parseFile(const std::string& path, FileKind kind,
-                                          std::vector<Entry>& out) {
+                                          std::vector<Entry>& out, const std::string_view* text) {
   FunctionFileParser p(path);
+  if (text) p.buf_ = llvm::MemoryBuffer::getMemBufferCopy(llvm::StringRef(text->data(), text->size()), path);
   if (auto err = p.open()) return err;
   if (kind == FileKind::Parameters) return p.parseParameters(out);
 
@@ -536,6 +538,13 @@ using FileKind = FunctionFileParser::FileKind;
 llvm::Error FunctionStore::loadFunction(const std::string& path) {
   std::vector<Entry> added;
   if (auto err = FunctionFileParser::parseFile(path, FileKind::Function, added)) return err;
+  commit(std::move(added));
+  return llvm::Error::success();
+}
+
+llvm::Error FunctionStore::loadFunctionText(std::string_view text, const std::string& path) {
+  std::vector<Entry> added;
+  if (auto err = FunctionFileParser::parseFile(path, FileKind::Function, added, &text)) return err;
   commit(std::move(added));
   return llvm::Error::success();
 }

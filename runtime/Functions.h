@@ -26,6 +26,9 @@ public:
   llvm::Error loadFunctionSet(const std::string& path);  // .fset (several)
   llvm::Error loadTimeline(const std::string& path);     // .tset
   llvm::Error loadParameters(const std::string& path);   // .vset
+  // A .func file's text (an editor's curve before it is saved); `path` names it in errors and
+  // gives a 1.0 file its name.
+  llvm::Error loadFunctionText(std::string_view text, const std::string& path);
 
   // Unknown id/name, or an id naming a .vset parameter, gives 0. x outside the
   // domain is clamped to its ends, as lpfg does.

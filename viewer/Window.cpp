@@ -150,6 +150,7 @@ struct Window::Impl {
   int insert = 0;  // the module the last combination push asks for (Pointer::insert)
   Task task = Task::Idle;
   double lastX = 0, lastY = 0;
+  int pressMods = 0;  // the modifiers of the last button press (a curve's Ctrl+click adds a point)
 
   // Menu.
   bool openMenu = false, menuIsOpen = false;
@@ -164,6 +165,15 @@ struct Window::Impl {
   // Panels: which are open (by title), and where the last frame drew their items ("title\nlabel").
   std::set<std::string> openPanels;
   std::map<std::string, std::array<float, 4>> panelRects;
+  // A Curve being dragged ("title\nlabel"): the point, and the box shown when the drag began, kept
+  // so that the view does not slide under the pointer as the curve's extent changes.
+  struct CurveDrag {
+    int point = -1;
+    std::array<float, 4> box{};
+    std::array<float, 2> from{};  // the point when pressed: it moves by the pointer's motion, so a
+                                  // straight up drag keeps x exactly
+  };
+  std::map<std::string, CurveDrag> curveDrags;
 
   // Offscreen target of grabImage().
   GLuint fbo = 0, colorRb = 0, depthRb = 0;
@@ -296,7 +306,8 @@ struct Window::Impl {
       const bool shift = mods & GLFW_MOD_SHIFT, alt = mods & GLFW_MOD_ALT;
       const bool ctrl = mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER);
       const bool combo = (shift && ctrl) || (alt && ctrl) || (shift && alt) || digitHeld[0] || digitHeld[1] || digitHeld[2];
-      if (action == GLFW_PRESS && combo) {
+      // In a panel, the combinations are its own (a curve's Shift+Ctrl+click), not the model's.
+      if (action == GLFW_PRESS && combo && !uiHasMouse()) {
         comboDown = comboPushed = true;
         insert = (shift && ctrl) || digitHeld[0] ? 1 : (alt && ctrl) || digitHeld[1] ? 2 : 0;
       }
@@ -313,6 +324,7 @@ struct Window::Impl {
     if (action == GLFW_PRESS) {
       down[button] = true;
       justPressed[button] = true;
+      pressMods = mods;
     } else if (action == GLFW_RELEASE) {
       down[button] = false;
     }
@@ -465,6 +477,193 @@ struct Window::Impl {
     panelRects[title + "\n" + label] = {a.x, a.y, b.x, b.y};
   }
 
+  // Where a point added at `q` goes: a function's in x order, strictly between its ends; a
+  // contour's into the side of its control polygon nearest the pointer (screen distance).
+  template <class ToScreen>
+  static std::optional<size_t> insertionPlace(const PanelControl& c, std::array<float, 2> q, const ToScreen& toScreen,
+                                              ImVec2 mouse) {
+    const size_t n = c.points.size();
+    if (c.function) {
+      if (n < 2 || !(q[0] > c.points.front()[0] && q[0] < c.points.back()[0])) return std::nullopt;
+      size_t k = 1;
+      while (k < n - 1 && c.points[k][0] <= q[0]) ++k;
+      return k;
+    }
+    if (n < 2) return n;
+    std::optional<size_t> place;
+    float best = 0;
+    const size_t sides = c.closed ? n : n - 1;
+    for (size_t k = 0; k < sides; ++k) {
+      const ImVec2 a = toScreen(c.points[k]), b = toScreen(c.points[(k + 1) % n]);
+      const float dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+      const float t = len2 > 0 ? std::clamp(((mouse.x - a.x) * dx + (mouse.y - a.y) * dy) / len2, 0.0f, 1.0f) : 0;
+      const float ex = a.x + t * dx - mouse.x, ey = a.y + t * dy - mouse.y, d2 = ex * ex + ey * ey;
+      if (!place || d2 < best) best = d2, place = k + 1;
+    }
+    return place;
+  }
+
+  // A curve editor: the control polygon and the curve in a box fitted around them (a contour's
+  // with equal scales on both axes), the points as handles the left button drags.
+  void drawCurve(const Panel& p, size_t index, std::vector<std::function<void()>>& chosen) {
+    const PanelControl& c = p.controls[index];
+    // Fixed sizes: the panel fits its contents (AlwaysAutoResize), so the contents cannot fit it.
+    constexpr float w = 320, h = 240;
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    ImGui::InvisibleButton(c.label.c_str(), ImVec2(w, h));
+    const std::string key = p.title + "\n" + c.label;
+    const bool active = ImGui::IsItemActive();
+    std::array<float, 4> box = {0, 0, 1, 1};  // x0, y0, x1, y1
+    auto drag = curveDrags.find(key);
+    if (active && drag != curveDrags.end()) {
+      box = drag->second.box;
+    } else {
+      float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+      for (const auto* list : {&c.points, &c.curve})
+        for (const auto& q : *list) {
+          x0 = std::min(x0, q[0]), x1 = std::max(x1, q[0]);
+          y0 = std::min(y0, q[1]), y1 = std::max(y1, q[1]);
+        }
+      if (c.function) x0 = std::min(x0, 0.0f), x1 = std::max(x1, 1.0f), y0 = std::min(y0, 0.0f), y1 = std::max(y1, 1.0f);
+      if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+      float mx = std::max(x1 - x0, 1e-6f) * 0.08f, my = std::max(y1 - y0, 1e-6f) * 0.08f;
+      x0 -= mx, x1 += mx, y0 -= my, y1 += my;
+      if (!c.function) {  // a contour keeps its shape: one scale for both axes
+        const float scale = std::max((x1 - x0) / w, (y1 - y0) / h);
+        const float cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+        x0 = cx - scale * w / 2, x1 = cx + scale * w / 2, y0 = cy - scale * h / 2, y1 = cy + scale * h / 2;
+      }
+      box = {x0, y0, x1, y1};
+    }
+    auto toScreen = [&](const std::array<float, 2>& q) {
+      return ImVec2(at.x + (q[0] - box[0]) / (box[2] - box[0]) * w, at.y + h - (q[1] - box[1]) / (box[3] - box[1]) * h);
+    };
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->AddRectFilled(at, ImVec2(at.x + w, at.y + h), IM_COL32(255, 255, 255, 255));
+    dl->AddRect(at, ImVec2(at.x + w, at.y + h), IM_COL32(160, 160, 160, 255));
+    // The axes through the origin (a function's x = 0..1, y = 0 and 1 lines: funcedit's limits).
+    const ImU32 axis = IM_COL32(200, 200, 220, 255);
+    dl->AddLine(toScreen({box[0], 0}), toScreen({box[2], 0}), axis);
+    dl->AddLine(toScreen({0, box[1]}), toScreen({0, box[3]}), axis);
+    if (c.function) {
+      dl->AddLine(toScreen({box[0], 1}), toScreen({box[2], 1}), axis);
+      dl->AddLine(toScreen({1, box[1]}), toScreen({1, box[3]}), axis);
+    }
+    const size_t n = c.points.size();
+    for (size_t k = 0; k + 1 < n + (c.closed && n > 2 ? 1 : 0); ++k)
+      dl->AddLine(toScreen(c.points[k]), toScreen(c.points[(k + 1) % n]), IM_COL32(150, 150, 150, 255));
+    for (size_t k = 0; k + 1 < c.curve.size(); ++k)
+      dl->AddLine(toScreen(c.curve[k]), toScreen(c.curve[k + 1]), IM_COL32(20, 60, 200, 255), 2.0f);
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    if (ImGui::IsItemActivated()) {
+      // The handle nearest the press, if within reach.
+      CurveDrag d;
+      d.box = box;
+      float best = 10.0f * 10.0f;
+      for (size_t k = 0; k < n; ++k) {
+        const ImVec2 q = toScreen(c.points[k]);
+        const float d2 = (q.x - mouse.x) * (q.x - mouse.x) + (q.y - mouse.y) * (q.y - mouse.y);
+        if (d2 <= best) best = d2, d.point = int(k);
+      }
+      const bool ctrl = pressMods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER), shift = pressMods & GLFW_MOD_SHIFT;
+      if (ctrl && shift) {  // funcedit's Delete; a function keeps its ends
+        const bool end = c.function && (d.point == 0 || d.point == int(n) - 1);
+        if (d.point >= 0 && !end && p.removed) chosen.push_back([f = p.removed, index, k = size_t(d.point)] { f(index, k); });
+        d.point = -1;
+      } else if (ctrl) {  // funcedit's Add, away from the points
+        if (d.point < 0 && p.added) {
+          const std::array<float, 2> q = {box[0] + (mouse.x - at.x) / w * (box[2] - box[0]),
+                                          box[1] + (at.y + h - mouse.y) / h * (box[3] - box[1])};
+          if (std::optional<size_t> before = insertionPlace(c, q, toScreen, mouse))
+            chosen.push_back([f = p.added, index, k = *before, q] { f(index, k, q); });
+        }
+        d.point = -1;
+      }
+      if (d.point >= 0) d.from = c.points[d.point];
+      curveDrags[key] = d;
+    } else if (!active) {
+      curveDrags.erase(key);
+    }
+    drag = curveDrags.find(key);
+    const int dragged = active && drag != curveDrags.end() ? drag->second.point : -1;
+    for (size_t k = 0; k < n; ++k) {
+      const ImVec2 q = toScreen(c.points[k]);
+      const ImU32 col = int(k) == dragged ? IM_COL32(230, 40, 40, 255) : IM_COL32(30, 30, 30, 255);
+      dl->AddRectFilled(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), col);
+      panelRects[key + "#" + std::to_string(k)] = {q.x - 4, q.y - 4, q.x + 4, q.y + 4};
+    }
+    // A press without a move is no edit (a point's screen place does not map back to its exact value).
+    const ImVec2 pressed = ImGui::GetIO().MouseClickedPos[ImGuiMouseButton_Left];
+    if (dragged < 0 || (mouse.x == pressed.x && mouse.y == pressed.y)) return;
+    const std::array<float, 2> from = drag->second.from;
+    float x = mouse.x == pressed.x ? from[0] : from[0] + (mouse.x - pressed.x) / w * (box[2] - box[0]);
+    const float y = mouse.y == pressed.y ? from[1] : from[1] - (mouse.y - pressed.y) / h * (box[3] - box[1]);
+    if (c.function) {
+      if (dragged == 0) x = 0;
+      else if (size_t(dragged) == n - 1) x = 1;
+      else x = std::clamp(x, c.points[dragged - 1][0], c.points[dragged + 1][0]);
+    }
+    const auto& old = c.points[dragged];
+    if ((x != old[0] || y != old[1]) && p.edited)
+      chosen.push_back([f = p.edited, index, k = size_t(dragged), x, y] { f(index, k, {x, y, 0, 0}); });
+  }
+
+  // A grid of colours, 16 to a row; the selected one framed.
+  void drawSwatches(const Panel& p, size_t index, std::vector<std::function<void()>>& chosen) {
+    const PanelControl& c = p.controls[index];
+    constexpr float side = 18;
+    ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(2, 2));
+    for (size_t k = 0; k < c.colors.size(); ++k) {
+      if (k % 16) ImGui::SameLine();
+      const auto& q = c.colors[k];
+      ImGui::PushID(int(k));
+      const bool selected = int(k) == int(c.value);
+      if (selected) ImGui::PushStyleColor(ImGuiCol_Border, ImVec4(1, 0.1f, 0.1f, 1));
+      if (selected) ImGui::PushStyleVar(ImGuiStyleVar_FrameBorderSize, 2.0f);
+      const bool clicked = ImGui::ColorButton("##c", ImVec4(q[0], q[1], q[2], 1),
+                                              ImGuiColorEditFlags_NoAlpha | ImGuiColorEditFlags_NoTooltip, ImVec2(side, side));
+      if (selected) ImGui::PopStyleVar(), ImGui::PopStyleColor();
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%zu: %d %d %d", k, int(std::lround(q[0] * 255)), int(std::lround(q[1] * 255)),
+                                                    int(std::lround(q[2] * 255)));
+      notePanelItem(p.title, c.label + "#" + std::to_string(k));
+      if (clicked && p.changed) chosen.push_back([f = p.changed, index, k] { f(index, float(k)); });
+      ImGui::PopID();
+    }
+    ImGui::PopStyleVar();
+  }
+
+  // One colour on one line: a swatch, its label, and a slider for each of its bytes (a material's
+  // four colours fit the panel one under the other).
+  void drawColor(const Panel& p, size_t index, std::vector<std::function<void()>>& chosen) {
+    const PanelControl& c = p.controls[index];
+    std::array<float, 4> q = c.colors.empty() ? std::array<float, 4>{0, 0, 0, 1} : c.colors[0];
+    const float height = ImGui::GetFrameHeight();
+    ImGui::ColorButton("##swatch", ImVec4(q[0], q[1], q[2], 1), ImGuiColorEditFlags_NoAlpha, ImVec2(height, height));
+    ImGui::SameLine();
+    const float labelAt = ImGui::GetCursorPosX();
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextUnformatted(c.label.c_str());
+    if (!c.tooltip.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", c.tooltip.c_str());
+    static const char* names[3] = {"R", "G", "B"};
+    static const char* formats[3] = {"R %d", "G %d", "B %d"};
+    constexpr float kSliderWidth = 64;
+    bool edited = false;
+    for (int k = 0; k < 3; ++k) {
+      ImGui::SameLine(k == 0 ? labelAt + 84 : 0);
+      int byte = int(std::lround(q[k] * 255));
+      ImGui::SetNextItemWidth(kSliderWidth);
+      ImGui::PushID(k);
+      if (ImGui::SliderInt("##byte", &byte, 0, 255, formats[k])) {
+        q[k] = float(byte) / 255.0f;
+        edited = true;
+      }
+      ImGui::PopID();
+      notePanelItem(p.title, c.label + " " + names[k]);
+    }
+    if (edited && !c.colors.empty() && q != c.colors[0] && p.edited)
+      chosen.push_back([f = p.edited, index, q] { f(index, 0, q); });
+  }
+
   // One open panel, stacked down the right side at first (the user may move it); its edits become
   // `chosen` actions, run after the frame as menu choices are.
   // `top`: where the panel starts; set to where the next one may start.
@@ -530,8 +729,17 @@ struct Window::Impl {
               edited = ImGui::DragFloat(c.label.c_str(), &v, std::max(std::fabs(c.value) / 100.0f, 0.001f), 0, 0, "%.6g");
             }
             break;
+          case PanelControl::Kind::Curve:
+            drawCurve(p, i, chosen);
+            break;
+          case PanelControl::Kind::Swatches:
+            drawSwatches(p, i, chosen);
+            break;
+          case PanelControl::Kind::Color:
+            drawColor(p, i, chosen);
+            break;
         }
-        notePanelItem(p.title, c.label);
+        if (c.kind != PanelControl::Kind::Swatches && c.kind != PanelControl::Kind::Color) notePanelItem(p.title, c.label);
         if (c.kind == PanelControl::Kind::Slider) {  // the slider's frame, without its label
           std::array<float, 4>& r = panelRects[p.title + "\n" + c.label];
           r[2] = r[0] + kWidth * 0.55f;

@@ -57,6 +57,17 @@ struct PanelControl {
     Text,    // a line of text (vlab's labels)
     Choice,  // one of `options`; value: the chosen one's index
     Button,  // a button on a line of its own (value: unused); pressing it reports its value
+    // Control points to drag (vlab's funcedit, cuspy): `points`, the `curve` through them drawn
+    // under them. A moved point comes back through Panel::edited (item: the point, value: x, y);
+    // as in funcedit, Ctrl+click adds a point (Panel::added), Shift+Ctrl+click on one removes it
+    // (Panel::removed).
+    Curve,
+    // A grid of `colors` (vlab's palette, medit); a click selects one: `changed(control, index)`.
+    // `value` is the selected index.
+    Swatches,
+    // One colour, colors[0], with sliders for its red, green and blue bytes (0..255);
+    // Panel::edited gets the new colour (item 0).
+    Color,
   } kind = Kind::Slider;
   std::vector<std::string> options;
   std::string label;  // unique within its panel
@@ -64,7 +75,13 @@ struct PanelControl {
   float step = 0;     // a slider snaps to multiples of it (vlab's whole steps over a scale); 0: none
   int group = -1;
   bool sameLine = false;  // drawn right of the control before it
-  std::string tooltip;    // where the value lives (file, #define), shown on hover
+  std::string tooltip;  // where the value lives (file, #define), shown on hover
+  // Curve: the control points and the curve (a polyline) in the curve's own coordinates.
+  std::vector<std::array<float, 2>> points, curve;
+  bool closed = false;    // Curve: the control polygon closes (a closed contour)
+  bool function = false;  // Curve: a function's points: the ends stay at x = 0 and x = 1, and x
+                          // never decreases from one point to the next (funcedit's rules)
+  std::vector<std::array<float, 4>> colors;  // Swatches, Color: RGBA in 0..1
 };
 struct Panel {
   std::string title;  // unique; the Panels submenu's item
@@ -76,6 +93,12 @@ struct Panel {
   std::string status;                // a line under them (what Save did, an error)
   std::function<void(size_t control, float value)> changed;
   std::function<void(size_t button)> pressed;
+  // A Curve's point moved ({x, y, 0, 0}) or a Color changed (RGBA).
+  std::function<void(size_t control, size_t item, std::array<float, 4> value)> edited;
+  // A Curve's point added before index `at` (a function's in x order, a contour's on the nearest
+  // side of its polygon), or removed (never a function's first or last).
+  std::function<void(size_t control, size_t at, std::array<float, 2> point)> added;
+  std::function<void(size_t control, size_t index)> removed;
 };
 
 // The main menu's actions. An empty function greys its item out.
@@ -192,7 +215,8 @@ class Window {
   // Panels by title: open or close one (the Panels submenu does the same), whether it is open.
   void showPanel(const std::string& title, bool open);
   bool panelOpen(const std::string& title) const;
-  // Where the last frame drew a panel's control or button (its label); nothing if not drawn.
+  // Where the last frame drew a panel's control or button (its label); nothing if not drawn. A
+  // Curve's point i is "label#i", a Swatches' colour i too; a Color's sliders "label R" (G, B).
   std::optional<std::array<float, 4>> panelItemRect(const std::string& title, const std::string& label) const;
   // Where the last frame drew setMessage()'s text; nothing when there is none.
   std::optional<std::array<float, 4>> messageRect() const;

@@ -3,8 +3,14 @@
 #include "runtime/files/Palette.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <system_error>
+
+#include "runtime/files/TextLines.h"
 
 #include <llvm/Support/MemoryBuffer.h>
 
@@ -40,6 +46,28 @@ Palette::Palette() {
   page.fill({1, 1, 1, 1});
   page[0] = {0, 0, 0, 1};
   pages_.push_back(page);
+}
+
+Palette Palette::lcjitDefault() {
+  Palette p;
+  auto& page = p.pages_[0];
+  auto rgb = [](int r, int g, int b) { return std::array<float, 4>{r / 255.0f, g / 255.0f, b / 255.0f, 1.0f}; };
+  const std::array<float, 4> first[] = {rgb(0, 0, 0),       rgb(255, 191, 0),  rgb(32, 208, 32),  rgb(64, 128, 255),
+                                        rgb(255, 64, 64),   rgb(255, 128, 255), rgb(128, 255, 255), rgb(255, 255, 96)};
+  for (size_t i = 0; i < std::size(first); ++i) page[i] = first[i];
+  // Dark green → green → yellow → red over the rest, in equal steps of hue and brightness.
+  const size_t from = std::size(first);
+  for (size_t i = from; i < kColors; ++i) {
+    const float t = float(i - from) / float(kColors - 1 - from);
+    const float hue = 120.0f * (1.0f - t);  // degrees: green 120 → red 0
+    const float value = 0.45f + 0.55f * std::min(1.0f, 2.0f * t);
+    auto channel = [&](float n) {
+      const float k = std::fmod(n + hue / 60.0f, 6.0f);
+      return value - value * std::max(0.0f, std::min({k, 4.0f - k, 1.0f}));
+    };
+    page[i] = {channel(5), channel(3), channel(1), 1.0f};
+  }
+  return p;
 }
 
 llvm::Error Palette::loadColormap(const std::string& path, std::vector<std::string>* warnings) {
@@ -118,5 +146,94 @@ const Material& Palette::material(int index) const {
 }
 
 void Palette::selectPage(int page) { page_ = std::clamp(page, 0, (int)pages_.size() - 1); }
+
+// ---------------------------------------------------------------------------------------------
+// The editors' files
+
+namespace {
+llvm::Expected<std::vector<uint8_t>> fileBytes(const std::string& path) {
+  auto buffer = readBinary(path);
+  if (!buffer) return buffer.takeError();
+  llvm::StringRef data = (*buffer)->getBuffer();
+  return std::vector<uint8_t>(data.bytes_begin(), data.bytes_end());
+}
+std::string asString(const std::vector<uint8_t>& bytes) { return std::string(bytes.begin(), bytes.end()); }
+uint8_t toByte(float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+}  // namespace
+
+llvm::Expected<ColormapFile> ColormapFile::read(const std::string& path) {
+  auto bytes = fileBytes(path);
+  if (!bytes) return bytes.takeError();
+  if (bytes->size() < kPageBytes)
+    return fileError(path, "not a colormap: " + std::to_string(bytes->size()) + " bytes, a page needs 768");
+  ColormapFile f;
+  f.bytes_ = std::move(*bytes);
+  return f;
+}
+
+ColormapFile ColormapFile::fromPalette(const Palette& palette) {
+  ColormapFile f;
+  f.bytes_.resize(kPageBytes);
+  for (size_t i = 0; i < kColors; ++i) {
+    const auto c = palette.color(int(i));
+    f.setColor(int(i), {toByte(c[0]), toByte(c[1]), toByte(c[2])});
+  }
+  return f;
+}
+
+std::array<uint8_t, 3> ColormapFile::color(int index) const {
+  const size_t at = size_t(std::clamp(index, 0, 255)) * 3;
+  return {bytes_[at], bytes_[at + 1], bytes_[at + 2]};
+}
+
+void ColormapFile::setColor(int index, std::array<uint8_t, 3> rgb) {
+  const size_t at = size_t(std::clamp(index, 0, 255)) * 3;
+  std::copy(rgb.begin(), rgb.end(), bytes_.begin() + at);
+}
+
+llvm::Error ColormapFile::write(const std::string& path) const { return textfile::writeFileAtomically(path, asString(bytes_)); }
+
+llvm::Expected<MaterialFile> MaterialFile::read(const std::string& path) {
+  auto bytes = fileBytes(path);
+  if (!bytes) return bytes.takeError();
+  if (bytes->empty() || bytes->size() % kMaterialRecord)
+    return fileError(path, "not a materials file: " + std::to_string(bytes->size()) + " bytes are not whole 15-byte records");
+  MaterialFile f;
+  f.bytes_ = std::move(*bytes);
+  return f;
+}
+
+MaterialRecord MaterialFile::record(int index) const {
+  for (size_t off = bytes_.size(); off >= kMaterialRecord; off -= kMaterialRecord)
+    if (bytes_[off - kMaterialRecord] == index) {
+      MaterialRecord r;
+      std::copy_n(bytes_.begin() + long(off - kMaterialRecord + 1), r.size(), r.begin());
+      return r;
+    }
+  const Material m;
+  MaterialRecord r{};
+  r[0] = toByte(m.transparency);
+  for (int k = 0; k < 3; ++k) {
+    r[1 + k] = toByte(m.ambient[k]);
+    r[4 + k] = toByte(m.diffuse[k]);
+    r[7 + k] = toByte(m.emission[k]);
+    r[10 + k] = toByte(m.specular[k]);
+  }
+  r[13] = toByte(m.shininess / 255.0f);
+  return r;
+}
+
+void MaterialFile::setRecord(int index, const MaterialRecord& record) {
+  index = std::clamp(index, 0, 255);
+  for (size_t off = bytes_.size(); off >= kMaterialRecord; off -= kMaterialRecord)
+    if (bytes_[off - kMaterialRecord] == index) {
+      std::copy(record.begin(), record.end(), bytes_.begin() + long(off - kMaterialRecord + 1));
+      return;
+    }
+  bytes_.push_back(uint8_t(index));
+  bytes_.insert(bytes_.end(), record.begin(), record.end());
+}
+
+llvm::Error MaterialFile::write(const std::string& path) const { return textfile::writeFileAtomically(path, asString(bytes_)); }
 
 }  // namespace lcjit::runtime

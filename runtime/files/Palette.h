@@ -6,6 +6,7 @@
 // (glMaterial, two-sided) and the background is material 0's emission.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,12 @@ struct Material {
 class Palette {
  public:
   Palette();  // lpfg's default colours when no .map/.mat is given
+  // lcjit's colours for a model without a colour file in the window (docs/editors.md): lpfg's
+  // black background, as vlab's colormaps nearly all keep it, and the colours those colormaps
+  // most often give the first indices (1 warm, 2 green, then distinct hues), a ramp from dark
+  // green through yellow to red from index 8 on (the gradients models index into), instead of
+  // lpfg's white for every index.
+  static Palette lcjitDefault();
 
   // .map: 256 × RGB bytes per page; every page becomes a colormap (page 0 active). lpfg itself
   // reads only the first 768 bytes. Fewer than 768 bytes is an error; bytes after the last whole
@@ -58,6 +65,44 @@ class Palette {
   int page_ = 0;
   std::array<Material, 256> materials_;
   bool usesMaterials_ = false;
+};
+
+// The colour files as vlab's palette and medit edit them: the file's bytes, changed in place, so
+// that a file written without a change is the file read, with any further pages of a colormap
+// and every record of a materials file (a later record for the same index included).
+class ColormapFile {
+ public:
+  // A file of at least one page (768 bytes).
+  static llvm::Expected<ColormapFile> read(const std::string& path);
+  // One page of `palette`'s current colours: a colormap for a model that had none.
+  static ColormapFile fromPalette(const Palette& palette);
+  // Page 0, the page lpfg reads.
+  std::array<uint8_t, 3> color(int index) const;
+  void setColor(int index, std::array<uint8_t, 3> rgb);
+  const std::vector<uint8_t>& bytes() const { return bytes_; }
+  llvm::Error write(const std::string& path) const;
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
+// A material as its 14 bytes after the index: transparency, ambient RGB, diffuse RGB, emission
+// RGB, specular RGB, shininess (vlab tools manual §4.4).
+using MaterialRecord = std::array<uint8_t, 14>;
+
+class MaterialFile {
+ public:
+  // A file of whole 15-byte records, at least one.
+  static llvm::Expected<MaterialFile> read(const std::string& path);
+  // The record lpfg uses for `index` (the last one for it), else Material{}'s bytes.
+  MaterialRecord record(int index) const;
+  // Changes the last record for `index`, or appends one.
+  void setRecord(int index, const MaterialRecord& record);
+  const std::vector<uint8_t>& bytes() const { return bytes_; }
+  llvm::Error write(const std::string& path) const;
+
+ private:
+  std::vector<uint8_t> bytes_;
 };
 
 }  // namespace lcjit::runtime

@@ -9,3 +9,9 @@ target_link_libraries(lcjit_files_test PRIVATE lcjit_files PNG::PNG GTest::gtest
 target_include_directories(lcjit_files_test SYSTEM PRIVATE /usr/include/stb)  # stb_image_write: test images
 target_compile_definitions(lcjit_files_test PRIVATE LCJIT_TEST_DATA="${CMAKE_CURRENT_LIST_DIR}/data")
 add_test(NAME files_test COMMAND lcjit_files_test)
+
+# The editors' function and contour files (runtime/files/CurveFiles): byte-for-byte round trips,
+# and moved points read back by the model's own readers (runtime/Functions, Contours).
+add_executable(curve_files_test ${CMAKE_CURRENT_LIST_DIR}/curve_files_test.cpp)
+target_link_libraries(curve_files_test PRIVATE lcjit_files lcjit_functions GTest::gtest_main)
+add_test(NAME curve_files_test COMMAND curve_files_test)

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <vector>
 
 #include "runtime/files/Palette.h"
@@ -193,4 +194,83 @@ TEST(PaletteMaterials, Errors) {
 
   msg = errorText(p.loadMaterials("/nonexistent/dir/x.mat"));
   EXPECT_NE(msg.find("x.mat"), std::string::npos) << msg;
+}
+
+// The editors' colour files: unchanged, the bytes read; changed, what Palette then reads.
+TEST(ColourFiles, ColormapRoundTripAndEdit) {
+  std::vector<uint8_t> bytes = page(0);
+  std::vector<uint8_t> second = page(9);
+  bytes.insert(bytes.end(), second.begin(), second.end());
+  bytes.push_back(42);  // a stray byte after the last page stays too
+  std::string path = writeFile("edit.map", bytes);
+  auto f = ColormapFile::read(path);
+  ASSERT_TRUE(bool(f)) << llvm::toString(f.takeError());
+  EXPECT_EQ(f->bytes(), bytes);
+  std::string copy = writeFile("edit-copy.map", {});
+  ASSERT_LOADS(f->write(copy));
+  auto back = ColormapFile::read(copy);
+  ASSERT_TRUE(bool(back));
+  EXPECT_EQ(back->bytes(), bytes);
+  EXPECT_EQ(f->color(5), (std::array<uint8_t, 3>{5, 250, 35}));
+  f->setColor(5, {10, 20, 30});
+  ASSERT_LOADS(f->write(copy));
+  Palette p;
+  ASSERT_LOADS(p.loadColormap(copy));
+  EXPECT_RGBA(p.color(5), 10 / 255.0f, 20 / 255.0f, 30 / 255.0f, 1);
+  EXPECT_RGBA(p.color(6), 6 / 255.0f, 249 / 255.0f, 42 / 255.0f, 1);  // the others as they were
+  EXPECT_FALSE(bool(ColormapFile::read(writeFile("short.map", std::vector<uint8_t>(700)))));
+}
+
+TEST(ColourFiles, MaterialsRoundTripAndEdit) {
+  // Index 3 twice (the later record wins, in lpfg and in the editor), then index 7.
+  std::vector<uint8_t> bytes;
+  auto record = [&](uint8_t index, uint8_t base) {
+    bytes.push_back(index);
+    for (int k = 0; k < 14; ++k) bytes.push_back(uint8_t(base + k));
+  };
+  record(3, 10);
+  record(7, 50);
+  record(3, 100);
+  std::string path = writeFile("edit.mat", bytes);
+  auto f = MaterialFile::read(path);
+  ASSERT_TRUE(bool(f)) << llvm::toString(f.takeError());
+  std::string copy = writeFile("edit-copy.mat", {});
+  ASSERT_LOADS(f->write(copy));
+  auto back = MaterialFile::read(copy);
+  ASSERT_TRUE(bool(back));
+  EXPECT_EQ(back->bytes(), bytes);
+  EXPECT_EQ(f->record(3)[0], 100);
+  EXPECT_EQ(f->record(1)[4], 204);  // unlisted: Material{}'s diffuse 0.8
+  MaterialRecord r = f->record(3);
+  r[4] = 255, r[5] = 0, r[6] = 0;  // diffuse red
+  f->setRecord(3, r);
+  r[0] = 0;
+  f->setRecord(9, r);  // not in the file: appended
+  EXPECT_EQ(f->bytes().size(), bytes.size() + 15);
+  EXPECT_TRUE(std::equal(bytes.begin(), bytes.begin() + 30, f->bytes().begin()));  // earlier records untouched
+  ASSERT_LOADS(f->write(copy));
+  Palette p;
+  ASSERT_LOADS(p.loadMaterials(copy));
+  EXPECT_FLOAT_EQ(p.material(3).diffuse[0], 1);
+  EXPECT_FLOAT_EQ(p.material(3).diffuse[1], 0);
+  EXPECT_FLOAT_EQ(p.material(9).diffuse[0], 1);
+  EXPECT_FLOAT_EQ(p.material(7).ambient[0], 51 / 255.0f);  // after the index: transparency 50, ambient 51…
+}
+
+// A model without a colour file in the window: not lpfg's white on black.
+TEST(PaletteDefaults, LcjitDefaultIsNotWhiteOnBlack) {
+  Palette p = Palette::lcjitDefault();
+  EXPECT_FALSE(p.usesMaterials());
+  EXPECT_RGBA(p.background(), 0, 0, 0, 1);  // lpfg's and vlab's usual background
+  std::set<std::array<float, 4>> firstSeven;
+  for (int i = 1; i < 256; ++i) {
+    auto c = p.color(i);
+    EXPECT_FALSE(c[0] == 1 && c[1] == 1 && c[2] == 1) << i;
+    EXPECT_GT(c[0] + c[1] + c[2], 0.3f) << i;  // visible on the background
+    if (i < 8) firstSeven.insert(c);
+  }
+  EXPECT_EQ(firstSeven.size(), 7u);  // the first indices tell parts apart
+  ColormapFile f = ColormapFile::fromPalette(p);
+  EXPECT_EQ(f.bytes().size(), 768u);
+  EXPECT_EQ(f.color(2), (std::array<uint8_t, 3>{32, 208, 32}));
 }

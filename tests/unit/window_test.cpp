@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <thread>
+#include <tuple>
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -869,4 +870,129 @@ TEST_F(WindowTest, AnimationFramesKeepTheFramingUnlessAskedToRefit) {
   EXPECT_NEAR(find(grab(), kRed).width(), 2 * first, 3);
   w->setScene(grown(), zview(), palette(), {}, Window::Framing::Refit);
   EXPECT_NEAR(find(grab(), kRed).width(), first, 2);
+}
+
+// The editors' controls (app/Editors): a function's point dragged (its ends held at x = 0 and 1),
+// a colour picked from a grid and changed by its sliders; each edit reported after the frame.
+TEST_F(WindowTest, CurveAndColourControlsReportEdits) {
+  std::vector<std::tuple<size_t, size_t, std::array<float, 4>>> edits;
+  std::vector<std::pair<size_t, float>> changes;
+  MenuActions a;
+  Panel f;
+  f.title = "Function grow";
+  PanelControl curve;
+  curve.kind = PanelControl::Kind::Curve;
+  curve.label = "grow";
+  curve.function = true;
+  curve.points = {{0, 0}, {0.3f, 0.2f}, {0.7f, 0.8f}, {1, 1}};
+  curve.curve = {{0, 0}, {0.5f, 0.5f}, {1, 1}};
+  f.controls = {curve};
+  f.edited = [&edits](size_t c, size_t i, std::array<float, 4> v) { edits.emplace_back(c, i, v); };
+  Panel colours;
+  colours.title = "Colormap";
+  PanelControl grid;
+  grid.kind = PanelControl::Kind::Swatches;
+  grid.label = "colours";
+  grid.value = 1;
+  for (int i = 0; i < 16; ++i) grid.colors.push_back({i / 15.0f, 0.5f, 0.2f, 1});
+  PanelControl one;
+  one.kind = PanelControl::Kind::Color;
+  one.label = "Colour 1";
+  one.colors = {{0.5f, 0.5f, 0.5f, 1}};
+  colours.controls = {grid, one};
+  colours.changed = [&changes](size_t i, float v) { changes.emplace_back(i, v); };
+  colours.edited = f.edited;
+  a.panels = {f, colours};
+  Image before = grab();
+  w->showPanel("Function grow", true);
+  w->frame(a);
+  w->frame(a);
+  // Point 1 dragged 40 pixels up: it rises, and keeps its x.
+  auto pt = w->panelItemRect("Function grow", "grow#1");
+  ASSERT_TRUE(pt.has_value());
+  const double x = ((*pt)[0] + (*pt)[2]) / 2, y = ((*pt)[1] + (*pt)[3]) / 2;
+  w->injectCursor(x, y);
+  w->frame(a);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  w->frame(a);
+  EXPECT_TRUE(edits.empty());  // a press alone moves nothing
+  for (int i = 1; i <= 4; ++i) {
+    w->injectCursor(x, y - 10 * i);
+    w->frame(a);
+  }
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  w->frame(a);
+  ASSERT_FALSE(edits.empty());
+  auto [control, point, v] = edits.back();
+  EXPECT_EQ(control, 0u);
+  EXPECT_EQ(point, 1u);
+  EXPECT_FLOAT_EQ(v[0], 0.3f);  // moved by the pointer's motion: straight up keeps x exactly
+  EXPECT_GT(v[1], 0.2f + 0.1f);
+  // The first point dragged right and up: its x stays 0.
+  edits.clear();
+  auto first = w->panelItemRect("Function grow", "grow#0");
+  ASSERT_TRUE(first.has_value());
+  const double fx = ((*first)[0] + (*first)[2]) / 2, fy = ((*first)[1] + (*first)[3]) / 2;
+  w->injectCursor(fx, fy);
+  w->frame(a);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+  w->frame(a);
+  w->injectCursor(fx + 30, fy - 20);
+  w->frame(a);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+  w->frame(a);
+  ASSERT_FALSE(edits.empty());
+  EXPECT_EQ(std::get<1>(edits.back()), 0u);
+  EXPECT_EQ(std::get<2>(edits.back())[0], 0.0f);
+  EXPECT_GT(std::get<2>(edits.back())[1], 0.0f);
+  // Ctrl+click between points 1 and 2 adds a point there (funcedit's Add); Shift+Ctrl+click on
+  // point 2 removes it, on the last point nothing (a function keeps its ends).
+  std::vector<std::tuple<size_t, size_t, std::array<float, 2>>> added;
+  std::vector<std::pair<size_t, size_t>> removed;
+  a.panels[0].added = [&added](size_t c, size_t at, std::array<float, 2> q) { added.emplace_back(c, at, q); };
+  a.panels[0].removed = [&removed](size_t c, size_t i) { removed.emplace_back(c, i); };
+  auto p1 = w->panelItemRect("Function grow", "grow#1"), p2 = w->panelItemRect("Function grow", "grow#2");
+  auto p3 = w->panelItemRect("Function grow", "grow#3");
+  ASSERT_TRUE(p1 && p2 && p3);
+  auto clickWith = [&](double cx, double cy, int mods) {
+    w->injectCursor(cx, cy);
+    w->frame(a);
+    w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods);
+    w->frame(a);
+    w->injectMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods);
+    w->frame(a);
+  };
+  const double midX = ((*p1)[0] + (*p1)[2] + (*p2)[0] + (*p2)[2]) / 4, midY = ((*p1)[1] + (*p1)[3]) / 2 + 30;
+  clickWith(midX, midY, GLFW_MOD_CONTROL);
+  ASSERT_EQ(added.size(), 1u);
+  EXPECT_EQ(std::get<1>(added[0]), 2u);  // before the old point 2, in x order
+  EXPECT_GT(std::get<2>(added[0])[0], 0.3f);
+  EXPECT_LT(std::get<2>(added[0])[0], 0.7f);
+  clickWith(((*p2)[0] + (*p2)[2]) / 2, ((*p2)[1] + (*p2)[3]) / 2, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  clickWith(((*p3)[0] + (*p3)[2]) / 2, ((*p3)[1] + (*p3)[3]) / 2, GLFW_MOD_CONTROL | GLFW_MOD_SHIFT);
+  EXPECT_EQ(removed, (std::vector<std::pair<size_t, size_t>>{{0, 2}}));
+  EXPECT_EQ(added.size(), 1u);            // Shift+Ctrl+clicks add nothing
+  EXPECT_EQ(w->takePointer().insert, 0);  // nor ask the model for MouseIns (§7.4's Shift+Ctrl)
+  // The drags in the panel did not turn the view.
+  w->showPanel("Function grow", false);
+  w->frame(a);
+  EXPECT_EQ(differingPixels(before, grab()), 0);
+  // Colours: a click on swatch 3 selects it; a click at the red slider's right end makes red 255.
+  w->showPanel("Colormap", true);
+  w->frame(a);
+  w->frame(a);
+  auto swatch = w->panelItemRect("Colormap", "colours#3");
+  ASSERT_TRUE(swatch.has_value());
+  click(((*swatch)[0] + (*swatch)[2]) / 2, ((*swatch)[1] + (*swatch)[3]) / 2, a);
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].first, 0u);
+  EXPECT_FLOAT_EQ(changes[0].second, 3.0f);
+  edits.clear();
+  auto red = w->panelItemRect("Colormap", "Colour 1 R");
+  ASSERT_TRUE(red.has_value());
+  click((*red)[2] - 2, ((*red)[1] + (*red)[3]) / 2, a);
+  ASSERT_FALSE(edits.empty());
+  EXPECT_EQ(std::get<0>(edits.back()), 1u);
+  EXPECT_FLOAT_EQ(std::get<2>(edits.back())[0], 1.0f);
+  EXPECT_FLOAT_EQ(std::get<2>(edits.back())[1], 0.5f);  // green as it was
 }
