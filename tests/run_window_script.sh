@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Drives the lcjit window under Xvfb with xdotool: copies DIR/NAME.* to a scratch folder and runs
 # DIR/NAME.drive there (bash) inside the X server, with helpers: start ARGS… (lcjit in the
-# background), wait_file F (up to 10 s), wait_window MODEL.l (its window is up), click_item LABEL
-# (below), expect_files GLOB NAMES… (exactly those files), fail MSG.
+# background), wait_file F (up to 10 s), wait_window MODEL.l (its window is up), item_centre,
+# click_item and wait_item (below), expect_files GLOB NAMES… (exactly those files), fail MSG.
 # The script passes by reaching its end; a failure prints lcjit's stderr.
 # Usage: run_window_script.sh LCJIT DIR NAME
 set -u
@@ -18,16 +18,20 @@ fail() { echo "FAIL: \$*"; cat err.txt; exit 1; }
 wait_file() { for _ in \$(seq 1 100); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
 # The window of MODEL.l is up (a slow start on a loaded machine must not lose the first clicks).
 wait_window() { timeout 60 xdotool search --sync --onlyvisible --name "lcjit: \$1" >/dev/null || fail "no window for \$1"; }
-# With LCJIT_WINDOW_LAYOUT=layout.txt exported before start: click_item LABEL [right] clicks the
-# menu item or panel control (TITLE/LABEL) where the window last drew it (its centre, or 3 px
-# inside its right end: a slider's maximum), waiting up to 10 s for it to be drawn.
-click_item() {
-  for _ in \$(seq 1 100); do grep -q "^\$1	" layout.txt 2>/dev/null && break; sleep 0.1; done
-  read -r x0 y0 x1 y1 < <(grep "^\$1	" layout.txt | cut -f2)
+# With LCJIT_WINDOW_LAYOUT=layout.txt exported before start: item_centre LABEL prints the centre
+# ("X Y") of the menu item or panel control (TITLE/LABEL) where the window last drew it, waiting up
+# to 10 s for it to be drawn; click_item LABEL [right] clicks there (or 3 px inside its right end:
+# a slider's maximum).
+item_rect() { awk -F'\t' -v l="\$1" '\$1 == l { print \$2 }' layout.txt 2>/dev/null; }
+item_centre() {
+  for _ in \$(seq 1 100); do [ -n "\$(item_rect "\$1")" ] && break; sleep 0.1; done
+  read -r x0 y0 x1 y1 < <(item_rect "\$1")
   [ -n "\$x1" ] || fail "no \$1 in the window's layout: \$(cat layout.txt 2>/dev/null)"
-  local x=\$(((x0 + x1) / 2))
-  [ "\${2:-}" = right ] && x=\$((x1 - 3))
-  xdotool mousemove \$x \$(((y0 + y1) / 2)) click 1
+  [ "\${2:-}" = right ] && echo \$((x1 - 3)) \$(((y0 + y1) / 2)) || echo \$(((x0 + x1) / 2)) \$(((y0 + y1) / 2))
+}
+click_item() {
+  local at; at=\$(item_centre "\$@") || exit 1
+  xdotool mousemove \$at click 1
 }
 # wait_item LABEL: waits up to 20 s until the window's layout lists LABEL (its start: a panel's
 # text lines are listed by their text).
