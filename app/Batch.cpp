@@ -1,6 +1,7 @@
 // Batch runs and --watch (see Batch.h).
 #include "app/Batch.h"
 #include "app/ProfileReport.h"
+#include "app/Progress.h"
 
 #include "runtime/turtle/Camera.h"
 
@@ -137,30 +138,6 @@ void takeBetterTier(Background<BetterTier>& tier, Session& session, const BatchO
                  session.optLevel(), session.engine().stepsDone(), cached ? "loaded from the cache" : "compiled", ms);
 }
 
-// The progress line of a long derivation on a terminal (runOnce).
-// LCJIT_PROGRESS_AFTER_MS: when the line first appears (default 500; 0 from the first step).
-struct TerminalProgress {
-  explicit TerminalProgress(bool on) : enabled(on) {
-    if (const char* e = std::getenv("LCJIT_PROGRESS_AFTER_MS")) afterMs = std::atof(e);
-  }
-  ~TerminalProgress() { clear(); }
-  template <class Text>
-  void update(double ms, Text text) {
-    if (ms < afterMs || ms - lastMs < 500) return;
-    lastMs = ms;
-    std::fprintf(stderr, "\rlcjit: %s\033[K", text().c_str());
-    showing = true;
-  }
-  void clear() {
-    if (showing) std::fprintf(stderr, "\r\033[K");
-    showing = false;
-  }
-  const bool enabled;
-  double afterMs = 500;
-  double lastMs = -1e9;
-  bool showing = false;
-};
-
 // `betweenSteps`: called after each step with the derivation's time so far (ms). Without it,
 // the program's pages are released once the string is large (ProgramPages.h); with it, it does.
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
@@ -223,7 +200,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
       if (step) step(n);
       shown.update(jit::msSince(t0), [&] {
-        return fmtMs("step %d of %d: %zu modules", n, engine.derivationLength(), engine.moduleCount());
+        return progressText(n, engine.derivationLength(), engine.moduleCount());
       });
     };
   }

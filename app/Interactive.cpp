@@ -23,6 +23,7 @@
 #include "app/FrameSequence.h"
 #include "app/Parameters.h"
 #include "app/ProfileReport.h"
+#include "app/Progress.h"
 #include "app/StringDebugger.h"
 #include "app/PlainErrors.h"
 #include "jit/Elapsed.h"
@@ -44,11 +45,19 @@ class InteractiveModel {
       : session_(session), files_(files), window_(window), options_(o) {
     hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
     if (o.quiet) hooks_.print = [](const char*) {};
-    if (o.debug)
-      hooks_.afterStep = [this](int step) {
-        std::printf("lcjit: step %d: %zu modules\n", step, session_.engine().moduleCount());
-        std::fflush(stdout);
-      };
+    // How far the worker has come, for the window's status line (poll); the module count may walk
+    // the string, so it is taken (with its step) at most twice a second.
+    hooks_.afterStep = [this, debug = o.debug](int step) {
+      if (debug || jit::msSince(progressCountedAt_) >= 500) {  // the step and its count, together
+        progressCountedAt_ = Clock::now();
+        progressModules_ = session_.engine().moduleCount();
+        progressLength_ = session_.engine().derivationLength();
+        progressStep_ = step;
+      }
+      if (!debug) return;
+      std::printf("lcjit: step %d: %zu modules\n", step, size_t(progressModules_));
+      std::fflush(stdout);
+    };
     for (const std::string& f : files.other)
       if (std::filesystem::path(f).extension() == ".a") animationFile_ = f;
     parameters_.load(files_, session_.functions());
@@ -120,6 +129,7 @@ class InteractiveModel {
       shownAt_ = Clock::now();
     }
     swapInWhenReady();
+    showProgress();
     if (!busy()) applyPanelEdits();
     if (!busy()) {
       // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
@@ -132,6 +142,17 @@ class InteractiveModel {
     }
     if (running_ && !busy() && Clock::now() - shownAt_ >= std::chrono::milliseconds(animation_.swapIntervalMs()))
       advance(mode_);
+  }
+
+  // A derivation that has run half a second says how far it is in the window's status line.
+  void showProgress() {
+    if (!busy()) {
+      if (statusShown_) window_.setStatus(""), statusShown_ = false;
+      return;
+    }
+    if (jit::msSince(launchedAt_) < 500) return;
+    window_.setStatus(progressStep_ < 0 ? "deriving..." : progressText(progressStep_, progressLength_, progressModules_));
+    statusShown_ = true;
   }
 
   // The Parameters panel's edits, once the worker has let go of the model: .vset values are set
@@ -490,6 +511,9 @@ class InteractiveModel {
   void launch(std::function<void()> work) {
     if (busy()) return;
     syncProfiling();
+    launchedAt_ = Clock::now();
+    progressStep_ = -1;  // none counted yet: the first step counts
+    progressCountedAt_ = {};
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
       Scene scene;
@@ -590,6 +614,11 @@ class InteractiveModel {
   ParameterPanel parameters_;
   std::vector<ProfileRow> profileRows_;  // of the run the window shows
   StringDebugger debugger_;
+  // Progress of the worker's derivation (set on the worker, shown by the main thread).
+  std::atomic<int> progressStep_{0}, progressLength_{0};
+  std::atomic<size_t> progressModules_{0};
+  Clock::time_point progressCountedAt_{}, launchedAt_{};  // the first: the worker's own
+  bool statusShown_ = false;
   // What the worker hands the window: the main view's geometry and, with UseView, the panes.
   struct Scene {
     runtime::Geometry main;

@@ -30,6 +30,7 @@
 #include "repl/ReplText.h"
 #include "app/ModuleReport.h"
 #include "app/ProfileReport.h"
+#include "app/Progress.h"
 #include <llvm/ADT/ScopeExit.h>
 #include "app/Session.h"
 #include "repl/ReplView.h"
@@ -74,6 +75,10 @@ class Repl {
                 [this](std::string_view line, size_t cursor) { return complete(line, cursor); }),
         frames_(options.width, options.height) {
     hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, engine(), session_->drawing())); };
+    hooks_.print = [this](const char* text) {  // the model's output starts on a line of its own
+      if (progress_) progress_->clear();
+      std::fputs(text, stdout);
+    };
   }
 
   int run(const Args& inputs) {
@@ -278,8 +283,14 @@ class Repl {
   void deriveTo(int target) {
     runtime::Engine& e = engine();
     repl::LineReader::setInterruptible(&e);
+    app::TerminalProgress shown(::isatty(STDERR_FILENO));
+    progress_ = &shown;
+    auto noProgress = llvm::make_scope_exit([this] { progress_ = nullptr; });
+    const auto t0 = Clock::now();
     while (!e.ended() && e.stepNo() < target) {
       bool more = e.step();
+      if (shown.enabled)
+        shown.update(jit::msSince(t0), [&] { return app::progressText(e.stepNo(), e.derivationLength(), e.moduleCount()); });
       if (repl::LineReader::takeInterrupt()) {
         std::printf("interrupted\n");
         break;
@@ -658,6 +669,7 @@ class Repl {
   ReplOptions options_;
   repl::LineReader reader_;
   FrameWriter frames_;
+  app::TerminalProgress* progress_ = nullptr;  // deriveTo's progress line, while one runs
   runtime::EngineHooks hooks_;
   ModelFiles files_;             // of the last :load, what :reload and :watch read
   ModelFiles loadedFiles_;       // of the model in memory

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The progress line of a long derivation on a terminal (issue 17): on a terminal (a pty from
+# The progress line of a long derivation on a terminal (issue 17; batch and the REPL): on a terminal (a pty from
 # script(1)) lcjit writes "lcjit: step K of N: M modules", rewritten in place, clears it before
 # the model's own output and when the derivation ends; LCJIT_PROGRESS_AFTER_MS=0 shows it from the first step (by default a run
 # must have gone on for half a second). Not on a pipe or a file, not with -q.
@@ -27,6 +27,12 @@ sed '/EndEach/d' "$model" > silent.l
 LCJIT_PROGRESS_AFTER_MS=0 script -qfec "'$lcjit' -b -out silent.str silent.l" /dev/null > silent.txt || fail "lcjit failed"
 grep -q 'lcjit: step 1 of 8' silent.txt || fail "no progress line for the silent model"
 [ "$(tail -c 4 silent.txt | od -An -c | tr -d ' ')" = '\r033[K' ] || fail "the progress line is not cleared at the end"
+
+# The REPL's :run shows the same line on its terminal.
+printf ':load %s\n:run\n' "$(basename "$model")" > commands.txt
+cp "$model" .
+LCJIT_PROGRESS_AFTER_MS=0 script -qfec "'$lcjit' repl < commands.txt" /dev/null > repl.txt || fail "the REPL failed"
+grep -q $'\rlcjit: step 1 of 8: 2 modules\e\[K\r\e\[Kdone' repl.txt || fail "no progress line in the REPL, cleared before the model's output: $(cat -A repl.txt | head -5)"
 
 LCJIT_PROGRESS_AFTER_MS=0 "$lcjit" -b -out file.str "$model" 2> err.txt || fail "lcjit failed"
 grep -q 'step' err.txt && fail "a progress line on a file: $(cat -A err.txt)"

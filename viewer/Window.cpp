@@ -91,6 +91,7 @@ struct Window::Impl {
   GLFWwindow* window = nullptr;
   std::string message;  // setMessage()
   std::optional<std::array<float, 4>> messageRect;  // where the last frame drew it
+  std::string status;  // setStatus()
   ImGuiContext* imgui = nullptr;
   std::unique_ptr<Renderer> renderer;
   // While the mouse drags the view of a very large model, a decimated copy is drawn so that
@@ -945,6 +946,7 @@ void Window::resetView() {
 }
 
 void Window::setMessage(std::string text) { impl_->message = std::move(text); }
+void Window::setStatus(std::string text) { impl_->status = std::move(text); }
 const std::string& Window::message() const { return impl_->message; }
 std::optional<std::array<float, 4>> Window::messageRect() const { return impl_->messageRect; }
 
@@ -1126,6 +1128,19 @@ bool Window::frame(const MenuActions& actions) {
     ImGui::End();
   } else {
     m.messageRect.reset();
+  }
+  if (!m.status.empty()) {
+    ImGui::SetNextWindowPos(ImVec2(8, io.DisplaySize.y - 8), ImGuiCond_Always, ImVec2(0, 1));
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    constexpr ImGuiWindowFlags kFlags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                        ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                        ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs;
+    if (ImGui::Begin("##lcjit-status", nullptr, kFlags)) {
+      ImGui::TextUnformatted(m.status.c_str());
+      ImVec2 a = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+      m.panelRects["status\n" + m.status] = {a.x, a.y, a.x + size.x, a.y + size.y};
+    }
+    ImGui::End();
   }
   ImGui::Render();
   m.wantMouse = io.WantCaptureMouse;

@@ -155,6 +155,9 @@ class Window {
   // while the last good model stays on screen: a broken edit's diagnostics, a fault.
   void setMessage(std::string text);
   const std::string& message() const;
+  // A line at the picture's bottom left until replaced; "" removes it. For how far a long
+  // derivation has come ("step 40 of 200: 1 204 311 modules"). Listed in the layout as "status".
+  void setStatus(std::string text);
 
   // Polls events, handles the mouse and the menu, draws once and swaps. False when the window
   // should close (its close button, or Exit).
