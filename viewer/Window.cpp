@@ -431,7 +431,8 @@ struct Window::Impl {
   }
 
   // LCJIT_WINDOW_LAYOUT=FILE: where the menu's items and the panels' controls are, one per line
-  // ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL"), rewritten when it changes. Scripts that
+  // ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL"; setMessage's text as "message/FIRST LINE",
+  // setStatus's as "status/TEXT"), rewritten when it changes. Scripts that
   // drive the window from outside (xdotool, tests/interactive) click what they name, not a guess.
   void writeLayout() {
     static const char* path = std::getenv("LCJIT_WINDOW_LAYOUT");
@@ -444,6 +445,7 @@ struct Window::Impl {
     };
     if (menuIsOpen || userMenuIsOpen || saveIsOpen)
       for (const auto& [label, r] : itemRects) add(label, r);
+    if (messageRect) add("message/" + message.substr(0, message.find('\n')), *messageRect);
     for (const auto& [key, r] : panelRects) {
       std::string label = key;
       label[label.find('\n')] = '/';
@@ -1120,7 +1122,9 @@ bool Window::frame(const MenuActions& actions) {
                                         ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs;
     if (ImGui::Begin("##lcjit-message", nullptr, kFlags)) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.55f, 0.45f, 1.0f));
+      ImGui::PushTextWrapPos(io.DisplaySize.x - 32);  // a long diagnostic wraps inside the window
       ImGui::TextUnformatted(m.message.c_str());
+      ImGui::PopTextWrapPos();
       ImGui::PopStyleColor();
       ImVec2 a = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
       m.messageRect = {a.x, a.y, a.x + size.x, a.y + size.y};
