@@ -161,12 +161,14 @@ class InteractiveModel {
   void applyPanelEdits() {
     std::map<std::string, float> values = parameters_.takeParameters();
     for (const auto& [name, value] : values) report(session_.setParameter(name, value));
+    std::map<std::string, std::pair<float, float>> timelines = parameters_.takeTimelines();
+    for (const auto& [name, range] : timelines) report(session_.setTimeline(name, range.first, range.second));
     for (const std::string& f : parameters_.takeChangedFiles()) {
       FileKind kind = fileKindOf(f);
       Action a = kind == FileKind::Other ? Action::NewLsystem : actionForChange(kind, RefreshMode::Continuous);
       if (a != Action::None) apply(a);
     }
-    if (values.empty() || busy()) return;
+    if ((values.empty() && timelines.empty()) || busy()) return;
     if (!animating_) return run();
     int at = session_.engine().stepNo();
     launch([this, at] {
@@ -694,7 +696,7 @@ int runInteractive(Session& session, const ModelFiles& files, const viewer::Wind
     if (watching) {
       std::vector<std::string> changed = monitor.poll(0);
       for (const std::string& f : changed)
-        if (fileKindOf(f) == FileKind::Parameters) model.forgetUnsavedParameters();
+        if (fileKindOf(f) == FileKind::Parameters || fileKindOf(f) == FileKind::Timeline) model.forgetUnsavedParameters();
       for (Action a : actionsForChanges(changed, refresh)) model.apply(a);
     }
     model.applyDeferred();

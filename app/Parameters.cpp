@@ -58,6 +58,21 @@ void ParameterPanel::load(const ModelFiles& files, const runtime::FunctionStore&
     byParameter[c.parameter] = controls_.size();
     controls_.push_back(std::move(c));
   }
+  tsetPath_ = files.timeline;
+  for (const runtime::FunctionStore::TimelineRange& t : functions.timelines()) {
+    std::pair<float, float> range{t.start, t.end};
+    if (auto kept = unsavedTimelines_.find(t.name); kept != unsavedTimelines_.end())
+      range = pendingTimelines_[t.name] = kept->second;
+    for (bool end : {false, true}) {
+      Control c;
+      c.timeline = t.name;
+      c.end = end;
+      c.shown.label = t.name + (end ? " end" : " start");
+      c.shown.value = end ? range.second : range.first;
+      c.shown.tooltip = "the timeline " + t.name + " in " + files.timeline + " (tfunc maps its range onto 0..1)";
+      controls_.push_back(std::move(c));
+    }
+  }
   std::string dir = std::filesystem::path(files.lsystem).parent_path().string();
   int groupBase = 0;
   for (const runtime::PanelAndTarget& found : runtime::findPanels(dir)) {
@@ -122,7 +137,7 @@ viewer::Panel ParameterPanel::panel() {
   viewer::Panel p;
   p.title = kTitle;
   for (const Control& c : controls_) p.controls.push_back(c.shown);
-  if (!vsetPath_.empty()) p.buttons = {"Save values"};
+  if (!vsetPath_.empty() || !tsetPath_.empty()) p.buttons = {"Save values"};
   p.status = status_;
   p.changed = [this](size_t i, float v) { changed(i, v); };
   p.pressed = [this](size_t) {
@@ -137,6 +152,14 @@ void ParameterPanel::changed(size_t index, float value) {
   if (!c.parameter.empty()) {
     c.shown.value = value;
     pendingParameters_[c.parameter] = unsaved_[c.parameter] = value;
+    return;
+  }
+  if (!c.timeline.empty()) {
+    c.shown.value = value;
+    std::pair<float, float> range;
+    for (const Control& o : controls_)
+      if (o.timeline == c.timeline) (o.end ? range.second : range.first) = o.shown.value;
+    pendingTimelines_[c.timeline] = unsavedTimelines_[c.timeline] = range;
     return;
   }
   if (c.shown.kind == viewer::PanelControl::Kind::Toggle) {
@@ -180,27 +203,58 @@ void ParameterPanel::edit(const Control& c, int shown) {
 
 std::map<std::string, float> ParameterPanel::takeParameters() { return std::exchange(pendingParameters_, {}); }
 std::vector<std::string> ParameterPanel::takeChangedFiles() { return std::exchange(changedFiles_, {}); }
+std::map<std::string, std::pair<float, float>> ParameterPanel::takeTimelines() {
+  return std::exchange(pendingTimelines_, {});
+}
 
 llvm::Error ParameterPanel::saveParameters() {
-  if (vsetPath_.empty()) return llvm::createStringError("the model has no .vset file");
-  auto text = readAll(vsetPath_);
-  if (!text) return text.takeError();
-  std::string out = *text;
+  if (vsetPath_.empty() && tsetPath_.empty()) return llvm::createStringError("the model has no .vset or .tset file");
   int saved = 0;
-  for (const Control& c : controls_) {
-    if (c.parameter.empty()) continue;
-    runtime::AwkpedEdit e;
-    e.name = c.parameter;
-    e.value = c.shown.value;
-    auto edited = runtime::applyAwkped(out, e, vsetPath_);
-    if (!edited) return edited.takeError();
-    out = std::move(*edited);
-    ++saved;
-  }
-  if (out != *text)
-    if (auto e = writeAll(vsetPath_, out)) return e;
+  std::vector<std::string> written;
+  // One file: its text with every value of its kind set, written if anything changed.
+  auto save = [&](const std::string& path, auto setAll) -> llvm::Error {
+    if (path.empty()) return llvm::Error::success();
+    auto text = readAll(path);
+    if (!text) return text.takeError();
+    std::string out = *text;
+    if (auto e = setAll(out)) return e;
+    if (out != *text)
+      if (auto e = writeAll(path, out)) return e;
+    written.push_back(path);
+    return llvm::Error::success();
+  };
+  if (auto e = save(vsetPath_, [&](std::string& out) -> llvm::Error {
+        for (const Control& c : controls_) {
+          if (c.parameter.empty()) continue;
+          runtime::AwkpedEdit edit;
+          edit.name = c.parameter;
+          edit.value = c.shown.value;
+          auto edited = runtime::applyAwkped(out, edit, vsetPath_);
+          if (!edited) return edited.takeError();
+          out = std::move(*edited);
+          ++saved;
+        }
+        return llvm::Error::success();
+      }))
+    return e;
+  if (auto e = save(tsetPath_, [&](std::string& out) -> llvm::Error {
+        for (const Control& c : controls_) {
+          if (c.timeline.empty() || c.end) continue;
+          float end = c.shown.value;
+          for (const Control& o : controls_)
+            if (o.timeline == c.timeline && o.end) end = o.shown.value;
+          auto edited = runtime::timelineText(out, c.timeline, c.shown.value, end, tsetPath_);
+          if (!edited) return edited.takeError();
+          out = std::move(*edited);
+          saved += 2;
+        }
+        return llvm::Error::success();
+      }))
+    return e;
   unsaved_.clear();
-  status_ = "saved " + std::to_string(saved) + " value" + (saved == 1 ? "" : "s") + " to " + vsetPath_;
+  unsavedTimelines_.clear();
+  status_ = "saved " + std::to_string(saved) + " value" + (saved == 1 ? "" : "s") + " to ";
+  for (size_t i = 0; i < written.size(); ++i) status_ += (i ? " and " : "") + written[i];
   return llvm::Error::success();
 }
 

@@ -1,7 +1,8 @@
-// The window's Parameters panel: the model's .vset values (manual §6.7) and the items of its vlab
-// panels (vlab tools manual §2), as sliders. A .vset value changes in memory and re-runs the model
-// with no recompile (the REPL's :set); "Save values" writes them back to the .vset. A panel item
-// edits its target file as vlab's awkped does, and the file's change reloads the model.
+// The window's Parameters panel: the model's .vset values (manual §6.7), its .tset timelines'
+// ranges (vlab tools manual §10) and the items of its vlab panels (§2), as sliders and fields. A
+// .vset value or a timeline's start/end changes in memory and re-runs the model with no recompile
+// (the REPL's :set); "Save values" writes them back to the .vset and .tset. A panel item edits its
+// target file as vlab's awkped does, and the file's change reloads the model.
 #pragma once
 #include <map>
 #include <string>
@@ -34,20 +35,25 @@ class ParameterPanel {
 
   // .vset values changed since the last call, for FunctionStore::setParameter and a re-run.
   std::map<std::string, float> takeParameters();
+  // Timelines whose range changed since the last call (name → start, end), for setTimeline.
+  std::map<std::string, std::pair<float, float>> takeTimelines();
   // Files a panel item has rewritten since the last call: the model must reload what reads them.
   std::vector<std::string> takeChangedFiles();
 
-  // The .vset with its values as they are now (Save values); only the values' characters change.
+  // The .vset and .tset with their values as they are now (Save values); only the values'
+  // characters change.
   llvm::Error saveParameters();
   // The .vset changed on disk: its values win over those moved in the panel and not saved. (Until
   // then a reload, which reads the .vset again, keeps the panel's values.)
-  void forgetUnsaved() { unsaved_.clear(); }
+  void forgetUnsaved() { unsaved_.clear(), unsavedTimelines_.clear(); }
   const std::string& status() const { return status_; }
 
  private:
   struct Control {
     viewer::PanelControl shown;
     std::string parameter;  // a .vset value's name, or ""
+    std::string timeline;   // a .tset timeline's name, or "" (then `end`: its end, else its start)
+    bool end = false;
     std::string target;     // the file a panel item edits
     std::string message;    // its awkped message (%d: the slider's whole value)
     float scale = 1;        // a `d NAME %d SCALE` slider shows value/scale
@@ -59,6 +65,8 @@ class ParameterPanel {
   std::string vsetPath_;
   std::map<std::string, float> pendingParameters_;
   std::map<std::string, float> unsaved_;
+  std::string tsetPath_;
+  std::map<std::string, std::pair<float, float>> pendingTimelines_, unsavedTimelines_;
   std::vector<std::string> changedFiles_;
   std::string status_;
 };

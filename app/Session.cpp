@@ -787,6 +787,12 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   return llvm::createStringError(shown);
 }
 
+llvm::Error Session::setTimeline(const std::string& name, float start, float end) {
+  if (!functions_ || !functions_->setTimeline(name, start, end))
+    return llvm::createStringError("error: no .tset timeline '" + name + "'");
+  return llvm::Error::success();
+}
+
 llvm::Error Session::setParameter(const std::string& name, float value) {
   if (!functions_ || !functions_->setParameter(name, value)) return llvm::createStringError("error: no .vset parameter '" + name + "'");
   return llvm::Error::success();

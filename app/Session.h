@@ -197,6 +197,8 @@ class Session {
   // Gives the loaded model's .vset parameter `name` a new value (val(NAME) reads it at run time,
   // so a re-run uses it without a recompile). Kept until the parameters are re-read by a load.
   llvm::Error setParameter(const std::string& name, float value);
+  // Gives the loaded model's .tset timeline `name` a new range (what tfunc maps onto 0..1).
+  llvm::Error setTimeline(const std::string& name, float start, float end);
   // C++ typed at the REPL, compiled against the loaded model (see docs/repl.md).
   llvm::Expected<std::string> evaluate(const std::string& input);
   // Environmental programs (manual §5.10): how they are started and waited for, -cleanEA20, and

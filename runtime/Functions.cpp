@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <cstdio>
+#include <cstring>
 #include <optional>
 
 namespace lcjit::runtime {
@@ -443,6 +445,7 @@ public:
       if (auto err = expectKeyed("timelineFunceditFileEnd:", l, rest)) return err;
       e.low = *start;
       e.up = *end;
+      e.isTimeline = true;
       // lpfg names the function by its funcedit name; the timeline's own name
       // is what users see in the editor, so it resolves too.
       if (timelineName != e.name) e.alias = std::move(timelineName);
@@ -584,6 +587,58 @@ void FunctionStore::clear() {
   entries_.clear();
   exact_.clear();
   upper_.clear();
+}
+
+std::vector<FunctionStore::TimelineRange> FunctionStore::timelines() const {
+  std::vector<TimelineRange> out;
+  for (const Entry& e : entries_)
+    if (e.isTimeline) out.push_back({e.alias.empty() ? e.name : e.alias, e.low, e.up});
+  return out;
+}
+
+bool FunctionStore::setTimeline(std::string_view name, float start, float end) {
+  for (Entry& e : entries_)
+    if (e.isTimeline && (e.alias.empty() ? e.name : e.alias) == name) {
+      e.low = start;
+      e.up = end;
+      return true;
+    }
+  return false;
+}
+
+llvm::Expected<std::string> timelineText(std::string_view text, std::string_view name, float start, float end,
+                                         const std::string& file) {
+  // A timeline's block: start:, end:, then its own name: (the name: lines of the funcedit
+  // description inside it come after timelineFunceditFileStart:).
+  std::string out(text);
+  std::vector<std::pair<size_t, size_t>> lines;  // [begin, end) of each line in `out`
+  for (size_t b = 0; b < out.size();) {
+    size_t e = out.find('\n', b);
+    if (e == std::string::npos) e = out.size();
+    lines.emplace_back(b, e);
+    b = e + 1;
+  }
+  auto value = [&](size_t k, const char* key) -> std::optional<std::pair<size_t, size_t>> {
+    std::string_view l(out.data() + lines[k].first, lines[k].second - lines[k].first);
+    size_t at = l.find_first_not_of(" \t");
+    if (at == std::string_view::npos || l.substr(at, std::strlen(key)) != key) return std::nullopt;
+    size_t v = l.find_first_not_of(" \t", at + std::strlen(key));
+    if (v == std::string_view::npos) v = l.size();
+    size_t ve = l.find_first_of(" \t\r", v);
+    if (ve == std::string_view::npos) ve = l.size();
+    return std::make_pair(lines[k].first + v, lines[k].first + ve);
+  };
+  for (size_t k = 0; k + 2 < lines.size(); ++k) {
+    auto s = value(k, "start:"), e = value(k + 1, "end:"), n = value(k + 2, "name:");
+    if (!s || !e || !n || std::string_view(out.data() + n->first, n->second - n->first) != name) continue;
+    char sv[32], ev[32];
+    std::snprintf(sv, sizeof sv, "%g", double(start));
+    std::snprintf(ev, sizeof ev, "%g", double(end));
+    out.replace(e->first, e->second - e->first, ev);  // the later one first: offsets stay right
+    out.replace(s->first, s->second - s->first, sv);
+    return out;
+  }
+  return llvm::createStringError(file + ": error: no timeline '" + std::string(name) + "'");
 }
 
 int FunctionStore::idOf(std::string_view name) const {

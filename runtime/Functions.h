@@ -20,6 +20,11 @@ namespace lcjit::runtime {
 //
 // A failed load leaves the store as it was before that call. Evaluation is
 // const and lock-free, so it may run from several threads at once.
+// A .tset's text with the timeline `name`'s start: and end: values set (only their characters
+// change); an error naming `file` if it has no such timeline.
+llvm::Expected<std::string> timelineText(std::string_view text, std::string_view name, float start, float end,
+                                         const std::string& file);
+
 class FunctionStore {
 public:
   llvm::Error loadFunction(const std::string& path);     // .func (one function)
@@ -57,6 +62,16 @@ public:
   // a derivation reads the store.
   bool setParameter(std::string_view name, float value);
 
+  // The .tset timelines (by the timeline's own name) and the range tfunc maps onto each: the
+  // window's Parameters panel moves them as the timeline editor does its endpoints. Like
+  // setParameter, not while a derivation reads the store.
+  struct TimelineRange {
+    std::string name;
+    float start = 0, end = 1;
+  };
+  std::vector<TimelineRange> timelines() const;
+  bool setTimeline(std::string_view name, float start, float end);
+
   // Name resolution as lpfg's preprocessor does it: the exact name, else the
   // all-caps form of a name; a later definition of a name wins. 0 if unknown.
   // Lets a compiler resolve names once instead of per call.
@@ -71,6 +86,7 @@ private:
     std::string name;
     std::string alias;            // a .tset timeline's own name, if different
     bool isParameter = false;
+    bool isTimeline = false;      // from a .tset
     float value = 0.0f;           // .vset value
     mutable float low = 0.0f, up = 1.0f;  // tfunc domain; pfunc sets it (atomically)
     std::vector<float> samples;   // curve y at x = i/(n-1), n >= 10

@@ -137,3 +137,42 @@ TEST(ParameterPanel, APanelOnTheVsetGivesItsValuesARange) {
 }
 
 }  // namespace
+
+namespace {
+
+// A .tset with one timeline, GROWTH over 0..10, its function the line y = x.
+const char* kTimelines =
+    "timeEdit 1 2\nitems: 1\nstart: 0\nend: 10\nname: GROWTH\ncolor: 91,115,229\nstartLabel: \nendLabel: \n"
+    "timelineFunceditFileStart:\nfver 1 1\nname: GROWTH\nsamples: 20\nflip: off\npoints: 4\n"
+    "0.000000 0.000000\n0.333333 0.333333\n0.666667 0.666667\n1.000000 1.000000\ntimelineFunceditFileEnd:\n";
+
+TEST(ParameterPanel, TimelinesRangesMoveTfuncAndSaveToTheTset) {
+  Folder f;
+  f.write("m.tset", kTimelines);
+  f.files.timeline = (f.dir / "m.tset").string();
+  f.functions.clear();
+  ASSERT_FALSE(bool(f.functions.loadTimeline(f.files.timeline)));
+  ASSERT_FALSE(bool(f.functions.loadParameters(f.files.parameters)));
+  ParameterPanel params;
+  params.load(f.files, f.functions);
+  viewer::Panel p = params.panel();
+  size_t start = indexOf(p, "GROWTH start"), end = indexOf(p, "GROWTH end");
+  EXPECT_EQ(p.controls[start].value, 0.0f);
+  EXPECT_EQ(p.controls[end].value, 10.0f);
+  // tfunc maps the timeline's range onto the function's 0..1: 10 is its end, then its middle.
+  EXPECT_NEAR(f.functions.tfunc("GROWTH", 10), 1.0f, 1e-3);  // tabulated, as lpfg does
+  p.changed(end, 20.0f);
+  auto timelines = params.takeTimelines();
+  ASSERT_EQ(timelines.size(), 1u);
+  EXPECT_EQ(timelines["GROWTH"], std::make_pair(0.0f, 20.0f));
+  ASSERT_TRUE(f.functions.setTimeline("GROWTH", 0, 20));
+  EXPECT_NEAR(f.functions.tfunc("GROWTH", 10), 0.5f, 1e-3);
+  EXPECT_EQ(f.read("m.tset"), kTimelines);  // nothing written before Save
+  p.pressed(0);
+  std::string want = kTimelines;
+  want.replace(want.find("end: 10"), 7, "end: 20");
+  EXPECT_EQ(f.read("m.tset"), want);
+  EXPECT_NE(params.status().find("m.tset"), std::string::npos) << params.status();
+}
+
+}  // namespace
