@@ -48,6 +48,7 @@ viewer::Panel StringDebugger::panel(runtime::Engine& e, bool busy, const Request
   p.title = kTitle;
   const int step = e.stepNo(), length = e.derivationLength();
   const size_t count = e.moduleCount();
+  if (selected_ && *selected_ >= count) selected_.reset();  // the string got shorter (Step back)
   p.controls.push_back(text("step " + std::to_string(step) + " of " + std::to_string(length) + ": " +
                             std::to_string(count) + " module" + (count == 1 ? "" : "s")));
   p.controls.push_back(button("Step back", false));
