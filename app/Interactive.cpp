@@ -163,12 +163,14 @@ class InteractiveModel {
     for (const auto& [name, value] : values) report(session_.setParameter(name, value));
     std::map<std::string, std::pair<float, float>> timelines = parameters_.takeTimelines();
     for (const auto& [name, range] : timelines) report(session_.setTimeline(name, range.first, range.second));
+    std::map<std::string, float> tunables = parameters_.takeTunables();
+    for (const auto& [name, value] : tunables) runtime::Tunables::instance().move(name, value);
     for (const std::string& f : parameters_.takeChangedFiles()) {
       FileKind kind = fileKindOf(f);
       Action a = kind == FileKind::Other ? Action::NewLsystem : actionForChange(kind, RefreshMode::Continuous);
       if (a != Action::None) apply(a);
     }
-    if ((values.empty() && timelines.empty()) || busy()) return;
+    if ((values.empty() && timelines.empty() && tunables.empty()) || busy()) return;
     if (!animating_) return run();
     int at = session_.engine().stepNo();
     launch([this, at] {

@@ -1,6 +1,7 @@
 // The Parameters panel (Parameters.h).
 #include "app/Parameters.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "app/Session.h"
 #include "runtime/Functions.h"
 #include "runtime/files/TextLines.h"
+#include "runtime/WindowInput.h"
 
 namespace lcjit::app {
 namespace {
@@ -133,10 +135,24 @@ void ParameterPanel::load(const ModelFiles& files, const runtime::FunctionStore&
     if (int n = seen[c.shown.label]++; n > 0) c.shown.label += "##" + std::to_string(n);
 }
 
+bool ParameterPanel::empty() const { return controls_.empty() && runtime::Tunables::instance().entries().empty(); }
+
 viewer::Panel ParameterPanel::panel() {
   viewer::Panel p;
   p.title = kTitle;
   for (const Control& c : controls_) p.controls.push_back(c.shown);
+  // The model's tunable values, as its last run met them.
+  tunablesShown_.clear();
+  for (const runtime::Tunables::Entry& t : runtime::Tunables::instance().entries()) {
+    viewer::PanelControl c;
+    c.label = t.name + "##tunable";
+    c.value = t.moved ? t.movedTo : std::clamp(t.value, t.min, t.max);
+    if (auto pending = pendingTunables_.find(t.name); pending != pendingTunables_.end()) c.value = pending->second;
+    c.min = t.min, c.max = t.max;
+    c.tooltip = "tunable(\"" + t.name + "\", ...) in the model: " + (t.moved ? "moved here" : "the code's value");
+    p.controls.push_back(c);
+    tunablesShown_.push_back(t.name);
+  }
   if (!vsetPath_.empty() || !tsetPath_.empty()) p.buttons = {"Save values"};
   p.status = status_;
   p.changed = [this](size_t i, float v) { changed(i, v); };
@@ -147,7 +163,10 @@ viewer::Panel ParameterPanel::panel() {
 }
 
 void ParameterPanel::changed(size_t index, float value) {
-  if (index >= controls_.size()) return;
+  if (index >= controls_.size()) {
+    if (index - controls_.size() < tunablesShown_.size()) pendingTunables_[tunablesShown_[index - controls_.size()]] = value;
+    return;
+  }
   Control& c = controls_[index];
   if (!c.parameter.empty()) {
     c.shown.value = value;
@@ -203,6 +222,7 @@ void ParameterPanel::edit(const Control& c, int shown) {
 
 std::map<std::string, float> ParameterPanel::takeParameters() { return std::exchange(pendingParameters_, {}); }
 std::vector<std::string> ParameterPanel::takeChangedFiles() { return std::exchange(changedFiles_, {}); }
+std::map<std::string, float> ParameterPanel::takeTunables() { return std::exchange(pendingTunables_, {}); }
 std::map<std::string, std::pair<float, float>> ParameterPanel::takeTimelines() {
   return std::exchange(pendingTimelines_, {});
 }

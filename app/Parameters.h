@@ -2,7 +2,9 @@
 // ranges (vlab tools manual §10) and the items of its vlab panels (§2), as sliders and fields. A
 // .vset value or a timeline's start/end changes in memory and re-runs the model with no recompile
 // (the REPL's :set); "Save values" writes them back to the .vset and .tset. A panel item edits its
-// target file as vlab's awkped does, and the file's change reloads the model.
+// target file as vlab's awkped does, and the file's change reloads the model. Values the model
+// marks as tunable (`tunable(NAME, value, min, max)`, runtime::Tunables) are sliders too; a move
+// is what the call returns from the next run on.
 #pragma once
 #include <map>
 #include <string>
@@ -31,10 +33,12 @@ class ParameterPanel {
 
   // What the window draws; its edits land here (they may come while the model derives).
   viewer::Panel panel();
-  bool empty() const { return controls_.empty(); }
+  bool empty() const;
 
   // .vset values changed since the last call, for FunctionStore::setParameter and a re-run.
   std::map<std::string, float> takeParameters();
+  // Tunable values moved since the last call, for runtime::Tunables::move and a re-run.
+  std::map<std::string, float> takeTunables();
   // Timelines whose range changed since the last call (name → start, end), for setTimeline.
   std::map<std::string, std::pair<float, float>> takeTimelines();
   // Files a panel item has rewritten since the last call: the model must reload what reads them.
@@ -65,6 +69,8 @@ class ParameterPanel {
   std::string vsetPath_;
   std::map<std::string, float> pendingParameters_;
   std::map<std::string, float> unsaved_;
+  std::vector<std::string> tunablesShown_;  // the tunables of the last panel(), after controls_
+  std::map<std::string, float> pendingTunables_;
   std::string tsetPath_;
   std::map<std::string, std::pair<float, float>> pendingTimelines_, unsavedTimelines_;
   std::vector<std::string> changedFiles_;

@@ -118,6 +118,9 @@ float lcjit_tfunc(int id, float x) { return functions() ? functions()->tfunc(id,
 float lcjit_tfunc_named(const char* name, float x) { return functions() && name ? functions()->tfunc(name, x) : 0; }
 float lcjit_val(int id) { return functions() ? functions()->val(id) : 0; }
 float lcjit_val_named(const char* name) { return functions() && name ? functions()->val(name) : 0; }
+float lcjit_tunable(const char* name, float value, float min, float max) {
+  return lcjit::runtime::Tunables::instance().get(name, value, min, max);
+}
 void lcjit_func_tangent(int id, float x, float* out2) {
   std::array<float, 2> t{0, 0};
   if (functions()) t = functions()->funcTangent(id, x);
@@ -308,6 +311,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_reset_gillespie), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),
+      LCJIT_HOST(lcjit_tunable),
       LCJIT_HOST(lcjit_func_tangent),
       LCJIT_HOST(lcjit_bsurface_op),
       LCJIT_HOST(lcjit_print),          LCJIT_HOST(lcjit_output_string),  LCJIT_HOST(lcjit_load_string),

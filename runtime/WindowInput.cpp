@@ -1,6 +1,8 @@
 // The window input model code reads (see WindowInput.h).
 #include "runtime/WindowInput.h"
 
+#include <algorithm>
+
 namespace lcjit::runtime {
 
 UserMenu& UserMenu::instance() {
@@ -144,6 +146,40 @@ TabletStatus Mouse::tablet() {
   t.atFront = status_.atFront;
   t.atRear = status_.atRear;
   return t;
+}
+
+Tunables& Tunables::instance() {
+  static Tunables t;
+  return t;
+}
+
+float Tunables::get(const char* name, float value, float min, float max) {
+  if (!name) return value;
+  if (min > max) std::swap(min, max);
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Entry& e : entries_)
+    if (e.name == name) {
+      e.value = value, e.min = min, e.max = max;  // the code may have changed since
+      return e.moved ? e.movedTo : std::clamp(value, min, max);
+    }
+  entries_.push_back({name, value, min, max, false, 0});
+  return std::clamp(value, min, max);
+}
+
+std::vector<Tunables::Entry> Tunables::entries() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return entries_;
+}
+
+void Tunables::move(const std::string& name, float to) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Entry& e : entries_)
+    if (e.name == name) e.moved = true, e.movedTo = to;
+}
+
+void Tunables::reset() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Entry& e : entries_) e.moved = false;
 }
 
 }  // namespace lcjit::runtime

@@ -30,6 +30,31 @@ class UserMenu {
   int choice_ = -1;
 };
 
+// Values the model marks as tunable (lcjit's `tunable("NAME", value, min, max)`): the window's
+// Parameters panel shows each as a slider; a value moved there is what the call returns from the
+// next run on (no recompile). Values are kept by name across runs and reloads; a call registers its
+// name, and its default and range follow the code as it is edited.
+class Tunables {
+ public:
+  static Tunables& instance();
+  struct Entry {
+    std::string name;
+    float value = 0;  // what the code says
+    float min = 0, max = 1;
+    bool moved = false;  // the panel set `moved`
+    float movedTo = 0;
+  };
+  // What model code's call returns: the moved value, if any, else `value` (clamped to [min, max]).
+  float get(const char* name, float value, float min, float max);
+  std::vector<Entry> entries() const;  // in the order first met
+  void move(const std::string& name, float to);
+  void reset();  // the panel's moves forgotten (the code's values again)
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<Entry> entries_;
+};
+
 // The animation functions of §6.5 that steer the window: DisplayFrame (with `display on
 // request: on`), RunSimulation, PauseSimulation. Model code sets them, the window takes them.
 struct AnimationRequests {

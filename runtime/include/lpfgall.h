@@ -102,6 +102,11 @@ inline float tfunc(const char* name, float x) { return lcjit_tfunc_named(name, x
 // their ids, as lpfg does, so val(LENGTH) is val(<id>).
 inline float val(int id) { return lcjit_val(id); }
 inline float val(const char* name) { return lcjit_val_named(name); }
+// lcjit: a value the window's Parameters panel tunes as a slider over [min, max] (docs/studio.md):
+// `value` until it is moved there, then the slider's value, from the next run, with no recompile.
+inline float tunable(const char* name, float value, float min, float max) {
+  return lcjit_tunable(name, value, min, max);
+}
 inline V2f funcTangent(int id, float x) {
   V2f v;
   lcjit_func_tangent(id, x, &v.x);

@@ -799,3 +799,27 @@ void checkOrigins(const std::string& name, const std::string& startEach) {
 TEST(EngineProvenance, EachModuleNamesTheRuleAndStepThatMadeIt) { checkOrigins("origins", ""); }
 // The same history derived right to left (Backward(), as vlab's Lychnis does every step).
 TEST(EngineProvenance, BackwardStepsKeepTheOriginsToo) { checkOrigins("backorigins", "StartEach: { Backward(); }\n"); }
+
+// tunable(NAME, value, min, max): the code's value (clamped) until the panel moves it; then the
+// moved value from the next run on, with no recompile; the code's range and default follow edits.
+TEST(Tunables, TheCodesValueUntilMovedThenTheMovedOne) {
+  runtime::Tunables& t = runtime::Tunables::instance();
+  ScratchModel m("tunable", "#include <lpfgall.h>\nderivation length: 1;\nmodule A(float);\naxiom: A(0);\n"
+                            "A(x) : { produce A(tunable(\"height\", 2, 0, 5)) A(tunable(\"wide\", 9, 0, 5)); }\n");
+  ASSERT_TRUE(m.session);
+  runtime::Engine& e = m.session->engine();
+  ASSERT_FALSE(bool(e.run()));
+  EXPECT_EQ(e.text(e.string()), "A(2)\nA(5)\n");  // 9 clamped to the range
+  std::vector<runtime::Tunables::Entry> entries = t.entries();
+  auto height = std::find_if(entries.begin(), entries.end(), [](auto& x) { return x.name == "height"; });
+  ASSERT_NE(height, entries.end());
+  EXPECT_EQ(height->value, 2.0f);
+  EXPECT_EQ(height->max, 5.0f);
+  EXPECT_FALSE(height->moved);
+  t.move("height", 3.5f);
+  ASSERT_FALSE(bool(e.run()));
+  EXPECT_EQ(e.text(e.string()), "A(3.5)\nA(5)\n");
+  t.reset();
+  ASSERT_FALSE(bool(e.run()));
+  EXPECT_EQ(e.text(e.string()), "A(2)\nA(5)\n");
+}

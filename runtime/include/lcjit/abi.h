@@ -103,6 +103,7 @@ float lcjit_tfunc(int id, float x);
 float lcjit_tfunc_named(const char* name, float x);
 float lcjit_val(int id);
 float lcjit_val_named(const char* name);
+float lcjit_tunable(const char* name, float value, float min, float max);
 void lcjit_func_tangent(int id, float x, float* out2);
 void lcjit_print(const char* text);
 void lcjit_output_string(const char* path);
