@@ -25,6 +25,7 @@
 #include "app/FileMonitor.h"
 #include "app/Frame.h"
 #include "runtime/Functions.h"
+#include "runtime/WindowInput.h"
 #include "repl/LineReader.h"
 #include "app/PlainErrors.h"
 #include "repl/ReplText.h"
@@ -144,7 +145,8 @@ class Repl {
         {":string", "[--module NAME…] [--from I] [--count N]",
          "the string, one module a line with its index; a screenful at a time on a terminal", &Repl::cmdString, true},
         {":module", "I", "the parameters of the string's module I", &Repl::cmdModule, true},
-        {":set", "[NAME VALUE]", "give a .vset parameter a value and re-run to the current step; alone: list them",
+        {":set", "[NAME VALUE]",
+         "give a .vset parameter or a tunable value a value and re-run to the current step; alone: list them",
          &Repl::cmdSet, true},
         {":time", "", "time a whole derivation, and the interpretation of its string", &Repl::cmdTime, true},
         {":profile", "[N]",
@@ -437,6 +439,7 @@ class Repl {
 
   llvm::Error cmdSet(const Args& args) {
     const runtime::FunctionStore& f = session_->functions();
+    std::vector<runtime::Tunables::Entry> tunables = runtime::Tunables::instance().entries();
     if (args.empty()) {
       bool any = false;
       for (int id = 1; id <= f.size(); ++id)
@@ -444,13 +447,20 @@ class Repl {
           std::printf("%s = %g\n", std::string(f.nameOf(id)).c_str(), f.val(id));
           any = true;
         }
-      if (!any) std::printf("(no .vset parameters)\n");
+      for (const runtime::Tunables::Entry& t : tunables) {
+        std::printf("%s = %g (tunable, %g..%g)\n", t.name.c_str(), t.moved ? t.movedTo : t.value, t.min, t.max);
+        any = true;
+      }
+      if (!any) std::printf("(no .vset parameters or tunable values)\n");
       return llvm::Error::success();
     }
     if (args.size() != 2) return llvm::createStringError("error: usage: :set NAME VALUE");
     auto value = parseFloat(args[1]);
     if (!value) return llvm::createStringError("error: '" + args[1] + "' is not a number");
-    if (auto e = session_->setParameter(args[0], *value)) return e;
+    // A .vset parameter, else a value the model marks as tunable (docs/studio.md).
+    bool tunable = std::any_of(tunables.begin(), tunables.end(), [&](const auto& t) { return t.name == args[0]; });
+    if (tunable && f.idOf(args[0]) == 0) runtime::Tunables::instance().move(args[0], float(*value));
+    else if (auto e = session_->setParameter(args[0], *value)) return e;
     std::printf("%s = %g\n", args[0].c_str(), *value);
     int at = engine().stepNo();
     begin();
