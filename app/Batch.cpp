@@ -50,8 +50,10 @@ std::string fmtMs(const char* format, Args... args) {
   return buf;
 }
 
+// A message naming FILE:LINE:COL (a fault in model code) shows that line with a caret under the
+// column, as compile errors do.
 void report(llvm::Error e) {
-  if (e) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+  if (e) std::fprintf(stderr, "%s\n", withSourceLines(llvm::toString(std::move(e))).c_str());
 }
 
 llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const runtime::DrawingFiles& drawing,

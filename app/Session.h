@@ -229,6 +229,7 @@ class Session {
  private:
   Session() = default;
   std::function<llvm::Error(const std::function<llvm::Error()>&)> guardedStatics(const std::string& file) const;
+  runtime::CodeLocator codeLocator() const;
   static void splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest);
   std::optional<std::string> incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p);
   std::unique_ptr<jit::Compiler> compiler_;

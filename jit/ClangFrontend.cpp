@@ -90,6 +90,8 @@ bool Frontend::begin() {
   else
     ppo.ImplicitPCHInclude = pchPath;
   inv->getCodeGenOpts().MainFileName = bufferName;
+  if (!lineTables)  // the level's line has -gline-tables-only, which a PCH made for it shares
+    inv->getCodeGenOpts().setDebugInfo(llvm::codegenoptions::NoDebugInfo);
   ctx = std::make_unique<llvm::LLVMContext>();
   backendErrors = std::make_shared<std::string>();
   ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));
@@ -174,6 +176,13 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
                                    // it must be here too, or the last bits (and, through
                                    // thresholds, whole strings) differ from lpfg's.
                                    "-ffp-contract=off",
+                                   // Line tables (no types or variables): a fault names the
+                                   // statement it happened in (CodeMap.h). They change no code.
+                                   "-gline-tables-only",
+                                   // Relative names in them (a model given as `m.l`) stay
+                                   // relative, to the folder of the run that reads them: the
+                                   // object cache serves an object to runs in other folders.
+                                   "-fdebug-compilation-dir=.",
                                    "-fpch-instantiate-templates",
                                    "-resource-dir",
                                    kResourceDir,
@@ -201,6 +210,7 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
       rest.drop_back().split(parts, '\0', /*MaxSplit=*/-1, /*KeepEmpty=*/true);
       for (llvm::StringRef arg : parts)
         L.cc1Args.push_back(arg.str());
+      noteLibraryDirs(L);
       return llvm::Error::success();
     }
   }
@@ -219,6 +229,7 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   }
   adjustInvocation(*inv);
   L.base = std::shared_ptr<clang::CompilerInvocation>(std::move(inv));
+  noteLibraryDirs(L);
 
   // The folders the driver searched: the include folders it chose and their parents up to the
   // GCC installation's (installing or removing a GCC changes one of them).
@@ -243,6 +254,18 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
       frontend::writeCacheFile(kept, text);
   }
   return llvm::Error::success();
+}
+
+// The folders whose headers are not the model's (CodeMap::addLibraryDirs): lcjit's runtime
+// header's and those the driver added for the system's and the compiler's own headers.
+void Compiler::Impl::noteLibraryDirs(const LevelSetup& L) {
+  std::vector<std::string> dirs{headerDir};
+  for (size_t i = 0; i + 1 < L.cc1Args.size(); ++i) {
+    llvm::StringRef opt = L.cc1Args[i];
+    if (opt == "-internal-isystem" || opt == "-internal-externc-isystem" || opt == "-isystem" || opt == "-resource-dir")
+      dirs.push_back(L.cc1Args[i + 1]);
+  }
+  state->codeMap->addLibraryDirs(dirs);
 }
 
 void Compiler::Impl::adjustInvocation(clang::CompilerInvocation& inv) {

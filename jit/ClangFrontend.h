@@ -55,6 +55,8 @@ public:
   const bool pchFallback;
   const std::string bufferName;
   const size_t capacity;
+  // CompileOptions::lineTables; set before begin().
+  bool lineTables = true;
 
 private:
   std::shared_ptr<clang::CompilerInvocation> base;

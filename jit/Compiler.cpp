@@ -96,6 +96,10 @@ const std::string& Compiler::cacheDir() const { return impl_->cacheDir; }
 std::string Compiler::objectsDir() const { return impl_->objectsDir(); }
 const std::string& Compiler::cacheWarning() const { return impl_->cacheWarning; }
 
+std::vector<SourcePlace> Compiler::sourceAt(uintptr_t address, bool returnAddress) const {
+  return impl_->state->codeMap->placesAt(address, returnAddress);
+}
+
 llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config) {
   static std::once_flag targetsOnce;
   std::call_once(targetsOnce, [] {
@@ -252,7 +256,8 @@ llvm::Error Compiler::Impl::setUp(Job& job) {
       startSupport(job.used, job.used.pchPath);
     }
   }
-  llvm::StringRef unitKind = job.options.plainUnit ? "plain" : job.used.pchFallback ? "text" : "pch";
+  std::string unitKind = job.options.plainUnit ? "plain" : job.used.pchFallback ? "text" : "pch";
+  if (!job.options.lineTables) unitKind += " without line tables";
   job.key = objectKey(job.used.pchPath, unitKind, job.bufferName, job.source, job.shared, job.level);
   if (job.options.useObjectCache)
     job.stats.objectKey = job.key;
@@ -299,17 +304,18 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
       }
     }
     std::unique_ptr<Frontend> fe;
-    if (quickTier && attempt == 0)
+    if (quickTier && attempt == 0 && options.lineTables)  // those begun ahead have them
       fe = takeAhead(L, job.used, job.bufferName, job.source.size());
     job.stats.frontendBegunAhead = fe != nullptr;
     if (!fe) {
       fe = std::make_unique<Frontend>(job.used.base, job.used.pchPath, job.used.pchFallback, config.runtimeHeader,
                                       job.bufferName, job.source.size());
+      fe->lineTables = options.lineTables;
       fe->begin();
     }
     Frontend::Result fr = fe->finish(job.source);
     job.stats.frontendMs += msSince(t0);
-    job.beginNext = quickTier && options.beginNextAhead;
+    job.beginNext = quickTier && options.beginNextAhead && options.lineTables;
     if (fr.module)
       return fr;
     if (fr.pchProblem && attempt == 0 && !job.used.pchFallback && !options.plainUnit) {
@@ -435,6 +441,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
   };
 
   state->takeSessionErrors();
+  state->codeMap->expect(JD, job.object);
   auto buffer = llvm::MemoryBuffer::getMemBuffer(object.object, JD.getName(), /*RequiresNullTerminator=*/false);
   if (auto err = J.addObjectFile(JD, std::move(buffer)))
     return fail(std::move(err), "cannot add module");

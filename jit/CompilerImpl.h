@@ -96,6 +96,7 @@ struct Compiler::Impl {
   // The level's cc1 line (L.cc1Args), made once: kept in the cache folder from an earlier run, or
   // from Clang's driver, which also makes L.base (ClangFrontend.cpp). Enough for the keys.
   llvm::Error setupLevel(LevelSetup& L, int level);
+  void noteLibraryDirs(const LevelSetup& L);
   std::string keptCc1Path(const std::vector<std::string>& driverArgs) const;
   // setupLevel, and the level's invocation (L.base) too: what parsing and PCH builds need.
   llvm::Error ensureBase(LevelSetup& L, int level);

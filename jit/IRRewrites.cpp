@@ -3,6 +3,7 @@
 #include "jit/IRRewrites.h"
 
 #include <llvm/IR/Constants.h>
+#include <llvm/IR/DIBuilder.h>
 #include <llvm/IR/IRBuilder.h>
 #include <llvm/IR/Module.h>
 
@@ -123,6 +124,19 @@ void gatherInitializers(llvm::Module& m) {
   auto* voidFn = llvm::FunctionType::get(llvm::Type::getVoidTy(ctx), false);
   auto* init = llvm::Function::Create(voidFn, llvm::GlobalValue::ExternalLinkage, "__orc_init_func.lcjit", m);
   llvm::IRBuilder<> b(llvm::BasicBlock::Create(ctx, "entry", init));
+  // With line tables, a function of its own in them: the constructors inlined into it keep
+  // their lines (a function without one gets no line table, whatever is inlined into it).
+  if (m.debug_compile_units_begin() != m.debug_compile_units_end()) {
+    llvm::DICompileUnit* unit = *m.debug_compile_units_begin();
+    llvm::DIBuilder di(m, /*AllowUnresolved=*/false, unit);
+    llvm::DISubprogram* sp = di.createFunction(
+        unit->getFile(), init->getName(), init->getName(), unit->getFile(), 0,
+        di.createSubroutineType(di.getOrCreateTypeArray({})), 0, llvm::DINode::FlagArtificial,
+        llvm::DISubprogram::SPFlagDefinition);
+    init->setSubprogram(sp);
+    b.SetCurrentDebugLocation(llvm::DILocation::get(ctx, 0, 0, sp));
+    di.finalize();
+  }
   for (auto& [prio, fn] : ctors)
     b.CreateCall(fn->getFunctionType(), fn);
   if (!dtors.empty()) {

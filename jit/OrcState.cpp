@@ -249,6 +249,9 @@ llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetM
   if (!jit)
     return jit.takeError();
   state->jit = std::move(*jit);
+  state->codeMap = std::make_shared<CodeMap>();
+  if (auto* linker = llvm::dyn_cast<orc::ObjectLinkingLayer>(&state->jit->getObjLinkingLayer()))
+    linker->addPlugin(state->codeMap);
   JitState* raw = state.get();
   state->jit->getExecutionSession().setErrorReporter([raw](llvm::Error err) {
     std::string msg = llvm::toString(std::move(err));

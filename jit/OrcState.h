@@ -2,6 +2,7 @@
 // JITDylib per loaded model version (detail::Dylib), which ModelCode holds. See docs/jit.md.
 #pragma once
 
+#include "jit/CodeMap.h"
 #include "jit/Compiler.h"
 
 #include <llvm/ExecutionEngine/Orc/Core.h>
@@ -69,6 +70,8 @@ struct JitState {
 
   std::unique_ptr<orc::LLJIT> jit;
   orc::JITDylib* hostJD = nullptr;
+  // Model code's addresses back to its source (a plugin of the JIT's linker).
+  std::shared_ptr<CodeMap> codeMap;
 
   // What every JITDylib of lcjit's links against last: host symbols before the process's, so
   // that explicit definitions win over same-named process symbols.

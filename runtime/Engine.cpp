@@ -1161,7 +1161,8 @@ llvm::Error Engine::takeFault() {
   return e;
 }
 
-// `m.l:12: error: production A(x) crashed in step 3: segmentation fault (null pointer dereference)`
+// `m.l:13:9: error: production A(x) crashed in step 3: segmentation fault (null pointer dereference)`:
+// the statement where the fault happened when the locator finds it, else the rule's first line.
 std::string Engine::describe(const Fault& f) const {
   std::string where = model_->sourceFile && *model_->sourceFile ? model_->sourceFile : "model";
   std::string who;
@@ -1177,6 +1178,9 @@ std::string Engine::describe(const Fault& f) const {
   } else {
     who = phase_ == Phase::Interpret ? "the interpretation" : "the derivation";
   }
+  if (auto place = faultPlace(f, locate_))
+    where = placeText(*place, {runningRule_ && runningRule_->file ? runningRule_->file : "",
+                               model_->sourceFile ? model_->sourceFile : ""});
   std::string when;
   switch (phase_) {
     case Phase::Begin: when = "before the first step"; break;

@@ -95,6 +95,9 @@ class Engine {
   bool faulted() const { return faulted_; }
   void setLimits(const EngineLimits& limits);
   const EngineLimits& limits() const { return limits_; }
+  // How a fault finds the statement it happened in (its message then names that file:line:column
+  // instead of the rule's first line). Unset: the rule's line.
+  void setCodeLocator(CodeLocator locate) { locate_ = std::move(locate); }
   // From any thread (or a signal handler): the model code running now (a step, an
   // interpretation, Start…) stops, with an "interrupted" fault; a model stuck in a loop is made to
   // jump out (ModelGuard.h).
@@ -367,6 +370,7 @@ class Engine {
   ContourStore* curves_ = nullptr;
 
   ModelGuard guard_;
+  CodeLocator locate_;
   EngineLimits limits_;
   // What model code is running, for fault messages: a rule, else a named function (Start…).
   const __lc_Rule* runningRule_ = nullptr;

@@ -326,7 +326,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
   };
 #undef LCJIT_HOST
   // operator new and malloc & co. of model code: stoppable (ModelGuard.h).
-  addAllocationHooks(functions);
+  addModelCodeHooks(functions);
   return functions;
 }
 

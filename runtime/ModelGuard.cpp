@@ -24,11 +24,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
+#include <bits/functexcept.h>  // std::__throw_out_of_range & co.: the helpers model code calls to throw
 #include <fstream>
 #include <mutex>
 #include <new>
 #include <thread>
 #include <typeinfo>
+#include <unwind.h>
 
 namespace lcjit::runtime {
 
@@ -116,6 +119,13 @@ struct Region {
   volatile int signo = 0, code = 0, stopKind = 0;
   void* volatile addr = nullptr;
   volatile uintptr_t sp = 0, pc = 0;
+  // The calls the thread was inside (Fault::callers), taken by the crash handler, by a ModelStop,
+  // or by a throw in model code: then `thrown` is the object thrown (kByLibrary: thrown by the
+  // C++ library's helper that model code called).
+  static constexpr int kFrames = 24;
+  void* frames[kFrames];
+  volatile int framesTaken = 0;
+  const void* volatile thrown = nullptr;
 };
 
 thread_local Region* tlRegion = nullptr;
@@ -149,24 +159,39 @@ uintptr_t spOf(void* uc) {
 // The executable segments of every loaded ELF object (lcjit, libLLVM, libc, ld.so, GL drivers):
 // "host code". JIT'd model code lives in anonymous mappings, outside all of them. Rebuilt by the
 // watchdog before it forces a jump; read by the SIGUSR2 handler.
+// Also read by the crash handler: a stack walk starts only from host code, where the stack is
+// the compiler's and libc's (model code may have overwritten its own frames, and a walk that
+// faults inside the handler would end the process), and never from the unwinder's own code (the
+// walk would wait for a lock the crashed thread holds).
 struct HostCode {
   static constexpr int kMax = 4096;
   uintptr_t lo[kMax], hi[kMax];
   std::atomic<int> n{0};
+  std::atomic<uintptr_t> unwinderLo{0}, unwinderHi{0};
+  unsigned long long adds = 0, subs = 0;  // the loader's counts when last read (under mutex)
+  std::mutex mutex;                       // one refresh at a time (the watchdog, a new run)
 };
 HostCode gHostCode;
 
 void refreshHostCode() {
+  std::lock_guard<std::mutex> lock(gHostCode.mutex);
   gHostCode.n.store(0, std::memory_order_release);
   int count = 0;
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* data) {
         int& k = *static_cast<int*>(data);
+        const auto unwinder = reinterpret_cast<uintptr_t>(&_Unwind_Backtrace);
+        gHostCode.adds = info->dlpi_adds;
+        gHostCode.subs = info->dlpi_subs;
         for (int i = 0; i < info->dlpi_phnum && k < HostCode::kMax; ++i) {
           const ElfW(Phdr)& p = info->dlpi_phdr[i];
           if (p.p_type != PT_LOAD || !(p.p_flags & PF_X)) continue;
           gHostCode.lo[k] = info->dlpi_addr + p.p_vaddr;
           gHostCode.hi[k] = info->dlpi_addr + p.p_vaddr + p.p_memsz;
+          if (unwinder >= gHostCode.lo[k] && unwinder < gHostCode.hi[k]) {
+            gHostCode.unwinderLo.store(gHostCode.lo[k]);
+            gHostCode.unwinderHi.store(gHostCode.hi[k]);
+          }
           ++k;
         }
         return 0;
@@ -175,11 +200,50 @@ void refreshHostCode() {
   gHostCode.n.store(count, std::memory_order_release);
 }
 
+// Before a run: the table again if a library was loaded or unloaded since (FFmpeg and HarfBuzz
+// are loaded when first needed). Reading the loader's counts costs one callback.
+void refreshHostCodeIfChanged() {
+  std::pair<unsigned long long, unsigned long long> now{0, 0};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        *static_cast<std::pair<unsigned long long, unsigned long long>*>(data) = {info->dlpi_adds, info->dlpi_subs};
+        return 1;
+      },
+      &now);
+  {
+    std::lock_guard<std::mutex> lock(gHostCode.mutex);
+    if (gHostCode.n.load() > 0 && now.first == gHostCode.adds && now.second == gHostCode.subs) return;
+  }
+  refreshHostCode();
+}
+
 bool inHostCode(uintptr_t pc) {
   int n = gHostCode.n.load(std::memory_order_acquire);
   for (int i = 0; i < n; ++i)
     if (pc >= gHostCode.lo[i] && pc < gHostCode.hi[i]) return true;
   return false;
+}
+
+bool inUnwinder(uintptr_t pc) { return pc >= gHostCode.unwinderLo.load() && pc < gHostCode.unwinderHi.load(); }
+
+// ---- the calls a thread is inside
+
+// Set while the crash handler walks the stack: model code may have overwritten its frames, and a
+// walk that faults comes back here (the crash handlers take nested signals) with what it had.
+thread_local sigjmp_buf* tlWalk = nullptr;
+
+// The return addresses of the calls the thread is inside, innermost first, into r.frames.
+void takeFrames(Region& r) {
+  r.framesTaken = 0;
+  _Unwind_Backtrace(
+      [](_Unwind_Context* context, void* data) -> _Unwind_Reason_Code {
+        Region& region = *static_cast<Region*>(data);
+        if (region.framesTaken >= Region::kFrames) return _URC_END_OF_STACK;
+        region.frames[region.framesTaken] = reinterpret_cast<void*>(_Unwind_GetIP(context));
+        region.framesTaken = region.framesTaken + 1;
+        return _URC_NO_REASON;
+      },
+      &r);
 }
 
 // ---- signal handlers
@@ -213,7 +277,23 @@ void chain(int sig, siginfo_t* info, void* uc) {
 // itself (abort() and raise() send the signal to their own thread).
 bool ownFault(const siginfo_t* info) { return info->si_code > 0 || (info->si_code == SI_TKILL && info->si_pid == getpid()); }
 
+// In a signal handler, once r.pc is set: the calls that led there (a crash in libc's strlen, in
+// the C++ library's code that model code inlined, abort(), a sleep). Not from the unwinder
+// itself: it may hold the lock a walk takes.
+void takeFramesInHandler(Region& r) {
+  r.thrown = nullptr;
+  r.framesTaken = 0;
+  if (inUnwinder(r.pc)) return;
+  sigjmp_buf walk;
+  if (sigsetjmp(walk, 0) == 0) {
+    tlWalk = &walk;
+    takeFrames(r);
+  }
+  tlWalk = nullptr;
+}
+
 void onCrash(int sig, siginfo_t* info, void* uc) {
+  if (sigjmp_buf* walk = tlWalk) siglongjmp(*walk, 1);  // the walk below faulted
   Region* r = tlRegion;
   if (r && ownFault(info)) {
     r->signo = sig;
@@ -221,6 +301,9 @@ void onCrash(int sig, siginfo_t* info, void* uc) {
     r->addr = info->si_addr;
     r->sp = spOf(uc);
     r->pc = pcOf(uc);
+    // The calls that led there (a crash in libc's strlen, in the C++ library's code that model
+    // code inlined, abort()). Not from the unwinder itself: it may hold the lock a walk takes.
+    takeFramesInHandler(*r);
     tlRegion = r->outer;
     siglongjmp(r->env, 1);
   }
@@ -240,6 +323,7 @@ void onInterrupt(int sig, siginfo_t* info, void* uc) {
       r->signo = sig;
       r->pc = pc;
       r->stopKind = GI::stop(g).load();
+      if (inHostCode(pc)) takeFramesInHandler(*r);  // asleep in a system call: where it was called
       tlRegion = r->outer;
       siglongjmp(r->env, 1);
     }
@@ -274,13 +358,18 @@ void installHandlers() {
   std::call_once(once, [] {
     for (int s : kCrashSignals) sigaction(s, nullptr, &gPrevious[s]);
     sigaction(kInterruptSignal, nullptr, &gPrevious[kInterruptSignal]);
+    // The first walk sets up the unwinder's tables (malloc): not in a signal handler.
+    Region r;
+    takeFrames(r);
   });
   struct sigaction sa {};
-  sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
+  // SA_NODEFER: a fault of the handler's stack walk comes back to the handler (tlWalk).
+  sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART | SA_NODEFER;
   sigemptyset(&sa.sa_mask);
   sigaddset(&sa.sa_mask, kInterruptSignal);
   sa.sa_sigaction = onCrash;
   for (int s : kCrashSignals) claim(s, sa);
+  sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_RESTART;
   sigemptyset(&sa.sa_mask);
   sa.sa_sigaction = onInterrupt;
   claim(kInterruptSignal, sa);
@@ -540,7 +629,18 @@ std::string currentExceptionType() {
   return name;
 }
 
-Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g) {
+// Region::thrown when model code called the C++ library's throwing helpers (below).
+const void* const kByLibrary = &kByLibrary;
+
+// An exception model code threw: where its `throw` (or the library call that threw) was, if it
+// was the last one model code threw. One the library threw inside a call of its own that model
+// code made (std::stoi) has no such note, unless the call went through one of the helpers.
+void noteThrowSite(Fault& f, const Region& r, const void* object) {
+  if (r.thrown && (r.thrown == object || r.thrown == kByLibrary || !object))
+    for (int i = 0; i < r.framesTaken; ++i) f.callers.push_back(reinterpret_cast<uintptr_t>(r.frames[i]));
+}
+
+Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g, const Region& r) {
   try {
     fn();
     return {};
@@ -549,10 +649,54 @@ Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g) {
   } catch (const ModelStop&) {
     return stopFault(GI::stop(g).load(), g, GI::observed(g).load());
   } catch (const std::exception& e) {
-    return {FaultKind::Exception, currentExceptionType() + ": " + e.what()};
+    Fault f{FaultKind::Exception, currentExceptionType() + ": " + e.what()};
+    noteThrowSite(f, r, dynamic_cast<const void*>(&e));
+    return f;
   } catch (...) {
-    return {FaultKind::Exception, "an exception of type " + currentExceptionType()};
+    Fault f{FaultKind::Exception, "an exception of type " + currentExceptionType()};
+    noteThrowSite(f, r, nullptr);
+    return f;
   }
+}
+
+// Model code's `throw`: where it was, then the C++ runtime's __cxa_throw.
+[[noreturn]] void modelThrow(void* object, std::type_info* type, void (*destroy)(void*)) {
+  if (Region* r = tlRegion) {
+    takeFrames(*r);
+    r->thrown = object;
+  }
+  abi::__cxa_throw(object, type, destroy);
+}
+
+// The C++ library's helpers that its headers call to throw (std::vector::at, reserve, new[]):
+// model code calls them, not __cxa_throw. Each notes where it was called from, then throws.
+void noteLibraryThrow() {
+  if (Region* r = tlRegion) {
+    takeFrames(*r);
+    r->thrown = kByLibrary;
+  }
+}
+template <void (*Throw)(const char*)>
+[[noreturn]] void libraryThrow(const char* what) {
+  noteLibraryThrow();
+  Throw(what);
+  __builtin_unreachable();
+}
+template <void (*Throw)()>
+[[noreturn]] void libraryThrow() {
+  noteLibraryThrow();
+  Throw();
+  __builtin_unreachable();
+}
+// Its format has only %s, %zu, %lu and %%, which vsnprintf writes the same way.
+[[noreturn]] __attribute__((format(printf, 1, 2))) void libraryThrowOutOfRangeFmt(const char* fmt, ...) {
+  noteLibraryThrow();
+  char what[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(what, sizeof what, fmt, ap);
+  va_end(ap);
+  std::__throw_out_of_range(what);
 }
 
 // ---- allocation in model code
@@ -599,6 +743,11 @@ void onSigint(int) {
 ModelStop::ModelStop() {
   tlStops.alive.fetch_add(1, std::memory_order_relaxed);
   tlStops.thrown.fetch_add(1, std::memory_order_relaxed);
+  // Where the run was stopped: a host function that model code called, or the engine's loop.
+  if (Region* r = tlRegion) {
+    takeFrames(*r);
+    r->thrown = nullptr;
+  }
 }
 ModelStop::ModelStop(const ModelStop&) { tlStops.alive.fetch_add(1, std::memory_order_relaxed); }
 ModelStop::~ModelStop() { tlStops.alive.fetch_sub(1, std::memory_order_relaxed); }
@@ -608,6 +757,7 @@ ModelGuard::~ModelGuard() = default;
 Fault ModelGuard::run(llvm::function_ref<void()> fn) {
   installHandlers();
   ensureAltStack();
+  refreshHostCodeIfChanged();
   // A jump out of an unwinding leaves its ModelStop behind, never destroyed: start the count anew.
   if (!tlRegion) tlStops.alive.store(0, std::memory_order_relaxed);
   Watchdog& w = Watchdog::get();
@@ -618,14 +768,18 @@ Fault ModelGuard::run(llvm::function_ref<void()> fn) {
   Fault fault;
   if (sigsetjmp(region.env, 1) == 0) {
     tlRegion = &region;
-    fault = callCatching(fn, *this);
+    fault = callCatching(fn, *this, region);
     tlRegion = region.outer;
   } else {
     // The handler jumped here (and restored tlRegion). A stop that was asked for explains the
     // crash that may follow it (a ModelStop thrown through noexcept code aborts).
     int asked = region.signo == kInterruptSignal ? region.stopKind : stop_.load();
     fault = asked ? stopFault(asked, *this, observedBytes_.load()) : signalFault(region);
+    fault.pc = region.pc;
   }
+  // A crash's or a stop's calls (an exception's are its throw's, callCatching).
+  if (fault && fault.kind != FaultKind::Exception && !region.thrown)
+    for (int i = 0; i < region.framesTaken; ++i) fault.callers.push_back(reinterpret_cast<uintptr_t>(region.frames[i]));
   w.leave(*this);
   // What the stopped run freed goes back to the system: the limit is on resident memory, and
   // malloc keeps freed memory for itself, so the next run would start at the limit.
@@ -712,13 +866,48 @@ void interruptModelCodeOnSigint() {
   installHandlers();
 }
 
-void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols) {
+void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols) {
+  symbols.push_back({"__cxa_throw", reinterpret_cast<void*>(&modelThrow)});
+  using Thrower = void (*)(const char*);
+  for (auto [name, fn] : {std::pair<const char*, void*>{"_ZSt19__throw_logic_errorPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_logic_error)>)},
+                          {"_ZSt20__throw_length_errorPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_length_error)>)},
+                          {"_ZSt20__throw_out_of_rangePKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_out_of_range)>)},
+                          {"_ZSt24__throw_invalid_argumentPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_invalid_argument)>)},
+                          {"_ZSt21__throw_runtime_errorPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_runtime_error)>)},
+                          {"_ZSt17__throw_bad_allocv", reinterpret_cast<void*>(&libraryThrow<&std::__throw_bad_alloc>)},
+                          {"_ZSt28__throw_bad_array_new_lengthv", reinterpret_cast<void*>(&libraryThrow<&std::__throw_bad_array_new_length>)},
+                          {"_ZSt25__throw_bad_function_callv", reinterpret_cast<void*>(&libraryThrow<&std::__throw_bad_function_call>)},
+                          {"_ZSt24__throw_out_of_range_fmtPKcz", reinterpret_cast<void*>(&libraryThrowOutOfRangeFmt)}})
+    symbols.push_back({name, fn});
   static_assert(sizeof(size_t) == sizeof(unsigned long), "operator new's mangled names below take unsigned long");
   symbols.push_back({"_Znwm", reinterpret_cast<void*>(&modelNew)});
   symbols.push_back({"_Znam", reinterpret_cast<void*>(&modelNewArray)});
   symbols.push_back({"malloc", reinterpret_cast<void*>(&modelMalloc)});
   symbols.push_back({"calloc", reinterpret_cast<void*>(&modelCalloc)});
   symbols.push_back({"realloc", reinterpret_cast<void*>(&modelRealloc)});
+}
+
+std::optional<CodePlace> faultPlace(const Fault& f, const CodeLocator& locate) {
+  if (!locate) return std::nullopt;
+  if (f.pc)
+    if (auto p = locate(f.pc, false)) return p;
+  for (uintptr_t a : f.callers)
+    if (auto p = locate(a, true)) return p;
+  return std::nullopt;
+}
+
+std::string placeText(const CodePlace& p, std::initializer_list<std::string_view> names) {
+  std::string file = p.file;
+  for (std::string_view n : names) {
+    std::error_code ec;
+    if (!n.empty() && std::filesystem::absolute(n, ec).lexically_normal() == std::filesystem::path(p.file)) {
+      file = n;
+      break;
+    }
+  }
+  std::string s = file + ":" + std::to_string(p.line);
+  if (p.column) s += ":" + std::to_string(p.column);
+  return s;
 }
 
 std::string sizeInWords(uint64_t n) {

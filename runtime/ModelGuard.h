@@ -19,7 +19,11 @@
 #include <ctime>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <initializer_list>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -42,6 +46,12 @@ enum class FaultKind : int {
 struct Fault {
   FaultKind kind = FaultKind::None;
   std::string what;  // "segmentation fault (null pointer dereference)", "std::runtime_error: boom"…
+  // Where the thread was, for naming the statement (the JIT maps addresses back to the source):
+  // the instruction it was executing when a signal came (0: none), then the return addresses of
+  // the calls it was inside, innermost first, where they were taken (a crash outside model code,
+  // abort(), a stop while inside a host function) or the call of a `throw` in model code.
+  uintptr_t pc = 0;
+  std::vector<uintptr_t> callers;
   explicit operator bool() const { return kind != FaultKind::None; }
 };
 
@@ -55,6 +65,21 @@ struct ModelStop {
   ModelStop(const ModelStop&);
   ~ModelStop();
 };
+
+// Where model code at an address was compiled from: a statement's file, line and column. The JIT
+// knows; whoever loaded the code hands the engine a CodeLocator that asks it. `returnAddress`:
+// the address is one a call returns to.
+struct CodePlace {
+  std::string file;  // absolute
+  unsigned line = 0, column = 0;  // column 0: not known
+};
+using CodeLocator = std::function<std::optional<CodePlace>(uintptr_t address, bool returnAddress)>;
+// The statement a fault happened in: the first of its addresses (Fault::pc, then its callers)
+// that `locate` places in model code.
+std::optional<CodePlace> faultPlace(const Fault& f, const CodeLocator& locate);
+// "m.l:8:16" ("m.l:8" without a column): the file as one of `names` (the model's files as the
+// user gave them, relative or not) when it is one of them, else in full.
+std::string placeText(const CodePlace& p, std::initializer_list<std::string_view> names);
 
 struct GuardLimits {
   double timeSeconds = 0;   // per guarded call; 0: none
@@ -127,7 +152,8 @@ void interruptModelCodeOnSigint();
 // Stand-ins for operator new, new[], malloc, calloc and realloc in JIT'd model code (linked by
 // name, see hostFunctions()): they throw ModelStop when the run has been asked to stop, so that a
 // model allocating in a loop unwinds (and frees what it holds) instead of being jumped out of.
-void addAllocationHooks(std::vector<std::pair<std::string, void*>>& symbols);
+// And one for __cxa_throw, which notes where model code threw (Fault::callers).
+void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols);
 
 // A size as lcjit's limit messages give it: "8.0 KB", "4.00 MB", "11.77 GB".
 std::string sizeInWords(uint64_t bytes);

@@ -27,9 +27,10 @@ trap '[ -n "$pid" ] && kill $pid 2>/dev/null; rm -rf "$work"' EXIT
 mkdir "$work/m" "$work/home"
 cd "$work/m"
 fail() { echo "FAIL: $*"; echo "--- stdout"; cat out.txt 2>/dev/null; echo "--- stderr"; cat err.txt 2>/dev/null; exit 1; }
-expect() {  # expect STATUS MESSAGE: the exit status and a line of stderr
+expect() {  # expect STATUS MESSAGE [REST]: the exit status and a line of stderr (with REST after MESSAGE)
   [ "$status" = "$1" ] || fail "exit status $status, expected $1"
   grep -qF -- "$2" err.txt || fail "no '$2' in stderr"
+  [ $# -lt 3 ] || grep -F -- "$2" err.txt | grep -qF -- "$3" || fail "no '$2…$3' in stderr"
 }
 case $case in
   ssh)
@@ -109,7 +110,8 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
   crash)
     cp "$dir/../faults/crash.l" .
     "$lcjit" --sandbox -b -out o.str crash.l > out.txt 2> err.txt; status=$?
-    expect 1 "crash.l:7: error: production A(n) crashed in step 3: segmentation fault (null pointer dereference)"
+    # The statement (line 8), at its '=' (column 24).
+    expect 1 "crash.l:8:24: error: production A(n) crashed in step 3: segmentation fault (null pointer dereference)"
     [ ! -e o.str ] || fail "a string was written after the fault" ;;
   cpu)
     cp "$dir/../faults/loop.l" .
@@ -124,7 +126,7 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     kill -INT $pid
     wait $pid; status=$?
     pid=
-    expect 1 "loop.l:8: error: production A(n) was interrupted in step 2" ;;
+    expect 1 "loop.l:12:" ": error: production A(n) was interrupted in step 2" ;;  # in the loop, wherever
   watch)
     cp "$dir/loop.l" m.l
     "$lcjit" --sandbox --watch -out o.str m.l > out.txt 2> err.txt &

@@ -2,8 +2,9 @@
 // integer division by zero, stack overflow, abort(), an uncaught exception, an endless loop
 // (stopped by the time limit, and by an interrupt from another thread), runaway string growth,
 // runaway allocation — is loaded as a small model that faults in a known production at a known
-// step, run 100 times in a row in one process: each run's message names the production's line,
-// the step and the kind; the string is left as it was before the failed step; resident memory
+// step, run 100 times in a row in one process: each run's message names the statement that
+// faulted (its line, and its column where the fault is one expression's), the production, the
+// step and the kind; the string is left as it was before the failed step; resident memory
 // stays flat; and a good model loaded afterwards into the same Session runs correctly.
 #include <gtest/gtest.h>
 #include <pthread.h>
@@ -29,9 +30,10 @@ namespace {
 
 constexpr int kRuns = 100;
 
-// Every faulty model: A(n) → A(n+1) for 5 steps; the production (on line kLine) faults when
-// n == 1, i.e. in step 2, so the string after the fault is A(1).
-constexpr int kLine = 8;
+// Every faulty model: A(n) → A(n+1) for 5 steps; the production (on line 8) faults when n == 1,
+// i.e. in step 2, so the string after the fault is A(1). The faulty statements are on line
+// kLine, from column kColumn (after "  if (n == 1) { ").
+constexpr int kLine = 9, kColumn = 17;
 std::string faulty(const std::string& includes, const std::string& fault) {
   return "#include <lpfgall.h>\n" + includes +        // lines 1-2
          "\nderivation length: 5;\n"                  // 3
@@ -127,12 +129,21 @@ class Faults : public ::testing::Test {
       llvm::Error e = engine().run();
       ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
       std::string message = llvm::toString(std::move(e));
-      ASSERT_NE(message.find(at() + "was stopped in step 2: it ran longer than the time limit"), std::string::npos) << message;
+      for (const std::string& part : onLine(kLine, "was stopped in step 2: it ran longer than the time limit"))
+        ASSERT_NE(message.find(part), std::string::npos) << message;
     }
   }
 
   static std::string path(const char* name) { return (*dir_ / name).string(); }
-  static std::string at() { return path("f.l") + ":" + std::to_string(kLine) + ": error: production A(n) "; }
+  // The message of a fault at the expression `offset` characters into the faulty statements
+  // (clang places an operation at its operator, a call at its start).
+  static std::string at(int offset) {
+    return path("f.l") + ":" + std::to_string(kLine) + ":" + std::to_string(kColumn + offset) + ": error: production A(n) ";
+  }
+  // A fault somewhere in line `line` (a loop stopped wherever it was): its parts.
+  static std::vector<std::string> onLine(int line, const std::string& rest) {
+    return {path("f.l") + ":" + std::to_string(line) + ":", ": error: production A(n) " + rest};
+  }
 
   static Session* session_;
   static fs::path* dir_;
@@ -142,31 +153,31 @@ fs::path* Faults::dir_ = nullptr;
 
 TEST_F(Faults, NullPointerDereference) {
   load("f", faulty("", "*nothing = 1;"));
-  runsFail({at() + "crashed in step 2: segmentation fault (null pointer dereference)"});
+  runsFail({at(9) + "crashed in step 2: segmentation fault (null pointer dereference)"});  // the '=' 
   goodModelRuns();
 }
 
 TEST_F(Faults, IntegerDivisionByZero) {
   load("f", faulty("", "n = 10 / zero;"));
-  runsFail({at() + "crashed in step 2: integer division by zero"});
+  runsFail({at(7) + "crashed in step 2: integer division by zero"});  // the '/' 
   goodModelRuns();
 }
 
 TEST_F(Faults, StackOverflow) {
   load("f", faulty("", "volatile char c; n = deep(0, &c);"));
-  runsFail({at() + "crashed in step 2: stack overflow"});
+  runsFail(onLine(6, "crashed in step 2: stack overflow"));  // in deep(), line 6
   goodModelRuns();
 }
 
 TEST_F(Faults, Abort) {
   load("f", faulty("#include <cstdlib>", "abort();"));
-  runsFail({at() + "crashed in step 2: abort() was called"});
+  runsFail({at(0) + "crashed in step 2: abort() was called"});
   goodModelRuns();
 }
 
 TEST_F(Faults, UncaughtException) {
   load("f", faulty("#include <stdexcept>", "throw std::runtime_error(\"no leaf here\");"));
-  runsFail({at() + "threw an exception in step 2: std::runtime_error: no leaf here"});
+  runsFail({at(0) + "threw an exception in step 2: std::runtime_error: no leaf here"});
   goodModelRuns();
 }
 
@@ -174,7 +185,7 @@ TEST_F(Faults, EndlessLoopStoppedByTheTimeLimit) {
   load("f", faulty("", "for (volatile int k = 0; k == 0;) {}"));
   withTimeLimit(0.005);
   auto t0 = std::chrono::steady_clock::now();
-  runsFail({at() + "was stopped in step 2: it ran longer than the time limit of 0.005 s"});
+  runsFail(onLine(kLine, "was stopped in step 2: it ran longer than the time limit of 0.005 s"));
   double perRun = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / kRuns;
   std::printf("%.1f ms per run (time limit 5 ms)\n", perRun * 1e3);
   EXPECT_LT(perRun, 0.5);
@@ -194,7 +205,7 @@ TEST_F(Faults, EndlessLoopInterruptedFromAnotherThread) {
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   });
-  runsFail({at() + "was interrupted in step 2"}, hooks);
+  runsFail(onLine(kLine, "was interrupted in step 2"), hooks);
   done = true;
   interrupter.join();
   goodModelRuns();
@@ -221,7 +232,7 @@ TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
       std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
   });
-  runsFail({at() + "was interrupted in step 2"}, hooks);
+  runsFail(onLine(kLine, "was interrupted in step 2"), hooks);
   done = true;
   sender.join();
   sigaction(SIGUSR1, &previous, nullptr);
@@ -233,7 +244,7 @@ TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
 TEST_F(Faults, EndlessLoopThatCatchesEverything) {
   load("f", faulty("", "for (;;) { try { int* volatile p = new int[4]; delete[] p; } catch (...) {} }"));
   withTimeLimit(0.005);
-  runsFail({at() + "was stopped in step 2: it ran longer than the time limit"});
+  runsFail(onLine(kLine, "was stopped in step 2: it ran longer than the time limit"));
   goodModelRuns();
 }
 
@@ -269,7 +280,7 @@ TEST_F(Faults, AModelAsleepIsStoppedByTheTimeLimit) {
 // alternate signal stack, freed when it ends. A stack overflow there, 100 times.
 TEST_F(Faults, StackOverflowOnWorkerThreads) {
   load("f", faulty("", "volatile char c; n = deep(0, &c);"));
-  runsFail({at() + "crashed in step 2: stack overflow"}, {}, {}, /*onWorkerThreads=*/true);
+  runsFail(onLine(6, "crashed in step 2: stack overflow"), {}, {}, /*onWorkerThreads=*/true);
   goodModelRuns();
 }
 
@@ -305,7 +316,57 @@ TEST_F(Faults, RunawayAllocationInModelCode) {
     limits.maxMemory = runtime::residentBytes() + (16u << 20);
     session_->setLimits(limits);
   };
-  runsFail({at() + "was stopped in step 2: lcjit's memory reached"}, {}, tighten);
+  runsFail(onLine(kLine, "was stopped in step 2: lcjit's memory reached"), {}, tighten);
+  goodModelRuns();
+}
+
+// The statement is named wherever the fault happened: in libc (strlen on a null pointer: the
+// stack is walked back to model code), in the C++ library's code inlined into the production or
+// called from it (std::vector's push_back on a null vector, at() out of range: the throw comes
+// from the library's helper, which model code called), and in a function of the model's own that
+// the production calls (the innermost of the model's lines). At each optimisation level.
+TEST_F(Faults, NamesTheStatementThroughLibraryCode) {
+  auto model = [](int which) {
+    return "#include <lpfgall.h>\n#include <cstring>\n#include <vector>\n#include <stdexcept>\n"  // 1-4
+           "derivation length: 3;\nmodule A(int);\n"                                              // 5-6
+           "const int which = " + std::to_string(which) + ";\n"                                    // 7
+           "const char* volatile noText = nullptr;\n"                                              // 8
+           "std::vector<int>* volatile noVector = nullptr;\n"                                      // 9
+           "std::vector<int> empty;\n"                                                             // 10
+           "int helper(int k) {\n"                                                                 // 11
+           "  if (which == 4) throw std::invalid_argument(\"bad k\");\n"                          // 12
+           "  return k;\n}\n"                                                                      // 13-14
+           "axiom: A(0);\n"                                                                        // 15
+           "A(n) : {\n"                                                                            // 16
+           "  if (n == 1) {\n"                                                                     // 17
+           "    if (which == 1) n = (int)std::strlen(noText);\n"                                   // 18
+           "    if (which == 2) noVector->push_back(n);\n"                                         // 19
+           "    if (which == 3) n = empty.at(5);\n"                                                // 20
+           "    n = helper(n);\n"                                                                  // 21
+           "  }\n  produce A(n + 1);\n}\n";
+  };
+  const std::pair<int, std::string> expected[] = {
+      {18, "crashed in step 2: segmentation fault (null pointer dereference)"},
+      {19, "crashed in step 2: segmentation fault"},
+      {20, "threw an exception in step 2: std::out_of_range: vector::_M_range_check: __n (which is 5) >= this->size() (which is 0)"},
+      {12, "threw an exception in step 2: std::invalid_argument: bad k"},
+  };
+  for (int level = 0; level <= 2; ++level)
+    for (int which = 1; which <= 4; ++which) {
+      fs::path file = *dir_ / "lib.l";
+      std::ofstream(file) << model(which);
+      ModelFiles files;
+      files.lsystem = file.string();
+      PhaseTimes t;
+      auto loaded = session_->load(files, level, t);
+      ASSERT_FALSE(bool(loaded)) << llvm::toString(std::move(loaded));
+      llvm::Error e = engine().run();
+      ASSERT_TRUE(bool(e)) << "-O" << level << " case " << which << " did not fail";
+      std::string message = llvm::toString(std::move(e));
+      const auto& [line, rest] = expected[which - 1];
+      EXPECT_EQ(message.rfind(file.string() + ":" + std::to_string(line) + ":", 0), 0u) << "-O" << level << ": " << message;
+      EXPECT_NE(message.find(": error: production A(n) " + rest), std::string::npos) << "-O" << level << ": " << message;
+    }
   goodModelRuns();
 }
 
@@ -316,7 +377,7 @@ TEST_F(Faults, EndInterpretationAndStaticConstructor) {
             "axiom: A(0);\nA(n) : { produce A(n + 1); }\nEnd: { *nothing = 2; }\n");
   llvm::Error e = engine().run();
   ASSERT_TRUE(bool(e));
-  EXPECT_EQ(llvm::toString(std::move(e)), path("f.l") + ": error: End crashed after step 2: segmentation fault (null pointer dereference)");
+  EXPECT_EQ(llvm::toString(std::move(e)), path("f.l") + ":7:17: error: End crashed after step 2: segmentation fault (null pointer dereference)");
 
   load("f", "#include <lpfgall.h>\nderivation length: 2;\nmodule A(int);\nint* volatile nothing = nullptr;\n"
             "axiom: A(0);\nA(n) : { produce A(n + 1); }\ninterpretation:\nA(n) : { if (n == 2) *nothing = 2; produce F(1); }\n");
@@ -325,7 +386,7 @@ TEST_F(Faults, EndInterpretationAndStaticConstructor) {
   e = engine().interpret(g);
   ASSERT_TRUE(bool(e));
   EXPECT_EQ(llvm::toString(std::move(e)),
-            path("f.l") + ":8: error: interpretation rule A(n) crashed while interpreting the string of step 2: segmentation fault "
+            path("f.l") + ":8:31: error: interpretation rule A(n) crashed while interpreting the string of step 2: segmentation fault "
             "(null pointer dereference)");
   EXPECT_EQ(engine().text(engine().string()), "A(2)\n");
 
@@ -338,7 +399,7 @@ TEST_F(Faults, EndInterpretationAndStaticConstructor) {
   PhaseTimes t;
   e = session_->load(files, 1, t);
   ASSERT_TRUE(bool(e));
-  EXPECT_NE(llvm::toString(std::move(e)).find("ctor.l: a static constructor or destructor crashed: segmentation fault"),
+  EXPECT_NE(llvm::toString(std::move(e)).find("ctor.l:3:33: a static constructor or destructor crashed: segmentation fault"),
             std::string::npos);
   goodModelRuns();
 }

@@ -253,6 +253,40 @@ TEST_F(JitTest, CompilesAndCallsAtEveryOptLevel) {
   }
 }
 
+// Code maps back to the line (and file) its #line directive names, in the model's files only;
+// an address of code that is gone, or of no code, maps to nothing.
+TEST_F(JitTest, AddressesMapBackToTheSource) {
+  for (int level = 0; level <= 2; ++level) {
+    SCOPED_TRACE("optLevel " + std::to_string(level));
+    const std::string src = "#line 40 \"/models/m.l\"\n"
+                            "extern \"C\" int first(int k) {\n"  // 40
+                            "  return k + 1;\n"                  // 41
+                            "}\n"                                 // 42
+                            "#line 7 \"/models/part.h\"\n"
+                            "extern \"C\" int second(int k) { return k * 3; }\n"
+                            "// " + std::to_string(level) + "\n";  // another source per level: no cache
+    uintptr_t address = 0;
+    {
+      auto code = compileOk(src, level);
+      ASSERT_TRUE(code);
+      auto first = lookupFn<int (*)(int)>(*code, "first");
+      auto second = lookupFn<int (*)(int)>(*code, "second");
+      ASSERT_TRUE(first && second);
+      address = reinterpret_cast<uintptr_t>(first);
+      std::vector<SourcePlace> at = compiler_->sourceAt(address);
+      ASSERT_FALSE(at.empty());
+      EXPECT_EQ(at[0].file, "/models/m.l");
+      EXPECT_TRUE(at[0].line == 40 || at[0].line == 41) << at[0].line;
+      at = compiler_->sourceAt(reinterpret_cast<uintptr_t>(second));
+      ASSERT_FALSE(at.empty());
+      EXPECT_EQ(at[0].file, "/models/part.h");
+      EXPECT_EQ(at[0].line, 7u);
+      EXPECT_TRUE(compiler_->sourceAt(reinterpret_cast<uintptr_t>(&makeCompiler)).empty());  // lcjit's own code
+    }
+    EXPECT_TRUE(compiler_->sourceAt(address).empty()) << "code that was removed";
+  }
+}
+
 TEST_F(JitTest, CallsHostSymbol) {
   g_notes.clear();
   auto code = compileOk(R"(
