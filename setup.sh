@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what lcjit needs on Debian 12 (only what is missing), then configures and builds.
-# Usage: ./setup.sh            (build into ./build)
+# Usage: ./setup.sh                     (build into ./build)
+#        ./setup.sh --install [PREFIX]  (then cmake --install into PREFIX, default /usr/local)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -37,3 +38,8 @@ fi
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
+if [ "${1:-}" = "--install" ]; then
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && [ -z "${2:-}" ] && sudo="sudo"
+  $sudo cmake --install build --prefix "${2:-/usr/local}"
+fi
