@@ -23,13 +23,13 @@ struct CodeMap::Object {
   bool parsed = false;
   std::unique_ptr<llvm::object::ObjectFile> file;
   std::unique_ptr<llvm::DWARFContext> dwarf;
-  llvm::StringMap<llvm::object::SectionedAddress> functions;  // name -> its section and offset
-  llvm::StringMap<uint64_t> linkedAt;                           // name -> its address in memory
+  llvm::StringMap<uint64_t> sectionOf;  // function name -> the index of its section
+  llvm::StringMap<uint64_t> linkedAt;   // function name -> its address in memory
 
   // Where the linker put each section of the object (found through the functions in it). DWARF
   // is read as if the object had been loaded there: in a relocatable object every section
-  // starts at 0, and the lookup of the function around an address would find the first
-  // function's whichever section that address was in.
+  // starts at 0, and the inlined calls at an address would be looked up in whichever function
+  // of another section has code at the same offset.
   struct Placement : llvm::LoadedObjectInfo {
     std::map<uint64_t, uint64_t> loadAddress;  // section index -> address
     uint64_t getSectionLoadAddress(const llvm::object::SectionRef& sec) const override {
@@ -66,7 +66,7 @@ struct CodeMap::Object {
         if (!value) llvm::consumeError(value.takeError());
         continue;
       }
-      functions[*name] = {*value, (*section)->getIndex()};
+      sectionOf[*name] = (*section)->getIndex();
       if (auto at = linkedAt.find(*name); at != linkedAt.end())
         placement.loadAddress[(*section)->getIndex()] = at->second - *value;
     }
@@ -190,9 +190,9 @@ std::vector<SourcePlace> CodeMap::placesAt(uint64_t address, bool returnAddress)
   Object& o = *r.object;
   if (!o.parsed) o.parse();
   if (!o.dwarf) return {};
-  auto fn = o.functions.find(r.function);
-  if (fn == o.functions.end()) return {};
-  llvm::object::SectionedAddress at{address, fn->second.SectionIndex};
+  auto section = o.sectionOf.find(r.function);
+  if (section == o.sectionOf.end()) return {};
+  llvm::object::SectionedAddress at{address, section->second};
   llvm::DIInliningInfo frames = o.dwarf->getInliningInfoForAddress(
       at, llvm::DILineInfoSpecifier(llvm::DILineInfoSpecifier::FileLineInfoKind::AbsoluteFilePath));
   std::vector<SourcePlace> places;
