@@ -216,7 +216,7 @@ class SweepReader {
     if (!root.IsMap()) return error(root, "a sweep file is a map of model, files, parameters, seeds, outputs, options");
     if (auto e = onlyKeys(root, {"model", "files", "parameters", "seeds", "outputs", "options"}, "the sweep file"))
       return std::move(e);
-    if (!root["model"]) return error(YAML::Mark(), "no model: give the L-system file (model: tree.l)");
+    if (!root["model"]) return error(YAML::Mark::null_mark(), "no model: give the L-system file (model: tree.l)");
     auto model = scalar(root["model"], "model");
     if (!model) return model.takeError();
     if (auto e = existing(root["model"], *model, s.folder)) return std::move(e);
