@@ -410,8 +410,11 @@ llvm::Expected<std::vector<Task>> loadTasks(const Plan& plan) {
     for (size_t i = 2; i < fields.size(); ++i) {
       auto [name, value] = fields[i].split('=');
       // A parameter is never called seed (readSweep).
-      if (name == "seed") t.seed = std::stoll(value.str());
-      else t.values.emplace_back(name.str(), value.str());
+      long long seed = 0;
+      if (name != "seed") t.values.emplace_back(name.str(), value.str());
+      else if (value.getAsInteger(10, seed))
+        return failure((plan.dir / "tasks.tsv").string() + ": error: run " + t.id + ": not a seed: " + value.str());
+      else t.seed = seed;
     }
     tasks.push_back(std::move(t));
   }
@@ -489,8 +492,9 @@ int runTask(const SweepCommand& c) {
   std::error_code ec;
   fs::create_directories(runDir, ec);
   if (ec) return report(failure(runDir.string() + ": error: cannot make the run's folder: " + ec.message()));
-  // A record left by an earlier try must not pass for this one's.
+  // What an earlier try left must not pass for this one's.
   fs::remove(record, ec);
+  for (const std::string& out : j["outputs"].get<std::vector<std::string>>()) fs::remove(runDir / out, ec);
 
   std::vector<std::string> args = {thisProgram(), "-b"};
   for (const auto& [name, value] : task->values) args.insert(args.end(), {"-D", name + "=" + value});
