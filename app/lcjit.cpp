@@ -21,6 +21,7 @@
 #include "app/Frame.h"
 #include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
+#include "app/RunRecord.h"
 #include "app/Sandbox.h"
 #include "app/SandboxWindow.h"
 #include "repl/Repl.h"
@@ -201,6 +202,21 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
                  "none; Ctrl-C interrupts)")
       ->check(CLI::NonNegativeNumber);
+  std::vector<std::string> overrides;
+  app.add_option("-D", overrides,
+                 "NAME=VALUE: the model's own #define NAME reads VALUE (no recompile of other values: each "
+                 "value compiles once, then comes from the cache), and a .vset value NAME is VALUE; an unknown "
+                 "NAME is an error listing the names there are (docs/sweeps.md)")
+      ->allow_extra_args(false);
+  std::optional<uint64_t> seed;
+  app.add_option("--seed", seed,
+                 "run as member N of an ensemble: the model's random numbers (ran, and the Gillespie choices) "
+                 "come from its own seeds mixed with N, a different reproducible stream for each N; without "
+                 "it, lpfg's (docs/sweeps.md)");
+  app.add_option("--run-record", bo.runRecord,
+                 "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "
+                 "inputs' hashes, the error if any) and its measures (module counts, the geometry's size, "
+                 "values the model reports with Report) to this JSON file, whatever happens (docs/sweeps.md)");
   std::vector<std::string> includeDirs;
   app.add_option("-I", includeDirs, "a folder searched for the model's headers (and its C++ sources'), as g++'s -I")
       ->allow_extra_args(false);
@@ -311,6 +327,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                          "(docs/security.md)\n", lcjit::app::sandboxUnavailable().c_str());
     sandboxed = false;
   }
+  if (sandboxed && (!overrides.empty() || seed || !bo.runRecord.empty())) {
+    std::fprintf(stderr, "lcjit: -D, --seed and --run-record are not passed into --sandbox's runs yet\n");
+    return 1;
+  }
   if (sandboxed) {
     namespace fs = std::filesystem;
     [[maybe_unused]] const bool window = !batch && bo.out.empty() && !emitCpp && !compileOnly && haveDisplay;
@@ -414,6 +434,15 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return 1;
   }
   files->includeDirs.insert(files->includeDirs.begin(), includeDirs.begin(), includeDirs.end());
+  for (const std::string& o : overrides) {
+    size_t eq = o.find('=');
+    if (eq == 0 || eq == std::string::npos) {
+      std::fprintf(stderr, "lcjit: -D %s: give NAME=VALUE\n", o.c_str());
+      return 1;
+    }
+    files->overrides.emplace_back(o.substr(0, eq), o.substr(eq + 1));
+  }
+  bo.seed = seed;
   // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
   // SIGHUP clean up (environmental programs) before lcjit ends. Before anything compiles: LLVM's
   // handlers then come second (runtime/ModelGuard.cpp, claim).
@@ -428,6 +457,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   limits.maxModules = maxModules;
   limits.maxMemory = maxMemory;
   (*session)->setLimits(limits);
+  (*session)->setEnsembleMember(seed);
   {
     lcjit::app::Session::EnvironmentSettings env;
     env.cleanEA20 = cleanEA;
@@ -475,9 +505,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return lcjit::app::answerWindow(**session, *files, std::move(loaded), wo);
   }
   if (auto e = std::move(loaded)) {
+    std::string message = llvm::toString(std::move(e));
     // As g++ prints them for lpfg, and as --watch prints a failed reload: the line and a caret.
-    std::string text = lcjit::app::withSourceLines(llvm::toString(std::move(e)));
+    std::string text = lcjit::app::withSourceLines(message);
     std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(text).c_str() : text.c_str());
+    if (!bo.runRecord.empty() && !watch)
+      if (auto r = lcjit::app::writeRunRecord(bo.runRecord, *files, session->get(), {message, seed}, times))
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(r)).c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;
