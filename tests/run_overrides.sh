@@ -61,6 +61,26 @@ case $case in
     [ "$one" != "$two" ] || fail "seeds 1 and 2 drew the same $one"
     [ "$one" != "$lpfg_draw" ] && [ "$two" != "$lpfg_draw" ] || fail "a seed drew lpfg's number"
     [ "$(field r1.json 'r["seed"]')" = 1 ] || fail "the record's seed" ;;
+  concurrent)  # a sweep's runs at once share one cache: 12 processes, 3 values, an empty cache
+    export LCJIT_CACHE_DIR="$work/cache"
+    pids=()
+    for i in $(seq 1 12); do
+      steps=$((2 + i % 3))
+      "$lcjit" -b -D STEPS=$steps -out s$i.str m.vset m.l 2> err$i.txt &
+      pids+=($!)
+    done
+    for i in $(seq 1 12); do wait ${pids[$((i - 1))]} || { cat err$i.txt; fail "run $i failed"; }; done
+    for i in $(seq 1 12); do
+      steps=$((2 + i % 3))
+      [ "$(grep -c '^F(1)$' s$i.str)" = $steps ] && grep -qx "A($steps)" s$i.str || fail "run $i's string: $(cat s$i.str)"
+    done
+    ! ls -a cache/objects | grep -q '\.tmp-' || fail "a temporary file was left in the cache"
+    # What they left is whole: runs from it give the same strings.
+    for steps in 2 3 4; do
+      "$lcjit" -b -D STEPS=$steps -out again.str m.vset m.l 2> err.txt || fail "from the cache, STEPS=$steps"
+      [ "$(grep -c '^F(1)$' again.str)" = $steps ] || fail "from the cache, STEPS=$steps: $(cat again.str)"
+    done
+    grep -q "damaged\|would not load" err*.txt && fail "a damaged cache entry" ;;
   *) echo "unknown case $case"; exit 1 ;;
 esac
 echo "ok: $case"
