@@ -301,6 +301,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
         {"interpret_ms", ms(times.interpretMs)},   {"render_ms", ms(times.renderMs)},
         {"steps", engine.stepsDone()},             {"modules", engine.moduleCount()},
         {"pch_cached", times.pchCached}};
+    addRunIdentity(stats, files, &session, options.seed);
     std::fprintf(stderr, "%s\n", stats.dump().c_str());
   }
   return interpretFailed ? 1 : 0;

@@ -65,9 +65,7 @@ std::string blake3Of(const std::string& path) {
 
 }  // namespace
 
-llvm::Error writeRunRecord(const std::string& path, const ModelFiles& files, Session* session,
-                           const RunOutcome& outcome, const PhaseTimes& times) {
-  Json r;
+void addRunIdentity(Json& r, const ModelFiles& files, Session* session, std::optional<uint64_t> seed) {
   r["lcjit"] = LCJIT_VERSION;
   r["model"] = files.lsystem;
   Json inputs = Json::object();
@@ -78,7 +76,13 @@ llvm::Error writeRunRecord(const std::string& path, const ModelFiles& files, Ses
   Json overrides = Json::object();
   for (const auto& [name, value] : files.overrides) overrides[name] = value;
   r["overrides"] = overrides;
-  r["seed"] = outcome.seed ? Json(*outcome.seed) : Json(nullptr);
+  r["seed"] = seed ? Json(*seed) : Json(nullptr);
+}
+
+llvm::Error writeRunRecord(const std::string& path, const ModelFiles& files, Session* session,
+                           const RunOutcome& outcome, const PhaseTimes& times) {
+  Json r;
+  addRunIdentity(r, files, session, outcome.seed);
   r["status"] = outcome.error.empty() ? "ok" : "error";
   if (!outcome.error.empty()) r["error"] = outcome.error;
   const bool ran = session && session->loaded();

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <llvm/Support/Error.h>
+#include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -21,6 +22,11 @@ struct RunOutcome {
   std::string error;
   std::optional<uint64_t> seed;  // --seed
 };
+
+// What a run was run with, added to `out`: lcjit's version, the model, its input files' BLAKE3,
+// the -D overrides and the seed (null without --seed). For --stats and the run record.
+void addRunIdentity(nlohmann::ordered_json& out, const ModelFiles& files, Session* session,
+                    std::optional<uint64_t> seed);
 
 // Writes `path` (through a temporary file and a rename: a reader never sees half a record).
 // `session`: the loaded model, or null when it did not load; measures are taken from its
