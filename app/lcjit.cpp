@@ -54,7 +54,8 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
 std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const lcjit::app::BatchOptions& bo,
                                    bool explicitO, const std::vector<float>& winSize, bool compileOnly, bool emitCpp,
                                    bool cleanEA, double environmentTimeout, const lcjit::runtime::EngineLimits& limits,
-                                   const std::vector<std::string>& includeDirs, bool plainErrors) {
+                                   const std::vector<std::string>& includeDirs, bool plainErrors,
+                                   const std::vector<std::string>& overrides, std::optional<uint64_t> seed) {
   namespace fs = std::filesystem;
   std::vector<std::string> a;
   if (compileOnly) a.push_back("-c");
@@ -77,6 +78,8 @@ std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const
     a.insert(a.end(), {"--time-limit", number});
   }
   for (const std::string& dir : includeDirs) a.insert(a.end(), {"-I", dir});
+  for (const std::string& o : overrides) a.insert(a.end(), {"-D", o});
+  if (seed) a.insert(a.end(), {"--seed", std::to_string(*seed)});
   for (const std::string& in : inputs) a.push_back(fs::absolute(in).lexically_normal().string());
   return a;
 }
@@ -327,8 +330,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                          "(docs/security.md)\n", lcjit::app::sandboxUnavailable().c_str());
     sandboxed = false;
   }
-  if (sandboxed && (!overrides.empty() || seed || !bo.runRecord.empty())) {
-    std::fprintf(stderr, "lcjit: -D, --seed and --run-record are not passed into --sandbox's runs yet\n");
+  if (sandboxed && !bo.runRecord.empty()) {  // the sandbox lets its run write -out alone
+    std::fprintf(stderr, "lcjit: --run-record is not written by --sandbox's runs\n");
     return 1;
   }
   if (sandboxed) {
@@ -397,7 +400,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
     plan.limits = sandboxLimits;
     plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
-                          environmentTimeout, limits, includeDirs, lab);
+                          environmentTimeout, limits, includeDirs, lab, overrides, seed);
 #if LCJIT_HAVE_WINDOW
     if (window) {
       plan.replyLimit = maxMemory;  // the picture is held as the child held it
