@@ -30,6 +30,7 @@
 #include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
 #include "app/ProgramPages.h"
+#include "app/RunRecord.h"
 #include "runtime/WindowInput.h"
 #include "jit/Elapsed.h"
 #include "runtime/files/TextLines.h"
@@ -51,9 +52,12 @@ std::string fmtMs(const char* format, Args... args) {
 }
 
 // A message naming FILE:LINE:COL (a fault in model code) shows that line with a caret under the
-// column, as compile errors do.
-void report(llvm::Error e) {
-  if (e) std::fprintf(stderr, "%s\n", withSourceLines(llvm::toString(std::move(e))).c_str());
+// column, as compile errors do. Returns the message.
+std::string report(llvm::Error e) {
+  if (!e) return {};
+  std::string message = llvm::toString(std::move(e));
+  std::fprintf(stderr, "%s\n", withSourceLines(message).c_str());
+  return message;
 }
 
 llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
@@ -142,13 +146,18 @@ void takeBetterTier(Background<BetterTier>& tier, Session& session, const BatchO
 
 // `betweenSteps`: called after each step with the derivation's time so far (ms). Without it,
 // the program's pages are released once the string is large (ProgramPages.h); with it, it does.
+// `error`: the first error the run reported, when it reported one.
 int runOnce(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
             FrameWriter& frames, const std::atomic<bool>* stopped = nullptr,
-            const std::function<void(double)>& betweenSteps = {}) {
+            const std::function<void(double)>& betweenSteps = {}, std::string* error = nullptr) {
   auto& engine = session.engine();
+  auto fail = [&](llvm::Error e) {
+    std::string message = report(std::move(e));
+    if (error && error->empty()) *error = message;
+  };
   runtime::EngineHooks hooks;
   if (options.quiet) hooks.print = [](const char*) {};
-  hooks.outputFrame = [&](const char* path) { report(frames.write(path, engine, session.drawing())); };
+  hooks.outputFrame = [&](const char* path) { fail(frames.write(path, engine, session.drawing())); };
   if (!options.quiet)
     for (const std::string& w : session.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
   if (options.dumpSteps)
@@ -161,7 +170,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       char suffix[16];
       std::snprintf(suffix, sizeof suffix, "%08d", step);
       if (auto e = writeInterpretation(engine, stemInWorkingFolder(files.lsystem) + suffix + ".str", times.interpretMs)) {
-        report(std::move(e));
+        fail(std::move(e));
         interpretFailed = true;
       }
     };
@@ -184,7 +193,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   if (!options.out.empty() && isFrameSequence(options.out)) {
     auto opened = FrameSequence::open(options.out, options.fps);
     if (!opened) {
-      report(opened.takeError());
+      fail(opened.takeError());
       return 1;
     }
     sequence = std::move(*opened);
@@ -219,7 +228,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   auto writeFrame = [&](int step) {
     if (frameFailed) return;
     if (auto e = sequence->add(step, source)) {
-      report(std::move(e));
+      fail(std::move(e));
       frameFailed = true;
       engine.stop();
     }
@@ -245,7 +254,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       if (options.verbose) std::fprintf(stderr, "lcjit: the run stopped for the change\n");
       return 2;
     }
-    report(std::move(e));
+    fail(std::move(e));
     return 1;
   }
   times.deriveMs = jit::msSince(t0);
@@ -254,25 +263,28 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   if (frameFailed) return 1;
   if (sequence)
     if (auto e = sequence->finish()) {
-      report(std::move(e));
+      fail(std::move(e));
       return 1;
     }
   if (!options.out.empty() && !sequence)
     if (auto e = writeOutput(options.out, engine, session.drawing(), frames, times)) {
-      report(std::move(e));
+      fail(std::move(e));
       return 1;
     }
   if (options.dumpInterpreted)
     if (auto e = writeInterpretation(engine, stemInWorkingFolder(files.lsystem) + ".str", times.interpretMs)) {
-      report(std::move(e));
+      fail(std::move(e));
       return 1;
     }
-  if (!verifyString(engine, files.lsystem, options.quiet)) return 1;
+  if (!verifyString(engine, files.lsystem, options.quiet)) {
+    if (error && error->empty()) *error = "the final string is not the one VerifyString states";
+    return 1;
+  }
   if (!options.profile.empty()) {
     std::ofstream out(options.profile);
     out << profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs);
     if (!out.flush()) {
-      report(llvm::createStringError(options.profile + ": error: cannot write the profile"));
+      fail(llvm::createStringError(options.profile + ": error: cannot write the profile"));
       return 1;
     }
   }
@@ -289,16 +301,18 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
         {"interpret_ms", ms(times.interpretMs)},   {"render_ms", ms(times.renderMs)},
         {"steps", engine.stepsDone()},             {"modules", engine.moduleCount()},
         {"pch_cached", times.pchCached}};
+    addRunIdentity(stats, files, &session, options.seed);
     std::fprintf(stderr, "%s\n", stats.dump().c_str());
   }
   return interpretFailed ? 1 : 0;
 }
 
-}  // namespace
-
-int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times) {
+// runOnce, with the better tier (BatchOptions::betterTier) taken from the cache or compiled in
+// the background once the run is long.
+int runWithTiers(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times,
+                 std::string& error) {
   FrameWriter frames(options.width, options.height);
-  if (options.betterTier <= session.optLevel()) return runOnce(session, files, options, times, frames);
+  if (options.betterTier <= session.optLevel()) return runOnce(session, files, options, times, frames, nullptr, {}, &error);
   Background<BetterTier> tier;  // its destructor waits for a started build: the cache gets it
   bool started = false;
   // An earlier run's build from the cache: a lookup, no compile.
@@ -319,11 +333,27 @@ int runBatch(Session& session, const ModelFiles& files, const BatchOptions& opti
     // Not while a better tier compiles: the compiler's pages would fault straight back.
     if (!tier.running()) releaseProgramPagesOnceAt(session.engine().string().size());
   };
-  int status = runOnce(session, files, options, times, frames, nullptr, betweenSteps);
+  int status = runOnce(session, files, options, times, frames, nullptr, betweenSteps, &error);
   if (tier.running() && options.verbose)
     std::fprintf(stderr, "lcjit: the run is over; the -O%d build finishes for the cache\n", options.betterTier);
   return status;
 }
+
+}  // namespace
+
+int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times) {
+  std::string error;
+  int status = runWithTiers(session, files, options, times, error);
+  if (!options.runRecord.empty()) {
+    if (status != 0 && error.empty()) error = "the run failed";
+    if (auto e = writeRunRecord(options.runRecord, files, &session, {error, options.seed}, times)) {
+      report(std::move(e));
+      return 1;
+    }
+  }
+  return status;
+}
+
 
 // During a run under --watch, a saved input file stops it: the run is out of date, and model
 // code stuck in a loop would otherwise keep the fix from ever loading. A thread watches the

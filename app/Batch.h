@@ -2,7 +2,9 @@
 // for (-out, -dtf, -ds, --stats…); with --watch, keep doing it after every change of an input
 // file, in one process, logging one line per reload.
 #pragma once
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "app/Session.h"
@@ -30,6 +32,10 @@ struct BatchOptions {
   // --profile: per-rule counts and times (ProfileReport.h) written as JSON to this file after
   // the run and its outputs (their interpretation included).
   std::string profile;
+  // --run-record FILE (RunRecord.h): written after the run whatever happened, with its first
+  // error; `seed` is --seed's, for the record.
+  std::string runRecord;
+  std::optional<uint64_t> seed;
   // Told each derivation step done, and -1 once the derivation is over: a sandboxed run's
   // progress for its parent, who names it when the run dies of a limit (Sandbox.h).
   std::function<void(int step)> progress;

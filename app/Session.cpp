@@ -373,6 +373,15 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       if (auto e = functions->loadParameters(files.parameters)) return e;
     for (auto& f : files.functions)
       if (auto e = functions->loadFunction(f)) return e;
+    for (const auto& [name, value] : files.overrides) {
+      int id = functions->idOf(name);
+      if (!functions->isParameter(id) || functions->nameOf(id) != name) continue;  // a #define (below)
+      char* end = nullptr;
+      float v = std::strtof(value.c_str(), &end);
+      if (value.empty() || *end)
+        return llvm::createStringError("error: -D " + name + "=" + value + ": the .vset value " + name + " is a number");
+      functions->setParameter(name, v);
+    }
   }
 
   p.drawing = loadDrawingFiles(files, what, drawing_.get(), compiler_->cacheDir(), lcjitColours_, p.warnings);
@@ -388,6 +397,9 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   pp.cacheDir = compiler_->cacheDir();
   pp.includeDirs = files.includeDirs;
   pp.languageStandard = languageStandard_;
+  pp.overrides = files.overrides;
+  for (int id = 1; id <= functions->size(); ++id)
+    if (functions->isParameter(id)) pp.overridableElsewhere.emplace_back(functions->nameOf(id));
   if (!files.languageStandard.empty() && files.languageStandard != languageStandard_)
     return llvm::createStringError(files.lsystem + ": error: the model's lpfg.mak asks for -std=" + files.languageStandard +
                  ", and this session compiles " + languageStandard_ + ": start lcjit again for it");
@@ -397,6 +409,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   const auto unitsStart = std::chrono::steady_clock::now();
   for (const std::string& source : files.sources) {
     frontend::PreprocessOptions spp = pp;
+    spp.overrides.clear();  // the model's #defines; its units are preprocessed without its macros
     spp.plainMarkers = true;
     spp.includeDirs.insert(spp.includeDirs.end(), files.sourceIncludeDirs.begin(), files.sourceIncludeDirs.end());
     spp.defines = files.defines;
@@ -555,6 +568,7 @@ llvm::Error Session::install(PreparedModel p) {
   if (p.what.lsystem || p.what.parameters) {
     engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
     engine_->setLimits(limits_);
+    engine_->setEnsembleMember(member_);
     engine_->setCodeLocator(codeLocator());
     functions_ = std::move(p.functions);  // the old engine, which used the old ones, is gone
   }

@@ -74,6 +74,9 @@ struct ModelFiles {
   std::vector<std::string> sourceIncludeDirs;
   std::vector<std::pair<std::string, std::string>> defines;
   std::string languageStandard;
+  // -D NAME=VALUE (a run of a sweep, docs/sweeps.md): the model's own `#define NAME` reads VALUE
+  // (frontend::PreprocessOptions::overrides), and a .vset value NAME is VALUE.
+  std::vector<std::pair<std::string, std::string>> overrides;
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
@@ -213,6 +216,11 @@ class Session {
   // constructors and destructors of the model run behind the same guard and time limit.
   void setLimits(const runtime::EngineLimits& limits);
   const runtime::EngineLimits& limits() const { return limits_; }
+  // --seed N: every engine of this session runs as member N of an ensemble (Rand48::setMember).
+  void setEnsembleMember(std::optional<uint64_t> n) {
+    member_ = n;
+    if (engine_) engine_->setEnsembleMember(n);
+  }
   // A model without a .map or .mat drawn in lcjit's colours (runtime::Palette::lcjitDefault: the
   // window) rather than lpfg's white on black (the default: batch pictures, which are compared
   // with lpfg's). From the next load on.
@@ -266,6 +274,7 @@ class Session {
   std::vector<std::shared_ptr<jit::ModelCode>> sourceCode_;
   std::vector<std::string> warnings_;
   runtime::EngineLimits limits_;
+  std::optional<uint64_t> member_;
 };
 
 // An installed lcjit's data folder, PREFIX/share/lcjit beside PREFIX/bin/lcjit (`cmake --install`,

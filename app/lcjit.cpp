@@ -21,6 +21,7 @@
 #include "app/Frame.h"
 #include "app/FrameSequence.h"
 #include "app/PlainErrors.h"
+#include "app/RunRecord.h"
 #include "app/Sandbox.h"
 #include "app/SandboxWindow.h"
 #include "app/Sweep.h"
@@ -54,7 +55,8 @@ std::vector<std::string> normaliseArgs(int argc, char** argv) {
 std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const lcjit::app::BatchOptions& bo,
                                    bool explicitO, const std::vector<float>& winSize, bool compileOnly, bool emitCpp,
                                    bool cleanEA, double environmentTimeout, const lcjit::runtime::EngineLimits& limits,
-                                   const std::vector<std::string>& includeDirs, bool plainErrors) {
+                                   const std::vector<std::string>& includeDirs, bool plainErrors,
+                                   const std::vector<std::string>& overrides, std::optional<uint64_t> seed) {
   namespace fs = std::filesystem;
   std::vector<std::string> a;
   if (compileOnly) a.push_back("-c");
@@ -77,6 +79,8 @@ std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const
     a.insert(a.end(), {"--time-limit", number});
   }
   for (const std::string& dir : includeDirs) a.insert(a.end(), {"-I", dir});
+  for (const std::string& o : overrides) a.insert(a.end(), {"-D", o});
+  if (seed) a.insert(a.end(), {"--seed", std::to_string(*seed)});
   for (const std::string& in : inputs) a.push_back(fs::absolute(in).lexically_normal().string());
   return a;
 }
@@ -202,6 +206,21 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
                  "none; Ctrl-C interrupts)")
       ->check(CLI::NonNegativeNumber);
+  std::vector<std::string> overrides;
+  app.add_option("-D", overrides,
+                 "NAME=VALUE: the model's own #define NAME reads VALUE (no recompile of other values: each "
+                 "value compiles once, then comes from the cache), and a .vset value NAME is VALUE; an unknown "
+                 "NAME is an error listing the names there are (docs/sweeps.md)")
+      ->allow_extra_args(false);
+  std::optional<uint64_t> seed;
+  app.add_option("--seed", seed,
+                 "run as member N of an ensemble: the model's random numbers (ran, and the Gillespie choices) "
+                 "come from its own seeds mixed with N, a different reproducible stream for each N; without "
+                 "it, lpfg's (docs/sweeps.md)");
+  app.add_option("--run-record", bo.runRecord,
+                 "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "
+                 "inputs' hashes, the error if any) and its measures (module counts, the geometry's size, "
+                 "values the model reports with Report) to this JSON file, whatever happens (docs/sweeps.md)");
   std::vector<std::string> includeDirs;
   app.add_option("-I", includeDirs, "a folder searched for the model's headers (and its C++ sources'), as g++'s -I")
       ->allow_extra_args(false);
@@ -349,6 +368,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                          "(docs/security.md)\n", lcjit::app::sandboxUnavailable().c_str());
     sandboxed = false;
   }
+  if (sandboxed && !bo.runRecord.empty()) {  // the sandbox lets its run write -out alone
+    std::fprintf(stderr, "lcjit: --run-record is not written by --sandbox's runs\n");
+    return 1;
+  }
   if (sandboxed) {
     namespace fs = std::filesystem;
     [[maybe_unused]] const bool window = !batch && bo.out.empty() && !emitCpp && !compileOnly && haveDisplay;
@@ -415,7 +438,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
     plan.limits = sandboxLimits;
     plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
-                          environmentTimeout, limits, includeDirs, lab);
+                          environmentTimeout, limits, includeDirs, lab, overrides, seed);
 #if LCJIT_HAVE_WINDOW
     if (window) {
       plan.replyLimit = maxMemory;  // the picture is held as the child held it
@@ -452,6 +475,15 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return 1;
   }
   files->includeDirs.insert(files->includeDirs.begin(), includeDirs.begin(), includeDirs.end());
+  for (const std::string& o : overrides) {
+    size_t eq = o.find('=');
+    if (eq == 0 || eq == std::string::npos) {
+      std::fprintf(stderr, "lcjit: -D %s: give NAME=VALUE\n", o.c_str());
+      return 1;
+    }
+    files->overrides.emplace_back(o.substr(0, eq), o.substr(eq + 1));
+  }
+  bo.seed = seed;
   // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
   // SIGHUP clean up (environmental programs) before lcjit ends. Before anything compiles: LLVM's
   // handlers then come second (runtime/ModelGuard.cpp, claim).
@@ -466,6 +498,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   limits.maxModules = maxModules;
   limits.maxMemory = maxMemory;
   (*session)->setLimits(limits);
+  (*session)->setEnsembleMember(seed);
   {
     lcjit::app::Session::EnvironmentSettings env;
     env.cleanEA20 = cleanEA;
@@ -513,9 +546,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return lcjit::app::answerWindow(**session, *files, std::move(loaded), wo);
   }
   if (auto e = std::move(loaded)) {
+    std::string message = llvm::toString(std::move(e));
     // As g++ prints them for lpfg, and as --watch prints a failed reload: the line and a caret.
-    std::string text = lcjit::app::withSourceLines(llvm::toString(std::move(e)));
+    std::string text = lcjit::app::withSourceLines(message);
     std::fprintf(stderr, "%s\n", lab ? lcjit::app::inPlainLanguage(text).c_str() : text.c_str());
+    if (!bo.runRecord.empty() && !watch)
+      if (auto r = lcjit::app::writeRunRecord(bo.runRecord, *files, session->get(), {message, seed}, times))
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(r)).c_str());
     if (!watch || emitCpp || compileOnly) return 1;  // --watch waits for the fix
   }
   if (emitCpp || compileOnly) return 0;

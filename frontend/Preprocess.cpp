@@ -61,10 +61,81 @@ private:
   std::string content_;
 };
 
-// Remembers the text of every file clang reads, for restoring indentation afterwards.
+// The `#define NAME …` lines of one file set to the overrides' values (PreprocessOptions::
+// overrides), continuation lines left empty so that every line keeps its number; `defined`
+// gets every name the file defines, and `functionLike` those that take arguments.
+std::string overrideDefines(const std::string& text, const std::map<std::string, std::string>& overrides,
+                            std::set<std::string>& defined, std::set<std::string>& functionLike) {
+  std::string out;
+  out.reserve(text.size());
+  size_t pos = 0;
+  while (pos < text.size()) {
+    // One logical line: physical lines joined by a backslash at their end.
+    size_t end = pos, lines = 0;
+    for (;;) {
+      size_t nl = text.find('\n', end);
+      if (nl == std::string::npos) {
+        end = text.size();
+        break;
+      }
+      ++lines;
+      size_t last = nl;  // past the physical line's last character
+      while (last > end && text[last - 1] == '\r') --last;
+      const bool continued = last > end && text[last - 1] == '\\';
+      end = nl + 1;
+      if (!continued) break;
+    }
+    llvm::StringRef line = llvm::StringRef(text).slice(pos, end);
+    llvm::StringRef rest = line.ltrim(" \t");
+    if (rest.consume_front("#")) {
+      rest = rest.ltrim(" \t");
+      if (rest.consume_front("define") && !rest.empty() && (rest[0] == ' ' || rest[0] == '\t')) {
+        rest = rest.ltrim(" \t");
+        size_t n = 0;
+        while (n < rest.size() && (std::isalnum((unsigned char)rest[n]) || rest[n] == '_')) ++n;
+        std::string name = rest.take_front(n).str();
+        if (!name.empty()) {
+          defined.insert(name);
+          if (rest.substr(n).starts_with("(")) functionLike.insert(name);
+          else if (auto it = overrides.find(name); it != overrides.end()) {
+            out += "#define " + name + " " + it->second;
+            out.append(lines, '\n');
+            pos = end;
+            continue;
+          }
+        }
+      }
+    }
+    out += line.str();
+    pos = end;
+  }
+  return out;
+}
+
+// Remembers the text of every file clang reads, for restoring indentation afterwards; the
+// model's own files with their #defines overridden (overrideDefines).
 class RecordingFS : public llvm::vfs::ProxyFileSystem {
 public:
   explicit RecordingFS(llvm::IntrusiveRefCntPtr<llvm::vfs::FileSystem> fs) : ProxyFileSystem(std::move(fs)) {}
+
+  // The folders whose files are the model's own, and what their #defines become.
+  void overrideIn(std::vector<std::string> folders, std::map<std::string, std::string> overrides) {
+    folders_ = std::move(folders);
+    overrides_ = std::move(overrides);
+  }
+  const std::set<std::string>& defined() const { return defined_; }
+  const std::set<std::string>& functionLike() const { return functionLike_; }
+
+  // An overridden file's size is its new text's: clang checks that a file it opens is as large
+  // as its status said.
+  llvm::ErrorOr<llvm::vfs::Status> status(const llvm::Twine& path) override {
+    auto st = ProxyFileSystem::status(path);
+    if (!st || !st->isRegularFile())
+      return st;
+    if (const std::string* text = overridden(path.str()))
+      return llvm::vfs::Status::copyWithNewSize(*st, text->size());
+    return st;
+  }
 
   llvm::ErrorOr<std::unique_ptr<llvm::vfs::File>> openFileForRead(const llvm::Twine& path) override {
     auto f = ProxyFileSystem::openFileForRead(path);
@@ -74,10 +145,16 @@ public:
     if (!st || !st->isRegularFile())
       return f;
     std::string name = path.str();
-    auto buf = (*f)->getBuffer(name, st->getSize(), false, false);
-    if (!buf)
-      return buf.getError();
-    std::string text = (*buf)->getBuffer().str();
+    std::string text;
+    if (const std::string* changed = overridden(name)) {
+      text = *changed;
+      st = llvm::vfs::Status::copyWithNewSize(*st, text.size());
+    } else {
+      auto buf = (*f)->getBuffer(name, st->getSize(), false, false);
+      if (!buf)
+        return buf.getError();
+      text = (*buf)->getBuffer().str();
+    }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       originals_[name] = text;
@@ -100,8 +177,34 @@ public:
   }
 
 private:
+  // The text of one of the model's own files with its #defines overridden (once per file), or
+  // null: no overrides, or not the model's file.
+  const std::string* overridden(const std::string& name) {
+    if (overrides_.empty() || !modelsOwn(name))
+      return nullptr;
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = overridden_.find(name);
+    if (it == overridden_.end()) {
+      auto buf = getUnderlyingFS().getBufferForFile(name);
+      if (!buf)
+        return nullptr;
+      it = overridden_.emplace(name, overrideDefines((*buf)->getBuffer().str(), overrides_, defined_, functionLike_)).first;
+    }
+    return &it->second;
+  }
+  bool modelsOwn(const std::string& name) const {
+    llvm::SmallString<256> p(name);
+    llvm::sys::fs::make_absolute(p);
+    llvm::sys::path::remove_dots(p, /*remove_dot_dot=*/true);
+    return std::any_of(folders_.begin(), folders_.end(),
+                       [&](const std::string& f) { return llvm::StringRef(p).starts_with(f); });
+  }
   mutable std::mutex mutex_;
   std::map<std::string, std::string> originals_;
+  std::vector<std::string> folders_;  // normalised, each ending in '/'
+  std::map<std::string, std::string> overrides_;
+  std::map<std::string, std::string> overridden_;  // path -> its text with the overrides
+  std::set<std::string> defined_, functionLike_;
 };
 
 class PrintToStringAction : public clang::PreprocessorFrontendAction {
@@ -278,7 +381,7 @@ struct Run {
 // Runs the preprocessor with driver arguments `args` (the input last); `mainText` replaces the
 // input file's text; `macros` prints the macros defined at the end (-dM) instead of the text.
 llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const std::optional<std::string>& mainText,
-                                    bool macros) {
+                                    bool macros, const PreprocessOptions* overriding = nullptr) {
   DiagCollector dc;
   auto inv = makeInvocation(args, dc);
   if (!inv)
@@ -298,6 +401,19 @@ llvm::Expected<Run> runPreprocessor(const std::vector<std::string>& args, const 
   ci.createDiagnostics(&dc, false);
   Run run;
   run.fs = new RecordingFS(llvm::vfs::getRealFileSystem());
+  if (overriding && !overriding->overrides.empty()) {
+    std::vector<std::string> folders{llvm::sys::path::parent_path(args.back()).str()};
+    folders.insert(folders.end(), overriding->includeDirs.begin(), overriding->includeDirs.end());
+    for (std::string& f : folders) {
+      llvm::SmallString<256> p(f.empty() ? "." : f);
+      llvm::sys::fs::make_absolute(p);
+      llvm::sys::path::remove_dots(p, /*remove_dot_dot=*/true);
+      f = p.str().str();
+      if (f.back() != '/') f += '/';
+    }
+    run.fs->overrideIn(std::move(folders),
+                       std::map<std::string, std::string>(overriding->overrides.begin(), overriding->overrides.end()));
+  }
   ci.createFileManager(run.fs);
   PrintToStringAction action(run.printed);
   bool ok = ci.ExecuteAction(action);
@@ -450,6 +566,32 @@ private:
   int64_t started_ = 0;
 };
 
+// Every override names a value the model has: a #define of its own files (not one that takes
+// arguments), or one the caller sets (a .vset value).
+llvm::Error checkOverrides(const PreprocessOptions& options, const RecordingFS& fs) {
+  std::string problems;
+  for (const auto& [name, value] : options.overrides) {
+    const bool elsewhere = std::find(options.overridableElsewhere.begin(), options.overridableElsewhere.end(), name) !=
+                           options.overridableElsewhere.end();
+    if (fs.functionLike().count(name))
+      problems += "error: -D " + name + ": the model's " + name + " is a macro with arguments; -D sets a value\n";
+    else if (!fs.defined().count(name) && !elsewhere) {
+      std::string names;
+      for (const std::string& n : fs.defined())
+        if (!fs.functionLike().count(n)) names += (names.empty() ? "" : ", ") + n;
+      std::string values;
+      for (const std::string& n : options.overridableElsewhere) values += (values.empty() ? "" : ", ") + n;
+      problems += "error: -D " + name + ": the model has no #define " + name +
+                  (options.overridableElsewhere.empty() ? "" : " and no .vset value " + name) + "; it has " +
+                  (names.empty() ? "no #define" : "#define " + names) + (values.empty() ? "" : "; .vset values " + values) +
+                  "\n";
+    }
+  }
+  if (problems.empty()) return llvm::Error::success();
+  problems.pop_back();
+  return llvm::createStringError(problems);
+}
+
 }  // namespace
 
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options) {
@@ -481,15 +623,17 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   }
   args.push_back(lsystemPath);
   std::optional<KeptText> kept;
-  if (!options.cacheDir.empty() && !options.mainText) {
+  if (!options.cacheDir.empty() && !options.mainText && options.overrides.empty()) {
     kept.emplace(options.cacheDir, args, options.plainMarkers);
     if (std::optional<std::string> text = kept->find())
       return std::move(*text);
     kept->begin();
   }
-  auto run = runPreprocessor(args, options.mainText, /*macros=*/false);
+  auto run = runPreprocessor(args, options.mainText, /*macros=*/false, &options);
   if (!run)
     return run.takeError();
+  if (auto e = checkOverrides(options, *run->fs))
+    return std::move(e);
   std::string text = postProcess(run->printed, *run->fs, options.plainMarkers);
   if (kept)
     kept->keep(run->fs->openedFiles(), text);

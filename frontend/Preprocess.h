@@ -36,6 +36,13 @@ struct PreprocessOptions {
   // Line markers without their include flags: the output is C++ that clang compiles as it is
   // (a model's own .cpp), rather than input to the rewriter.
   bool plainMarkers = false;
+  // -D NAME=VALUE of lcjit's command line (one run of a sweep, docs/sweeps.md): every `#define
+  // NAME …` in the model's own files (the main file's folder and includeDirs, not system
+  // headers) reads `#define NAME VALUE` instead, on the same line. A name no such file defines
+  // is an error listing those it defines, unless it is one of `overridableElsewhere` (the
+  // .vset's values, which the caller sets). The preprocessed text of such a run is not kept.
+  std::vector<std::pair<std::string, std::string>> overrides;
+  std::vector<std::string> overridableElsewhere;
   // When set, the text of the main file instead of what is on disk (the file need not exist;
   // its directory is still where quoted includes are looked up first): C++ typed at the REPL.
   std::optional<std::string> mainText;

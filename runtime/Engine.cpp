@@ -992,6 +992,7 @@ void Engine::begin(const EngineHooks& hooks) {
   faulted_ = false;
   fault_.reset();
   views_.clear();
+  reported_.clear();
   gillespieTime_ = 0;
   queryTropisms_.initialised = false;
   forgetCount();

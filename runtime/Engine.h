@@ -200,6 +200,14 @@ class Engine {
   void stop() { stopRequested_ = true; }
   int stepNo() const { return step_; }
   Rand48& random() { return random_; }
+  // --seed N: this run is member N of an ensemble (Rand48::setMember); none: lpfg's streams.
+  void setEnsembleMember(std::optional<uint64_t> n) {
+    random_.setMember(n);
+    gillespieRandom_.setMember(n);
+  }
+  // Report(NAME, value) of model code: the last value reported under each name (docs/sweeps.md).
+  void report(std::string name, double value) { reported_[std::move(name)] = value; }
+  const std::map<std::string, double>& reported() const { return reported_; }
   Rand48& gillespieRandom() { return gillespieRandom_; }
   double gillespieTime() const { return gillespieTime_; }
   void resetGillespieTime() { gillespieTime_ = 0; }
@@ -347,6 +355,7 @@ class Engine {
   bool ring_ = false;
   int decompositionDepth_ = 1, interpretationDepth_ = 1;
   Rand48 random_, gillespieRandom_;
+  std::map<std::string, double> reported_;
   double gillespieTime_ = 0;
   const EngineHooks* hooks_ = nullptr;
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)

@@ -100,6 +100,9 @@ int lcjit_step_no() { return engine() ? engine()->stepNo() : 0; }
 
 double lcjit_ran(double range) { return (engine() ? engine()->random() : fallbackRandom()).next() * range; }
 void lcjit_sran(long seed) { (engine() ? engine()->random() : fallbackRandom()).seed(seed); }
+void lcjit_report(const char* name, double value) {
+  if (Engine* e = engine(); e && name) e->report(name, value);
+}
 void lcjit_seed_gillespie(long seed) {
   if (Engine* e = engine()) e->gillespieRandom().seed(seed);
 }
@@ -307,7 +310,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
-      LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie),
+      LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie), LCJIT_HOST(lcjit_report),
       LCJIT_HOST(lcjit_gillespie_time), LCJIT_HOST(lcjit_reset_gillespie), LCJIT_HOST(lcjit_func),           LCJIT_HOST(lcjit_func_named),
       LCJIT_HOST(lcjit_pfunc),          LCJIT_HOST(lcjit_pfunc_named),    LCJIT_HOST(lcjit_tfunc),
       LCJIT_HOST(lcjit_tfunc_named),    LCJIT_HOST(lcjit_val),            LCJIT_HOST(lcjit_val_named),

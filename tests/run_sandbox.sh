@@ -98,6 +98,10 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     "$lcjit" --sandbox --max-file-size 8K -b -out tree.str tree.l > out.txt 2> err.txt; status=$?
     expect 1 "tree.l: error: the sandboxed run was stopped after the derivation (6 steps): it wrote a file past the size limit of 8.0 KB (--max-file-size)"
     [ "$(stat -c %s tree.str)" -le 8192 ] || fail "tree.str has $(stat -c %s tree.str) bytes" ;;
+  overrides)  # -D and --seed reach the sandboxed run: four steps, not the model's three
+    cp "$dir/../overrides/m.l" "$dir/../overrides/m.vset" .
+    "$lcjit" --sandbox -b -D STEPS=4 --seed 2 -out o.str m.vset m.l 2> err.txt || fail "the run failed"
+    [ "$(tr '\n' ' ' < o.str)" = "F(1) F(1) F(1) F(1) A(4) " ] || fail "the string: $(cat o.str)" ;;
   same_output)
     cp "$dir/../../examples/tree.l" .
     "$lcjit" -b -out plain.str tree.l 2> err.txt || fail "the run without the sandbox failed"

@@ -120,6 +120,10 @@ inline void SeedGillespie(long seed) { lcjit_seed_gillespie(seed); }
 inline double GillespieTime() { return lcjit_gillespie_time(); }
 inline void ResetGillespie() { lcjit_reset_gillespie(); }
 
+// lcjit: a named number this run reports (its last value under each name): what a sweep records
+// per run beside the string's own measures (docs/sweeps.md).
+inline void Report(const char* name, double value) { lcjit_report(name, value); }
+
 // §6.9 Input and output.
 inline void Printf(const char* fmt, ...) {
   char small[512];

@@ -92,6 +92,7 @@ void lcjit_stop();
 int lcjit_step_no();
 double lcjit_ran(double range);
 void lcjit_sran(long seed);
+void lcjit_report(const char* name, double value);
 void lcjit_seed_gillespie(long seed);
 double lcjit_gillespie_time();
 void lcjit_reset_gillespie();
