@@ -169,7 +169,6 @@ EOF
   ;;
 
 run)
-  "$lcjit" --help | grep -q -- --run-record || { echo "skipped: this lcjit -b has no --run-record yet"; exit 77; }
   # STEPS B's after STEPS steps whatever the seed (branch.l): modules.B is STEPS, modules.A 1.
   printf 'model: branch.l\nparameters:\n  STEPS: [3, 6]\nseeds: 10\noutputs: [string]\n' > twenty.yaml
   "$lcjit" sweep run twenty.yaml -j2 > out.txt 2> err.txt || { cat out.txt err.txt; fail "sweep run failed"; }
