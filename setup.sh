@@ -23,6 +23,8 @@ packages=(
   libxml2-utils  # xmllint: the tests check that SVG with any label text is well-formed XML
   make  # reads a model folder's lpfg.mak (make -n: what lpfg would build), nothing else
   bubblewrap  # --sandbox (docs/security.md): the model's run in a child process without the user's files
+  libyaml-cpp-dev  # sweep files (lcjit sweep, docs/sweeps.md)
+  parallel  # GNU parallel: lcjit sweep run runs a sweep's tasks with it (and tests/run_sweep.sh)
   imagemagick  # import: tests/run_sandbox_window.sh's screenshots (without it its 7 tests are skipped)
 )
 missing=()

@@ -1,7 +1,7 @@
 // lcjit's command line: lpfg's options (single dash, as lpfg spells them) plus lcjit's own
-// (--stats, -O, --emit-cpp, --watch, --lab, --sandbox, the limits of docs/faults.md), and `lcjit repl
-// [files] model.l`, the REPL (Repl.h). Thin: parsing here, the work in Session, Batch, Sandbox, the REPL
-// and the runtime.
+// (--stats, -O, --emit-cpp, --watch, --lab, --sandbox, the limits of docs/faults.md), `lcjit repl
+// [files] model.l`, the REPL (Repl.h), and `lcjit sweep`, parameter studies (Sweep.h). Thin: parsing
+// here, the work in Session, Batch, Sandbox, the REPL, Sweep and the runtime.
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -24,6 +24,7 @@
 #include "app/RunRecord.h"
 #include "app/Sandbox.h"
 #include "app/SandboxWindow.h"
+#include "app/Sweep.h"
 #include "repl/Repl.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
@@ -234,6 +235,41 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   repl->add_option("-w", replSize, "size of :save pictures and of the :view window")->expected(2)->allow_extra_args(false);
   repl->add_option("files", replInputs, "input files: [view.v color.map ...] model.l; none: :load them at the prompt");
 
+  CLI::App* sweep = app.add_subcommand("sweep", "parameter studies: the runs of a YAML sweep file, through GNU "
+                                                 "parallel or a Slurm job array, in one table (docs/sweeps.md)");
+  sweep->require_subcommand(1);
+  lcjit::app::SweepCommand sweepCommand;
+  sweepCommand.version = LCJIT_VERSION;
+  auto sweepVerb = [&](const char* name, lcjit::app::SweepVerb verb, const char* what) {
+    CLI::App* sub = sweep->add_subcommand(name, what);
+    sub->callback([&sweepCommand, verb] { sweepCommand.verb = verb; });
+    return sub;
+  };
+  auto outOption = [&](CLI::App* sub) {
+    sub->add_option("--out", sweepCommand.dir,
+                    "the sweep's folder (default: beside the sweep file, its name without extension + -runs)");
+  };
+  CLI::App* sweepPlan = sweepVerb("plan", lcjit::app::SweepVerb::Plan,
+                                  "write the runs (DIR/tasks.tsv, DIR/ids) and what they were planned from (DIR/sweep.json)");
+  sweepPlan->add_option("file", sweepCommand.file, "the sweep file (YAML)")->required();
+  outOption(sweepPlan);
+  CLI::App* sweepRun = sweepVerb("run", lcjit::app::SweepVerb::Run,
+                                 "plan, run the runs not yet run with GNU parallel, and collect their records");
+  sweepRun->add_option("file", sweepCommand.file, "the sweep file (YAML)")->required();
+  sweepRun->add_option("-j", sweepCommand.jobs, "runs at once")->check(CLI::PositiveNumber)->capture_default_str();
+  outOption(sweepRun);
+  CLI::App* sweepSlurm = sweepVerb("slurm", lcjit::app::SweepVerb::Slurm, "plan, and write DIR/sweep.sbatch, a Slurm job array");
+  sweepSlurm->add_option("file", sweepCommand.file, "the sweep file (YAML)")->required();
+  sweepSlurm->add_option("--chunk", sweepCommand.chunk, "runs per array task")->check(CLI::PositiveNumber)->capture_default_str();
+  outOption(sweepSlurm);
+  CLI::App* sweepTask = sweepVerb("task", lcjit::app::SweepVerb::Task,
+                                  "run one planned run (what parallel and Slurm call): RUNDIR/record.json whatever happens");
+  sweepTask->add_option("dir", sweepCommand.dir, "the sweep's folder")->required();
+  sweepTask->add_option("id", sweepCommand.id, "the run's id (a line of DIR/ids)")->required();
+  CLI::App* sweepCollect = sweepVerb("collect", lcjit::app::SweepVerb::Collect,
+                                     "merge the runs' records into DIR/results.csv, one row per run");
+  sweepCollect->add_option("dir", sweepCommand.dir, "the sweep's folder")->required();
+
   std::vector<std::string> args = normaliseArgs(argc, argv);
   std::reverse(args.begin(), args.end());
   try {
@@ -248,6 +284,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                          "one printf number, frame%%04d.png)\n", record.c_str());
     return 1;
   }
+
+  if (*sweep) return lcjit::app::runSweep(sweepCommand);
 
   if (*repl) {
     if (replSize.size() == 2) replOptions.width = replSize[0], replOptions.height = replSize[1];
