@@ -271,6 +271,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       fail(std::move(e));
       return 1;
     }
+  for (const std::string& out : options.moreOuts)
+    if (auto e = writeOutput(out, engine, session.drawing(), frames, times)) {
+      fail(std::move(e));
+      return 1;
+    }
   if (options.dumpInterpreted)
     if (auto e = writeInterpretation(engine, stemInWorkingFolder(files.lsystem) + ".str", times.interpretMs)) {
       fail(std::move(e));

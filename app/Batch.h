@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/Session.h"
 
@@ -15,6 +16,8 @@ struct BatchOptions {
   // -out: string (.str/.txt), binary string (.strb), a picture/geometry file, numbered files of
   // one (frame%04d.png) or a video (.mp4, .webm): FrameSequence.h
   std::string out;
+  // Further -out files, written after the run as `out` is (not numbered files or videos).
+  std::vector<std::string> moreOuts;
   int width = 800, height = 800;  // pictures (-w)
   int fps = 25;                   // a video's frames per second (--fps)
   int optLevel = 1;

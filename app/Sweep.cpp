@@ -289,10 +289,6 @@ class SweepReader {
         if (std::find(s.outputs.begin(), s.outputs.end(), kind->second) == s.outputs.end())
           s.outputs.push_back(kind->second);
       }
-      // Until a batch run takes several -out files, a run writes one.
-      if (s.outputs.size() > 1)
-        return error(outputs, "one output per run for now (lcjit -b writes one -out file): give one of string, "
-                              "picture, mesh");
     }
     if (YAML::Node options = root["options"]) {
       auto list = scalars(options, "options");

@@ -110,11 +110,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   std::vector<std::string> inputs;
 
   app.add_flag("-b", batch, "batch mode: no window; derive and write the string to -out");
-  app.add_option("--out", bo.out,
-                 "(-out) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
+  std::vector<std::string> outs;
+  app.add_option("--out", outs,
+                 "(-out, repeatable: each file written after the run) output file: .str/.txt string, .strb binary string, .png/.jpg/.bmp picture, "
                  ".obj/.ply/.stl/.gltf/.glb/.svg/.ps/.eps/.pdf/.pov geometry; with a printf number in its name "
                  "(frame%04d.png) the axiom and every step to numbered files; .mp4/.webm: the axiom and every "
-                 "step as a video's frames");
+                 "step as a video's frames")
+      ->allow_extra_args(false);
   app.add_option("--fps", bo.fps, "frames per second of a video (-out movie.mp4, --record movie.webm)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
@@ -279,6 +281,16 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return app.exit(e) == 0 ? 0 : 1;
   }
 
+  if (!outs.empty()) {
+    bo.out = outs[0];
+    bo.moreOuts.assign(outs.begin() + 1, outs.end());
+    for (const std::string& o : bo.moreOuts)
+      if (lcjit::app::isFrameSequence(o) || lcjit::app::isFrameSequence(bo.out)) {
+        std::fprintf(stderr, "lcjit: -out %s: numbered files and videos are written step by step: give them as the "
+                             "only -out\n", o.c_str());
+        return 1;
+      }
+  }
   if (!record.empty() && !lcjit::app::isFrameSequence(record)) {
     std::fprintf(stderr, "lcjit: --record %s: frames go to a video (.mp4, .webm) or to numbered files (a name with "
                          "one printf number, frame%%04d.png)\n", record.c_str());
@@ -368,8 +380,8 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                          "(docs/security.md)\n", lcjit::app::sandboxUnavailable().c_str());
     sandboxed = false;
   }
-  if (sandboxed && !bo.runRecord.empty()) {  // the sandbox lets its run write -out alone
-    std::fprintf(stderr, "lcjit: --run-record is not written by --sandbox's runs\n");
+  if (sandboxed && (!bo.runRecord.empty() || !bo.moreOuts.empty())) {  // the sandbox lets its run write one -out
+    std::fprintf(stderr, "lcjit: --sandbox's runs write one -out file and no --run-record\n");
     return 1;
   }
   if (sandboxed) {

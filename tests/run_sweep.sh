@@ -170,7 +170,7 @@ EOF
 
 run)
   # STEPS B's after STEPS steps whatever the seed (branch.l): modules.B is STEPS, modules.A 1.
-  printf 'model: branch.l\nparameters:\n  STEPS: [3, 6]\nseeds: 10\noutputs: [string]\n' > twenty.yaml
+  printf 'model: branch.l\nparameters:\n  STEPS: [3, 6]\nseeds: 10\noutputs: [string, mesh]\n' > twenty.yaml
   "$lcjit" sweep run twenty.yaml -j2 > out.txt 2> err.txt || { cat out.txt err.txt; fail "sweep run failed"; }
   grep -q "results.csv: 20 runs: 20 ok, 0 failed, 0 missing" out.txt || { cat out.txt err.txt; fail "not 20 ok runs"; }
   python3 - <<'PY' || fail "results.csv is wrong"
@@ -184,6 +184,7 @@ for i, row in enumerate(rows):
     assert row["modules.A"] == "1" and row["modules.B"] == steps, row
 PY
   [ "$(tail -n +2 twenty-runs/joblog | wc -l)" = 20 ] || fail "the joblog has not 20 runs"
+  for d in twenty-runs/runs/*; do [ -s $d/out.str ] && [ -s $d/out.obj ] || fail "$d lacks out.str or out.obj"; done
   # Run again: nothing runs, no record changes.
   touch -d '1 minute ago' twenty-runs/runs/*/record.json
   cp twenty-runs/joblog joblog.before
