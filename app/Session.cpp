@@ -373,14 +373,28 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       if (auto e = functions->loadParameters(files.parameters)) return e;
     for (auto& f : files.functions)
       if (auto e = functions->loadFunction(f)) return e;
+    // -D of a .vset value (a number) or of a .tset timeline (START:END, the range tfunc maps onto
+    // 0..1); the others are #defines (preprocess, below).
     for (const auto& [name, value] : files.overrides) {
+      const auto timelines = functions->timelines();
+      const bool timeline = std::any_of(timelines.begin(), timelines.end(), [&](const auto& t) { return t.name == name; });
       int id = functions->idOf(name);
-      if (!functions->isParameter(id) || functions->nameOf(id) != name) continue;  // a #define (below)
+      const bool parameter = functions->isParameter(id) && functions->nameOf(id) == name;
+      if (!timeline && !parameter) continue;
       char* end = nullptr;
       float v = std::strtof(value.c_str(), &end);
-      if (value.empty() || *end)
-        return llvm::createStringError("error: -D " + name + "=" + value + ": the .vset value " + name + " is a number");
-      functions->setParameter(name, v);
+      if (parameter) {
+        if (value.empty() || *end)
+          return llvm::createStringError("error: -D " + name + "=" + value + ": the .vset value " + name + " is a number");
+        functions->setParameter(name, v);
+      } else {
+        char* rest = nullptr;
+        float to = *end == ':' ? std::strtof(end + 1, &rest) : 0;
+        if (value.empty() || end == value.c_str() || *end != ':' || rest == end + 1 || *rest)
+          return llvm::createStringError("error: -D " + name + "=" + value + ": the .tset timeline " + name +
+                                         " takes START:END");
+        functions->setTimeline(name, v, to);
+      }
     }
   }
 
@@ -400,6 +414,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   pp.overrides = files.overrides;
   for (int id = 1; id <= functions->size(); ++id)
     if (functions->isParameter(id)) pp.overridableElsewhere.emplace_back(functions->nameOf(id));
+  for (const auto& t : functions->timelines()) pp.overridableElsewhere.push_back(t.name);
   if (!files.languageStandard.empty() && files.languageStandard != languageStandard_)
     return llvm::createStringError(files.lsystem + ": error: the model's lpfg.mak asks for -std=" + files.languageStandard +
                  ", and this session compiles " + languageStandard_ + ": start lcjit again for it");

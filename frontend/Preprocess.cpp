@@ -582,8 +582,8 @@ llvm::Error checkOverrides(const PreprocessOptions& options, const RecordingFS& 
       std::string values;
       for (const std::string& n : options.overridableElsewhere) values += (values.empty() ? "" : ", ") + n;
       problems += "error: -D " + name + ": the model has no #define " + name +
-                  (options.overridableElsewhere.empty() ? "" : " and no .vset value " + name) + "; it has " +
-                  (names.empty() ? "no #define" : "#define " + names) + (values.empty() ? "" : "; .vset values " + values) +
+                  (options.overridableElsewhere.empty() ? "" : " and no .vset or .tset value " + name) + "; it has " +
+                  (names.empty() ? "no #define" : "#define " + names) + (values.empty() ? "" : "; .vset and .tset values " + values) +
                   "\n";
     }
   }

@@ -40,7 +40,7 @@ struct PreprocessOptions {
   // NAME …` in the model's own files (the main file's folder and includeDirs, not system
   // headers) reads `#define NAME VALUE` instead, on the same line. A name no such file defines
   // is an error listing those it defines, unless it is one of `overridableElsewhere` (the
-  // .vset's values, which the caller sets). The preprocessed text of such a run is not kept.
+  // .vset's values and .tset's timelines, which the caller sets). The preprocessed text of such a run is not kept.
   std::vector<std::pair<std::string, std::string>> overrides;
   std::vector<std::string> overridableElsewhere;
   // When set, the text of the main file instead of what is on disk (the file need not exist;

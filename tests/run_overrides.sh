@@ -36,10 +36,10 @@ case $case in
     [ "$(field r.json 'r["overrides"]')" = "{'STEPS': '5', 'ANGLE': '45', 'WIDTH': '7'}" ] || fail "$(cat r.json)"
     # Lines keep their numbers: an overridden value that does not compile is reported where it is used.
     "$lcjit" -b -D ANGLE=oops m.vset m.l 2> err.txt && fail "ANGLE=oops compiled"
-    grep -q "^m.l:14:[0-9]*: error: use of undeclared identifier 'oops'" err.txt || fail "not at line 14" ;;
+    grep -q "^m.l:15:[0-9]*: error: use of undeclared identifier 'oops'" err.txt || fail "not at line 15" ;;
   unknown)  # names that are not the model's, a macro with arguments, a .vset value that is no number
     "$lcjit" -b -D NOPE=1 --run-record r.json m.vset m.l 2> err.txt; [ $? = 1 ] || fail "exit status"
-    grep -qxF "error: -D NOPE: the model has no #define NOPE and no .vset value NOPE; it has #define ANGLE, STEPS; .vset values WIDTH" err.txt ||
+    grep -qxF "error: -D NOPE: the model has no #define NOPE and no .vset or .tset value NOPE; it has #define ANGLE, STEPS; .vset and .tset values WIDTH" err.txt ||
       fail "the message"
     [ "$(field r.json 'r["status"]')" = error ] && field r.json 'r["error"]' | grep -q "no #define NOPE" || fail "the record: $(cat r.json)"
     "$lcjit" -b -D TWICE=3 m.vset m.l 2> err.txt && fail "TWICE=3 ran"
@@ -48,10 +48,19 @@ case $case in
     grep -qxF "error: -D WIDTH=wide: the .vset value WIDTH is a number" err.txt || fail "WIDTH"
     "$lcjit" -b -D STEPS m.l 2> err.txt && fail "-D STEPS ran"
     grep -qF -- "-D STEPS: give NAME=VALUE" err.txt || fail "no NAME=VALUE" ;;
+  timeline)  # a .tset timeline's range: GROW's linear function at 2.5 is 0.5 over 0..5, 0.25 over 0..10
+    cp "$dir"/m.tset .
+    "$lcjit" -b --run-record r.json m.vset m.tset m.l 2> err.txt || fail "the run failed"
+    # (within the sampling of the curve: lpfg tabulates it, 20 samples)
+    [ "$(field r.json 'abs(r["measures"]["reported"]["grow"] - 0.5) < 1e-3')" = True ] || fail "$(cat r.json)"
+    "$lcjit" -b -D GROW=0:10 --run-record r.json m.vset m.tset m.l 2> err.txt || fail "the run with -D failed"
+    [ "$(field r.json 'abs(r["measures"]["reported"]["grow"] - 0.25) < 1e-3')" = True ] || fail "$(cat r.json)"
+    "$lcjit" -b -D GROW=10 m.vset m.tset m.l 2> err.txt && fail "GROW=10 ran"
+    grep -qxF "error: -D GROW=10: the .tset timeline GROW takes START:END" err.txt || fail "GROW=10" ;;
   crash)  # a run that faults is a record with its error
     "$lcjit" -b -D ANGLE=0 --run-record r.json m.vset m.l 2> err.txt; [ $? = 1 ] || fail "exit status"
     [ "$(field r.json 'r["status"], r["steps"], "measures" in r')" = "('error', 3, False)" ] || fail "$(cat r.json)"
-    field r.json 'r["error"]' | grep -qF "m.l:15:" || fail "the error: $(cat r.json)"
+    field r.json 'r["error"]' | grep -qF "m.l:16:" || fail "the error: $(cat r.json)"
     field r.json 'r["error"]' | grep -qF "error: End crashed after step 3: segmentation fault" || fail "the error: $(cat r.json)" ;;
   seed)  # --seed N: the same N the same numbers, another N others; none: lpfg's
     for s in 1 2 1; do "$lcjit" -b --seed $s --run-record r$s.json m.vset m.l 2> err.txt || fail "seed $s"; cp r$s.json again$s.json; done
