@@ -375,8 +375,8 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       if (auto e = functions->loadFunction(f)) return e;
     // -D of a .vset value (a number) or of a .tset timeline (START:END, the range tfunc maps onto
     // 0..1); the others are #defines (preprocess, below).
+    const auto timelines = functions->timelines();
     for (const auto& [name, value] : files.overrides) {
-      const auto timelines = functions->timelines();
       const bool timeline = std::any_of(timelines.begin(), timelines.end(), [&](const auto& t) { return t.name == name; });
       int id = functions->idOf(name);
       const bool parameter = functions->isParameter(id) && functions->nameOf(id) == name;
