@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <set>
 
@@ -143,8 +144,52 @@ struct Window::Impl {
 
   // Input.
   double cursorX = 0, cursorY = 0;
-  bool down[3] = {false, false, false}, justPressed[3] = {false, false, false};
+  bool down[3] = {false, false, false};
   bool digitHeld[3] = {false, false, false};  // the 1/2/3 keys: lpfg's mouse-insertion keys
+
+  // Dear ImGui 1.86 (Debian 12's) reads keys and buttons as states when a frame starts: a key
+  // pressed and released between two frames (a quick tap while a frame is slow: a loaded
+  // machine, xdotool) was never seen, so Enter or Ctrl+A in a text field could be lost, and Ctrl
+  // released in the same frame made Ctrl+A a plain A. The events wait here in order, and each
+  // frame takes one key change, or one button change, or a run of text (what ImGui 1.87 calls
+  // trickling, a little stricter): every tap lasts a frame, and modifiers, text and clicks stay in
+  // the order they came. waitEvents does not sleep while some wait.
+  struct UiEvent {
+    enum Kind { Key, Char, Button } kind;
+    int code, action, mods;
+    double x, y;  // the pointer, for a button
+    bool* opens = nullptr;  // the menu a right button press opens
+  };
+  std::deque<UiEvent> uiEvents;
+  bool uiDown[3] = {false, false, false};
+  void feedImGui() {
+    ImGuiIO& io = ImGui::GetIO();
+    bool key = false, text = false, button = false;
+    ImVec2 pointer{float(cursorX), float(cursorY)};
+    for (; !uiEvents.empty(); uiEvents.pop_front()) {
+      const UiEvent& e = uiEvents.front();
+      if (e.kind == UiEvent::Key) {
+        if (key || text || button) break;
+        ImGui_ImplGlfw_KeyCallback(window, e.code, 0, e.action, e.mods);
+        key = true;
+      } else if (e.kind == UiEvent::Char) {
+        if (key || button) break;
+        ImGui_ImplGlfw_CharCallback(window, unsigned(e.code));
+        text = true;
+      } else {
+        if (button || text || key) break;
+        uiDown[e.code] = e.action == GLFW_PRESS;
+        pointer = ImVec2(float(e.x), float(e.y));
+        if (e.opens) *e.opens = true;
+        button = true;
+      }
+    }
+    // A click still waiting is made where it was made, not where the pointer has gone since.
+    if (!button && !uiEvents.empty() && uiEvents.front().kind == UiEvent::Button)
+      pointer = ImVec2(float(uiEvents.front().x), float(uiEvents.front().y));
+    io.MousePos = pointer;
+    for (int i = 0; i < 3; ++i) io.MouseDown[i] = uiDown[i];
+  }
   bool comboDown = false, comboPushed = false, comboReleased = false;
   bool clickArmed = false, clicked = false;
   double clickX = 0, clickY = 0;
@@ -162,6 +207,7 @@ struct Window::Impl {
   bool wantMouse = false;  // ImGui wanted the mouse at the end of the last frame
   std::array<char, 1024> saveName{};
   std::map<std::string, std::array<float, 4>> itemRects;
+  std::set<std::string> greyedItems;  // menu items drawn greyed out (no action now)
   std::string saveError;
   // Panels: which are open (by title), and where the last frame drew their items ("title\nlabel").
   std::set<std::string> openPanels;
@@ -322,9 +368,10 @@ struct Window::Impl {
         if (std::abs(cursorX - clickX) <= 3 && std::abs(cursorY - clickY) <= 3) clicked = true;
       }
     }
+    if (action == GLFW_PRESS || action == GLFW_RELEASE)
+      uiEvents.push_back({UiEvent::Button, button, action, mods, cursorX, cursorY});
     if (action == GLFW_PRESS) {
       down[button] = true;
-      justPressed[button] = true;
       pressMods = mods;
     } else if (action == GLFW_RELEASE) {
       down[button] = false;
@@ -339,7 +386,9 @@ struct Window::Impl {
     const bool alt = mods & GLFW_MOD_ALT;
     if (button == GLFW_MOUSE_BUTTON_RIGHT) {
       // lpfg: two of Cmd (Ctrl), Shift and Alt with the right button open the user menu.
-      if (!saveIsOpen) (int(shift) + int(ctrl) + int(alt) >= 2 ? openUserMenu : openMenu) = true;
+      // Opened in the frame where ImGui takes this press (a press it sees after the menu is open
+      // would close the menu again).
+      if (!saveIsOpen) uiEvents.back().opens = int(shift) + int(ctrl) + int(alt) >= 2 ? &openUserMenu : &openMenu;
       task = Task::Idle;
       return;
     }
@@ -424,6 +473,8 @@ struct Window::Impl {
                 const char* shortcut = nullptr) {
     if (ImGui::MenuItem(label, shortcut, false, bool(action))) chosen = action;
     noteLastItem(label);
+    if (action) greyedItems.erase(label);
+    else greyedItems.insert(label);
   }
   void noteLastItem(const std::string& label) {
     ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
@@ -432,15 +483,17 @@ struct Window::Impl {
 
   // LCJIT_WINDOW_LAYOUT=FILE: where the menu's items and the panels' controls are, one per line
   // ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL"; setMessage's text as "message/FIRST LINE",
-  // setStatus's as "status/TEXT"), rewritten when it changes. Scripts that
+  // setStatus's as "status/TEXT"; a menu item greyed out has a third field, "greyed", so that a
+  // script waits for it to be usable instead of clicking it for nothing), rewritten when it changes. Scripts that
   // drive the window from outside (xdotool, tests/interactive) click what they name, not a guess.
   void writeLayout() {
     static const char* path = std::getenv("LCJIT_WINDOW_LAYOUT");
     if (!path || (layoutSettling > 0 && layoutSettling--)) return;
     std::string text;
-    auto add = [&text](const std::string& label, const std::array<float, 4>& r) {
+    auto add = [&text, this](const std::string& label, const std::array<float, 4>& r) {
       char b[96];
-      std::snprintf(b, sizeof b, "\t%.0f %.0f %.0f %.0f\n", r[0], r[1], r[2], r[3]);
+      std::snprintf(b, sizeof b, "\t%.0f %.0f %.0f %.0f%s\n", r[0], r[1], r[2], r[3],
+                    greyedItems.count(label) ? "\tgreyed" : "");
       text += label + b;
     };
     if (menuIsOpen || userMenuIsOpen || saveIsOpen)
@@ -962,11 +1015,7 @@ bool Window::frame(const MenuActions& actions) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGuiIO& io = ImGui::GetIO();
-  io.MousePos = ImVec2(float(m.cursorX), float(m.cursorY));
-  for (int i = 0; i < 3; ++i) {
-    io.MouseDown[i] = m.down[i] || m.justPressed[i];
-    m.justPressed[i] = false;
-  }
+  m.feedImGui();
   ImGui::NewFrame();
 
   std::function<void()> chosen;
@@ -1083,6 +1132,7 @@ bool Window::frame(const MenuActions& actions) {
                           ImVec2(0.5f, 0.5f));
   if (ImGui::BeginPopupModal(kSaveId, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
     m.saveIsOpen = true;
+    if (ImGui::IsWindowAppearing()) m.layoutSettling = 3;  // sized and centred in its first frames
     ImGui::TextUnformatted("File name (the extension chooses the format):");
     ImGui::TextDisabled(".png .jpg .bmp: the picture; .obj .ply .stl .gltf .glb .svg .ps .eps .pov .strb: %s",
                         actions.saveAs ? "the model" : "not available");
@@ -1227,19 +1277,19 @@ void Window::injectScroll(double dx, double dy) {
   impl_->onScroll(dx, dy);
 }
 void Window::injectKey(int key, int action, int mods) {
-  ImGui::SetCurrentContext(impl_->imgui);
-  ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, action, mods);
+  if (action != GLFW_REPEAT) impl_->uiEvents.push_back({Impl::UiEvent::Key, key, action, mods, 0, 0});
   if (key >= GLFW_KEY_1 && key <= GLFW_KEY_3 && action != GLFW_REPEAT)
     impl_->digitHeld[key - GLFW_KEY_1] = action == GLFW_PRESS;
   if (action == GLFW_PRESS && (mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER))) impl_->shortcut = key;
   if (action == GLFW_PRESS && key == GLFW_KEY_ESCAPE) impl_->escape = true;
 }
 void Window::injectChar(unsigned codepoint) {
-  ImGui::SetCurrentContext(impl_->imgui);
-  ImGui_ImplGlfw_CharCallback(impl_->window, codepoint);
+  impl_->uiEvents.push_back({Impl::UiEvent::Char, int(codepoint), 0, 0, 0, 0});
 }
 
-void Window::waitEvents(double seconds) { glfwWaitEventsTimeout(seconds); }
+void Window::waitEvents(double seconds) {
+  if (impl_->uiEvents.empty()) glfwWaitEventsTimeout(seconds);
+}
 
 void Window::wake() { glfwPostEmptyEvent(); }
 

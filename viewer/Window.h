@@ -162,7 +162,8 @@ class Window {
   // Polls events, handles the mouse and the menu, draws once and swaps. False when the window
   // should close (its close button, or Exit).
   bool frame(const MenuActions& actions);
-  // Sleeps until an input event arrives or `seconds` pass: an idle window costs no CPU.
+  // Sleeps until an input event arrives or `seconds` pass: an idle window costs no CPU. Returns
+  // at once while input waits for the menus (one key change per frame: a tap is never lost).
   void waitEvents(double seconds);
   // From any thread: makes a waitEvents() in progress return now (the REPL's input arrived).
   static void wake();

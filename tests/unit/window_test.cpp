@@ -10,10 +10,12 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cctype>
 #include <filesystem>
 #include <thread>
 #include <tuple>
@@ -503,6 +505,44 @@ TEST_F(WindowTest, SaveAndSaveAs) {
   EXPECT_EQ(c.savedPath, "tree.obj");
   EXPECT_FALSE(w->saveDialogOpen());
   std::filesystem::remove_all(dir);
+}
+
+// A slow frame (a loaded machine) sees several input events at once: Ctrl+A, typing and Enter
+// in the Save as dialog all come between two frames, and a right click's press and release
+// between two others. None is lost: Ctrl+A still selects (Ctrl is not taken as released before
+// A), the text replaces the prefilled name, Enter saves, and the right click opens the menu.
+TEST_F(WindowTest, InputBetweenTwoFramesIsTakenInOrder) {
+  Counters c;
+  MenuActions a = allActions(c);
+  a.saveName = "model.png";
+  chooseMenuItem("Save as...", a);
+  w->frame(a);
+  w->frame(a);
+  ASSERT_TRUE(w->saveDialogOpen());
+  auto field = w->menuItemRect("##file");
+  ASSERT_TRUE(field.has_value());
+  click(((*field)[0] + (*field)[2]) / 2, ((*field)[1] + (*field)[3]) / 2, a);  // cursor at the end
+  w->injectKey(GLFW_KEY_LEFT_CONTROL, GLFW_PRESS, GLFW_MOD_CONTROL);
+  w->injectKey(GLFW_KEY_A, GLFW_PRESS, GLFW_MOD_CONTROL);
+  w->injectKey(GLFW_KEY_A, GLFW_RELEASE, GLFW_MOD_CONTROL);
+  w->injectKey(GLFW_KEY_LEFT_CONTROL, GLFW_RELEASE, 0);
+  for (char ch : std::string("tree.obj")) {
+    w->injectKey(std::toupper(ch), GLFW_PRESS, 0);
+    w->injectChar(ch);
+    w->injectKey(std::toupper(ch), GLFW_RELEASE, 0);
+  }
+  w->injectKey(GLFW_KEY_ENTER, GLFW_PRESS, 0);
+  w->injectKey(GLFW_KEY_ENTER, GLFW_RELEASE, 0);
+  for (int i = 0; i < 60 && c.saveAs == 0; ++i) w->frame(a);
+  EXPECT_EQ(c.saveAs, 1);
+  EXPECT_EQ(c.savedPath, "tree.obj");
+  EXPECT_FALSE(w->saveDialogOpen());
+
+  w->injectCursor(60, 60);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_RIGHT, GLFW_PRESS, 0);
+  w->injectMouseButton(GLFW_MOUSE_BUTTON_RIGHT, GLFW_RELEASE, 0);
+  for (int i = 0; i < 4; ++i) w->frame(a);
+  EXPECT_TRUE(w->menuOpen());
 }
 
 // Opens a submenu of the main menu (a click on its label) and clicks its item `label`.
