@@ -126,6 +126,7 @@ class InteractiveModel {
       if (scene.panes.empty()) window_.setScene(shown_, d.view, look.palette, look.textures, framing);
       else window_.setViews(scene.panes, d.view, look.palette, look.textures);
       if (recordingWanted_) record();
+      writePendingSaves();
       shownAt_ = Clock::now();
     }
     swapInWhenReady();
@@ -384,7 +385,14 @@ class InteractiveModel {
     }
     reload(*parts, rerunsSimulation(a), resetsView(a));
   }
+  void writePendingSaves() {
+    for (const std::string& path : std::exchange(pendingSaves_, {})) {
+      if (std::filesystem::path(path).extension() == ".v") report(saveViewParameters(path));
+      else report(frames_.write(path, session_.engine(), session_.drawing()));
+    }
+  }
   void applyDeferred() {
+    if (!busy()) writePendingSaves();
     if (busy() || deferred_.empty()) return;
     std::vector<Action> now = std::move(deferred_);
     deferred_.clear();
@@ -411,6 +419,12 @@ class InteractiveModel {
     };
     a.newAnimate = [this] { readAnimationFile(); };
     a.startRecording = [this] { recordingWanted_ = true; };
+    // Save as… a model format while the worker has the model: written from the picture it
+    // brings (the name typed is not lost to a greyed-out action).
+    a.saveAs = [this](const std::string& path) {
+      pendingSaves_.push_back(path);
+      if (!busy()) writePendingSaves();
+    };
     a.userMenu = runtime::UserMenu::instance().items();
     a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
@@ -423,10 +437,6 @@ class InteractiveModel {
     a.newRun = [this] { apply(Action::NewRun); };
     a.newView = [this] { apply(Action::NewView); };
     a.newRendering = [this] { apply(Action::NewRendering); };
-    a.saveAs = [this](const std::string& path) {
-      if (std::filesystem::path(path).extension() == ".v") return report(saveViewParameters(path));
-      report(frames_.write(path, session_.engine(), session_.drawing()));
-    };
     a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
     a.stringInput = [this] {
       if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));
@@ -648,6 +658,7 @@ class InteractiveModel {
   std::optional<Prepared> waiting_;  // compiled while the worker ran the old version
   bool replacing_ = false;           // the worker was interrupted for waiting_
   std::vector<Action> deferred_;     // changes that wait for the worker
+  std::vector<std::string> pendingSaves_;  // Save as… names that wait for the worker
   Editors editors_{files_, runtime::Palette::lcjitDefault()};  // the Panels submenu's file editors
   // Declared last: destroyed first, they wait for their jobs, which use the members above.
   Background<Prepared> compile_;
