@@ -127,6 +127,7 @@ class InteractiveModel {
       else window_.setViews(scene.panes, d.view, look.palette, look.textures);
       if (recordingWanted_) record();
       writePendingSaves();
+      insertPending();  // against the picture just shown
       shownAt_ = Clock::now();
     }
     swapInWhenReady();
@@ -494,7 +495,9 @@ class InteractiveModel {
     s.lbPushed = p.pushed;
     s.lbReleased = p.released;
     runtime::Mouse::instance().update(s);
-    if (p.insert && !busy()) insertAtPointer(p.insert, p.fbX, p.fbY, s);
+    // A Shift+Ctrl click while the worker has the string waits for it (a click is not lost).
+    if (p.insert) pendingInserts_.push_back({p.insert, p.fbX, p.fbY, s});
+    insertPending();
     if (p.clicked && !busy() && window_.panelOpen(StringDebugger::kTitle))
       if (std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), p.clickFbX, p.clickFbY))
         debugger_.select(session_.engine(), *source);
@@ -502,6 +505,18 @@ class InteractiveModel {
 
   // §5.9: MouseIns (1) or MouseInsPos(status) (2) goes into the string before the module whose
   // drawing is under the pointer; nothing when the click hits the background.
+  struct PendingInsert {
+    int kind;
+    float x, y;
+    MouseStatus status;
+  };
+  void insertPending() {
+    while (!busy() && !pendingInserts_.empty()) {
+      PendingInsert i = pendingInserts_.front();
+      pendingInserts_.erase(pendingInserts_.begin());
+      insertAtPointer(i.kind, i.x, i.y, i.status);
+    }
+  }
   void insertAtPointer(int kind, float x, float y, const MouseStatus& status) {
     std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), x, y);
     if (!source) return;
@@ -659,6 +674,7 @@ class InteractiveModel {
   bool replacing_ = false;           // the worker was interrupted for waiting_
   std::vector<Action> deferred_;     // changes that wait for the worker
   std::vector<std::string> pendingSaves_;  // Save as… names that wait for the worker
+  std::vector<PendingInsert> pendingInserts_;  // Shift+Ctrl clicks (MouseIns) that wait for it
   Editors editors_{files_, runtime::Palette::lcjitDefault()};  // the Panels submenu's file editors
   // Declared last: destroyed first, they wait for their jobs, which use the members above.
   Background<Prepared> compile_;

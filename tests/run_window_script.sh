@@ -40,16 +40,16 @@ wait_item() {
   for _ in \$(seq 1 200); do grep -qF "\$1" layout.txt 2>/dev/null && return 0; sleep 0.1; done
   fail "no \$1 in the window's layout: \$(cat layout.txt 2>/dev/null)"
 }
-# key_until FILE KEY: presses KEY (xdotool key) until FILE exists, giving each press 5 s. For
+# key_until FILE KEY: presses KEY (xdotool key) until FILE exists, giving each press 2 s. For
 # keys the window drops while it is busy (Ctrl+F during a step): FILE must appear before the
 # window takes the next press (written by the step, or by the frame that shows it), so a press
 # repeated while the last one is still at work is dropped, never taken twice.
 key_until() {
-  for _ in \$(seq 1 10); do
+  for _ in \$(seq 1 20); do
     xdotool key "\$2"
-    for _ in \$(seq 1 50); do [ -f "\$1" ] && return 0; sleep 0.1; done
+    for _ in \$(seq 1 20); do [ -f "\$1" ] && return 0; sleep 0.1; done
   done
-  fail "no \$1 after pressing \$2 ten times"
+  fail "no \$1 after pressing \$2 twenty times"
 }
 expect_files() {  # expect_files GLOB NAMES…
   local have want; have=\$(ls \$1 2>/dev/null | tr '\n' ' '); shift; want="\$* "
