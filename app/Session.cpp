@@ -296,9 +296,10 @@ void Session::setLimits(const runtime::EngineLimits& limits) {
 
 // The model's static constructors and destructors are model code: behind a guard (one per call:
 // they run on the thread that compiles or drops a version, possibly beside another's).
-std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guardedStatics(const std::string& file) const {
+std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guardedStatics(
+    const std::string& file, std::shared_ptr<const frontend::OriginalColumns> columns) const {
   return [limits = runtime::GuardLimits{limits_.timeLimit, limits_.maxMemory}, file,
-          locate = codeLocator()](const std::function<llvm::Error()>& run) -> llvm::Error {
+          locate = codeLocator(std::move(columns))](const std::function<llvm::Error()>& run) -> llvm::Error {
     runtime::ModelGuard guard;
     guard.setLimits(limits);
     std::optional<llvm::Error> result;
@@ -316,11 +317,13 @@ std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guarded
 }
 
 // The statement at a model code address, in the model's own files (the JIT's line tables).
-runtime::CodeLocator Session::codeLocator() const {
-  return [compiler = compiler_.get()](uintptr_t address, bool returnAddress) -> std::optional<runtime::CodePlace> {
+runtime::CodeLocator Session::codeLocator(std::shared_ptr<const frontend::OriginalColumns> columns) const {
+  return [compiler = compiler_.get(), columns = std::move(columns)](uintptr_t address,
+                                                                    bool returnAddress) -> std::optional<runtime::CodePlace> {
     std::vector<jit::SourcePlace> places = compiler->sourceAt(address, returnAddress);
     if (places.empty()) return std::nullopt;
-    return runtime::CodePlace{places[0].file, places[0].line, places[0].column};
+    const jit::SourcePlace& p = places[0];
+    return runtime::CodePlace{p.file, p.line, columns ? columns->column(p.file, p.line, p.column) : p.column};
   };
 }
 
@@ -434,11 +437,12 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
     so.optLevel = optLevel;
     so.plainUnit = true;
     so.bufferName = source;
-    so.runModelCode = guardedStatics(source);
+    auto unitColumns = std::make_shared<frontend::OriginalColumns>(*text);
+    so.runModelCode = guardedStatics(source, unitColumns);
     jit::CompileStats unitStats;
     auto unit = compiler_->compile(*text, so, &unitStats);
     for (const std::string& n : unitStats.notes) p.warnings.push_back("lcjit: " + n);
-    if (!unit) return unit.takeError();
+    if (!unit) return llvm::createStringError(unitColumns->diagnostics(llvm::toString(unit.takeError())));
     p.sourceCode.push_back(std::move(*unit));
   }
   const double unitsMs = jit::msSince(unitsStart);
@@ -470,7 +474,10 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
 
   t0 = std::chrono::steady_clock::now();
   auto cpp = frontend::rewrite(*text, files.lsystem);
-  if (!cpp) return cpp.takeError();
+  p.columns = std::make_shared<frontend::OriginalColumns>(std::move(*text));
+  // The rewriter's and the compile's errors count columns in the preprocessed text.
+  auto asWritten = [&p](llvm::Error e) { return llvm::createStringError(p.columns->diagnostics(llvm::toString(std::move(e)))); };
+  if (!cpp) return asWritten(cpp.takeError());
   times.rewriteMs = jit::msSince(t0);
   {
     std::lock_guard<std::mutex> lock(cppMutex_);
@@ -481,7 +488,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   jit::CompileOptions co;
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
-  co.runModelCode = guardedStatics(files.lsystem);
+  co.runModelCode = guardedStatics(files.lsystem, p.columns);
   co.beginNextAhead = editedLive_;
   for (const auto& c : p.sourceCode) co.linkAgainst.push_back(c.get());
   jit::CompileStats stats;
@@ -511,14 +518,14 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       // A compile error is the user's, and a full compile would say the same; anything else
       // (the old code not there to link with) is lcjit's problem: compile it all instead.
       std::string message = llvm::toString(code.takeError());
-      if (message.find("JIT link failed") == std::string::npos) return llvm::createStringError(message);
+      if (message.find("JIT link failed") == std::string::npos) return llvm::createStringError(p.columns->diagnostics(message));
       p.changedRules = 0;
       p.ruleCode.clear();
     }
   }
   if (!p.incremental) code = compiler_->compile(cpp->cpp, co, &stats);
   for (const std::string& n : stats.notes) p.warnings.push_back("lcjit: " + n);
-  if (!code) return code.takeError();
+  if (!code) return asWritten(code.takeError());
   auto entry = (*code)->lookup(frontend::kModelEntry);
   if (!entry) return entry.takeError();
   auto describe = reinterpret_cast<const __lc_Model* (*)()>(*entry);
@@ -576,6 +583,7 @@ llvm::Error Session::install(PreparedModel p) {
       ruleCode_ = {code_};
     }
     preprocess_ = std::move(p.preprocess);
+    columns_ = std::move(p.columns);
     lsystem_ = std::move(p.lsystem);
     sourceCode_ = std::move(p.sourceCode);
     replDeclarations_.clear();  // a reload replaces them
@@ -584,7 +592,7 @@ llvm::Error Session::install(PreparedModel p) {
     engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
     engine_->setLimits(limits_);
     engine_->setEnsembleMember(member_);
-    engine_->setCodeLocator(codeLocator());
+    engine_->setCodeLocator(codeLocator(columns_));
     functions_ = std::move(p.functions);  // the old engine, which used the old ones, is gone
   }
   if (p.what.lsystem) environment_ = std::move(p.environment);  // the old program is stopped
@@ -683,7 +691,7 @@ std::optional<std::string> Session::incrementalUnit(const frontend::Rewritten& c
 
 std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCache) const {
   return [compiler = compiler_.get(), owners = stateOwners_, sources = sourceCode_, cpp = runningCpp_, name = bufferName_,
-          generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_),
+          generation = generation_, optLevel, onlyFromCache, statics = guardedStatics(lsystem_, columns_),
           mark = objectKey_.empty() ? std::string()
                                     : compiler_->objectsDir() + "/" + objectKey_ + ".better-O" + std::to_string(optLevel)]()
              -> BetterTier {
@@ -784,19 +792,20 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
       continue;
     }
     auto cpp = frontend::rewrite(*preprocessed, unitName);
+    auto columns = std::make_shared<frontend::OriginalColumns>(std::move(*preprocessed));
     if (!cpp) {
-      errors.push_back(llvm::toString(cpp.takeError()));
+      errors.push_back(columns->diagnostics(llvm::toString(cpp.takeError())));
       continue;
     }
     jit::CompileOptions co;
     co.optLevel = 0;
     co.bufferName = "<repl>";
-    co.runModelCode = guardedStatics("<repl>");
+    co.runModelCode = guardedStatics("<repl>", columns);
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);
     if (!code) {
-      errors.push_back(llvm::toString(code.takeError()));
+      errors.push_back(columns->diagnostics(llvm::toString(code.takeError())));
       continue;
     }
     std::shared_ptr<jit::ModelCode> unit = std::move(*code);

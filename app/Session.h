@@ -124,6 +124,8 @@ struct PreparedModel {
   std::string objectKey;  // the compile's object cache key (jit::CompileStats::objectKey)
   std::string lsystem;                     // the .l file
   frontend::PreprocessOptions preprocess;  // what it was preprocessed with
+  // Columns of the preprocessed text as the user wrote them (errors and faults name those).
+  std::shared_ptr<const frontend::OriginalColumns> columns;
   // The model's productions, and the rest of its C++, as an incremental recompile compares them
   // (see Session::prepare).
   std::vector<std::string> rules;
@@ -236,8 +238,10 @@ class Session {
 
  private:
   Session() = default;
-  std::function<llvm::Error(const std::function<llvm::Error()>&)> guardedStatics(const std::string& file) const;
-  runtime::CodeLocator codeLocator() const;
+  // `columns` (may be null) places faults' columns as written in the model's files.
+  std::function<llvm::Error(const std::function<llvm::Error()>&)> guardedStatics(
+      const std::string& file, std::shared_ptr<const frontend::OriginalColumns> columns) const;
+  runtime::CodeLocator codeLocator(std::shared_ptr<const frontend::OriginalColumns> columns) const;
   static void splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest);
   std::optional<std::string> incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p);
   std::unique_ptr<jit::Compiler> compiler_;
@@ -248,6 +252,7 @@ class Session {
   std::vector<std::shared_ptr<jit::ModelCode>> stateOwners_;
   std::string lsystem_;                       // the running model's .l file
   frontend::PreprocessOptions preprocess_;    // and how it was preprocessed
+  std::shared_ptr<const frontend::OriginalColumns> columns_;  // and its columns as written
   std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load
   int replInputs_ = 0;
   int optLevel_ = 0;

@@ -640,4 +640,129 @@ llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const Pre
   return text;
 }
 
+// ---- columns as written
+
+namespace {
+std::string absolutePath(llvm::StringRef file) {
+  llvm::SmallString<256> path(file);
+  llvm::sys::fs::make_absolute(path);
+  llvm::sys::path::remove_dots(path, /*remove_dot_dot=*/true);
+  return std::string(path);
+}
+bool isIdentifierChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
+}  // namespace
+
+void OriginalColumns::build() const {
+  std::map<std::string, std::vector<std::string>> originals;  // absolute path -> its lines
+  auto originalLines = [&](const std::string& file) -> const std::vector<std::string>& {
+    auto it = originals.find(file);
+    if (it != originals.end()) return it->second;
+    std::vector<std::string> lines;
+    if (auto buffer = llvm::MemoryBuffer::getFile(file)) {
+      llvm::StringRef rest = (*buffer)->getBuffer();
+      while (!rest.empty()) {
+        auto [l, r] = rest.split('\n');
+        lines.push_back(l.rtrim('\r').str());
+        rest = r;
+      }
+    }
+    return originals.emplace(file, std::move(lines)).first->second;
+  };
+  std::string file;
+  unsigned lineNo = 0;
+  llvm::StringRef rest = text_;
+  while (!rest.empty()) {
+    auto [printed, r] = rest.split('\n');
+    rest = r;
+    unsigned n;
+    std::string f;
+    if (parseLineMarker(printed, n, f)) {
+      file = absolutePath(f);
+      lineNo = n;
+      continue;
+    }
+    const unsigned at = lineNo++;
+    if (file.empty() || printed.empty() || printed.starts_with("#")) continue;
+    const std::vector<std::string>& lines = originalLines(file);
+    if (at == 0 || at > lines.size()) continue;
+    llvm::StringRef original = lines[at - 1];
+    if (original == printed) continue;
+    changed_[{file, at}] = {original.str(), printed.str()};
+  }
+}
+
+namespace {
+// Where printed[at] (in printed[p0, p1)) is in original[o0, o1): the common start and end of
+// the two ranges match one to one, then the longest common run between them (of 2 characters at
+// least), on either side of which the same is done again. Unmatched text (the rest of a macro's
+// expansion) is at the start of what it replaced, not inside an identifier.
+size_t alignedIndex(llvm::StringRef o, llvm::StringRef p, size_t o0, size_t o1, size_t p0, size_t p1, size_t at) {
+  for (; o0 < o1 && p0 < p1 && o[o0] == p[p0]; ++o0, ++p0)
+    if (at == p0) return o0;
+  for (; o1 > o0 && p1 > p0 && o[o1 - 1] == p[p1 - 1]; --o1, --p1)
+    if (at == p1 - 1) return o1 - 1;
+  size_t best = 0, bestO = 0, bestP = 0;
+  const size_t n = o1 - o0, m = p1 - p0;
+  if (n > 0 && m > 0 && n * m <= 1000000) {
+    std::vector<unsigned> previous(m + 1, 0), row(m + 1, 0);
+    for (size_t i = 1; i <= n; ++i) {
+      for (size_t j = 1; j <= m; ++j) {
+        row[j] = o[o0 + i - 1] == p[p0 + j - 1] ? previous[j - 1] + 1 : 0;
+        if (row[j] > best) best = row[j], bestO = o0 + i - row[j], bestP = p0 + j - row[j];
+      }
+      std::swap(previous, row);
+    }
+  }
+  if (best < 2) {
+    while (o0 > 0 && o0 < o.size() && isIdentifierChar(o[o0 - 1]) && isIdentifierChar(o[o0])) --o0;
+    return o0;
+  }
+  if (at >= bestP && at < bestP + best) return bestO + (at - bestP);
+  return at < bestP ? alignedIndex(o, p, o0, bestO, p0, bestP, at) : alignedIndex(o, p, bestO + best, o1, bestP + best, p1, at);
+}
+}  // namespace
+
+unsigned OriginalColumns::column(llvm::StringRef file, unsigned line, unsigned column) const {
+  std::call_once(built_, [this] { build(); });
+  if (column == 0 || changed_.empty()) return column;
+  auto it = changed_.find({absolutePath(file), line});
+  if (it == changed_.end()) return column;
+  llvm::StringRef o = it->second.original, p = it->second.printed;
+  const size_t at = column - 1;
+  if (at >= p.size()) return unsigned(at - p.size() + o.size() + 1);  // past the end (a missing ';')
+  return unsigned(alignedIndex(o, p, 0, o.size(), 0, p.size(), at) + 1);
+}
+
+std::string OriginalColumns::diagnostics(llvm::StringRef text) const {
+  std::call_once(built_, [this] { build(); });
+  if (changed_.empty()) return text.str();
+  std::string out;
+  out.reserve(text.size());
+  while (!text.empty()) {
+    auto [line, rest] = text.split('\n');
+    const bool hadNewline = line.size() < text.size();
+    text = rest;
+    // FILE:LINE:COL: at the start of the line; FILE may itself hold a ':'.
+    bool mapped = false;
+    for (size_t colon = line.find(':'); colon != llvm::StringRef::npos && !mapped; colon = line.find(':', colon + 1)) {
+      llvm::StringRef after = line.drop_front(colon + 1);
+      unsigned lineNo, column;
+      llvm::StringRef digits = after.take_while([](char c) { return std::isdigit((unsigned char)c); });
+      if (digits.empty() || digits.getAsInteger(10, lineNo)) continue;
+      after = after.drop_front(digits.size());
+      if (!after.consume_front(":")) continue;
+      llvm::StringRef columnDigits = after.take_while([](char c) { return std::isdigit((unsigned char)c); });
+      if (columnDigits.empty() || columnDigits.getAsInteger(10, column) || !after.drop_front(columnDigits.size()).starts_with(":"))
+        continue;
+      llvm::StringRef file = line.take_front(colon);
+      out += (file + ":" + digits + ":" + std::to_string(this->column(file, lineNo, column))).str();
+      out += after.drop_front(columnDigits.size());
+      mapped = true;
+    }
+    if (!mapped) out += line;
+    if (hadNewline) out += '\n';
+  }
+  return out;
+}
+
 } // namespace lcjit::frontend

@@ -3,8 +3,11 @@
 // library's, lcjit's runtime headers) are kept as `#include` lines for the later C++ compile.
 #pragma once
 
+#include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
+#include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -54,5 +57,32 @@ struct PreprocessOptions {
 // line. A header that is not found is an error at the #include.
 // Errors: `FILE:LINE:COL: error: MESSAGE` lines (plus notes).
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options);
+
+// Where a column of the preprocessed text is in the file as written. Expanding a macro or
+// dropping a comment moves the rest of its line (`F(LENGTH) + bad` becomes `F(2.5) + bad`), and
+// the compile, the rewriter and the line tables count columns in the preprocessed text. A line
+// that differs from its original is aligned with it (common start and end, then the longest
+// common runs between, as a diff would): text in both keeps its place, a macro's argument in its
+// expansion is where it was written, and the rest of an expansion is at the macro's name. Keeps the preprocessed
+// text; the map is made from it and the files on disk when an error or a fault first needs it
+// (thread-safe: faults are reported from the worker).
+class OriginalColumns {
+public:
+  explicit OriginalColumns(std::string preprocessed) : text_(std::move(preprocessed)) {}
+  // `column` (1-based) of `line` in `file` (any spelling of its path) as written; unchanged
+  // where the line is as written or the file cannot be read.
+  unsigned column(llvm::StringRef file, unsigned line, unsigned column) const;
+  // The `FILE:LINE:COL:` that starts diagnostic lines, mapped.
+  std::string diagnostics(llvm::StringRef text) const;
+
+private:
+  void build() const;
+  struct Lines {
+    std::string original, printed;
+  };
+  std::string text_;
+  mutable std::once_flag built_;
+  mutable std::map<std::pair<std::string, unsigned>, Lines> changed_;  // (file, line): lines that differ
+};
 
 } // namespace lcjit::frontend

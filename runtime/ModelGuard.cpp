@@ -126,6 +126,7 @@ struct Region {
   void* frames[kFrames];
   volatile int framesTaken = 0;
   const void* volatile thrown = nullptr;
+  char assertion[200] = "";  // the condition of a failed assert() in model code
 };
 
 thread_local Region* tlRegion = nullptr;
@@ -614,7 +615,9 @@ Fault signalFault(const Region& r) {
       if (r.code == FPE_INTOVF) return {FaultKind::Crash, "integer overflow"};
       return {FaultKind::Crash, "floating-point exception"};
     case SIGILL: return {FaultKind::Crash, "illegal instruction (a trap: undefined behaviour such as a missing return?)"};
-    case SIGABRT: return {FaultKind::Abort, "abort() was called (a failed assert? std::terminate?)"};
+    case SIGABRT:
+      if (r.assertion[0]) return {FaultKind::Abort, std::string("assertion failed: ") + r.assertion};
+      return {FaultKind::Abort, "abort() was called (std::terminate? a failed assert in a library?)"};
     default: return {FaultKind::Crash, format("signal %d", r.signo)};
   }
 }
@@ -666,6 +669,21 @@ Fault callCatching(llvm::function_ref<void()> fn, ModelGuard& g, const Region& r
     r->thrown = object;
   }
   abi::__cxa_throw(object, type, destroy);
+}
+
+}  // namespace
+// glibc's, which <assert.h> declares only without NDEBUG (lcjit's release build has it).
+extern "C" [[noreturn]] void __assert_fail(const char* assertion, const char* file, unsigned line, const char* function) noexcept;
+namespace {
+
+// Model code's failed assert(): its condition goes into the fault's message, rather than glibc's
+// line, which names the generated function the rule became; then abort(), as assert does.
+[[noreturn]] void modelAssertFail(const char* assertion, const char* file, unsigned line, const char* function) {
+  if (Region* r = tlRegion) {
+    std::snprintf(r->assertion, sizeof r->assertion, "%s", assertion);
+    std::abort();
+  }
+  __assert_fail(assertion, file, line, function);
 }
 
 // The C++ library's helpers that its headers call to throw (std::vector::at, reserve, new[]):
@@ -868,6 +886,7 @@ void interruptModelCodeOnSigint() {
 
 void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols) {
   symbols.push_back({"__cxa_throw", reinterpret_cast<void*>(&modelThrow)});
+  symbols.push_back({"__assert_fail", reinterpret_cast<void*>(&modelAssertFail)});
   using Thrower = void (*)(const char*);
   for (auto [name, fn] : {std::pair<const char*, void*>{"_ZSt19__throw_logic_errorPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_logic_error)>)},
                           {"_ZSt20__throw_length_errorPKc", reinterpret_cast<void*>(&libraryThrow<Thrower(&std::__throw_length_error)>)},

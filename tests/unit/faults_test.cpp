@@ -175,6 +175,20 @@ TEST_F(Faults, Abort) {
   goodModelRuns();
 }
 
+TEST_F(Faults, FailedAssertSaysItsCondition) {
+  load("f", faulty("#include <cassert>", "assert(n < 1);"));
+  runsFail({at(0) + "crashed in step 2: assertion failed: n < 1"});
+  goodModelRuns();
+}
+
+// A macro longer than its expansion before the fault: the column is the '/' as written
+// ("n = " 4, the name 19, a space), not as preprocessed (at(8)).
+TEST_F(Faults, ColumnIsThatOfTheLineAsWritten) {
+  load("f", faulty("#define ONE_HUNDRED_AND_TEN 110", "n = ONE_HUNDRED_AND_TEN / zero;"));
+  runsFail({at(24) + "crashed in step 2: integer division by zero"});
+  goodModelRuns();
+}
+
 TEST_F(Faults, UncaughtException) {
   load("f", faulty("#include <stdexcept>", "throw std::runtime_error(\"no leaf here\");"));
   runsFail({at(0) + "threw an exception in step 2: std::runtime_error: no leaf here"});

@@ -327,3 +327,42 @@ TEST_F(PreprocessTest, LineDirectivesInSourceAreHonoured) {
 }
 
 } // namespace
+
+namespace {
+
+// OriginalColumns: a column of the preprocessed text back on the line as written. The written
+// columns are counted by hand; the preprocessed ones are found in the output (how -E spaces an
+// expansion is clang's business).
+TEST_F(PreprocessTest, ColumnsMapBackToTheLineAsWritten) {
+  const std::string file = write("m.l",
+                                 "#define LENGTH 2.5\n"
+                                 "#define SQ(x) ((x) * (x))\n"
+                                 "float a = LENGTH + SQ(b) + bad1;\n"  // 3: a 7, LENGTH 11, SQ 20, b 23, bad1 28
+                                 "float c = /* note */ d + bad2;\n"    // 4: bad2 26
+                                 "float e = f + bad3;\n");             // 5: unchanged
+  const std::string out = ok(file);
+  const auto lines = mapLines(out);
+  auto printedColumn = [&](const std::string& needle) {
+    const MappedLine* m = findLine(lines, needle);
+    return m ? unsigned(m->text.find(needle) + 1) : 0u;
+  };
+  lcjit::frontend::OriginalColumns columns(out);
+  ASSERT_NE(printedColumn("bad1"), 28u);  // the expansion does move it
+  EXPECT_EQ(columns.column(file, 3, printedColumn("bad1")), 28u);
+  EXPECT_EQ(columns.column(file, 3, printedColumn("a =")), 7u);
+  EXPECT_EQ(columns.column(file, 3, printedColumn("2.5")), 11u);   // in LENGTH's expansion: LENGTH
+  EXPECT_EQ(columns.column(file, 3, printedColumn("((b)")), 20u);   // SQ's own text: SQ
+  EXPECT_EQ(columns.column(file, 3, printedColumn("b) *")), 23u);   // its argument: where written
+  EXPECT_EQ(columns.column(file, 4, printedColumn("bad2")), 26u);
+  EXPECT_EQ(columns.column(file, 5, 15), 15u);
+  EXPECT_EQ(columns.column(file, 3, 0), 0u);  // no column stays none
+  // The same file named another way (relative to the current directory) is the same file.
+  const std::string relative = std::filesystem::relative(file).string();
+  EXPECT_EQ(columns.column(relative, 4, printedColumn("bad2")), 26u);
+  // Diagnostics: the FILE:LINE:COL that starts a line; other lines as they were.
+  const std::string b1 = std::to_string(printedColumn("bad1"));
+  EXPECT_EQ(columns.diagnostics(file + ":3:" + b1 + ": error: use of undeclared identifier 'bad1'\n  text: 3:4: x\n"),
+            file + ":3:28: error: use of undeclared identifier 'bad1'\n  text: 3:4: x\n");
+}
+
+}  // namespace
