@@ -549,6 +549,24 @@ class Rewriter {
     }
   }
 
+  // `module A(float y);`: module parameters have no names (§2.3.1: "illegal"). Without this the
+  // name became part of the type, and the compile failed in generated code. A type's last identifier is a parameter name when what
+  // comes before it ends a type: a type name or keyword (`float y`), `*`, `&` or `>`.
+  void refuseParameterName(const Token& module, const std::vector<Token>& type) {
+    static const std::set<std::string> typeWords = {"int", "char", "double", "float", "long", "short", "unsigned",
+                                                    "signed", "bool", "void", "wchar_t", "char16_t", "char32_t"};
+    static const std::set<std::string> beforeATypeName = {"struct", "class", "enum", "union", "const", "volatile", "typename"};
+    if (type.size() < 2) return;
+    const Token& last = type.back();
+    const Token& before = type[type.size() - 2];
+    if (last.kind != Token::Identifier || typeWords.count(last.text)) return;
+    const bool endsAType = before.kind == Token::Identifier ? !beforeATypeName.count(before.text)
+                                                            : before.is("*") || before.is("&") || before.is(">");
+    if (endsAType)
+      fail(last, "module parameters have no names: remove '" + last.text + "' from the declaration of '" + module.text +
+                     "', or make it a comment (/*" + last.text + "*/); the productions name the parameters");
+  }
+
   void moduleDeclaration() {
     const Token& kw = next();
     for (;;) {
@@ -570,6 +588,7 @@ class Rewriter {
           if (t.is(")") || t.is(">")) --depth;
           if (depth == 0 && t.is(",")) {
             if (type.empty()) fail(t, "missing parameter type in module '" + name.text + "'");
+            refuseParameterName(name, tokens);
             types.push_back(type);
             typeTokens.push_back(std::move(tokens));
             type.clear();
@@ -582,6 +601,7 @@ class Rewriter {
         }
         next();
         if (!type.empty()) {
+          refuseParameterName(name, tokens);
           types.push_back(type);
           typeTokens.push_back(std::move(tokens));
         } else if (!types.empty()) {
