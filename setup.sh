@@ -26,6 +26,7 @@ packages=(
   libyaml-cpp-dev  # sweep files (lcjit sweep, docs/sweeps.md)
   parallel  # GNU parallel: lcjit sweep run runs a sweep's tasks with it (and tests/run_sweep.sh)
   imagemagick  # import: tests/run_sandbox_window.sh's screenshots (without it its 7 tests are skipped)
+  gdb  # tests/run_debugger.sh: lcjit --debugger under gdb
 )
 missing=()
 for p in "${packages[@]}"; do

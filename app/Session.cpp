@@ -271,13 +271,14 @@ std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::Dr
 }
 
 llvm::Expected<std::unique_ptr<Session>> Session::create(const std::string& cacheDir,
-                                                         const std::string& languageStandard) {
+                                                         const std::string& languageStandard, bool debugger) {
   std::unique_ptr<Session> s(new Session());
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
   config.cacheDir = cacheDir;
   config.prebuiltDir = prebuiltDir();
   if (!languageStandard.empty()) config.languageStandard = languageStandard;
+  config.debugger = debugger;
   s->languageStandard_ = config.languageStandard;
   for (auto& [name, addr] : runtime::hostFunctions()) config.hostSymbols.push_back({name, addr});
   auto compiler = jit::Compiler::create(std::move(config));

@@ -149,8 +149,10 @@ class Session {
  public:
   // `cacheDir`: where compiled headers and object code are kept ("": the user's cache folder).
   // `languageStandard`: the C++ of model code (-std=), "" for lcjit's (jit::CompilerConfig).
+  // `debugger`: model code for gdb and lldb (jit::CompilerConfig::debugger).
   static llvm::Expected<std::unique_ptr<Session>> create(const std::string& cacheDir = "",
-                                                         const std::string& languageStandard = "");
+                                                         const std::string& languageStandard = "",
+                                                         bool debugger = false);
   ~Session();
   // Why the cache folder asked for is not used (it is not the user's alone), or "": a warning
   // for the user (jit::Compiler::cacheWarning).

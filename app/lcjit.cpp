@@ -223,6 +223,11 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "
                  "inputs' hashes, the error if any) and its measures (module counts, the geometry's size, "
                  "values the model reports with Report) to this JSON file, whatever happens (docs/sweeps.md)");
+  bool debugger = false;
+  app.add_flag("--debugger", debugger,
+               "for gdb or lldb: model code at -O0 (unless -O) with full debug information, registered through "
+               "the GDB JIT interface, so that `break model.l:LINE`, locals and backtraces work in the .l file "
+               "(docs/faults.md)");
   std::vector<std::string> includeDirs;
   app.add_option("-I", includeDirs, "a folder searched for the model's headers (and its C++ sources'), as g++'s -I")
       ->allow_extra_args(false);
@@ -384,6 +389,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     std::fprintf(stderr, "lcjit: --sandbox's runs write one -out file and no --run-record\n");
     return 1;
   }
+  if (sandboxed && debugger) {  // the model would run in the sandbox's process, not the debugged one
+    std::fprintf(stderr, "lcjit: --debugger debugs model code in lcjit's own process: not with --sandbox or --lab\n");
+    return 1;
+  }
   if (sandboxed) {
     namespace fs = std::filesystem;
     [[maybe_unused]] const bool window = !batch && bo.out.empty() && !emitCpp && !compileOnly && haveDisplay;
@@ -501,7 +510,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   // handlers then come second (runtime/ModelGuard.cpp, claim).
   lcjit::runtime::interruptModelCodeOnSigint();
   lcjit::runtime::installTerminationHandlers();
-  auto session = lcjit::app::Session::create(cacheDir, files->languageStandard);
+  auto session = lcjit::app::Session::create(cacheDir, files->languageStandard, debugger);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
@@ -524,8 +533,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   const bool window = !batch && bo.out.empty() && haveDisplay && !emitCpp && !compileOnly;
   // A batch run without -O: -O1 code, and -O2 compiled in the background once the run has shown
   // it is long, or taken from the cache if an earlier run compiled it (Batch.h).
-  if ((watch || window) && app.count("-O") == 0) bo.optLevel = 0, bo.betterTier = 2;
-  else if (app.count("-O") == 0 && !compileOnly && !emitCpp) bo.betterTier = 2;
+  if (debugger) {  // one tier, each statement where the debugger expects it
+    if (app.count("-O") == 0) bo.optLevel = 0;
+  } else if ((watch || window) && app.count("-O") == 0) {
+    bo.optLevel = 0, bo.betterTier = 2;
+  } else if (app.count("-O") == 0 && !compileOnly && !emitCpp) {
+    bo.betterTier = 2;
+  }
   (*session)->setQuickLevelBySize(app.count("-O") == 0);
   // Edits are coming: every compile sets up the next one's front end ahead.
   const bool watchedWindow = window && !rmode.empty() && rmode != "expl";

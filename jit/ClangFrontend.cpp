@@ -92,6 +92,8 @@ bool Frontend::begin() {
   inv->getCodeGenOpts().MainFileName = bufferName;
   if (!lineTables)  // the level's line has -gline-tables-only, which a PCH made for it shares
     inv->getCodeGenOpts().setDebugInfo(llvm::codegenoptions::NoDebugInfo);
+  else if (fullDebugInfo)  // code generation's choice: the PCH serves as it is
+    inv->getCodeGenOpts().setDebugInfo(llvm::codegenoptions::FullDebugInfo);
   ctx = std::make_unique<llvm::LLVMContext>();
   backendErrors = std::make_shared<std::string>();
   ctx->setDiagnosticHandler(std::make_unique<BackendDiagHandler>(backendErrors));

@@ -55,8 +55,10 @@ public:
   const bool pchFallback;
   const std::string bufferName;
   const size_t capacity;
-  // CompileOptions::lineTables; set before begin().
+  // CompileOptions::lineTables, CompilerConfig::debugger (full debug information); set before
+  // begin().
   bool lineTables = true;
+  bool fullDebugInfo = false;
 
 private:
   std::shared_ptr<clang::CompilerInvocation> base;

@@ -142,7 +142,7 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   jtmb->getOptions().FunctionSections = true;
   impl->jtmb = *jtmb;
 
-  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->objectsDir());
+  auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->objectsDir(), impl->config.debugger);
   if (!state)
     return state.takeError();
   impl->state = std::move(*state);
@@ -258,6 +258,7 @@ llvm::Error Compiler::Impl::setUp(Job& job) {
   }
   std::string unitKind = job.options.plainUnit ? "plain" : job.used.pchFallback ? "text" : "pch";
   if (!job.options.lineTables) unitKind += " without line tables";
+  else if (config.debugger) unitKind += " with full debug information";
   job.key = objectKey(job.used.pchPath, unitKind, job.bufferName, job.source, job.shared, job.level);
   if (job.options.useObjectCache)
     job.stats.objectKey = job.key;
@@ -304,18 +305,19 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
       }
     }
     std::unique_ptr<Frontend> fe;
-    if (quickTier && attempt == 0 && options.lineTables)  // those begun ahead have them
+    if (quickTier && attempt == 0 && options.lineTables && !config.debugger)  // those begun ahead have them
       fe = takeAhead(L, job.used, job.bufferName, job.source.size());
     job.stats.frontendBegunAhead = fe != nullptr;
     if (!fe) {
       fe = std::make_unique<Frontend>(job.used.base, job.used.pchPath, job.used.pchFallback, config.runtimeHeader,
                                       job.bufferName, job.source.size());
       fe->lineTables = options.lineTables;
+      fe->fullDebugInfo = config.debugger;
       fe->begin();
     }
     Frontend::Result fr = fe->finish(job.source);
     job.stats.frontendMs += msSince(t0);
-    job.beginNext = quickTier && options.beginNextAhead && options.lineTables;
+    job.beginNext = quickTier && options.beginNextAhead && options.lineTables && !config.debugger;
     if (fr.module)
       return fr;
     if (fr.pchProblem && attempt == 0 && !job.used.pchFallback && !options.plainUnit) {

@@ -42,6 +42,12 @@ struct CompilerConfig {
   // The C++ of model code (-std=): frontend::kDefaultLanguageStandard unless a model's lpfg.mak
   // asks for another.
   std::string languageStandard = frontend::kDefaultLanguageStandard;
+  // For gdb and lldb (lcjit --debugger, docs/faults.md): model code gets full debug information
+  // (-g: variables and types, not only line tables) and every object is registered through the
+  // GDB JIT interface, so a debugger stops at `break m.l:7`, shows locals and backtraces in the
+  // .l file. Costs bigger objects and slower compiles; no front end is begun ahead. The object
+  // cache keeps such objects apart.
+  bool debugger = false;
 };
 
 class ModelCode;

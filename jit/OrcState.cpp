@@ -1,6 +1,9 @@
 // The JIT's long-lived state of OrcState.h: the LLJIT and its host symbols, code generation with
 // kept TargetMachines, ORC's own support objects kept between runs, and the end of a loaded version.
 #include "jit/OrcState.h"
+#include <llvm/ExecutionEngine/Orc/DebugObjectManagerPlugin.h>
+#include <llvm/ExecutionEngine/Orc/EPCDebugObjectRegistrar.h>
+#include <llvm/ExecutionEngine/Orc/TargetProcess/JITLoaderGDB.h>
 #include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
@@ -221,7 +224,7 @@ private:
 
 llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetMachineBuilder& jtmb,
                                                            const std::vector<HostSymbol>& hostSymbols,
-                                                           const std::string& objectsDir) {
+                                                           const std::string& objectsDir, bool debugger) {
   auto state = std::make_shared<JitState>();
   // Model code arrives as object files (Impl::emitObject); what ORC still compiles from IR is
   // its own small support modules, with the quick tiers' TargetMachine, once (PlatformObjects).
@@ -252,6 +255,17 @@ llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetM
   state->codeMap = std::make_shared<CodeMap>();
   if (auto* linker = llvm::dyn_cast<orc::ObjectLinkingLayer>(&state->jit->getObjLinkingLayer()))
     linker->addPlugin(state->codeMap);
+  // The GDB JIT interface (__jit_debug_register_code), which gdb and lldb watch. Its
+  // registration function is named by address: with LLVM linked statically and no -rdynamic,
+  // orc::enableDebuggerSupport's lookup of it by name in the process finds nothing.
+  if (debugger)
+    if (auto* linker = llvm::dyn_cast<orc::ObjectLinkingLayer>(&state->jit->getObjLinkingLayer())) {
+      auto& es = state->jit->getExecutionSession();
+      auto registrar = std::make_unique<orc::EPCDebugObjectRegistrar>(
+          es, orc::ExecutorAddr::fromPtr(&llvm_orc_registerJITLoaderGDBWrapper));
+      linker->addPlugin(std::make_unique<orc::DebugObjectManagerPlugin>(es, std::move(registrar), /*RequireDebugSections=*/true,
+                                                                        /*AutoRegisterCode=*/true));
+    }
   JitState* raw = state.get();
   state->jit->getExecutionSession().setErrorReporter([raw](llvm::Error err) {
     std::string msg = llvm::toString(std::move(err));

@@ -63,10 +63,11 @@ struct Codegen {
 struct JitState {
   // The LLJIT for `jtmb`'s target, with the host symbols defined in a JITDylib of their own.
   // `objectsDir`: where the object code of ORC's own support modules is kept between runs ("":
-  // in memory only).
+  // in memory only). `debugger`: every object linked is registered with gdb/lldb
+  // (CompilerConfig::debugger).
   static llvm::Expected<std::shared_ptr<JitState>> create(const orc::JITTargetMachineBuilder& jtmb,
                                                           const std::vector<HostSymbol>& hostSymbols,
-                                                          const std::string& objectsDir);
+                                                          const std::string& objectsDir, bool debugger);
 
   std::unique_ptr<orc::LLJIT> jit;
   orc::JITDylib* hostJD = nullptr;
