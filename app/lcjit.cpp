@@ -225,7 +225,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
                  "values the model reports with Report) to this JSON file, whatever happens (docs/sweeps.md)");
   bool debugger = false;
   app.add_flag("--debugger", debugger,
-               "for gdb or lldb: model code at -O0 (unless -O) with full debug information, registered through "
+               "for gdb: model code at -O0 (unless -O) with full debug information, registered through "
                "the GDB JIT interface, so that `break model.l:LINE`, locals and backtraces work in the .l file "
                "(docs/faults.md)");
   std::vector<std::string> includeDirs;
