@@ -503,8 +503,8 @@ class InteractiveModel {
         debugger_.select(session_.engine(), *source);
   }
 
-  // §5.9: MouseIns (1) or MouseInsPos(status) (2) goes into the string before the module whose
-  // drawing is under the pointer; nothing when the click hits the background.
+  // Shift+Ctrl clicks, in order, once the worker has let go of the string (each insertion
+  // re-interprets it, so the next waits again).
   struct PendingInsert {
     int kind;
     float x, y;
@@ -517,6 +517,8 @@ class InteractiveModel {
       insertAtPointer(i.kind, i.x, i.y, i.status);
     }
   }
+  // §5.9: MouseIns (1) or MouseInsPos(status) (2) goes into the string before the module whose
+  // drawing is under the pointer; nothing when the click hits the background.
   void insertAtPointer(int kind, float x, float y, const MouseStatus& status) {
     std::optional<uint32_t> source = runtime::pickSource(shown_, window_.camera(), x, y);
     if (!source) return;
