@@ -519,7 +519,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
       // A compile error is the user's, and a full compile would say the same; anything else
       // (the old code not there to link with) is lcjit's problem: compile it all instead.
       std::string message = llvm::toString(code.takeError());
-      if (message.find("JIT link failed") == std::string::npos) return llvm::createStringError(p.columns->diagnostics(message));
+      if (message.find("JIT link failed") == std::string::npos) return asWritten(llvm::createStringError(message));
       p.changedRules = 0;
       p.ruleCode.clear();
     }
