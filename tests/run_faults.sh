@@ -31,7 +31,7 @@ case $case in
     # Line-buffered, so that "looping" shows while the model loops.
     stdbuf -oL "$lcjit" -b -out out.str "$dir/loop.l" > out.txt 2> err.txt &
     pid=$!
-    for _ in $(seq 1 200); do grep -q looping out.txt && break; sleep 0.05; done
+    for _ in $(seq 1 2400); do grep -q looping out.txt && break; sleep 0.05; done
     grep -q looping out.txt || { echo "FAIL: the model never reached its loop"; cat err.txt; kill $pid; exit 1; }
     sleep 0.2
     kill -INT $pid

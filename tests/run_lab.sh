@@ -16,11 +16,11 @@ fail() { echo "FAIL: $*"; cat err.txt; exit 1; }
 env -u DISPLAY -u WAYLAND_DISPLAY HOME="$work/home" XDG_CACHE_HOME="$work/home/cache" \
   "$lcjit" --lab ../model/plant.l 2> err.txt > /dev/null &
 pid=$!
-for _ in $(seq 1 300); do grep -q "what the compiler said" err.txt && break; sleep 0.1; done
+for _ in $(seq 1 1200); do grep -q "what the compiler said" err.txt && break; sleep 0.1; done
 grep -q "^plant.l, line 21: 'Oops' is not a declared module" err.txt || fail "no plain-language error first"
 grep -q "/model/plant.l:21:11: error: undeclared module 'Oops'" err.txt || fail "no compiler text after it"
 sed -i 's/produce Oops(1)/produce/' "$work/model/plant.l"
-for _ in $(seq 1 300); do [ -f "$work/model/plant.png" ] && break; sleep 0.1; done
+for _ in $(seq 1 1200); do [ -f "$work/model/plant.png" ] && break; sleep 0.1; done
 [ -f "$work/model/plant.png" ] || fail "no plant.png after the fix"
 [ -d "$work/model/.lcjit-cache" ] || fail "no cache in the model's folder"
 [ -z "$(ls -A "$work/elsewhere" | grep -v err.txt)" ] || fail "wrote in the working folder: $(ls -A)"

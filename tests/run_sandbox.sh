@@ -50,7 +50,7 @@ case $case in
 s = socket.socket(); s.bind(("127.0.0.1", 0)); s.listen(8)
 print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     pid=$!
-    for _ in $(seq 1 100); do [ -s port.txt ] && break; sleep 0.05; done
+    for _ in $(seq 1 600); do [ -s port.txt ] && break; sleep 0.05; done
     sed "s/PORT/$(cat port.txt)/" "$dir/socket.l" > socket.l
     "$lcjit" -b -out o.str socket.l > out.txt 2> err.txt
     grep -q "^connected" out.txt || fail "the model does not connect even without the sandbox"
@@ -125,7 +125,7 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     cp "$dir/loop.l" .
     "$lcjit" --sandbox -b -out o.str loop.l > out.txt 2> err.txt &
     pid=$!
-    for _ in $(seq 1 300); do grep -q looping out.txt && break; sleep 0.05; done
+    for _ in $(seq 1 2400); do grep -q looping out.txt && break; sleep 0.05; done
     grep -q looping out.txt || fail "the model never reached its loop"
     kill -INT $pid
     wait $pid; status=$?
@@ -135,10 +135,10 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     cp "$dir/loop.l" m.l
     "$lcjit" --sandbox --watch -out o.str m.l > out.txt 2> err.txt &
     pid=$!
-    for _ in $(seq 1 300); do grep -q looping out.txt && break; sleep 0.05; done
+    for _ in $(seq 1 2400); do grep -q looping out.txt && break; sleep 0.05; done
     grep -q looping out.txt || fail "the model never reached its loop"
     sed -i 's/n == 1/n == 100/' m.l  # the fix, saved while the old run loops
-    for _ in $(seq 1 300); do grep -q "reload 1" err.txt && break; sleep 0.05; done
+    for _ in $(seq 1 2400); do grep -q "reload 1" err.txt && break; sleep 0.05; done
     grep -q "reload 1 (m.l): ran in .* ms, wrote o.str" err.txt || fail "no reload after the fix"
     grep -q "A(5)" o.str || fail "o.str is not the fixed model's string" ;;
   home)

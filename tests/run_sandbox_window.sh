@@ -53,7 +53,7 @@ case $case in
     stop
     start --sandbox -v -w 400 400 tree.v tree.mat tree.l
     wait_err "lcjit: sandboxed run shown: step"
-    for _ in $(seq 1 100); do
+    for _ in $(seq 1 600); do
       grab tree.l sandboxed.png && "$diff" plain.png sandboxed.png > diff.txt && break
       sleep 0.2
     done
@@ -99,13 +99,13 @@ case $case in
     # A broken edit: its error, in plain words first, over the last good picture (the window's
     # layout lists the message by its first line); the fix takes it away.
     printf '#include <lpfgall.h>\nderivation length: 1;\naxiom: Oops;\n' > tmp.l && mv tmp.l tree.l
-    for _ in $(seq 1 300); do grep -q "^message/tree.l, line 3: 'Oops' is not a declared module" "$work/layout.txt" && break; sleep 0.1; done
+    for _ in $(seq 1 1200); do grep -q "^message/tree.l, line 3: 'Oops' is not a declared module" "$work/layout.txt" && break; sleep 0.1; done
     grep -q "^message/tree.l, line 3: 'Oops' is not a declared module" "$work/layout.txt" || fail "no error over the picture: $(cat "$work/layout.txt")"
     alive
     : > err.txt
     cp good.l tmp.l && mv tmp.l tree.l
     wait_err "lcjit: sandboxed run shown: step"
-    for _ in $(seq 1 100); do grep -q "^message/" "$work/layout.txt" || break; sleep 0.1; done
+    for _ in $(seq 1 600); do grep -q "^message/" "$work/layout.txt" || break; sleep 0.1; done
     grep -q "^message/" "$work/layout.txt" && fail "the error stayed after the fix: $(cat "$work/layout.txt")"
     alive ;;
   esc)

@@ -44,8 +44,9 @@ wait_for 'reload 5 (leaf.s): re-read' err.txt
 # A save that loops forever in a production, then the fix: the fix's save stops the stuck run
 # (no Ctrl-C) and its output is written.
 cp grow.l good.l
-sed -i 's/total += x;/total += x; for (volatile int k = 0; k == 0;) {}/' grow.l
-sleep 1.5                               # compiled, and looping: its reload line waits for the run
+sed -i 's/total += x;/total += x; std::fclose(std::fopen("looping", "w")); for (volatile int k = 0; k == 0;) {}/' grow.l
+for _ in $(seq 1 600); do [ -e looping ] && break; sleep 0.1; done   # compiled, and in its loop
+[ -e looping ] || fail "the looping save never reached its loop"
 grep -q 'reload 6 ' err.txt && fail "reload 6 ended before the fix was saved"
 sed -i 's/x \* 3/x * 5/' good.l && cp good.l grow.l
 wait_for 'reload 7 ' err.txt
