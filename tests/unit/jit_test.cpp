@@ -341,8 +341,10 @@ TEST_F(JitTest, QuickTiersBeginTheNextFrontEndAhead) {
   ASSERT_TRUE(bool(first)) << llvm::toString(first.takeError());
   EXPECT_FALSE(st.frontendBegunAhead);
   // The next front end is set up in the background; keep editing until a compile finds it.
+  // Up to 30 s of edits: on a busy machine the other thread may be slow to get to it.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   bool used = false;
-  for (int k = 2; k < 60 && !used; ++k) {
+  for (int k = 2; std::chrono::steady_clock::now() < deadline && !used; ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     auto code = compiler_->compile(source(k), o, &st);
     ASSERT_TRUE(bool(code)) << llvm::toString(code.takeError());
@@ -352,7 +354,8 @@ TEST_F(JitTest, QuickTiersBeginTheNextFrontEndAhead) {
   ASSERT_TRUE(used);
   // An error through a front end set up ahead: the new text's line and column.
   bool errorAhead = false;
-  for (int tries = 0; tries < 40 && !errorAhead; ++tries) {
+  deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < deadline && !errorAhead) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     std::string err = errorText(compiler_->compile("#line 7 \"ahead.l\"\n  oops;\n", o, &st));
     EXPECT_NE(err.find("ahead.l:7:3: error: "), std::string::npos) << err;

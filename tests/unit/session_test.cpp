@@ -202,12 +202,11 @@ TEST(EngineCancel, StopDuringALongStepKeepsTheStringBeforeIt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     e.cancelStep();
   });
-  auto t0 = std::chrono::steady_clock::now();
-  bool more = e.step();  // step 2 would take seconds (200 000 × 20 000 additions)
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Step 2 would take seconds (200 000 × 20 000 additions). Cancelled, it ends with the string
+  // of step 1: no A(2), the step number still 1 (no bound on the time: the machine may be busy).
+  bool more = e.step();
   stopper.join();
   EXPECT_FALSE(more);
-  EXPECT_LT(seconds, 1.5);
   EXPECT_EQ(e.stepNo(), 1);
   EXPECT_EQ(e.moduleCount(), before);
   EXPECT_NE(e.text(e.string()).find("A(1)"), std::string::npos);
