@@ -5,7 +5,7 @@
 #    there is one; NAME.check (bash, with the output in out.txt) runs after when there is one.
 #  * NAME.drive (bash): a session fed line by line as the script goes, with helpers:
 #    start ARGS… (lcjit repl ARGS… in the background; start_lab: lcjit --lab ARGS… without bwrap), send LINE, expect PATTERN [N] (waits up to
-#    10 s for N lines (1) of the output to match the grep pattern), finish (ends the input and
+#    60 s for N lines (1) of the output to match the grep pattern), finish (ends the input and
 #    waits: $status), fail MESSAGE.
 # Usage: run_repl.sh LCJIT DIR NAME
 set -u
@@ -39,7 +39,7 @@ if [ -f "$name.drive" ]; then
   send() { printf '%s\n' "$*" >&3; }
   expect() {
     local want=${2:-1}
-    for _ in $(seq 1 100); do
+    for _ in $(seq 1 600); do
       [ "$(grep -c -- "$1" out.txt)" -ge "$want" ] && return 0
       sleep 0.1
     done

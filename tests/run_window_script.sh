@@ -16,16 +16,16 @@ for tool in xvfb-run xdotool; do command -v $tool >/dev/null || { echo "$tool is
 cat > helpers.sh <<EOS
 start() { "$lcjit" "\$@" > out.txt 2> err.txt & }
 fail() { echo "FAIL: \$*"; cat err.txt; [ -f layout.txt ] && { echo "the window's last layout:"; cat layout.txt; }; echo "files: \$(ls | tr '\\n' ' ')"; exit 1; }
-wait_file() { for _ in \$(seq 1 100); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
+wait_file() { for _ in \$(seq 1 600); do [ -f "\$1" ] && return 0; sleep 0.1; done; fail "no \$1"; }
 # The window of MODEL.l is up (a slow start on a loaded machine must not lose the first clicks).
 wait_window() { timeout 60 xdotool search --sync --onlyvisible --name "lcjit: \$1" >/dev/null || fail "no window for \$1"; }
 # With LCJIT_WINDOW_LAYOUT=layout.txt exported before start: item_centre LABEL prints the centre
 # ("X Y") of the menu item or panel control (TITLE/LABEL) where the window last drew it, waiting up
-# to 10 s for it to be drawn and usable (not greyed out: a busy window greys some items); click_item
+# to 60 s for it to be drawn and usable (not greyed out: a busy window greys some items); click_item
 # LABEL [right] clicks there (or 3 px inside its right end: a slider's maximum).
 item_rect() { awk -F'\t' -v l="\$1" '\$1 == l && \$3 != "greyed" { print \$2 }' layout.txt 2>/dev/null; }
 item_centre() {
-  for _ in \$(seq 1 100); do [ -n "\$(item_rect "\$1")" ] && break; sleep 0.1; done
+  for _ in \$(seq 1 600); do [ -n "\$(item_rect "\$1")" ] && break; sleep 0.1; done
   read -r x0 y0 x1 y1 < <(item_rect "\$1")
   [ -n "\$x1" ] || fail "no usable \$1 in the window's layout: \$(cat layout.txt 2>/dev/null)"
   [ "\${2:-}" = right ] && echo \$((x1 - 3)) \$(((y0 + y1) / 2)) || echo \$(((x0 + x1) / 2)) \$(((y0 + y1) / 2))
@@ -34,10 +34,10 @@ click_item() {
   local at; at=\$(item_centre "\$@") || { echo "\$at"; exit 1; }
   xdotool mousemove \$at click 1
 }
-# wait_item LABEL: waits up to 20 s until the window's layout lists LABEL (its start: a panel's
+# wait_item LABEL: waits up to 60 s until the window's layout lists LABEL (its start: a panel's
 # text lines are listed by their text).
 wait_item() {
-  for _ in \$(seq 1 200); do grep -qF "\$1" layout.txt 2>/dev/null && return 0; sleep 0.1; done
+  for _ in \$(seq 1 600); do grep -qF "\$1" layout.txt 2>/dev/null && return 0; sleep 0.1; done
   fail "no \$1 in the window's layout: \$(cat layout.txt 2>/dev/null)"
 }
 # key_until FILE KEY: presses KEY (xdotool key) until FILE exists, giving each press 2 s. For
