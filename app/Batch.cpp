@@ -33,6 +33,7 @@
 #include "app/RunRecord.h"
 #include "runtime/WindowInput.h"
 #include "jit/Elapsed.h"
+#include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
@@ -71,26 +72,22 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
     return llvm::Error::success();
   }
   if (ext == ".strb" || ext == ".bin") return engine.writeBinary(out);
-  std::ofstream f(out, std::ios::binary);
-  if (!f) return runtime::textfile::fail(out, 0, "cannot write file");
-  engine.writeText(engine.string(), f);
-  f.close();
-  if (!f) return runtime::textfile::fail(out, 0, "write failed (is the disk full?)");
-  return llvm::Error::success();
+  return engine.writeTextFile(out);
 }
 
 // -dtf/-dtfes: lpfg's turtle text of the current string, streamed to `path`; the time it took is
 // added to `interpretMs`.
 llvm::Error writeInterpretation(runtime::Engine& engine, const std::string& path, double& interpretMs) {
   auto t0 = Clock::now();
-  std::ofstream f(path, std::ios::binary);
+  runtime::ReplacingFile file(path);
+  std::ofstream f(file.writePath(), std::ios::binary);
   if (!f) return runtime::textfile::fail(path, 0, "cannot write file");
   llvm::Error e = engine.writeTurtleText(f);
   f.close();
   interpretMs += jit::msSince(t0);
   if (e) return e;
   if (!f) return runtime::textfile::fail(path, 0, "write failed (is the disk full?)");
-  return llvm::Error::success();
+  return file.commit();
 }
 
 // What a batch of file changes re-reads (§1.3's actions, merged); nothing for the animation or
@@ -285,14 +282,13 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     if (error && error->empty()) *error = "the final string is not the one VerifyString states";
     return 1;
   }
-  if (!options.profile.empty()) {
-    std::ofstream out(options.profile);
-    out << profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs);
-    if (!out.flush()) {
+  if (!options.profile.empty())
+    if (auto e = runtime::writeWholeFile(options.profile,
+                                         profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs))) {
+      llvm::consumeError(std::move(e));
       fail(llvm::createStringError(options.profile + ": error: cannot write the profile"));
       return 1;
     }
-  }
   if (options.verbose)
     std::fprintf(stderr, "lcjit: derived %d steps in %.1f ms: %zu modules\n", engine.stepsDone(), times.deriveMs,
                  engine.moduleCount());

@@ -32,6 +32,7 @@
 #include "runtime/turtle/Camera.h"
 #include "runtime/include/lcjit/modules.h"
 #include "runtime/files/AnimationFile.h"
+#include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
@@ -468,10 +469,7 @@ class InteractiveModel {
     V3f centre = c.bounds.empty() ? V3f() : c.bounds.center();
     v.pan = V3f(c.lookAt.x, c.lookAt.y, c.lookAt.z) - centre;
     v.scale = session_.drawing().view.scale * window_.adjustment().zoom;
-    std::ofstream out(path);
-    out << runtime::viewLine(v);
-    if (!out) return runtime::textfile::fail(path, 0, "cannot write file");
-    return llvm::Error::success();
+    return runtime::writeWholeFile(path, runtime::viewLine(v));
   }
 
   // The window's camera for GetCameraPosition() and vvScale() (§6.4), view 0.

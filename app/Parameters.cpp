@@ -10,6 +10,7 @@
 
 #include "app/Session.h"
 #include "runtime/Functions.h"
+#include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 #include "runtime/WindowInput.h"
 
@@ -20,20 +21,6 @@ llvm::Expected<std::string> readAll(const std::string& path) {
   auto buf = runtime::textfile::readFile(path, /*text=*/false);
   if (!buf) return buf.takeError();
   return (*buf)->getBuffer().str();
-}
-
-// Written beside the file and renamed over it: an editor or the file monitor never sees half a file.
-llvm::Error writeAll(const std::string& path, const std::string& text) {
-  std::string temporary = path + ".lcjit-new";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    if (!out.flush()) return runtime::textfile::fail(path, 0, "cannot write file");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) return runtime::textfile::fail(path, 0, "cannot replace file: " + ec.message());
-  return llvm::Error::success();
 }
 
 bool samePath(const std::string& a, const std::string& b) {
@@ -211,7 +198,7 @@ void ParameterPanel::edit(const Control& c, int shown) {
     return;
   }
   if (*edited == *text) return;
-  if (auto err = writeAll(c.target, *edited)) {
+  if (auto err = runtime::writeWholeFile(c.target, *edited)) {
     status_ = llvm::toString(std::move(err));
     return;
   }
@@ -239,7 +226,7 @@ llvm::Error ParameterPanel::saveParameters() {
     std::string out = *text;
     if (auto e = setAll(out)) return e;
     if (out != *text)
-      if (auto e = writeAll(path, out)) return e;
+      if (auto e = runtime::writeWholeFile(path, out)) return e;
     written.push_back(path);
     return llvm::Error::success();
   };

@@ -35,6 +35,7 @@
 #include "app/FileMonitor.h"
 #include "app/Session.h"
 #include "runtime/ModelGuard.h"
+#include "runtime/files/ReplacingFile.h"
 
 extern char** environ;
 
@@ -423,6 +424,7 @@ void SandboxedRun::passInterruptsOn() {
 SandboxOutcome SandboxedRun::outcome() {
   SandboxOutcome o = judge();
   if (o.status != 0 && !createdOutput_.empty()) ::unlink(createdOutput_.c_str());
+  if (o.status != 0 && !plan_.outputFile.empty()) runtime::ReplacingFile::removeUnfinished(plan_.outputFile);
   o.reply = std::move(reply_);
   return o;
 }

@@ -24,6 +24,8 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "runtime/files/ReplacingFile.h"
+
 extern char** environ;
 
 namespace lcjit::app {
@@ -65,20 +67,6 @@ llvm::Expected<std::string> readText(const fs::path& file) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-// Written whole or not at all: a plan or a table cut short by a kill would look like a real one.
-llvm::Error writeText(const fs::path& file, const std::string& text) {
-  fs::path partial = file.string() + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out.flush()) return failure(file.string() + ": error: cannot write it: " + std::strerror(errno));
-  }
-  std::error_code ec;
-  fs::rename(partial, file, ec);
-  if (ec) return failure(file.string() + ": error: cannot write it: " + ec.message());
-  return llvm::Error::success();
 }
 
 // --- The sweep file -----------------------------------------------------------------------------
@@ -380,9 +368,9 @@ llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string
                 {"runs", runs.size()},
                 {"text", sweep.text}};
   // sweep.json last: its presence says the plan is whole.
-  if (auto e = writeText(dir / "tasks.tsv", tasks)) return std::move(e);
-  if (auto e = writeText(dir / "ids", ids)) return std::move(e);
-  if (auto e = writeText(dir / "sweep.json", p.json.dump(2) + "\n")) return std::move(e);
+  if (auto e = runtime::writeWholeFile((dir / "tasks.tsv").string(), tasks)) return std::move(e);
+  if (auto e = runtime::writeWholeFile((dir / "ids").string(), ids)) return std::move(e);
+  if (auto e = runtime::writeWholeFile((dir / "sweep.json").string(), p.json.dump(2) + "\n")) return std::move(e);
   return std::make_pair(std::move(p), true);
 }
 
@@ -530,7 +518,7 @@ int runTask(const SweepCommand& c) {
             {"seed", task->seed ? Json(*task->seed) : Json()},
             {"status", "error"},
             {"error", why}};
-  if (auto e = writeText(record, r.dump(2) + "\n")) return report(std::move(e));
+  if (auto e = runtime::writeWholeFile(record.string(), r.dump(2) + "\n")) return report(std::move(e));
   return 1;
 }
 
@@ -640,7 +628,7 @@ llvm::Expected<CollectCounts> collect(const Plan& plan) {
     }
     csv += line(cells);
   }
-  if (auto e = writeText(plan.dir / "results.csv", csv)) return std::move(e);
+  if (auto e = runtime::writeWholeFile((plan.dir / "results.csv").string(), csv)) return std::move(e);
   return counts;
 }
 
@@ -722,7 +710,7 @@ int writeSlurm(const SweepCommand& c) {
     << "  parallel --joblog \"$dir/joblog.$SLURM_ARRAY_TASK_ID\" --resume -j \"${SLURM_CPUS_PER_TASK:-1}\" \\\n"
     << "    -q " << shellQuoted(thisProgram()) << " sweep task \"$dir\" {}\n";
   const fs::path script = p->dir / "sweep.sbatch";
-  if (auto e = writeText(script, s.str())) return report(std::move(e));
+  if (auto e = runtime::writeWholeFile(script.string(), s.str())) return report(std::move(e));
   std::printf("%s: %zu array tasks of up to %d runs; submit it with:\n  sbatch %s\nand when it is done:\n  %s sweep "
               "collect %s\n",
               script.c_str(), arrayTasks, c.chunk, shellQuoted(script.string()).c_str(), thisProgram().c_str(),

@@ -1,6 +1,8 @@
 // See CacheFiles.h.
 #include "frontend/CacheFiles.h"
 
+#include "runtime/files/ReplacingFile.h"
+
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Support/BLAKE3.h>
 #include <llvm/Support/FileSystem.h>
@@ -22,16 +24,8 @@
 namespace lcjit::frontend {
 
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
-  llvm::SmallString<256> tmp;
-  int fd = -1;
-  if (llvm::sys::fs::createUniqueFile(path + ".tmp-%%%%%%%%", fd, tmp))
-    return false;
-  llvm::raw_fd_ostream out(fd, /*shouldClose=*/true);
-  out << bytes;
-  out.close();
-  if (out.has_error() || llvm::sys::fs::rename(tmp, path)) {
-    out.clear_error();
-    llvm::sys::fs::remove(tmp);
+  if (llvm::Error e = runtime::writeWholeFile(path, bytes)) {
+    llvm::consumeError(std::move(e));
     return false;
   }
   return true;

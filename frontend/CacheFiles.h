@@ -14,8 +14,8 @@
 
 namespace lcjit::frontend {
 
-// Writes `bytes` to a temporary file beside `path` and renames it into place, so that a reader
-// never sees a partial file; false (and nothing written) on failure.
+// Writes `bytes` as the whole of `path` (runtime/files/ReplacingFile.h): a reader never sees a
+// partial file; false (and nothing written) on failure.
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes);
 
 // Cache files whose contents are loaded and run (object code) carry a SHA-256 of themselves,

@@ -5,6 +5,7 @@
 
 #include <sys/stat.h>
 #include "jit/Elapsed.h"
+#include "runtime/files/ReplacingFile.h"
 
 #include <clang/Basic/Version.h>
 #include <clang/Frontend/CompilerInstance.h>
@@ -154,7 +155,7 @@ void Compiler::Impl::prunePchs(const std::string& built) {
   std::error_code ec;
   for (fs::directory_iterator it(fs::path(built).parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
     std::string other = it->path().filename().string();
-    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && other.find(".tmp-") == std::string::npos)
+    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && !runtime::ReplacingFile::isUnfinished(other))
       same.emplace_back(it->last_write_time(ec), it->path());
   }
   if (same.size() <= kPchsKept)

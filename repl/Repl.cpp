@@ -513,9 +513,7 @@ class Repl {
     } else if (ext == ".strb" || ext == ".bin") {
       if (auto e = engine().writeBinary(path)) return e;
     } else if (ext == ".str" || ext == ".txt") {
-      std::ofstream out(path, std::ios::binary);
-      out << engine().text(engine().string());
-      if (!out) return llvm::createStringError(path + ": error: cannot write file");
+      if (auto e = engine().writeTextFile(path)) return e;
     } else {
       return llvm::createStringError("error: " + path +
                    ": unknown kind of file (.str .strb, .png .jpg .bmp, .obj .ply .stl .gltf .glb .svg .ps .eps .pov)");

@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "runtime/Functions.h"
+#include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
@@ -1241,12 +1242,24 @@ void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
   }
 }
 
+llvm::Error Engine::writeTextFile(const std::string& path) const {
+  ReplacingFile file(path);
+  std::ofstream f(file.writePath(), std::ios::binary);
+  if (!f) return textfile::fail(path, 0, "cannot write file");
+  writeText(string_, f);
+  f.close();
+  if (!f) return textfile::fail(path, 0, "write failed (is the disk full?)");
+  return file.commit();
+}
+
 llvm::Error Engine::writeBinary(const std::string& path) const {
-  std::ofstream f(path, std::ios::binary);
+  ReplacingFile file(path);
+  std::ofstream f(file.writePath(), std::ios::binary);
   if (!f) return textfile::fail(path, 0, "cannot write file");
   f.write(string_.data(), (std::streamsize)string_.size());
-  if (!f) return textfile::fail(path, 0, "write failed");
-  return llvm::Error::success();
+  f.close();
+  if (!f) return textfile::fail(path, 0, "write failed (is the disk full?)");
+  return file.commit();
 }
 
 llvm::Error Engine::readBinary(const std::string& path) {

@@ -5,6 +5,8 @@
 
 #include <llvm/Support/Path.h>
 
+#include "runtime/files/ReplacingFile.h"
+
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
 #include <stb_image_write.h>
@@ -51,12 +53,14 @@ llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, 
     }
     data = rgb.data();
   }
+  runtime::ReplacingFile file(path);  // a viewer re-reading the picture never gets half of it
+  const char* to = file.writePath().c_str();
   int ok = 0;
-  if (png) ok = stbi_write_png(path.c_str(), image.width, image.height, comp, data, image.width * comp);
-  else if (jpg) ok = stbi_write_jpg(path.c_str(), image.width, image.height, comp, data, std::clamp(jpegQuality, 1, 100));
-  else ok = stbi_write_bmp(path.c_str(), image.width, image.height, comp, data);
+  if (png) ok = stbi_write_png(to, image.width, image.height, comp, data, image.width * comp);
+  else if (jpg) ok = stbi_write_jpg(to, image.width, image.height, comp, data, std::clamp(jpegQuality, 1, 100));
+  else ok = stbi_write_bmp(to, image.width, image.height, comp, data);
   if (!ok) return llvm::createStringError("cannot write " + path);
-  return llvm::Error::success();
+  return file.commit();
 }
 
 }  // namespace lcjit::viewer

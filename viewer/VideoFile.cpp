@@ -1,6 +1,8 @@
 // Video files through FFmpeg (see VideoFile.h).
 #include "viewer/VideoFile.h"
 
+#include "runtime/files/ReplacingFile.h"
+
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -98,8 +100,9 @@ struct VideoWriter::Impl {
   int frames = 0;
   bool headerWritten = false, broken = false, finished = false;
   std::vector<uint8_t> padded;
+  runtime::ReplacingFile target;  // put in place by finish(): a player never opens half a video
 
-  Impl(const FFmpeg& f, std::string p, const VideoOptions& o) : ff(f), path(std::move(p)), options(o) {}
+  Impl(const FFmpeg& f, std::string p, const VideoOptions& o) : ff(f), path(std::move(p)), options(o), target(path) {}
   ~Impl() {
     if (scale) ff.sws_freeContext(scale);
     if (packet) ff.av_packet_free(&packet);
@@ -232,8 +235,7 @@ struct VideoWriter::Impl {
     if (!headerWritten) {
       // No frame (or no encoder for the first): no video, rather than a file no player opens.
       ff.avio_closep(&format->pb);
-      std::error_code ignored;
-      std::filesystem::remove(path, ignored);
+      target.abandon();
       return llvm::Error::success();
     }
     // After a failed frame, what was written is closed properly all the same.
@@ -242,7 +244,8 @@ struct VideoWriter::Impl {
       if (int r = ff.av_write_trailer(format); r < 0) e = fail("cannot write the trailer", r);
     if (!e && format->pb->error < 0) e = fail("write failed", format->pb->error);
     if (int r = ff.avio_closep(&format->pb); r < 0 && !e) e = fail("write failed", r);
-    return e;
+    if (e) return e;
+    return target.commit();
   }
 };
 
@@ -271,7 +274,7 @@ llvm::Expected<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::stri
   if (int r = impl->ff.avformat_alloc_output_context2(&impl->format, nullptr, mp4 ? "mp4" : "webm", path.c_str()); r < 0)
     return impl->fail("no ." + ext + " muxer", r);
   // "file:": a name with a colon in it is a file, not an FFmpeg protocol.
-  if (int r = impl->ff.avio_open(&impl->format->pb, ("file:" + path).c_str(), AVIO_FLAG_WRITE); r < 0)
+  if (int r = impl->ff.avio_open(&impl->format->pb, ("file:" + impl->target.writePath()).c_str(), AVIO_FLAG_WRITE); r < 0)
     return impl->fail("cannot create the file", r);
   return std::unique_ptr<VideoWriter>(new VideoWriter(std::move(impl)));
 }

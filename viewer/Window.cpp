@@ -35,6 +35,8 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
+#include "runtime/files/ReplacingFile.h"
+
 namespace lcjit::viewer {
 namespace {
 
@@ -506,12 +508,7 @@ struct Window::Impl {
     }
     if (text == layoutWritten) return;
     layoutWritten = text;
-    std::string temporary = std::string(path) + ".new";
-    if (FILE* f = std::fopen(temporary.c_str(), "w")) {
-      std::fputs(text.c_str(), f);
-      std::fclose(f);
-      std::rename(temporary.c_str(), path);
-    }
+    llvm::consumeError(runtime::writeWholeFile(path, text));  // a test's aid: nothing to say if it fails
   }
   std::string layoutWritten;
   int layoutSettling = 0;  // frames before the layout is written again

@@ -17,15 +17,13 @@ llvm::Error fileError(const std::string& path, const std::string& message) {
 }
 
 FileWriter::~FileWriter() {
-  if (file_) {
-    std::fclose(file_);
-    std::remove(path_.c_str());
-  }
+  if (file_) std::fclose(file_);  // the new file goes with target_; the old one stays
 }
 
 llvm::Error FileWriter::open(const std::string& path, bool binary) {
   path_ = path;
-  file_ = std::fopen(path.c_str(), binary ? "wb" : "w");
+  target_.emplace(path);
+  file_ = std::fopen(target_->writePath().c_str(), binary ? "wb" : "w");
   if (!file_) return fileError(path, std::strerror(errno));
   buf_.reserve(kFlushSize + (1 << 16));
   return llvm::Error::success();
@@ -54,10 +52,10 @@ llvm::Error FileWriter::close() {
   if (std::fclose(file_) != 0 && !errno_) errno_ = errno ? errno : EIO;
   file_ = nullptr;
   if (errno_) {
-    std::remove(path_.c_str());
+    target_.reset();
     return fileError(path_, std::strerror(errno_));
   }
-  return llvm::Error::success();
+  return target_->commit();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "runtime/export/Export.h"
+#include "runtime/files/ReplacingFile.h"
 
 namespace lcjit::runtime::exporting {
 
@@ -39,13 +40,15 @@ class FileWriter {
   void flushIfLarge() {
     if (buf_.size() >= kFlushSize) flush();
   }
-  // Flushes and closes; on failure the partial file is removed and the error names it.
+  // Flushes, closes and puts the file in place (ReplacingFile); on failure, or without close(),
+  // the file there before is left as it was and the error names it.
   llvm::Error close();
 
  private:
   static constexpr size_t kFlushSize = 1 << 22;
   void flush();
   std::string path_;
+  std::optional<ReplacingFile> target_;
   std::FILE* file_ = nullptr;
   fmt::memory_buffer buf_;
   int errno_ = 0;

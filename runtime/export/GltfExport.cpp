@@ -256,28 +256,23 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageWriter(nullptr, nullptr);  // images stay references to the texture files
+  ReplacingFile file(cx.path);
   if (binary) {
-    std::ofstream out(cx.path, std::ios::binary | std::ios::trunc);
+    std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
     if (!out) return fileError(cx.path, std::strerror(errno));
     gltf.WriteGltfSceneToStream(&model, out, false, true);
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(cx.path.c_str());
-      return fileError(cx.path, "write failed");
-    }
-    return llvm::Error::success();
+    out.close();
+    if (!out) return fileError(cx.path, "write failed");
+    return file.commit();
   }
-  {
-    FileWriter probe;  // a clear error for an unwritable path before tinygltf tries
-    if (auto e = probe.open(cx.path)) return e;
-    if (auto e = probe.close()) return e;
-  }
-  if (!gltf.WriteGltfSceneToFile(&model, cx.path, false, false, true, false)) {
-    std::remove(cx.path.c_str());
+  // A clear error for an unwritable path before tinygltf tries.
+  if (std::FILE* probe = std::fopen(file.writePath().c_str(), "w")) std::fclose(probe);
+  else return fileError(cx.path, std::strerror(errno));
+  // The .bin buffer is written beside it under the name its uri gives (above), not the new
+  // file's.
+  if (!gltf.WriteGltfSceneToFile(&model, file.writePath(), false, false, true, false))
     return fileError(cx.path, "tinygltf could not write it or its .bin buffer");
-  }
-  return llvm::Error::success();
+  return file.commit();
 }
 
 }  // namespace lcjit::runtime::exporting

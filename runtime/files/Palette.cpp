@@ -10,6 +10,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 #include <llvm/Support/MemoryBuffer.h>
@@ -191,7 +192,7 @@ void ColormapFile::setColor(int index, std::array<uint8_t, 3> rgb) {
   std::copy(rgb.begin(), rgb.end(), bytes_.begin() + at);
 }
 
-llvm::Error ColormapFile::write(const std::string& path) const { return textfile::writeFileAtomically(path, asString(bytes_)); }
+llvm::Error ColormapFile::write(const std::string& path) const { return writeWholeFile(path, asString(bytes_)); }
 
 llvm::Expected<MaterialFile> MaterialFile::read(const std::string& path) {
   auto bytes = fileBytes(path);
@@ -234,6 +235,6 @@ void MaterialFile::setRecord(int index, const MaterialRecord& record) {
   bytes_.insert(bytes_.end(), record.begin(), record.end());
 }
 
-llvm::Error MaterialFile::write(const std::string& path) const { return textfile::writeFileAtomically(path, asString(bytes_)); }
+llvm::Error MaterialFile::write(const std::string& path) const { return writeWholeFile(path, asString(bytes_)); }
 
 }  // namespace lcjit::runtime

@@ -11,7 +11,6 @@
 
 #include <llvm/Support/Error.h>
 #include <llvm/Support/MemoryBuffer.h>
-#include <llvm/Support/Process.h>
 
 namespace lcjit::runtime::textfile {
 
@@ -32,27 +31,6 @@ inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::s
   auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/text);
   if (!buf) return fail(path, 0, "cannot open file: " + buf.getError().message());
   return std::move(*buf);
-}
-
-// Writes `bytes` to a temporary file beside `path` and renames it over, as vlab's editors save: a
-// reader (a model re-reading it, the file monitor) never sees half a file.
-inline llvm::Error writeFileAtomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".lcjit-" + std::to_string(llvm::sys::Process::getProcessId()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    if (!out.flush()) {
-      std::remove(tmp.c_str());
-      return fail(path, 0, "cannot write file");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    return fail(path, 0, "cannot write file: " + ec.message());
-  }
-  return llvm::Error::success();
 }
 
 // The lines of `text` without their '\n' (and '\r'); no empty last line after a final newline.

@@ -2,6 +2,7 @@
 // decoders (linked here, opened by lcjit only when a video is made): frame count, size, codec,
 // frame rate and the colours of known solid frames; and the errors, each naming the file.
 #include "viewer/VideoFile.h"
+#include "runtime/files/ReplacingFile.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -220,9 +221,19 @@ TEST_F(VideoTest, UnwritablePlaceIsAnErrorAtCreation) {
 TEST_F(VideoTest, NoFramesNoFile) {
   auto video = VideoWriter::create(file("empty.mp4"));
   ASSERT_TRUE(bool(video)) << llvm::toString(video.takeError());
-  EXPECT_TRUE(fs::exists(file("empty.mp4")));  // created at once: an unwritable place fails early
+  // Created at once (an unwritable place fails early) beside its name, which it takes when
+  // finished: a player never opens half a video.
+  auto unfinished = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir))
+      n += lcjit::runtime::ReplacingFile::isUnfinished(e.path().filename().string());
+    return n;
+  };
+  EXPECT_FALSE(fs::exists(file("empty.mp4")));
+  EXPECT_EQ(unfinished(), 1);
   ASSERT_FALSE(bool((*video)->finish()));
   EXPECT_FALSE(fs::exists(file("empty.mp4")));
+  EXPECT_EQ(unfinished(), 0);
 }
 
 TEST_F(VideoTest, DestructorFinishesTheFile) {
