@@ -1,6 +1,8 @@
 // Module buffers, descriptors and the text form of modules (see ModuleString.h).
 #include "runtime/ModuleString.h"
 
+#include "runtime/NumberText.h"
+
 #include <charconv>
 #include <algorithm>
 #include <new>
@@ -24,7 +26,11 @@ void ModuleTable::setUserModules(const __lc_ModuleInfo* mods, uint32_t n) {
   infos_.assign(__lc_stdmods, __lc_stdmods + __lc_FirstUserModule);
   infos_.insert(infos_.end(), mods, mods + n);
   recordSize_.clear();
-  for (auto& m : infos_) recordSize_.push_back(m.recordSize);
+  nameLength_.clear();
+  for (auto& m : infos_) {
+    recordSize_.push_back(m.recordSize);
+    nameLength_.push_back(std::strlen(m.name));
+  }
 }
 
 int ModuleTable::find(const std::string& name) const {
@@ -37,12 +43,10 @@ namespace {
 
 template <class T> void number(std::string& out, T v, int precision = 0) {
   char buf[64];
-  std::to_chars_result r;
   if constexpr (std::is_floating_point_v<T>)
-    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, precision);
+    out.append(buf, printfG(buf, v, precision));
   else
-    r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+    out.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
 }
 
 template <class T> T get(const char* p) {
@@ -102,8 +106,9 @@ void field(std::string& out, const __lc_Field& f, const char* p) {
 void ModuleTable::formatField(const __lc_Field& f, const char* rec, std::string& out) { field(out, f, rec + f.offset); }
 
 void ModuleTable::format(const char* rec, std::string& out) const {
-  const __lc_ModuleInfo& m = infos_[idAt(rec)];
-  out += m.name;
+  const __lc_ModuleId id = idAt(rec);
+  const __lc_ModuleInfo& m = infos_[id];
+  out.append(m.name, nameLength_[id]);
   if (m.nFields == 0) return;
   out += '(';
   for (uint32_t i = 0; i < m.nFields; ++i) {

@@ -78,6 +78,7 @@ class ModuleTable {
  private:
   std::vector<__lc_ModuleInfo> infos_;
   std::vector<uint32_t> recordSize_;
+  std::vector<size_t> nameLength_;  // format() appends names without a strlen each
 };
 
 }  // namespace lcjit::runtime

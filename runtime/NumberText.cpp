@@ -1,0 +1,147 @@
+// printf's %.*g without printf (see NumberText.h).
+#include "runtime/NumberText.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace lcjit::runtime {
+
+namespace {
+
+using u128 = unsigned __int128;
+
+// 10^n for n <= 38 (10^38 < 2^128).
+struct Powers {
+  u128 of10[39];
+  constexpr Powers() : of10() {
+    of10[0] = 1;
+    for (int i = 1; i < 39; ++i) of10[i] = of10[i - 1] * 10;
+  }
+};
+constexpr Powers kPowers;
+u128 pow10(int n) { return kPowers.of10[n]; }
+
+// a * 2^n, false if it does not fit.
+bool shifted(u128 a, int n, u128& out) {
+  if (n >= 128 || (n > 0 && (a >> (127 - n)) != 0)) return false;
+  out = a << n;
+  return true;
+}
+
+// m * 2^e * 10^p as its whole part `out` and whether rounding it (ties to even: printf rounds the
+// exact binary value) goes up, when every intermediate fits in 128 bits.
+bool scaled(uint64_t m, int e, int p, u128& out, bool& up) {
+  if (p > 38 || p < -38) return false;
+  u128 num = m, den = 1;
+  if (p >= 0 && __builtin_mul_overflow(num, pow10(p), &num)) return false;
+  if (p < 0) den = pow10(-p);
+  if (e >= 0 && !shifted(num, e, num)) return false;
+  if (e < 0 && p >= 0) {  // the usual case: a division by 2^-e, as a shift
+    const int s = -e;
+    if (s >= 128) return false;
+    const u128 q = num >> s, r = num - (q << s), half = u128(1) << (s - 1);
+    out = q;
+    up = r > half || (r == half && (q & 1));
+    return true;
+  }
+  if (e < 0 && !shifted(den, -e, den)) return false;
+  u128 q = num / den, r = num % den;
+  // r compared with den / 2 without overflowing: 2r > den, or == with q odd, rounds up.
+  out = q;
+  up = r > den - r || (r == den - r && (q & 1));
+  return true;
+}
+
+template <class T> char* fallback(char* out, T v, int precision) {
+  return std::to_chars(out, out + 32, v, std::chars_format::general, precision).ptr;
+}
+
+// m·2^e (m > 0) as %.Pg; nullptr where the exact digits do not fit in 128 bits.
+char* formatExact(char* out, bool negative, uint64_t m, int e, double approx, int P) {
+  // The decimal exponent X of the value is floor(log10(v)): v·10^(P-1-X) has P digits before the
+  // point. The estimate from log10 may be one off near a power of ten: fixed by the exact digits.
+  // Then the rounding, which may carry into one digit more (9.9999999996 -> 10.0000000).
+  int X = (int)std::floor(std::log10(approx));
+  const u128 low = pow10(P - 1), high = pow10(P);
+  u128 digits = 0;
+  bool up = false;
+  for (int tries = 0;; ++tries) {
+    if (tries == 3 || !scaled(m, e, P - 1 - X, digits, up)) return nullptr;
+    if (digits >= high) ++X;
+    else if (digits < low) --X;
+    else break;
+  }
+  if (up && ++digits == high) digits = low, ++X;
+  char d[20];
+  int n = 0;
+  for (uint64_t t = uint64_t(digits); n < P; t /= 10) d[P - 1 - n++] = char('0' + int(t % 10));  // < 10^17
+  while (n > 1 && d[n - 1] == '0') --n;  // %g drops the trailing zeros
+  char* o = out;
+  if (negative) *o++ = '-';
+  if (X < -4 || X >= P) {
+    *o++ = d[0];
+    if (n > 1) {
+      *o++ = '.';
+      std::memcpy(o, d + 1, n - 1);
+      o += n - 1;
+    }
+    *o++ = 'e';
+    *o++ = X < 0 ? '-' : '+';
+    int a = X < 0 ? -X : X;
+    if (a >= 100) *o++ = char('0' + a / 100);
+    *o++ = char('0' + a / 10 % 10);
+    *o++ = char('0' + a % 10);
+  } else if (X >= 0) {
+    for (int i = 0; i <= X; ++i) *o++ = i < n ? d[i] : '0';
+    if (n > X + 1) {
+      *o++ = '.';
+      std::memcpy(o, d + X + 1, n - X - 1);
+      o += n - X - 1;
+    }
+  } else {
+    *o++ = '0';
+    *o++ = '.';
+    for (int i = 0; i < -X - 1; ++i) *o++ = '0';
+    std::memcpy(o, d, n);
+    o += n;
+  }
+  return o;
+}
+
+}  // namespace
+
+static char* zero(char* out, bool negative) {
+  if (negative) *out++ = '-';
+  *out++ = '0';
+  return out;
+}
+
+char* printfG(char* out, double v, int precision) {
+  if (v == 0 && precision >= 1) return zero(out, std::signbit(v));
+  if (!std::isfinite(v) || precision < 1 || precision > 17) return fallback(out, v, precision);
+  uint64_t bits;
+  std::memcpy(&bits, &v, 8);
+  int be = int(bits >> 52 & 0x7ff);
+  uint64_t m = bits & ((uint64_t(1) << 52) - 1);
+  if (be == 0) return fallback(out, v, precision);  // subnormal
+  m |= uint64_t(1) << 52;
+  char* end = formatExact(out, v < 0, m, be - 1075, std::fabs(v), precision);
+  return end ? end : fallback(out, v, precision);
+}
+
+char* printfG(char* out, float v, int precision) {
+  if (v == 0 && precision >= 1) return zero(out, std::signbit(v));
+  if (!std::isfinite(v) || precision < 1 || precision > 17) return fallback(out, v, precision);
+  uint32_t bits;
+  std::memcpy(&bits, &v, 4);
+  int be = int(bits >> 23 & 0xff);
+  uint64_t m = bits & ((uint32_t(1) << 23) - 1);
+  if (be == 0) return fallback(out, v, precision);  // subnormal
+  m |= uint64_t(1) << 23;
+  char* end = formatExact(out, v < 0, m, be - 150, std::fabs(double(v)), precision);
+  return end ? end : fallback(out, v, precision);
+}
+
+}  // namespace lcjit::runtime
