@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace lcjit::runtime {
 
@@ -110,38 +111,25 @@ char* formatExact(char* out, bool negative, uint64_t m, int e, double approx, in
   return o;
 }
 
+// A finite, normal, non-zero v as m·2^e (std::frexp's fraction as an integer), then as above.
+template <class T> char* format(char* out, T v, int precision) {
+  if (v == 0 && precision >= 1) {
+    if (std::signbit(v)) *out++ = '-';
+    *out++ = '0';
+    return out;
+  }
+  if (!std::isfinite(v) || std::fpclassify(v) == FP_SUBNORMAL || precision < 1 || precision > 17)
+    return fallback(out, v, precision);
+  constexpr int digits = std::numeric_limits<T>::digits;  // 24, 53: the mantissa with its leading 1
+  int e = 0;
+  const uint64_t m = uint64_t(std::ldexp(std::fabs(std::frexp(v, &e)), digits));  // exact
+  char* end = formatExact(out, v < 0, m, e - digits, std::fabs(double(v)), precision);
+  return end ? end : fallback(out, v, precision);
+}
+
 }  // namespace
 
-static char* zero(char* out, bool negative) {
-  if (negative) *out++ = '-';
-  *out++ = '0';
-  return out;
-}
-
-char* printfG(char* out, double v, int precision) {
-  if (v == 0 && precision >= 1) return zero(out, std::signbit(v));
-  if (!std::isfinite(v) || precision < 1 || precision > 17) return fallback(out, v, precision);
-  uint64_t bits;
-  std::memcpy(&bits, &v, 8);
-  int be = int(bits >> 52 & 0x7ff);
-  uint64_t m = bits & ((uint64_t(1) << 52) - 1);
-  if (be == 0) return fallback(out, v, precision);  // subnormal
-  m |= uint64_t(1) << 52;
-  char* end = formatExact(out, v < 0, m, be - 1075, std::fabs(v), precision);
-  return end ? end : fallback(out, v, precision);
-}
-
-char* printfG(char* out, float v, int precision) {
-  if (v == 0 && precision >= 1) return zero(out, std::signbit(v));
-  if (!std::isfinite(v) || precision < 1 || precision > 17) return fallback(out, v, precision);
-  uint32_t bits;
-  std::memcpy(&bits, &v, 4);
-  int be = int(bits >> 23 & 0xff);
-  uint64_t m = bits & ((uint32_t(1) << 23) - 1);
-  if (be == 0) return fallback(out, v, precision);  // subnormal
-  m |= uint64_t(1) << 23;
-  char* end = formatExact(out, v < 0, m, be - 150, std::fabs(double(v)), precision);
-  return end ? end : fallback(out, v, precision);
-}
+char* printfG(char* out, double v, int precision) { return format(out, v, precision); }
+char* printfG(char* out, float v, int precision) { return format(out, v, precision); }
 
 }  // namespace lcjit::runtime
