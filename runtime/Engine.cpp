@@ -10,11 +10,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <condition_variable>
 #include <cstring>
 #include <fstream>
-#include <mutex>
-#include <thread>
 
 #include "runtime/Functions.h"
 #include "runtime/files/ReplacingFile.h"
@@ -1237,82 +1234,12 @@ std::string Engine::text(const ModuleBuffer& str) const {
 }
 
 void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
-  // Formatting the numbers is most of the work (~40 ns each): a long string is cut into pieces
-  // of kPiece modules at module boundaries (one walk, ~2 ns a module), formatted on every core,
-  // and written in order as each piece is ready; at most kAhead pieces wait to be written.
-  constexpr size_t kPiece = 1 << 17, kAhead = 8;
-  const unsigned cores = std::min(std::thread::hardware_concurrency(), 8u);
-  std::vector<size_t> cuts{0};
-  if (cores > 1 && str.size() > kPiece * 8) {
-    size_t count = 0;
-    for (size_t p = 0; p < str.size(); p = modules_.next(str.data(), p))
-      if (++count % kPiece == 0) cuts.push_back(p);
+  ChunkedText chunks(out);
+  for (size_t p = 0; p < str.size() && out; p = modules_.next(str.data(), p)) {
+    modules_.format(str.data() + p, chunks.text);
+    chunks.text += '\n';
+    chunks.spill();
   }
-  if (cuts.size() < 3) {
-    ChunkedText chunks(out);
-    for (size_t p = 0; p < str.size() && out; p = modules_.next(str.data(), p)) {
-      modules_.format(str.data() + p, chunks.text);
-      chunks.text += '\n';
-      chunks.spill();
-    }
-    return;
-  }
-  cuts.push_back(str.size());
-  const size_t pieces = cuts.size() - 1;
-  std::vector<std::string> texts(pieces);
-  std::vector<char> ready(pieces, 0);
-  std::mutex m;
-  std::condition_variable changed;
-  size_t written = 0, next = 0;
-  bool stop = false;    // the stream failed: the pieces not started are not made
-  bool failed = false;  // a piece could not be made (out of memory): the stream is marked bad
-  auto work = [&] {
-    for (;;) {
-      size_t k;
-      {
-        std::unique_lock lock(m);
-        changed.wait(lock, [&] { return stop || next >= pieces || next < written + kAhead; });
-        if (stop || next >= pieces) return;
-        k = next++;
-      }
-      std::string& text = texts[k];
-      bool made = true;
-      try {
-        text.reserve(cuts[k + 1] - cuts[k]);  // about the text's size
-        for (size_t p = cuts[k]; p < cuts[k + 1]; p = modules_.next(str.data(), p)) {
-          modules_.format(str.data() + p, text);
-          text += '\n';
-        }
-      } catch (const std::bad_alloc&) {
-        made = false;
-      }
-      std::lock_guard lock(m);
-      ready[k] = 1;
-      failed |= !made;
-      stop |= !made;
-      changed.notify_all();
-    }
-  };
-  std::vector<std::thread> workers;
-  for (unsigned i = 0; i < cores; ++i) workers.emplace_back(work);
-  for (size_t k = 0; k < pieces; ++k) {
-    {
-      std::unique_lock lock(m);
-      changed.wait(lock, [&] { return ready[k] != 0; });
-      if (failed) {
-        out.setstate(std::ios::badbit);
-        break;
-      }
-    }
-    out.write(texts[k].data(), (std::streamsize)texts[k].size());
-    std::string().swap(texts[k]);
-    std::lock_guard lock(m);
-    written = k + 1;
-    stop = stop || !out;
-    changed.notify_all();
-    if (stop) break;
-  }
-  for (std::thread& t : workers) t.join();
 }
 
 llvm::Error Engine::writeTextFile(const std::string& path) const {

@@ -4,8 +4,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <type_traits>
 
 namespace lcjit::runtime {
 
@@ -24,6 +27,23 @@ struct Powers {
 constexpr Powers kPowers;
 u128 pow10(int n) { return kPowers.of10[n]; }
 
+constexpr char kTwoDigits[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+// 10^n as doubles (nearest), n from -kDoublePowersBelow to 308: where X's estimate is checked.
+constexpr int kDoublePowersBelow = 323;
+struct DoublePowers {
+  double of10[323 + 309];
+  DoublePowers() {
+    for (int n = -kDoublePowersBelow; n <= 308; ++n)
+      of10[n + kDoublePowersBelow] = std::strtod(("1e" + std::to_string(n)).c_str(), nullptr);
+  }
+};
+const DoublePowers kDoublePowersTable;
+const double* const kDoublePowers = kDoublePowersTable.of10;
+
 // a * 2^n, false if it does not fit.
 bool shifted(u128 a, int n, u128& out) {
   if (n >= 128 || (n > 0 && (a >> (127 - n)) != 0)) return false;
@@ -36,7 +56,8 @@ bool shifted(u128 a, int n, u128& out) {
 bool scaled(uint64_t m, int e, int p, u128& out, bool& up) {
   if (p > 38 || p < -38) return false;
   u128 num = m, den = 1;
-  if (p >= 0 && __builtin_mul_overflow(num, pow10(p), &num)) return false;
+  if (p >= 0 && p <= 19) num = u128(m) * uint64_t(pow10(p));  // m < 2^53, 10^19 < 2^64: fits
+  else if (p > 19 && __builtin_mul_overflow(num, pow10(p), &num)) return false;
   if (p < 0) den = pow10(-p);
   if (e >= 0 && !shifted(num, e, num)) return false;
   if (e < 0 && p >= 0) {  // the usual case: a division by 2^-e, as a shift
@@ -60,11 +81,13 @@ template <class T> char* fallback(char* out, T v, int precision) {
 }
 
 // m·2^e (m > 0) as %.Pg; nullptr where the exact digits do not fit in 128 bits.
-char* formatExact(char* out, bool negative, uint64_t m, int e, double approx, int P) {
+char* formatExact(char* out, bool negative, uint64_t m, int e, int log2, double approx, int P) {
   // The decimal exponent X of the value is floor(log10(v)): v·10^(P-1-X) has P digits before the
-  // point. The estimate from log10 may be one off near a power of ten: fixed by the exact digits.
-  // Then the rounding, which may carry into one digit more (9.9999999996 -> 10.0000000).
-  int X = (int)std::floor(std::log10(approx));
+  // point. Estimated from the binary exponent (floor(log2(v)) · log10(2), then one more where v
+  // reaches the next power of ten), it may be one off right at a power of ten: fixed by the
+  // exact digits. Then the rounding, which may carry into one digit more (9.99999999996 -> 10).
+  int X = (log2 * 78913) >> 18;  // floor(log2 · log10(2)) for |log2| < 1700 (>> floors)
+  if (X + 1 >= -kDoublePowersBelow && X + 1 <= 308 && approx >= kDoublePowers[X + 1 + kDoublePowersBelow]) ++X;
   const u128 low = pow10(P - 1), high = pow10(P);
   u128 digits = 0;
   bool up = false;
@@ -76,8 +99,11 @@ char* formatExact(char* out, bool negative, uint64_t m, int e, double approx, in
   }
   if (up && ++digits == high) digits = low, ++X;
   char d[20];
-  int n = 0;
-  for (uint64_t t = uint64_t(digits); n < P; t /= 10) d[P - 1 - n++] = char('0' + int(t % 10));  // < 10^17
+  uint64_t t = uint64_t(digits);  // < 10^17
+  int i = P;
+  for (; i >= 2; t /= 100) std::memcpy(d + (i -= 2), kTwoDigits + 2 * (t % 100), 2);
+  if (i == 1) d[0] = char('0' + t);
+  int n = P;
   while (n > 1 && d[n - 1] == '0') --n;  // %g drops the trailing zeros
   char* o = out;
   if (negative) *o++ = '-';
@@ -111,7 +137,8 @@ char* formatExact(char* out, bool negative, uint64_t m, int e, double approx, in
   return o;
 }
 
-// A finite, normal, non-zero v as m·2^e (std::frexp's fraction as an integer), then as above.
+// A finite, normal, non-zero v as m·2^e (its bits: the stored mantissa with the leading 1), then
+// as above.
 template <class T> char* format(char* out, T v, int precision) {
   if (v == 0 && precision >= 1) {
     if (std::signbit(v)) *out++ = '-';
@@ -121,9 +148,14 @@ template <class T> char* format(char* out, T v, int precision) {
   if (!std::isfinite(v) || std::fpclassify(v) == FP_SUBNORMAL || precision < 1 || precision > 17)
     return fallback(out, v, precision);
   constexpr int digits = std::numeric_limits<T>::digits;  // 24, 53: the mantissa with its leading 1
-  int e = 0;
-  const uint64_t m = uint64_t(std::ldexp(std::fabs(std::frexp(v, &e)), digits));  // exact
-  char* end = formatExact(out, v < 0, m, e - digits, std::fabs(double(v)), precision);
+  using Bits = std::conditional_t<sizeof(T) == 8, uint64_t, uint32_t>;
+  Bits bits;
+  std::memcpy(&bits, &v, sizeof v);
+  constexpr int stored = digits - 1, bias = std::numeric_limits<T>::max_exponent - 1 + stored;
+  const int biased = int((bits >> stored) & ((Bits(1) << (sizeof(T) * 8 - 1 - stored)) - 1));
+  const uint64_t m = (uint64_t(bits) & ((uint64_t(1) << stored) - 1)) | (uint64_t(1) << stored);
+  const int e = biased - bias;  // v = m·2^e, m with its leading 1 at bit `stored`
+  char* end = formatExact(out, v < 0, m, e, e + stored, std::fabs(double(v)), precision);
   return end ? end : fallback(out, v, precision);
 }
 

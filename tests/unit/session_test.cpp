@@ -221,9 +221,8 @@ void expectStreamedAsWhole(const std::string& whole, const std::function<void(st
   EXPECT_EQ(streamed.str(), whole);
 }
 
-// `-out x.str` writes the text as it is formatted, a megabyte at a time, a long string's pieces
-// formatted on every core: the modules one by one, in order, across the pieces' edges (450 000
-// modules: three pieces and a part).
+// `-out x.str` writes the text as it is formatted, a megabyte at a time: the modules one by one,
+// in order, across the chunks' edges.
 TEST(EngineText, WrittenAsFormattedIsTheWholeText) {
   ScratchModel m("text", "#include <lpfgall.h>\nderivation length: 1;\nmodule A(int, float);\nmodule B;\n"
                          "axiom: B;\n"
