@@ -79,15 +79,9 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
 // added to `interpretMs`.
 llvm::Error writeInterpretation(runtime::Engine& engine, const std::string& path, double& interpretMs) {
   auto t0 = Clock::now();
-  runtime::ReplacingFile file(path);
-  std::ofstream f(file.writePath(), std::ios::binary);
-  if (!f) return runtime::textfile::fail(path, 0, "cannot write file");
-  llvm::Error e = engine.writeTurtleText(f);
-  f.close();
+  llvm::Error e = runtime::writeWholeFile(path, [&](std::ostream& out) { return engine.writeTurtleText(out); });
   interpretMs += jit::msSince(t0);
-  if (e) return e;
-  if (!f) return runtime::textfile::fail(path, 0, "write failed (is the disk full?)");
-  return file.commit();
+  return e;
 }
 
 // What a batch of file changes re-reads (§1.3's actions, merged); nothing for the animation or

@@ -1243,23 +1243,14 @@ void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
 }
 
 llvm::Error Engine::writeTextFile(const std::string& path) const {
-  ReplacingFile file(path);
-  std::ofstream f(file.writePath(), std::ios::binary);
-  if (!f) return textfile::fail(path, 0, "cannot write file");
-  writeText(string_, f);
-  f.close();
-  if (!f) return textfile::fail(path, 0, "write failed (is the disk full?)");
-  return file.commit();
+  return writeWholeFile(path, [&](std::ostream& out) {
+    writeText(string_, out);
+    return llvm::Error::success();
+  });
 }
 
 llvm::Error Engine::writeBinary(const std::string& path) const {
-  ReplacingFile file(path);
-  std::ofstream f(file.writePath(), std::ios::binary);
-  if (!f) return textfile::fail(path, 0, "cannot write file");
-  f.write(string_.data(), (std::streamsize)string_.size());
-  f.close();
-  if (!f) return textfile::fail(path, 0, "write failed (is the disk full?)");
-  return file.commit();
+  return writeWholeFile(path, llvm::StringRef(string_.data(), string_.size()));
 }
 
 llvm::Error Engine::readBinary(const std::string& path) {

@@ -4,10 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <string>
 #include <type_traits>
 
 namespace lcjit::runtime {
@@ -32,17 +30,20 @@ constexpr char kTwoDigits[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-// 10^n as doubles (nearest), n from -kDoublePowersBelow to 308: where X's estimate is checked.
+// 10^n as doubles, n from -kDoublePowersBelow to 308, where X's estimate is checked; made at
+// compile time by repeated multiplication, so a few ulps off, which only costs the exact check
+// below a second try.
 constexpr int kDoublePowersBelow = 323;
 struct DoublePowers {
   double of10[323 + 309];
-  DoublePowers() {
-    for (int n = -kDoublePowersBelow; n <= 308; ++n)
-      of10[n + kDoublePowersBelow] = std::strtod(("1e" + std::to_string(n)).c_str(), nullptr);
+  constexpr DoublePowers() : of10() {
+    of10[kDoublePowersBelow] = 1;
+    for (int n = 1; n <= 308; ++n) of10[kDoublePowersBelow + n] = of10[kDoublePowersBelow + n - 1] * 10;
+    for (int n = 1; n <= kDoublePowersBelow; ++n) of10[kDoublePowersBelow - n] = of10[kDoublePowersBelow - n + 1] / 10;
   }
 };
-const DoublePowers kDoublePowersTable;
-const double* const kDoublePowers = kDoublePowersTable.of10;
+constexpr DoublePowers kDoublePowersTable;
+constexpr const double* kDoublePowers = kDoublePowersTable.of10;
 
 // a * 2^n, false if it does not fit.
 bool shifted(u128 a, int n, u128& out) {

@@ -21,7 +21,6 @@ FileWriter::~FileWriter() {
 }
 
 llvm::Error FileWriter::open(const std::string& path, bool binary) {
-  path_ = path;
   target_.emplace(path);
   file_ = std::fopen(target_->writePath().c_str(), binary ? "wb" : "w");
   if (!file_) return fileError(path, std::strerror(errno));
@@ -52,8 +51,9 @@ llvm::Error FileWriter::close() {
   if (std::fclose(file_) != 0 && !errno_) errno_ = errno ? errno : EIO;
   file_ = nullptr;
   if (errno_) {
-    target_.reset();
-    return fileError(path_, std::strerror(errno_));
+    llvm::Error e = fileError(target_->path(), std::strerror(errno_));
+    target_.reset();  // the new file removed, the old one kept
+    return e;
   }
   return target_->commit();
 }

@@ -47,7 +47,6 @@ class FileWriter {
  private:
   static constexpr size_t kFlushSize = 1 << 22;
   void flush();
-  std::string path_;
   std::optional<ReplacingFile> target_;
   std::FILE* file_ = nullptr;
   fmt::memory_buffer buf_;

@@ -256,15 +256,12 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageWriter(nullptr, nullptr);  // images stay references to the texture files
+  if (binary)
+    return writeWholeFile(cx.path, [&](std::ostream& out) {
+      gltf.WriteGltfSceneToStream(&model, out, false, true);
+      return llvm::Error::success();
+    });
   ReplacingFile file(cx.path);
-  if (binary) {
-    std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
-    if (!out) return fileError(cx.path, std::strerror(errno));
-    gltf.WriteGltfSceneToStream(&model, out, false, true);
-    out.close();
-    if (!out) return fileError(cx.path, "write failed");
-    return file.commit();
-  }
   // A clear error for an unwritable path before tinygltf tries.
   if (std::FILE* probe = std::fopen(file.writePath().c_str(), "w")) std::fclose(probe);
   else return fileError(cx.path, std::strerror(errno));

@@ -1,11 +1,13 @@
 // ReplacingFile (see the header): a unique hidden name beside the target, renamed over it.
 #include "runtime/files/ReplacingFile.h"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/Process.h>
-#include <llvm/Support/raw_ostream.h>
 
 namespace lcjit::runtime {
 
@@ -70,21 +72,21 @@ void ReplacingFile::removeUnfinished(const std::string& path) {
     if (it->path().filename().string().rfind(prefix, 0) == 0) fs::remove(it->path(), ec);
 }
 
-llvm::Error writeWholeFile(const std::string& path, llvm::StringRef bytes) {
+llvm::Error writeWholeFile(const std::string& path, llvm::function_ref<llvm::Error(std::ostream&)> write) {
   ReplacingFile file(path);
-  {
-    std::error_code ec;
-    llvm::raw_fd_ostream out(file.writePath(), ec);
-    if (ec) return cannotWrite(path, ec.message());
-    out << bytes;
-    out.close();
-    if (out.has_error()) {
-      std::string why = out.error().message();
-      out.clear_error();
-      return cannotWrite(path, why);
-    }
-  }
+  std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
+  if (!out) return cannotWrite(path, std::strerror(errno));
+  if (llvm::Error e = write(out)) return e;
+  out.close();
+  if (!out) return cannotWrite(path, "the write failed (is the disk full?)");
   return file.commit();
+}
+
+llvm::Error writeWholeFile(const std::string& path, llvm::StringRef bytes) {
+  return writeWholeFile(path, [&](std::ostream& out) {
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    return llvm::Error::success();
+  });
 }
 
 }  // namespace lcjit::runtime

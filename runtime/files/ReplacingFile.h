@@ -3,8 +3,10 @@
 // complete. A reader (an image viewer, the file monitor, `sweep collect`, another lcjit sharing the
 // cache) never sees half a file, and a write that fails leaves the last good one in place.
 #pragma once
+#include <ostream>
 #include <string>
 
+#include <llvm/ADT/STLFunctionalExtras.h>
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
@@ -43,7 +45,11 @@ class ReplacingFile {
   std::string path_, temporary_;  // temporary_ empty: written in place
 };
 
-// `bytes` as the whole of `path`, through a ReplacingFile.
+// What `write` streams, as the whole of `path`, through a ReplacingFile. Errors: write's own, or
+// "PATH: error: cannot write file[: WHY]" when the file cannot be made or the stream fails (a
+// full disk).
+llvm::Error writeWholeFile(const std::string& path, llvm::function_ref<llvm::Error(std::ostream&)> write);
+// `bytes` as the whole of `path`.
 llvm::Error writeWholeFile(const std::string& path, llvm::StringRef bytes);
 
 }  // namespace lcjit::runtime
