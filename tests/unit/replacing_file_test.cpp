@@ -71,6 +71,25 @@ TEST_F(ReplacingFileTest, AWriteNotCommittedLeavesTheOldFileAndNoOther) {
   EXPECT_EQ(names(), std::vector<std::string>{"plant.png"});
 }
 
+// A streamed write whose writer fails halfway (the turtle text's error, an encoder's): its error,
+// the last good file, nothing beside it.
+TEST_F(ReplacingFileTest, AStreamedWriteThatFailsKeepsTheLastGoodFile) {
+  ASSERT_FALSE(writeWholeFile(path("plant.str"), "A(1)\n"));
+  llvm::Error e = writeWholeFile(path("plant.str"), [](std::ostream& out) {
+    out << "A(2)\nB(";
+    return llvm::createStringError("plant.l:3: error: the writer stopped");
+  });
+  ASSERT_TRUE(bool(e));
+  EXPECT_EQ(llvm::toString(std::move(e)), "plant.l:3: error: the writer stopped");
+  EXPECT_EQ(read(path("plant.str")), "A(1)\n");
+  EXPECT_EQ(names(), std::vector<std::string>{"plant.str"});
+  ASSERT_FALSE(writeWholeFile(path("plant.str"), [](std::ostream& out) {
+    out << "A(2)\n";
+    return llvm::Error::success();
+  }));
+  EXPECT_EQ(read(path("plant.str")), "A(2)\n");
+}
+
 // What a writer killed before commit() leaves: removed by name, the target and others kept.
 TEST_F(ReplacingFileTest, UnfinishedFilesOfATargetAreRemoved) {
   ASSERT_FALSE(writeWholeFile(path("tree.str"), "good"));
