@@ -191,6 +191,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_option("--max-file-size", sandboxLimits.fileSize,
                  "--sandbox: the largest file one run may write (bytes, or 500M, 1G; default 1G)")
       ->transform(CLI::AsSizeValue(false));
+  app.add_option("--max-threads", sandboxLimits.threads,
+                 "--sandbox: the threads one run may have (its cgroup's pids.max where it has one; default 512)")
+      ->check(CLI::Range(uint64_t(16), uint64_t(1) << 20));
   app.add_option("--sandboxed", reportFd, "")->group("");  // the child's side of --sandbox
   int replyFd = -1, toStep = -1;  // a sandboxed window's child (SandboxWindow.h)
   app.add_option("--reply-fd", replyFd, "")->group("");
@@ -434,7 +437,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
       }
     // The sandbox binds paths as they are: the child names them the same way, links resolved.
     auto resolved = [](const std::string& p) { return fs::weakly_canonical(fs::absolute(p)).string(); };
-    if (!bo.out.empty()) plan.outputFile = bo.out = resolved(bo.out);
+    if (!bo.out.empty()) {
+      if (auto e = lcjit::app::checkSandboxOutput(bo.out, plan.modelFolder)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
+      plan.outputFile = bo.out = resolved(bo.out);
+    }
     std::vector<std::string> resolvedInputs;
     for (const std::string& in : inputs) resolvedInputs.push_back(resolved(in));
     plan.readable = resolvedInputs;
@@ -446,20 +455,30 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
           if (!dir.empty()) folders.push_back(fs::absolute(dir).lexically_normal().string());
       }
     for (const std::string& dir : folders) {
+      if (auto e = lcjit::app::checkSandboxInput(dir, plan.modelFolder, true)) {
+        std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+        return 1;
+      }
       if (auto e = lcjit::app::checkSandboxFolder(dir, "the include folder", false)) {
         std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
         return 1;
       }
-      plan.readable.push_back(dir);
+      plan.readable.push_back(resolved(dir));
     }
+    // The child works in the model's folder: it gets -I as the sandbox shows them, resolved.
+    std::vector<std::string> childIncludeDirs;
+    for (const std::string& dir : includeDirs) childIncludeDirs.push_back(resolved(dir));
     limits.maxModules = maxModules;
     limits.maxMemory = maxMemory;
     // Address space, not resident memory: the compiler and the threads reserve more than they
     // use; --max-memory (resident) is the child's guard's, with its messages.
     sandboxLimits.memory = maxMemory + (uint64_t(2) << 30);
+    // All it holds, counted by the kernel where the run has a cgroup: --max-memory and the
+    // compiler's room (a compile's peak is some 200 MB).
+    sandboxLimits.heldMemory = maxMemory + (uint64_t(1) << 30);
     plan.limits = sandboxLimits;
     plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
-                          environmentTimeout, limits, includeDirs, lab, overrides, seed);
+                          environmentTimeout, limits, childIncludeDirs, lab, overrides, seed);
 #if LCJIT_HAVE_WINDOW
     if (window) {
       plan.replyLimit = maxMemory;  // the picture is held as the child held it
@@ -479,6 +498,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return lcjit::app::runSandboxedBatch(plan);
   }
   if (reportFd >= 0) {
+    lcjit::app::endOnSignals();
     // In the sandbox: caches in the model's folder, the only place this process may write and
     // one that no other model's run shares (docs/security.md).
     for (const std::string& in : inputs)
@@ -555,7 +575,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     std::fputs((*session)->generatedCpp().c_str(), stdout);
   }
   llvm::Error loaded = (*session)->load(*files, bo.optLevel, times);
-  if (reportFd >= 0) std::signal(SIGXFSZ, SIG_DFL);
+  if (reportFd >= 0) lcjit::app::endOnSignals(SIGXFSZ);
   if (reportFd >= 0) {  // what the parent's --watch watches
     const lcjit::runtime::DrawingFiles none;
     for (const std::string& f : lcjit::app::watchedFiles(*files, (*session)->loaded() ? (*session)->drawing() : none))
