@@ -477,6 +477,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // compiler's room (a compile's peak is some 200 MB).
     sandboxLimits.heldMemory = maxMemory + (uint64_t(1) << 30);
     plan.limits = sandboxLimits;
+    if (bo.verbose) {
+      const std::string& noCgroup = lcjit::app::sandboxCgroupUnavailable();
+      std::fprintf(stderr, "lcjit: --sandbox: %s\n",
+                   noCgroup.empty() ? "each run has a cgroup of its own (memory held, threads)"
+                                    : ("no cgroup for a run (" + noCgroup + "): memory is bounded by the address space "
+                                       "and the seccomp filter, threads by RLIMIT_NPROC (docs/security.md)").c_str());
+    }
     plan.args = childArgs(resolvedInputs, bo, app.count("-O") > 0, winSize, compileOnly, emitCpp, cleanEA,
                           environmentTimeout, limits, childIncludeDirs, lab, overrides, seed);
 #if LCJIT_HAVE_WINDOW

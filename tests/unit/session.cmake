@@ -14,3 +14,9 @@ if(LCJIT_WITH_WINDOW)
   target_link_libraries(lcjit_parameters_test PRIVATE lcjit_session GTest::gtest_main)
   add_test(NAME parameters_test COMMAND lcjit_parameters_test)
 endif()
+
+# A sandboxed run's cgroup (app/SandboxCgroup.h): memory outside the address space counted, tasks
+# bounded, every process killed. Skipped where no cgroup can be made.
+add_executable(lcjit_sandbox_cgroup_test ${CMAKE_CURRENT_LIST_DIR}/sandbox_cgroup_test.cpp)
+target_link_libraries(lcjit_sandbox_cgroup_test PRIVATE lcjit_session GTest::gtest_main)
+add_test(NAME sandbox_cgroup_test COMMAND lcjit_sandbox_cgroup_test)
