@@ -94,6 +94,12 @@ constexpr Refused kRefused[] = {
     {__NR_io_uring_setup, ENOSYS}, {__NR_io_uring_enter, ENOSYS}, {__NR_io_uring_register, ENOSYS},
     {__NR_userfaultfd, EPERM}, {__NR_bpf, EPERM}, {__NR_perf_event_open, EPERM},
     {__NR_add_key, EPERM}, {__NR_request_key, EPERM}, {__NR_keyctl, EPERM},
+    // Counted against the user's limits outside the sandbox too (128 inotify instances a user):
+    // the parent watches the files, the child has no use for them.
+#if defined(__x86_64__)
+    {__NR_inotify_init, EPERM},
+#endif
+    {__NR_inotify_init1, EPERM}, {__NR_fanotify_init, EPERM},
     {__NR_mount, EPERM}, {__NR_umount2, EPERM}, {__NR_pivot_root, EPERM}, {__NR_chroot, EPERM},
     {__NR_open_tree, EPERM}, {__NR_move_mount, EPERM}, {__NR_fsopen, EPERM}, {__NR_fsconfig, EPERM},
     {__NR_fsmount, EPERM}, {__NR_fspick, EPERM}, {__NR_mount_setattr, EPERM},
@@ -873,6 +879,22 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet) {
     for (const std::string& c : changed) names += (names.empty() ? "" : ", ") + fs::path(c).filename().string();
     changed.clear();
   }
+}
+
+bool refuseExec() {
+  // Another program in lcjit's place would be outside the guard (no --time-limit, no faults
+  // reported) though still in the sandbox. bubblewrap's filter cannot refuse execve (it is how
+  // bubblewrap starts lcjit); this one is stacked on it once lcjit runs. no_new_privs is set
+  // (bubblewrap sets it for its own filter).
+  std::vector<sock_filter> f = {
+      BPF_STMT(BPF_LD | BPF_W | BPF_ABS, offsetof(seccomp_data, nr)),
+      BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, __NR_execve, 2, 0),
+      BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, __NR_execveat, 1, 0),
+      BPF_STMT(BPF_RET | BPF_K, SECCOMP_RET_ALLOW),
+      BPF_STMT(BPF_RET | BPF_K, SECCOMP_RET_ERRNO | EPERM),
+  };
+  struct sock_fprog prog = {(unsigned short)f.size(), f.data()};
+  return ::syscall(SYS_seccomp, SECCOMP_SET_MODE_FILTER, SECCOMP_FILTER_FLAG_TSYNC, &prog) == 0;
 }
 
 void endOnSignals(int sig) {

@@ -138,6 +138,9 @@ int watchSandboxed(const SandboxPlan& plan, bool quiet);
 // end it as they end any other process, with 128 + the signal as its status, which bubblewrap
 // passes on as it passes a death by a signal. `sig` 0: all of them; else that one.
 void endOnSignals(int sig = 0);
+// The child's side: no other program in lcjit's place (execve refused from now on, in every
+// thread). False if the kernel refused the filter.
+bool refuseExec();
 
 // The child's side: lines on the report descriptor the parent gave with --sandboxed.
 void reportInput(int fd, const std::string& path);

@@ -343,6 +343,12 @@ Session::~Session() {
   functions_.reset();
 }
 
+void Session::leaveAtExit(std::unique_ptr<Session> session) {
+  if (!session) return;
+  session->environment_.reset();
+  (void)session.release();
+}
+
 llvm::Expected<PreparedModel> Session::prepare(const ModelFiles& files, int optLevel, PhaseTimes& times,
                                                ReloadParts what) {
   if (!engine_) what = ReloadParts::all();  // nothing to carry over yet

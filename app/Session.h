@@ -154,6 +154,11 @@ class Session {
                                                          const std::string& languageStandard = "",
                                                          bool debugger = false);
   ~Session();
+  // lcjit ends: the environmental program is stopped; the rest — the model's code, its string —
+  // is left for the process's end to take. A thread the model started and left running (as an
+  // lpfg model may: its compiled library stays mapped until the process is gone) would otherwise
+  // run code that the session's end had unmapped, and crash lcjit after a run that succeeded.
+  static void leaveAtExit(std::unique_ptr<Session> session);
   // Why the cache folder asked for is not used (it is not the user's alone), or "": a warning
   // for the user (jit::Compiler::cacheWarning).
   const std::string& cacheWarning() const;

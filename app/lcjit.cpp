@@ -506,6 +506,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   }
   if (reportFd >= 0) {
     lcjit::app::endOnSignals();
+    if (!lcjit::app::refuseExec()) {
+      std::fprintf(stderr, "lcjit: --sandbox: the seccomp filter against execve was refused: %s\n", std::strerror(errno));
+      return 1;
+    }
     // In the sandbox: caches in the model's folder, the only place this process may write and
     // one that no other model's run shares (docs/security.md).
     for (const std::string& in : inputs)
@@ -542,6 +546,10 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
     return 1;
   }
+  struct LeaveAtExit {
+    std::unique_ptr<lcjit::app::Session>& session;
+    ~LeaveAtExit() { lcjit::app::Session::leaveAtExit(std::move(session)); }
+  } leaveAtExit{*session};
   if (!(*session)->cacheWarning().empty()) std::fprintf(stderr, "lcjit: warning: %s\n", (*session)->cacheWarning().c_str());
   limits.maxModules = maxModules;
   limits.maxMemory = maxMemory;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ctest's entry to the security suite (README.md): runs NAME/attack.sh in a fresh working folder,
-# as the suite's user (AS=self) or as an unprivileged one (AS=unprivileged). Exit: the attack's.
+# as the suite's user (AS=self) or as an unprivileged one (AS=unprivileged: a uid of its own). Exit: the attack's.
 # Usage: run.sh LCJIT NAME AS
 set -u
 lcjit=$(realpath "$1") name=$2 as=$3
@@ -12,7 +12,9 @@ mkdir "$work/attack" "$work/run"
 cp -r "$suite/$name/." "$work/attack/"
 cp "$suite/lib.sh" "$work/attack/lib.sh"
 if [ "$as" = unprivileged ] && [ "$(id -u)" = 0 ]; then
-  uid=65534
+  # A user of its own for each attack (one with no other processes, no name needed): limits the
+  # kernel counts per user (RLIMIT_NPROC) are then the attack's alone, whatever runs beside it.
+  uid=$((60000 + $(printf %s "$name" | cksum | cut -d' ' -f1) % 5000))
   user() { setpriv --reuid=$uid --regid=$uid --clear-groups "$@"; }
   chmod 755 "$work"
   # lcjit reads its runtime headers and precompiled headers beside itself or in the build: where
