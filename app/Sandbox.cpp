@@ -638,7 +638,13 @@ void SandboxedRun::findChild() {
 // Every process of the run: bubblewrap's group (with a sandbox it is still setting up), the
 // sandboxed lcjit, the run's cgroup.
 void SandboxedRun::killAll() {
-  if (bwrapPid_ > 0 && !ended_) ::kill(-bwrapPid_, SIGKILL);
+  if (bwrapPid_ > 0) {
+    // Once bubblewrap is reaped, its group's number stays taken only while a member is left —
+    // an orphan that came to lcjit (ECHILD: none, and the number may be anyone's by now).
+    siginfo_t member{};
+    if (!ended_ || ::waitid(P_PGID, (id_t)bwrapPid_, &member, WEXITED | WNOHANG | WNOWAIT) == 0)
+      ::kill(-bwrapPid_, SIGKILL);
+  }
   if (infoFd_ >= 0) {
     // A child already let go has had its pid written: read it before it is too late to know it.
     struct pollfd p = {infoFd_, POLLIN, 0};
