@@ -490,6 +490,12 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // costs the cache only; from the run on, such a file ends the run (the parent says why).
     std::signal(SIGXFSZ, SIG_IGN);
   }
+  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
+  // SIGHUP clean up (environmental programs, lpfg.mak's make) before lcjit ends. Before anything
+  // compiles: LLVM's handlers then come second (runtime/ModelGuard.cpp, claim); before the
+  // model's lpfg.mak is read (classifyInputs), whose make a crash must not leave running.
+  lcjit::runtime::interruptModelCodeOnSigint();
+  lcjit::runtime::installTerminationHandlers();
   auto files = lcjit::app::classifyInputs(inputs);
   if (!files) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
@@ -505,11 +511,6 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     files->overrides.emplace_back(o.substr(0, eq), o.substr(eq + 1));
   }
   bo.seed = seed;
-  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
-  // SIGHUP clean up (environmental programs) before lcjit ends. Before anything compiles: LLVM's
-  // handlers then come second (runtime/ModelGuard.cpp, claim).
-  lcjit::runtime::interruptModelCodeOnSigint();
-  lcjit::runtime::installTerminationHandlers();
   auto session = lcjit::app::Session::create(cacheDir, files->languageStandard, debugger);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());
