@@ -286,6 +286,20 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return app.exit(e) == 0 ? 0 : 1;
   }
 
+  // The sizes of pictures and windows, before anything runs: -w 0 0 would otherwise be a picture
+  // of 1 x 1 and a success.
+  for (auto [option, size] : {std::pair<const char*, std::vector<float>>{"-w", winSize},
+                              {"repl -w", std::vector<float>(replSize.begin(), replSize.end())}})
+    if (size.size() == 2)
+      if (std::string bad = lcjit::app::badPictureSize(size[0], size[1]); !bad.empty()) {
+        std::fprintf(stderr, "lcjit: %s %g %g: %s\n", option, size[0], size[1], bad.c_str());
+        return 1;
+      }
+  if (winSizeRel.size() == 2 && !(winSizeRel[0] > 0 && winSizeRel[1] > 0)) {
+    std::fprintf(stderr, "lcjit: --wr %g %g: the size is a fraction of the screen's, above 0\n", winSizeRel[0], winSizeRel[1]);
+    return 1;
+  }
+
   if (!outs.empty()) {
     bo.out = outs[0];
     bo.moreOuts.assign(outs.begin() + 1, outs.end());
