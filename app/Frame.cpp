@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <filesystem>
 
 #include "runtime/turtle/Camera.h"
@@ -43,6 +44,22 @@ bool isFrameOutput(const std::string& path) {
   return viewer::isImageFileName(path) || viewer::isVideoFileName(path) || runtime::isExportFormat(path);
 }
 
+std::string badPictureSize(double width, double height) {
+  // Written as tests that NaN fails too.
+  if (!(width >= 1 && height >= 1)) return "the size must be at least 1 x 1";
+  if (!(width <= INT_MAX && height <= INT_MAX)) return "the size must be at most " + std::to_string(INT_MAX) + " x " + std::to_string(INT_MAX);
+  return "";
+}
+
+namespace {
+// What the command line checks first (badPictureSize), again where every picture is made: a
+// size that reached a FrameWriter another way must not become a picture of 1 x 1.
+std::string sizeProblem(int width, int height) {
+  std::string bad = badPictureSize(width, height);
+  return bad.empty() ? bad : "a picture of " + std::to_string(width) + "x" + std::to_string(height) + ": " + bad;
+}
+}  // namespace
+
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
   std::vector<viewer::ViewPane> panes;
   const auto& windows = view.windows;
@@ -67,6 +84,7 @@ FrameWriter::~FrameWriter() = default;
 
 llvm::Expected<viewer::Image> FrameWriter::picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
                                                    FrameTimes* times) {
+  if (std::string bad = sizeProblem(width_, height_); !bad.empty()) return llvm::createStringError("cannot make " + bad);
   auto t0 = std::chrono::steady_clock::now();
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return std::move(e);
@@ -109,6 +127,8 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   if (viewer::isVideoFileName(path))
     return llvm::createStringError("cannot write " + path + ": a video is made of many frames: name it with -out (every "
                                    "step of a batch run) or --record (the window's Start recording)");
+  if (std::string bad = sizeProblem(width_, height_); !bad.empty())
+    return llvm::createStringError("cannot write " + path + ": " + bad);
   auto t0 = std::chrono::steady_clock::now();
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return e;

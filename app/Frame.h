@@ -24,6 +24,11 @@ namespace lcjit::app {
 
 bool isFrameOutput(const std::string& path);
 
+// Why WIDTH x HEIGHT (-w, a REPL's -w) is no size of a picture or a window, or "": less than
+// 1 x 1 (a picture of nothing), or past what an int holds. Pictures also have the renderer's
+// upper bound (GL's, some 16384), which it reports when it cannot make one.
+std::string badPictureSize(double width, double height);
+
 // Multi-view (manual §7.3): every view the model opened with UseView that the view file has a
 // `window:` for, interpreted by its view group, in that window's rectangle (kept inside the
 // picture). Empty for a model with one view. Also records each view's bounding box (vvXmin ...).

@@ -309,8 +309,12 @@ llvm::Expected<SandboxReply> decodeSandboxReply(std::string_view bytes) {
     }
     if (!getGeometry(r, reply.main, textures) || !r.count(panes, 8)) return damaged();
     reply.panes.resize(panes);
-    for (viewer::ViewPane& p : reply.panes)
+    for (viewer::ViewPane& p : reply.panes) {
       if (!getGeometry(r, p.geometry, textures) || !r.pod(p.rect) || !r.pod(p.viewId)) return damaged();
+      // Fractions of the window's picture, as interpretViews keeps them (NaN fails too).
+      for (float f : {p.rect.left, p.rect.top, p.rect.width, p.rect.height})
+        if (!(f >= 0 && f <= 1)) return fail("a view's rectangle lies outside the picture");
+    }
     if (!getView(r, reply.view) || !r.flag(reply.palette.materials) || !r.pod(reply.palette.color) ||
         !r.pod(reply.palette.material))
       return damaged();

@@ -289,6 +289,20 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     return app.exit(e) == 0 ? 0 : 1;
   }
 
+  // The sizes of pictures and windows, before anything runs: -w 0 0 would otherwise be a picture
+  // of 1 x 1 and a success.
+  for (auto [option, size] : {std::pair<const char*, std::vector<float>>{"-w", winSize},
+                              {"repl -w", std::vector<float>(replSize.begin(), replSize.end())}})
+    if (size.size() == 2)
+      if (std::string bad = lcjit::app::badPictureSize(size[0], size[1]); !bad.empty()) {
+        std::fprintf(stderr, "lcjit: %s %g %g: %s\n", option, size[0], size[1], bad.c_str());
+        return 1;
+      }
+  if (winSizeRel.size() == 2 && !(winSizeRel[0] > 0 && winSizeRel[1] > 0)) {
+    std::fprintf(stderr, "lcjit: --wr %g %g: the size is a fraction of the screen's, above 0\n", winSizeRel[0], winSizeRel[1]);
+    return 1;
+  }
+
   if (!outs.empty()) {
     bo.out = outs[0];
     bo.moreOuts.assign(outs.begin() + 1, outs.end());
@@ -521,6 +535,12 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // costs the cache only; from the run on, such a file ends the run (the parent says why).
     std::signal(SIGXFSZ, SIG_IGN);
   }
+  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
+  // SIGHUP clean up (environmental programs, lpfg.mak's make) before lcjit ends. Before anything
+  // compiles: LLVM's handlers then come second (runtime/ModelGuard.cpp, claim); before the
+  // model's lpfg.mak is read (classifyInputs), whose make a crash must not leave running.
+  lcjit::runtime::interruptModelCodeOnSigint();
+  lcjit::runtime::installTerminationHandlers();
   auto files = lcjit::app::classifyInputs(inputs);
   if (!files) {
     std::fprintf(stderr, "%s\n", llvm::toString(files.takeError()).c_str());
@@ -536,11 +556,6 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     files->overrides.emplace_back(o.substr(0, eq), o.substr(eq + 1));
   }
   bo.seed = seed;
-  // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
-  // SIGHUP clean up (environmental programs) before lcjit ends. Before anything compiles: LLVM's
-  // handlers then come second (runtime/ModelGuard.cpp, claim).
-  lcjit::runtime::interruptModelCodeOnSigint();
-  lcjit::runtime::installTerminationHandlers();
   auto session = lcjit::app::Session::create(cacheDir, files->languageStandard, debugger);
   if (!session) {
     std::fprintf(stderr, "lcjit: %s\n", llvm::toString(session.takeError()).c_str());

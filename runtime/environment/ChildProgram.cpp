@@ -500,6 +500,7 @@ void ChildLink::stop() {
     const auto since = Clock::now();
     while (!ended() && secondsSince(since) < 1.0) usleep(2000);
     if (!ended()) {
+      kill(-pid_, SIGKILL);  // its process group: what it started too (as killLiveChildren does)
       kill(pid_, SIGKILL);
       waitpid(pid_, &status_, 0);
       reaped_ = true;

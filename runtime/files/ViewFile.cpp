@@ -856,8 +856,12 @@ class Parser {
     w.name.assign(p, e);
     p = e;
     float v[4] = {w.left, w.top, w.width, w.height};
-    int n = scanFloats(p, v, 4);
+    int n = scanFloats(p, v, 2);
+    const char* size = p;
+    n += n == 2 ? scanFloats(p, v + 2, 2) : 0;
     if (n < 4 && *skipBlanks(p)) warn(skipBlanks(p), "window: position and size must be numbers");
+    // A fraction of the picture: 0 or less shows nothing (the renderer would make it 1 pixel).
+    if (!(v[2] > 0 && v[3] > 0)) warn(skipBlanks(size), "window: the width and height must be above 0 (fractions of the picture)");
     w.left = v[0];
     w.top = v[1];
     w.width = v[2];

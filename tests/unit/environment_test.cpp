@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <sys/ipc.h>
@@ -353,6 +354,36 @@ TEST(EnvironmentFailures, ReloadAndStopLeaveNothingBehind) {
   }
   for (auto& f : fs::directory_iterator("."))
     EXPECT_EQ(f.path().filename().string().find("_field"), std::string::npos) << f.path();
+}
+
+// A program that does not leave when asked is killed with its process group: what it started (a
+// script's background command) goes with it, not only the program.
+TEST(EnvironmentFailures, AKilledProgramTakesWhatItStartedWithIt) {
+  Scratch scratch;
+  const fs::path childPid = fs::current_path() / "child.pid";
+  std::ofstream("prog.sh") << "#!/bin/sh\nsleep 86400 </dev/null >/dev/null 2>&1 &\necho $! > " << childPid.string()
+                           << "\nexec " << fixture() << " \"$@\"\n";
+  fs::permissions("prog.sh", fs::perms::owner_all);
+  {
+    ModelRun r;
+    run(r, kThreeModules, "executable: ./prog.sh hang\ncommunication type: pipes\n", {}, false, /*timeLimit=*/0.5);
+    ASSERT_EQ(r.load(), "");
+    std::string e = r.run();
+    EXPECT_NE(e.find("stopped"), std::string::npos) << e;
+  }  // the session ends: the hung program is asked to leave, then killed
+  int pid = 0;
+  std::ifstream(childPid) >> pid;
+  ASSERT_GT(pid, 0);
+  // SIGKILL is delivered at once but the process ends a moment later: a bound only a broken
+  // machine reaches. A zombie's command line is empty.
+  auto running = [pid] {
+    std::ifstream cmdline("/proc/" + std::to_string(pid) + "/cmdline");
+    std::string text((std::istreambuf_iterator<char>(cmdline)), std::istreambuf_iterator<char>());
+    return text.find("86400") != std::string::npos;
+  };
+  for (int i = 0; i < 6000 && running(); ++i) usleep(10000);
+  EXPECT_FALSE(running()) << "the program's child " << pid << " outlived it";
+  if (running()) kill(pid, SIGKILL);
 }
 
 }  // namespace

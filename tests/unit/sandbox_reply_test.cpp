@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 using namespace lcjit;
 
 namespace {
@@ -157,6 +159,12 @@ TEST(SandboxReply, RefusesGarbageAndLies) {
   r = sample();
   r.animation.step = 0;  // the window would never reach a next frame
   EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("animation"), std::string::npos);
+  // A view's rectangle is a fraction of the picture: no size, or past it, is no view to draw.
+  for (float width : {-0.5f, 2.f, std::numeric_limits<float>::quiet_NaN()}) {
+    r = sample();
+    r.panes[0].rect.width = width;
+    EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("rectangle"), std::string::npos) << width;
+  }
   std::string other = app::encodeSandboxReply(sample());
   other[4] = 9;  // the version
   EXPECT_NE(refusal(other).find("another build"), std::string::npos);
