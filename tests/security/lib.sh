@@ -3,6 +3,12 @@
 lcjit=${1:?usage: attack.sh LCJIT}
 here=$(cd "$(dirname "${BASH_SOURCE[1]}")" && pwd)
 
+# keep PID: a process the attack started in the background, killed when the attack ends however it
+# ends (a failed check must not leave a --watch running).
+kept=()
+keep() { kept+=("$1"); }
+trap 'for p in "${kept[@]}"; do kill "$p" 2>/dev/null; done' EXIT
+
 # fail WHAT: the attack succeeded; say what happened, with lcjit's output if there is any.
 fail() {
   echo "FAIL: $*"

@@ -9,6 +9,7 @@ shmem_kb() { awk '/^Shmem:/{print $2}' /proc/meminfo; }
 before=$(shmem_kb)
 timeout 300 "$lcjit" --sandbox --max-memory 300M -b -out o.str hoard.l > out.txt 2> err.txt &
 run=$!
+keep $run
 wait_for 240 grep -q holding out.txt || { kill $run; fail "the model never said what it holds"; }
 grown=$(( ($(shmem_kb) - before) / 1024 ))
 touch release

@@ -12,7 +12,7 @@ s = socket.socket(socket.AF_UNIX); s.bind(sys.argv[1]); s.listen(8)
 while True:
     c, _ = s.accept(); c.sendall(b"AGENT-SECRET-4711"); c.close()' "$sock" &
 listener=$!
-trap 'kill $listener 2>/dev/null' EXIT
+keep $listener
 wait_for 60 test -S "$sock" || fail "the socket never appeared"
 sed "s|AGENT_SOCKET|$sock|" "$here/agent.l" > agent.l
 # Without the sandbox the model does reach the agent: the checks below mean something.

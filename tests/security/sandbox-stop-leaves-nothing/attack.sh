@@ -15,6 +15,7 @@ for mode in setup let-go; do
   printf 'FAKE_MODE=%s\nFAKE_TAG=%s\nFAKE_MARKS=%s\n' $mode $tag "$PWD/marks" > fakebin/config
   PATH=$PWD/fakebin:$PATH "$lcjit" --sandbox --watch -out o.str m/m.l > out.txt 2> err.txt &
   run=$!
+  keep $run
   wait_for 120 sh -c 'ls marks | grep -q started' || fail "$mode: the first run never started"
   echo '// saved' >> m/m.l  # a newer save: the run in progress is stopped, the next one starts
   wait_for 120 sh -c '[ "$(ls marks | grep -c started)" -ge 2 ]' || fail "$mode: no run after the save"
@@ -27,6 +28,7 @@ done
 printf 'derivation length: 1;\nmodule A;\nStart: { }\naxiom: A;\n' > m/m.l
 "$lcjit" --sandbox --watch -out o.str m/m.l > out.txt 2> err.txt &
 run=$!
+keep $run
 wait_for 120 test -e o.str || fail "the first real run wrote nothing"
 for i in $(seq 1 300); do
   printf 'derivation length: 1;\nmodule A;\nStart: { }\naxiom: A; // %d\n' $i > m/m.new && mv m/m.new m/m.l
