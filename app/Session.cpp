@@ -346,6 +346,7 @@ Session::~Session() {
 void Session::leaveAtExit(std::unique_ptr<Session> session) {
   if (!session) return;
   session->environment_.reset();
+  session->compiler_->settleAtExit();
   (void)session.release();
 }
 

@@ -154,7 +154,8 @@ class Session {
                                                          const std::string& languageStandard = "",
                                                          bool debugger = false);
   ~Session();
-  // lcjit ends: the environmental program is stopped; the rest — the model's code, its string —
+  // lcjit ends: the environmental program is stopped, the compiler's work on other threads
+  // finished (and a private cache folder removed); the rest — the model's code, its string —
   // is left for the process's end to take. A thread the model started and left running (as an
   // lpfg model may: its compiled library stays mapped until the process is gone) would otherwise
   // run code that the session's end had unmapped, and crash lcjit after a run that succeeded.

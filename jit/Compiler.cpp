@@ -94,6 +94,8 @@ Compiler::Compiler(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Compiler::~Compiler() = default;
 const std::string& Compiler::cacheDir() const { return impl_->cacheDir; }
 std::string Compiler::objectsDir() const { return impl_->objectsDir(); }
+void Compiler::settleAtExit() { impl_->settle(); }
+
 const std::string& Compiler::cacheWarning() const { return impl_->cacheWarning; }
 
 std::vector<SourcePlace> Compiler::sourceAt(uintptr_t address, bool returnAddress) const {

@@ -150,6 +150,9 @@ class Compiler {
 public:
   static llvm::Expected<std::unique_ptr<Compiler>> create(CompilerConfig config);
   ~Compiler();
+  // The process is ending and keeps model code mapped (app::Session::leaveAtExit): the work under
+  // way on other threads is finished, and a private cache folder removed, as ~Compiler would.
+  void settleAtExit();
   Compiler(const Compiler&) = delete;
   Compiler& operator=(const Compiler&) = delete;
 

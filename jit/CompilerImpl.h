@@ -147,7 +147,8 @@ struct Compiler::Impl {
   void beginAhead(LevelSetup& L, const LevelSetup& used, const std::string& bufferName, size_t size);
   static constexpr size_t kAheadCapacity = 64 * 1024;
 
-  ~Impl() {
+  // Waits for the work under way on other threads; removes a private cache folder.
+  void settle() {
     for (auto& [path, support] : supports)
       support->ready.wait();
     for (auto& L : levels)
@@ -155,7 +156,9 @@ struct Compiler::Impl {
         L.ahead.wait();
     if (privateCache)
       frontend::removeCacheFolder(cacheDir);
+    privateCache = false;
   }
+  ~Impl() { settle(); }
 };
 
 }  // namespace lcjit::jit
