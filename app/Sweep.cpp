@@ -440,20 +440,36 @@ llvm::Expected<int> runChild(const std::vector<std::string>& args, const std::op
   return status;
 }
 
-// The end of what a child said, on one line: a usage error is two lines, the second the less telling.
+// The end of what a child said, on one line: its last three lines that say something (a usage
+// error is two lines, the second the less telling), at most 500 characters. Only the file's last
+// 4 KB are read: a run may have printed gigabytes before it died, and `sweep run -j N` has N of
+// these at once.
 std::string lastWords(const fs::path& file) {
-  auto text = readText(file);
-  if (!text) {
-    llvm::consumeError(text.takeError());
-    return "";
-  }
+  constexpr std::streamoff kTail = 4096;
+  constexpr size_t kMostWords = 500;
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? std::streamoff(in.tellg()) : -1;
+  if (size <= 0) return "";
+  const std::streamoff start = std::max<std::streamoff>(0, size - kTail);
+  std::string text(size_t(size - start), '\0');
+  in.seekg(start);
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(in.gcount()));
   llvm::SmallVector<llvm::StringRef, 16> lines;
-  llvm::StringRef(*text).split(lines, '\n', -1, false);
+  llvm::StringRef(text).split(lines, '\n', -1, false);
+  // Zero bytes are blank too: what a file extended by ftruncate holds, not words.
+  const llvm::StringRef blank(" \t\n\v\f\r\0", 7);
   std::vector<std::string> last;
-  for (size_t i = lines.size(); i-- > 0 && last.size() < 3;)
-    if (!lines[i].trim().empty()) last.insert(last.begin(), lines[i].trim().str());
+  bool cut = false;  // a line taken is the tail's first, the end of a longer one
+  for (size_t i = lines.size(); i-- > 0 && last.size() < 3;) {
+    llvm::StringRef line = lines[i].trim(blank);
+    if (line.empty()) continue;
+    last.insert(last.begin(), line.str());
+    cut = start > 0 && i == 0;
+  }
   std::string words = llvm::join(last, " | ");
-  return words.size() > 500 ? "..." + words.substr(words.size() - 500) : words;
+  if (words.size() > kMostWords) return "..." + words.substr(words.size() - kMostWords);
+  return cut ? "..." + words : words;
 }
 
 // --- The verbs ------------------------------------------------------------------------------------
