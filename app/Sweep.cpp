@@ -299,14 +299,42 @@ struct Plan {
   std::vector<std::string> parameterNames() const { return json["parameters"].get<std::vector<std::string>>(); }
 };
 
+fs::path absolutePath(const std::string& name) { return fs::absolute(name).lexically_normal(); }
+
 std::string defaultDir(const std::string& file) {
-  fs::path p = fs::absolute(file).lexically_normal();
+  fs::path p = absolutePath(file);
   return (p.parent_path() / (p.stem().string() + "-runs")).string();
+}
+
+// The plan's folder of plan, run and slurm: --out, or beside the sweep file.
+std::string planDir(const SweepCommand& c) { return c.dir.empty() ? defaultDir(c.file) : c.dir; }
+
+bool hasControlCharacter(const std::string& text) {
+  return std::any_of(text.begin(), text.end(), [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; });
+}
+
+// A name as an error message shows it: control characters as \n, \t, \r or \xHH, so that a name
+// with a line break in it reads as one line.
+std::string shownName(const std::string& name) {
+  std::string shown;
+  for (unsigned char ch : name) {
+    if (ch == '\n') shown += "\\n";
+    else if (ch == '\t') shown += "\\t";
+    else if (ch == '\r') shown += "\\r";
+    else if (ch < 0x20 || ch == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", ch);
+      shown += hex;
+    } else {
+      shown += char(ch);
+    }
+  }
+  return shown;
 }
 
 llvm::Expected<Plan> loadPlan(const std::string& dirName) {
   Plan plan;
-  plan.dir = fs::absolute(dirName).lexically_normal();
+  plan.dir = absolutePath(dirName);
   fs::path file = plan.dir / "sweep.json";
   std::error_code ec;
   if (!fs::exists(file, ec))
@@ -329,7 +357,12 @@ std::string tasksLine(const SweepRun& run, const fs::path& dir) {
 // Plans the sweep into `dirName`, or finds it planned there from the same text. Returns the plan
 // and whether it was made now.
 llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string& dirName, const std::string& version) {
-  fs::path dir = fs::absolute(dirName).lexically_normal();
+  fs::path dir = absolutePath(dirName);
+  // tasks.tsv is a line a run, tab-separated, and the run's folder is one of its fields.
+  if (hasControlCharacter(dir.string()))
+    return failure(shownName(dir.string()) + ": error: the plan's folder has a line break, a tab or another control "
+                                             "character in its name, which tasks.tsv cannot carry: plan it "
+                                             "elsewhere with --out DIR");
   const std::string hash = blake3Hex(sweep.text);
   std::error_code ec;
   if (fs::exists(dir / "sweep.json", ec)) {
@@ -662,8 +695,7 @@ int collectAndSay(const Plan& plan, bool complete) {
 llvm::Expected<Plan> planned(const SweepCommand& c) {
   auto sweep = readSweep(c.file);
   if (!sweep) return sweep.takeError();
-  const std::string dir = c.dir.empty() ? defaultDir(c.file) : c.dir;
-  auto made = plan(*sweep, dir, c.version);
+  auto made = plan(*sweep, planDir(c), c.version);
   if (!made) return made.takeError();
   std::printf("%s: %zu runs%s\n", made->first.dir.c_str(), made->first.json["runs"].get<size_t>(),
               made->second ? " planned" : " (planned before)");
@@ -699,26 +731,49 @@ std::string shellQuoted(const std::string& s) {
   return q + "'";
 }
 
+// An #SBATCH line's argument as sbatch reads it (Slurm's src/sbatch/opt.c, get_argument): in double
+// quotes spaces and # are text, and a backslash takes the next character as it is.
+std::string slurmQuoted(const std::string& s) {
+  std::string q = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') q += '\\';
+    q += ch;
+  }
+  return q + "\"";
+}
+
 int writeSlurm(const SweepCommand& c) {
   if (c.chunk < 1) return report(failure("lcjit sweep slurm: error: --chunk must be at least 1"));
+  // The script names the sweep file and the plan's folder in comments and #SBATCH lines, which end
+  // at a line break: bash would run what follows one. Refused before anything is written; the
+  // plan's folder has no control characters either (plan refuses them).
+  const std::string sweepFile = absolutePath(c.file).string(), dir = absolutePath(planDir(c)).string();
+  if (hasControlCharacter(sweepFile))
+    return report(failure(shownName(sweepFile) + ": error: the sweep file has a line break, a tab or another control "
+                                                 "character in its name, which a Slurm script cannot carry: rename it"));
+  // Slurm's --output reads a backslash as "no %A or %a here" and drops it.
+  if (dir.find('\\') != std::string::npos)
+    return report(failure(shownName(dir) + ": error: the plan's folder has a backslash in its name, which Slurm's --output "
+                                "cannot carry: plan it elsewhere with --out DIR"));
+  std::string outputPattern;  // % is Slurm's: %% is one
+  for (char ch : dir) outputPattern += ch == '%' ? std::string("%%") : std::string(1, ch);
   auto p = planned(c);
   if (!p) return report(p.takeError());
   const size_t runs = p->json["runs"].get<size_t>();
   const size_t arrayTasks = (runs + c.chunk - 1) / c.chunk;
-  const std::string dir = p->dir.string(), name = fs::path(p->json["sweep"].get<std::string>()).stem().string();
   std::error_code ec;
   fs::create_directories(p->dir / "slurm", ec);
   std::ostringstream s;
   s << "#!/bin/bash\n"
-    << "# Slurm job array of the sweep " << p->json["sweep"].get<std::string>() << ", written by lcjit sweep slurm\n"
+    << "# Slurm job array of the sweep " << sweepFile << ", written by lcjit sweep slurm\n"
     << "# (docs/sweeps.md). Array task T runs the ids on lines T*" << c.chunk << "+1 to (T+1)*" << c.chunk
     << " of ids with GNU parallel on its\n"
     << "# CPUs; submitted again, a task skips the runs its joblog has. Then: lcjit sweep collect DIR.\n"
-    << "#SBATCH --job-name=lcjit-" << name << "\n"
+    << "#SBATCH --job-name=" << slurmQuoted("lcjit-" + fs::path(sweepFile).stem().string()) << "\n"
     << "#SBATCH --array=0-" << arrayTasks - 1 << "\n"
     << "#SBATCH --ntasks=1\n"
     << "#SBATCH --cpus-per-task=1\n"
-    << "#SBATCH --output=" << dir << "/slurm/%A_%a.out\n"
+    << "#SBATCH --output=" << slurmQuoted(outputPattern + "/slurm/%A_%a.out") << "\n"
     << "set -eu\n"
     << "dir=" << shellQuoted(dir) << "\n"
     << "first=$((SLURM_ARRAY_TASK_ID * " << c.chunk << " + 1))\n"
@@ -737,7 +792,7 @@ int writeSlurm(const SweepCommand& c) {
 }  // namespace
 
 llvm::Expected<Sweep> readSweep(const std::string& file) {
-  const std::string path = fs::absolute(file).lexically_normal().string();
+  const std::string path = absolutePath(file).string();
   auto text = readText(path);
   if (!text) return text.takeError();
   return SweepReader(path).read(*text);
