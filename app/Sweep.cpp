@@ -22,6 +22,7 @@
 #include <llvm/Support/BLAKE3.h>
 #include <llvm/Support/Program.h>
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include "runtime/files/ReplacingFile.h"
@@ -70,6 +71,73 @@ llvm::Expected<std::string> readText(const fs::path& file) {
 }
 
 // --- The sweep file -----------------------------------------------------------------------------
+
+// Reads a YAML text's events for what yaml-cpp's nodes lose: a key given twice in one map (YAML
+// says a map's keys are unique; yaml-cpp keeps both, node["key"] finds the first, and iterating
+// gives both), and a key that is a list or a map. Events, not nodes: an alias is one event, not a
+// copy of what it names to walk again.
+class KeyChecker : public YAML::EventHandler {
+ public:
+  // The first problem: where, and what.
+  std::optional<std::pair<YAML::Mark, std::string>> found;
+  YAML::Mark document;  // where the last document read starts
+
+  void OnDocumentStart(const YAML::Mark& mark) override { document = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { scalar(mark, anchor, "~"); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+    scalar(mark, anchor, value);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    auto named = anchored_.find(anchor);
+    begin(mark, named == anchored_.end() ? std::optional<std::string>("*") : named->second);
+    end();
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    collection(mark, anchor, false);
+  }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    collection(mark, anchor, true);
+  }
+  void OnSequenceEnd() override {
+    levels_.pop_back();
+    end();
+  }
+  void OnMapEnd() override {
+    levels_.pop_back();
+    end();
+  }
+
+ private:
+  struct Level {
+    bool map;
+    bool atKey = true;  // in a map: the next node is a key (else its value)
+    std::set<std::string> keys;
+  };
+  std::vector<Level> levels_;
+  std::map<YAML::anchor_t, std::optional<std::string>> anchored_;  // a scalar's text; none: a collection
+
+  void scalar(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& text) {
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = text;
+    begin(mark, text);
+    end();
+  }
+  void collection(const YAML::Mark& mark, YAML::anchor_t anchor, bool map) {
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = std::nullopt;
+    begin(mark, std::nullopt);
+    levels_.push_back({map});
+  }
+  // A node starts: `text` is a scalar's, none for a list or a map.
+  void begin(const YAML::Mark& mark, const std::optional<std::string>& text) {
+    if (found || levels_.empty() || !levels_.back().map || !levels_.back().atKey) return;
+    if (!text) found = {mark, "a key must be a single value (a name), not a list or a map"};
+    else if (!levels_.back().keys.insert(*text).second) found = {mark, *text + " is given twice"};
+  }
+  // A node ended: in a map, keys and values take turns.
+  void end() {
+    if (!levels_.empty() && levels_.back().map) levels_.back().atKey = !levels_.back().atKey;
+  }
+};
 
 class SweepReader {
  public:
@@ -196,11 +264,20 @@ class SweepReader {
     s.folder = fs::path(file_).parent_path().string();
     s.text = text;
     YAML::Node root;
+    KeyChecker keys;
+    bool moreDocuments = false;
     try {
       root = YAML::Load(text);
+      std::istringstream in(text);
+      YAML::Parser events(in);
+      events.HandleNextDocument(keys);
+      moreDocuments = events.HandleNextDocument(keys);
     } catch (const YAML::ParserException& e) {
       return error(e.mark, e.msg);
     }
+    if (keys.found) return error(keys.found->first, keys.found->second);
+    // YAML::Load reads the first document alone: what comes after a second --- would be ignored.
+    if (moreDocuments) return error(keys.document, "a sweep file is one YAML document; this is a second one");
     if (!root.IsMap()) return error(root, "a sweep file is a map of model, files, parameters, seeds, outputs, options");
     if (auto e = onlyKeys(root, {"model", "files", "parameters", "seeds", "outputs", "options"}, "the sweep file"))
       return std::move(e);

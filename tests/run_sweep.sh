@@ -115,6 +115,7 @@ errors)
   check "empty list" 'model: branch.l\nparameters:\n  A: []\n' "3:6: error: the values of A: the list is empty"
   check "bad seeds" 'model: branch.l\nseeds: {from: 1}\n' "2:8: error: seeds: give from and count"
   check "bad output" 'model: branch.l\noutputs: [string, movie]\n' "2:19: error: unknown output 'movie'"
+  check "a key twice" 'model: branch.l\nparameters:\n  A: [1]\n  A: [2]\n' "4:3: error: A is given twice"
   ;;
 
 slurm)
