@@ -173,6 +173,13 @@ class SweepReader {
     return v;
   }
 
+  llvm::Expected<uint64_t> seed(const YAML::Node& node, const std::string& what) const {
+    auto text = scalar(node, what);
+    if (!text) return text.takeError();
+    if (std::optional<uint64_t> v = seedNumber(*text)) return *v;
+    return error(node, what + " must be " + kSeedRange + " (as --seed takes it), not '" + *text + "'");
+  }
+
   // One value or a list of them.
   llvm::Expected<std::vector<std::string>> scalars(const YAML::Node& node, const std::string& what) const {
     std::vector<std::string> out;
@@ -222,11 +229,15 @@ class SweepReader {
       if (!hi) return hi.takeError();
       if (!node["draws"]) return error(node, what + ": give the number of draws (draws: N)");
       if (!node["seed"]) return error(node, what + ": give the draws' seed (seed: N), so that they are the same each time");
-      auto draws = integer(node["draws"], "draws"), seed = integer(node["seed"], "seed");
+      auto draws = integer(node["draws"], "draws");
+      auto seed = this->seed(node["seed"], "seed");
       if (!draws) return draws.takeError();
       if (!seed) return seed.takeError();
       if (*draws < 1 || size_t(*draws) > kMostRuns) return error(node["draws"], "draws must be 1 to 999999");
-      std::mt19937_64 random((unsigned long long)*seed);
+      // low + (high - low) * unit: the difference must be a number, or every draw is inf or nan.
+      if (!std::isfinite(*hi - *lo))
+        return error(range, "uniform: the range from " + numberText(*lo) + " to " + numberText(*hi) + " is too wide");
+      std::mt19937_64 random(*seed);
       for (long long i = 0; i < *draws; ++i) {
         double unit = double(random() >> 11) * 0x1.0p-53;  // [0, 1), 53 random bits
         out.push_back(numberText(*lo + (*hi - *lo) * unit));
@@ -245,7 +256,8 @@ class SweepReader {
         if (!s) return s.takeError();
         step = *s;
       }
-      if (step == 0 || (*to - *from) * step < 0)
+      // Signs, not (to - from) * step < 0: that product can round to -0 or 0 and pass.
+      if (step == 0 || (*to > *from && step < 0) || (*to < *from && step > 0))
         return error(node["step"] ? node["step"] : node, what + ": the step does not lead from " + numberText(*from) +
                                                              " to " + numberText(*to));
       // The tolerance keeps the end that 0.1 steps reach only up to rounding.
@@ -319,18 +331,22 @@ class SweepReader {
         if (!n) return n.takeError();
         if (*n < 1) return error(seeds, "seeds: give at least one run (seeds: N runs with --seed 1 … N)");
         if (size_t(*n) > kMostRuns) return error(seeds, "more than 999999 runs");
-        for (long long i = 1; i <= *n; ++i) s.seeds.push_back(i);
+        for (uint64_t i = 1; i <= uint64_t(*n); ++i) s.seeds.push_back(i);
       } else if (seeds.IsMap()) {
         if (auto e = onlyKeys(seeds, {"from", "count"}, "seeds")) return std::move(e);
         if (!seeds["from"] || !seeds["count"]) return error(seeds, "seeds: give from and count ({from: 100, count: 5})");
-        auto from = integer(seeds["from"], "from"), count = integer(seeds["count"], "count");
+        auto from = seed(seeds["from"], "from");
+        auto count = integer(seeds["count"], "count");
         if (!from) return from.takeError();
         if (!count) return count.takeError();
         if (*count < 1 || size_t(*count) > kMostRuns) return error(seeds["count"], "count must be 1 to 999999");
-        for (long long i = 0; i < *count; ++i) s.seeds.push_back(*from + i);
+        if (uint64_t(*count - 1) > UINT64_MAX - *from)
+          return error(seeds, "seeds: from " + std::to_string(*from) + ", count " + std::to_string(*count) +
+                                  " passes the largest seed, " + std::to_string(UINT64_MAX));
+        for (uint64_t i = 0; i < uint64_t(*count); ++i) s.seeds.push_back(*from + i);
       } else if (seeds.IsSequence()) {
         for (const YAML::Node& item : seeds) {
-          auto n = integer(item, "each seed");
+          auto n = seed(item, "each seed");
           if (!n) return n.takeError();
           s.seeds.push_back(*n);
         }
@@ -487,7 +503,7 @@ llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string
 struct Task {
   std::string id;
   std::vector<std::pair<std::string, std::string>> values;
-  std::optional<long long> seed;
+  std::optional<uint64_t> seed;
 };
 
 llvm::Expected<std::vector<Task>> loadTasks(const Plan& plan) {
@@ -504,11 +520,9 @@ llvm::Expected<std::vector<Task>> loadTasks(const Plan& plan) {
     for (size_t i = 2; i < fields.size(); ++i) {
       auto [name, value] = fields[i].split('=');
       // A parameter is never called seed (readSweep).
-      long long seed = 0;
       if (name != "seed") t.values.emplace_back(name.str(), value.str());
-      else if (value.getAsInteger(10, seed))
+      else if (!(t.seed = seedNumber(value.str())))
         return failure((plan.dir / "tasks.tsv").string() + ": error: run " + t.id + ": not a seed: " + value.str());
-      else t.seed = seed;
     }
     tasks.push_back(std::move(t));
   }
@@ -867,6 +881,15 @@ int writeSlurm(const SweepCommand& c) {
 }
 
 }  // namespace
+
+const char* const kSeedRange = "a whole number from 0 to 18446744073709551615";
+
+std::optional<uint64_t> seedNumber(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  unsigned long long v = 0;
+  if (llvm::StringRef(text).getAsInteger(10, v)) return std::nullopt;  // past 2^64 - 1
+  return uint64_t(v);
+}
 
 llvm::Expected<Sweep> readSweep(const std::string& file) {
   const std::string path = absolutePath(file).string();
