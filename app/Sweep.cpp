@@ -22,6 +22,7 @@
 #include <llvm/Support/BLAKE3.h>
 #include <llvm/Support/Program.h>
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include "runtime/files/ReplacingFile.h"
@@ -71,6 +72,73 @@ llvm::Expected<std::string> readText(const fs::path& file) {
 
 // --- The sweep file -----------------------------------------------------------------------------
 
+// Reads a YAML text's events for what yaml-cpp's nodes lose: a key given twice in one map (YAML
+// says a map's keys are unique; yaml-cpp keeps both, node["key"] finds the first, and iterating
+// gives both), and a key that is a list or a map. Events, not nodes: an alias is one event, not a
+// copy of what it names to walk again.
+class KeyChecker : public YAML::EventHandler {
+ public:
+  // The first problem: where, and what.
+  std::optional<std::pair<YAML::Mark, std::string>> found;
+  YAML::Mark document;  // where the last document read starts
+
+  void OnDocumentStart(const YAML::Mark& mark) override { document = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { scalar(mark, anchor, "~"); }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+    scalar(mark, anchor, value);
+  }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
+    auto named = anchored_.find(anchor);
+    begin(mark, named == anchored_.end() ? std::optional<std::string>("*") : named->second);
+    end();
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    collection(mark, anchor, false);
+  }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    collection(mark, anchor, true);
+  }
+  void OnSequenceEnd() override {
+    levels_.pop_back();
+    end();
+  }
+  void OnMapEnd() override {
+    levels_.pop_back();
+    end();
+  }
+
+ private:
+  struct Level {
+    bool map;
+    bool atKey = true;  // in a map: the next node is a key (else its value)
+    std::set<std::string> keys;
+  };
+  std::vector<Level> levels_;
+  std::map<YAML::anchor_t, std::optional<std::string>> anchored_;  // a scalar's text; none: a collection
+
+  void scalar(const YAML::Mark& mark, YAML::anchor_t anchor, const std::string& text) {
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = text;
+    begin(mark, text);
+    end();
+  }
+  void collection(const YAML::Mark& mark, YAML::anchor_t anchor, bool map) {
+    if (anchor != YAML::NullAnchor) anchored_[anchor] = std::nullopt;
+    begin(mark, std::nullopt);
+    levels_.push_back({map});
+  }
+  // A node starts: `text` is a scalar's, none for a list or a map.
+  void begin(const YAML::Mark& mark, const std::optional<std::string>& text) {
+    if (found || levels_.empty() || !levels_.back().map || !levels_.back().atKey) return;
+    if (!text) found = {mark, "a key must be a single value (a name), not a list or a map"};
+    else if (!levels_.back().keys.insert(*text).second) found = {mark, *text + " is given twice"};
+  }
+  // A node ended: in a map, keys and values take turns.
+  void end() {
+    if (!levels_.empty() && levels_.back().map) levels_.back().atKey = !levels_.back().atKey;
+  }
+};
+
 class SweepReader {
  public:
   explicit SweepReader(std::string file) : file_(std::move(file)) {}
@@ -103,6 +171,13 @@ class SweepReader {
     long long v = std::strtoll(text->c_str(), &end, 10);
     if (text->empty() || *end || errno) return error(node, what + " must be a whole number, not '" + *text + "'");
     return v;
+  }
+
+  llvm::Expected<uint64_t> seed(const YAML::Node& node, const std::string& what) const {
+    auto text = scalar(node, what);
+    if (!text) return text.takeError();
+    if (std::optional<uint64_t> v = seedNumber(*text)) return *v;
+    return error(node, what + " must be " + kSeedRange + " (as --seed takes it), not '" + *text + "'");
   }
 
   // One value or a list of them.
@@ -154,11 +229,15 @@ class SweepReader {
       if (!hi) return hi.takeError();
       if (!node["draws"]) return error(node, what + ": give the number of draws (draws: N)");
       if (!node["seed"]) return error(node, what + ": give the draws' seed (seed: N), so that they are the same each time");
-      auto draws = integer(node["draws"], "draws"), seed = integer(node["seed"], "seed");
+      auto draws = integer(node["draws"], "draws");
+      auto seed = this->seed(node["seed"], "seed");
       if (!draws) return draws.takeError();
       if (!seed) return seed.takeError();
       if (*draws < 1 || size_t(*draws) > kMostRuns) return error(node["draws"], "draws must be 1 to 999999");
-      std::mt19937_64 random((unsigned long long)*seed);
+      // low + (high - low) * unit: the difference must be a number, or every draw is inf or nan.
+      if (!std::isfinite(*hi - *lo))
+        return error(range, "uniform: the range from " + numberText(*lo) + " to " + numberText(*hi) + " is too wide");
+      std::mt19937_64 random(*seed);
       for (long long i = 0; i < *draws; ++i) {
         double unit = double(random() >> 11) * 0x1.0p-53;  // [0, 1), 53 random bits
         out.push_back(numberText(*lo + (*hi - *lo) * unit));
@@ -177,7 +256,8 @@ class SweepReader {
         if (!s) return s.takeError();
         step = *s;
       }
-      if (step == 0 || (*to - *from) * step < 0)
+      // Signs, not (to - from) * step < 0: that product can round to -0 or 0 and pass.
+      if (step == 0 || (*to > *from && step < 0) || (*to < *from && step > 0))
         return error(node["step"] ? node["step"] : node, what + ": the step does not lead from " + numberText(*from) +
                                                              " to " + numberText(*to));
       // The tolerance keeps the end that 0.1 steps reach only up to rounding.
@@ -196,11 +276,20 @@ class SweepReader {
     s.folder = fs::path(file_).parent_path().string();
     s.text = text;
     YAML::Node root;
+    KeyChecker keys;
+    bool moreDocuments = false;
     try {
       root = YAML::Load(text);
+      std::istringstream in(text);
+      YAML::Parser events(in);
+      events.HandleNextDocument(keys);
+      moreDocuments = events.HandleNextDocument(keys);
     } catch (const YAML::ParserException& e) {
       return error(e.mark, e.msg);
     }
+    if (keys.found) return error(keys.found->first, keys.found->second);
+    // YAML::Load reads the first document alone: what comes after a second --- would be ignored.
+    if (moreDocuments) return error(keys.document, "a sweep file is one YAML document; this is a second one");
     if (!root.IsMap()) return error(root, "a sweep file is a map of model, files, parameters, seeds, outputs, options");
     if (auto e = onlyKeys(root, {"model", "files", "parameters", "seeds", "outputs", "options"}, "the sweep file"))
       return std::move(e);
@@ -242,18 +331,22 @@ class SweepReader {
         if (!n) return n.takeError();
         if (*n < 1) return error(seeds, "seeds: give at least one run (seeds: N runs with --seed 1 … N)");
         if (size_t(*n) > kMostRuns) return error(seeds, "more than 999999 runs");
-        for (long long i = 1; i <= *n; ++i) s.seeds.push_back(i);
+        for (uint64_t i = 1; i <= uint64_t(*n); ++i) s.seeds.push_back(i);
       } else if (seeds.IsMap()) {
         if (auto e = onlyKeys(seeds, {"from", "count"}, "seeds")) return std::move(e);
         if (!seeds["from"] || !seeds["count"]) return error(seeds, "seeds: give from and count ({from: 100, count: 5})");
-        auto from = integer(seeds["from"], "from"), count = integer(seeds["count"], "count");
+        auto from = seed(seeds["from"], "from");
+        auto count = integer(seeds["count"], "count");
         if (!from) return from.takeError();
         if (!count) return count.takeError();
         if (*count < 1 || size_t(*count) > kMostRuns) return error(seeds["count"], "count must be 1 to 999999");
-        for (long long i = 0; i < *count; ++i) s.seeds.push_back(*from + i);
+        if (uint64_t(*count - 1) > UINT64_MAX - *from)
+          return error(seeds, "seeds: from " + std::to_string(*from) + ", count " + std::to_string(*count) +
+                                  " passes the largest seed, " + std::to_string(UINT64_MAX));
+        for (uint64_t i = 0; i < uint64_t(*count); ++i) s.seeds.push_back(*from + i);
       } else if (seeds.IsSequence()) {
         for (const YAML::Node& item : seeds) {
-          auto n = integer(item, "each seed");
+          auto n = seed(item, "each seed");
           if (!n) return n.takeError();
           s.seeds.push_back(*n);
         }
@@ -299,14 +392,42 @@ struct Plan {
   std::vector<std::string> parameterNames() const { return json["parameters"].get<std::vector<std::string>>(); }
 };
 
+fs::path absolutePath(const std::string& name) { return fs::absolute(name).lexically_normal(); }
+
 std::string defaultDir(const std::string& file) {
-  fs::path p = fs::absolute(file).lexically_normal();
+  fs::path p = absolutePath(file);
   return (p.parent_path() / (p.stem().string() + "-runs")).string();
+}
+
+// The plan's folder of plan, run and slurm: --out, or beside the sweep file.
+std::string planDir(const SweepCommand& c) { return c.dir.empty() ? defaultDir(c.file) : c.dir; }
+
+bool hasControlCharacter(const std::string& text) {
+  return std::any_of(text.begin(), text.end(), [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; });
+}
+
+// A name as an error message shows it: control characters as \n, \t, \r or \xHH, so that a name
+// with a line break in it reads as one line.
+std::string shownName(const std::string& name) {
+  std::string shown;
+  for (unsigned char ch : name) {
+    if (ch == '\n') shown += "\\n";
+    else if (ch == '\t') shown += "\\t";
+    else if (ch == '\r') shown += "\\r";
+    else if (ch < 0x20 || ch == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", ch);
+      shown += hex;
+    } else {
+      shown += char(ch);
+    }
+  }
+  return shown;
 }
 
 llvm::Expected<Plan> loadPlan(const std::string& dirName) {
   Plan plan;
-  plan.dir = fs::absolute(dirName).lexically_normal();
+  plan.dir = absolutePath(dirName);
   fs::path file = plan.dir / "sweep.json";
   std::error_code ec;
   if (!fs::exists(file, ec))
@@ -329,7 +450,12 @@ std::string tasksLine(const SweepRun& run, const fs::path& dir) {
 // Plans the sweep into `dirName`, or finds it planned there from the same text. Returns the plan
 // and whether it was made now.
 llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string& dirName, const std::string& version) {
-  fs::path dir = fs::absolute(dirName).lexically_normal();
+  fs::path dir = absolutePath(dirName);
+  // tasks.tsv is a line a run, tab-separated, and the run's folder is one of its fields.
+  if (hasControlCharacter(dir.string()))
+    return failure(shownName(dir.string()) + ": error: the plan's folder has a line break, a tab or another control "
+                                             "character in its name, which tasks.tsv cannot carry: plan it "
+                                             "elsewhere with --out DIR");
   const std::string hash = blake3Hex(sweep.text);
   std::error_code ec;
   if (fs::exists(dir / "sweep.json", ec)) {
@@ -377,7 +503,7 @@ llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string
 struct Task {
   std::string id;
   std::vector<std::pair<std::string, std::string>> values;
-  std::optional<long long> seed;
+  std::optional<uint64_t> seed;
 };
 
 llvm::Expected<std::vector<Task>> loadTasks(const Plan& plan) {
@@ -394,11 +520,9 @@ llvm::Expected<std::vector<Task>> loadTasks(const Plan& plan) {
     for (size_t i = 2; i < fields.size(); ++i) {
       auto [name, value] = fields[i].split('=');
       // A parameter is never called seed (readSweep).
-      long long seed = 0;
       if (name != "seed") t.values.emplace_back(name.str(), value.str());
-      else if (value.getAsInteger(10, seed))
+      else if (!(t.seed = seedNumber(value.str())))
         return failure((plan.dir / "tasks.tsv").string() + ": error: run " + t.id + ": not a seed: " + value.str());
-      else t.seed = seed;
     }
     tasks.push_back(std::move(t));
   }
@@ -440,20 +564,36 @@ llvm::Expected<int> runChild(const std::vector<std::string>& args, const std::op
   return status;
 }
 
-// The end of what a child said, on one line: a usage error is two lines, the second the less telling.
+// The end of what a child said, on one line: its last three lines that say something (a usage
+// error is two lines, the second the less telling), at most 500 characters. Only the file's last
+// 4 KB are read: a run may have printed gigabytes before it died, and `sweep run -j N` has N of
+// these at once.
 std::string lastWords(const fs::path& file) {
-  auto text = readText(file);
-  if (!text) {
-    llvm::consumeError(text.takeError());
-    return "";
-  }
+  constexpr std::streamoff kTail = 4096;
+  constexpr size_t kMostWords = 500;
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? std::streamoff(in.tellg()) : -1;
+  if (size <= 0) return "";
+  const std::streamoff start = std::max<std::streamoff>(0, size - kTail);
+  std::string text(size_t(size - start), '\0');
+  in.seekg(start);
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(in.gcount()));
   llvm::SmallVector<llvm::StringRef, 16> lines;
-  llvm::StringRef(*text).split(lines, '\n', -1, false);
+  llvm::StringRef(text).split(lines, '\n', -1, false);
+  // Zero bytes are blank too: what a file extended by ftruncate holds, not words.
+  const llvm::StringRef blank(" \t\n\v\f\r\0", 7);
   std::vector<std::string> last;
-  for (size_t i = lines.size(); i-- > 0 && last.size() < 3;)
-    if (!lines[i].trim().empty()) last.insert(last.begin(), lines[i].trim().str());
+  bool cut = false;  // a line taken is the tail's first, the end of a longer one
+  for (size_t i = lines.size(); i-- > 0 && last.size() < 3;) {
+    llvm::StringRef line = lines[i].trim(blank);
+    if (line.empty()) continue;
+    last.insert(last.begin(), line.str());
+    cut = start > 0 && i == 0;
+  }
   std::string words = llvm::join(last, " | ");
-  return words.size() > 500 ? "..." + words.substr(words.size() - 500) : words;
+  if (words.size() > kMostWords) return "..." + words.substr(words.size() - kMostWords);
+  return cut ? "..." + words : words;
 }
 
 // --- The verbs ------------------------------------------------------------------------------------
@@ -646,8 +786,7 @@ int collectAndSay(const Plan& plan, bool complete) {
 llvm::Expected<Plan> planned(const SweepCommand& c) {
   auto sweep = readSweep(c.file);
   if (!sweep) return sweep.takeError();
-  const std::string dir = c.dir.empty() ? defaultDir(c.file) : c.dir;
-  auto made = plan(*sweep, dir, c.version);
+  auto made = plan(*sweep, planDir(c), c.version);
   if (!made) return made.takeError();
   std::printf("%s: %zu runs%s\n", made->first.dir.c_str(), made->first.json["runs"].get<size_t>(),
               made->second ? " planned" : " (planned before)");
@@ -683,26 +822,49 @@ std::string shellQuoted(const std::string& s) {
   return q + "'";
 }
 
+// An #SBATCH line's argument as sbatch reads it (Slurm's src/sbatch/opt.c, get_argument): in double
+// quotes spaces and # are text, and a backslash takes the next character as it is.
+std::string slurmQuoted(const std::string& s) {
+  std::string q = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') q += '\\';
+    q += ch;
+  }
+  return q + "\"";
+}
+
 int writeSlurm(const SweepCommand& c) {
   if (c.chunk < 1) return report(failure("lcjit sweep slurm: error: --chunk must be at least 1"));
+  // The script names the sweep file and the plan's folder in comments and #SBATCH lines, which end
+  // at a line break: bash would run what follows one. Refused before anything is written; the
+  // plan's folder has no control characters either (plan refuses them).
+  const std::string sweepFile = absolutePath(c.file).string(), dir = absolutePath(planDir(c)).string();
+  if (hasControlCharacter(sweepFile))
+    return report(failure(shownName(sweepFile) + ": error: the sweep file has a line break, a tab or another control "
+                                                 "character in its name, which a Slurm script cannot carry: rename it"));
+  // Slurm's --output reads a backslash as "no %A or %a here" and drops it.
+  if (dir.find('\\') != std::string::npos)
+    return report(failure(shownName(dir) + ": error: the plan's folder has a backslash in its name, which Slurm's --output "
+                                "cannot carry: plan it elsewhere with --out DIR"));
+  std::string outputPattern;  // % is Slurm's: %% is one
+  for (char ch : dir) outputPattern += ch == '%' ? std::string("%%") : std::string(1, ch);
   auto p = planned(c);
   if (!p) return report(p.takeError());
   const size_t runs = p->json["runs"].get<size_t>();
   const size_t arrayTasks = (runs + c.chunk - 1) / c.chunk;
-  const std::string dir = p->dir.string(), name = fs::path(p->json["sweep"].get<std::string>()).stem().string();
   std::error_code ec;
   fs::create_directories(p->dir / "slurm", ec);
   std::ostringstream s;
   s << "#!/bin/bash\n"
-    << "# Slurm job array of the sweep " << p->json["sweep"].get<std::string>() << ", written by lcjit sweep slurm\n"
+    << "# Slurm job array of the sweep " << sweepFile << ", written by lcjit sweep slurm\n"
     << "# (docs/sweeps.md). Array task T runs the ids on lines T*" << c.chunk << "+1 to (T+1)*" << c.chunk
     << " of ids with GNU parallel on its\n"
     << "# CPUs; submitted again, a task skips the runs its joblog has. Then: lcjit sweep collect DIR.\n"
-    << "#SBATCH --job-name=lcjit-" << name << "\n"
+    << "#SBATCH --job-name=" << slurmQuoted("lcjit-" + fs::path(sweepFile).stem().string()) << "\n"
     << "#SBATCH --array=0-" << arrayTasks - 1 << "\n"
     << "#SBATCH --ntasks=1\n"
     << "#SBATCH --cpus-per-task=1\n"
-    << "#SBATCH --output=" << dir << "/slurm/%A_%a.out\n"
+    << "#SBATCH --output=" << slurmQuoted(outputPattern + "/slurm/%A_%a.out") << "\n"
     << "set -eu\n"
     << "dir=" << shellQuoted(dir) << "\n"
     << "first=$((SLURM_ARRAY_TASK_ID * " << c.chunk << " + 1))\n"
@@ -720,8 +882,17 @@ int writeSlurm(const SweepCommand& c) {
 
 }  // namespace
 
+const char* const kSeedRange = "a whole number from 0 to 18446744073709551615";
+
+std::optional<uint64_t> seedNumber(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  unsigned long long v = 0;
+  if (llvm::StringRef(text).getAsInteger(10, v)) return std::nullopt;  // past 2^64 - 1
+  return uint64_t(v);
+}
+
 llvm::Expected<Sweep> readSweep(const std::string& file) {
-  const std::string path = fs::absolute(file).lexically_normal().string();
+  const std::string path = absolutePath(file).string();
   auto text = readText(path);
   if (!text) return text.takeError();
   return SweepReader(path).read(*text);

@@ -4,6 +4,7 @@
 // records into one CSV table. Scheduling is not lcjit's: GNU parallel runs the tasks on one
 // machine (or several over SSH), Slurm as a job array whose script lcjit writes.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -26,7 +27,7 @@ struct Sweep {
   };
   std::vector<Parameter> parameters;
   bool seeded = false;  // false: the runs get no --seed
-  std::vector<long long> seeds;
+  std::vector<uint64_t> seeds;
   std::vector<std::string> outputs;  // file names in a run's folder: out.str, out.png, out.obj
   std::vector<std::string> options;  // more lcjit options for every run
 };
@@ -35,8 +36,14 @@ struct Sweep {
 struct SweepRun {
   std::string id;  // 000001, 000002 …
   std::vector<std::pair<std::string, std::string>> values;
-  std::optional<long long> seed;
+  std::optional<uint64_t> seed;
 };
+
+// A seed as `--seed N` and the sweep file's seeds take it: a whole number from 0 to 2^64 - 1,
+// written in decimal digits alone; nothing else (a sign, 0x, a number past 2^64 - 1: none wraps).
+std::optional<uint64_t> seedNumber(const std::string& text);
+// What a seed must be, for error messages.
+extern const char* const kSeedRange;
 
 // Errors name the sweep file, the line and column, and what is wrong.
 llvm::Expected<Sweep> readSweep(const std::string& file);

@@ -221,7 +221,17 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_option("--seed", seed,
                  "run as member N of an ensemble: the model's random numbers (ran, and the Gillespie choices) "
                  "come from its own seeds mixed with N, a different reproducible stream for each N; without "
-                 "it, lpfg's (docs/sweeps.md)");
+                 "it, lpfg's (docs/sweeps.md)")
+      // CLI11 would read -1 as 2^64 - 1, a number past that as 2^64 - 1 and 010 as 8; N is what a sweep
+      // file's seeds are (decimal digits, 0 to 2^64 - 1), handed on written plainly.
+      ->transform(CLI::Validator(
+          [](std::string& text) {
+            std::optional<uint64_t> n = lcjit::app::seedNumber(text);
+            if (!n) return "N must be " + std::string(lcjit::app::kSeedRange) + ", not '" + text + "'";
+            text = std::to_string(*n);
+            return std::string();
+          },
+          ""));
   app.add_option("--run-record", bo.runRecord,
                  "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "
                  "inputs' hashes, the error if any) and its measures (module counts, the geometry's size, "

@@ -115,6 +115,15 @@ errors)
   check "empty list" 'model: branch.l\nparameters:\n  A: []\n' "3:6: error: the values of A: the list is empty"
   check "bad seeds" 'model: branch.l\nseeds: {from: 1}\n' "2:8: error: seeds: give from and count"
   check "bad output" 'model: branch.l\noutputs: [string, movie]\n' "2:19: error: unknown output 'movie'"
+  check "a key twice" 'model: branch.l\nparameters:\n  A: [1]\n  A: [2]\n' "4:3: error: A is given twice"
+  check "seeds past 2^64 - 1" 'model: branch.l\nseeds: {from: 18446744073709551615, count: 2}\n' \
+    "2:8: error: seeds: from 18446744073709551615, count 2 passes the largest seed, 18446744073709551615"
+  check "negative seed" 'model: branch.l\nseeds: [-1]\n' "2:9: error: each seed must be a whole number from 0 to"
+  # (to - from) * step is -1e-400, which rounds to -0: the step's sign, not the product, says it.
+  check "step away, tiny" 'model: branch.l\nparameters:\n  A: {from: 0, to: 1e-200, step: -1e-200}\n' \
+    "3:34: error: the values of A: the step does not lead from 0 to 1e-200"
+  check "draws' range too wide" 'model: branch.l\nparameters:\n  A: {uniform: [-1e308, 1e308], draws: 2, seed: 1}\n' \
+    "3:16: error: uniform: the range from -1e+308 to 1e+308 is too wide"
   ;;
 
 slurm)
