@@ -133,6 +133,15 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   return d;
 }
 
+// The length of line `line` of `file` as it is on the disk (none when it cannot be read).
+std::optional<unsigned> lineLength(const std::string& file, unsigned line) {
+  std::ifstream in(file);
+  std::string text;
+  for (unsigned i = 0; i < line && std::getline(in, text); ++i)
+    if (i + 1 == line) return unsigned(text.size() - (!text.empty() && text.back() == '\r'));
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string installedDataDir() {
@@ -317,14 +326,19 @@ std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guarded
   };
 }
 
-// The statement at a model code address, in the model's own files (the JIT's line tables).
+// The statement at a model code address, in the model's own files (the JIT's line tables): the
+// innermost place whose column is on its line as written. One past the line's end is code lcjit
+// generated and placed on the user's line, never a statement the user wrote: the place it was
+// inlined at is named instead, or the model's call that led there (the guard's next frame).
 runtime::CodeLocator Session::codeLocator(std::shared_ptr<const frontend::OriginalColumns> columns) const {
   return [compiler = compiler_.get(), columns = std::move(columns)](uintptr_t address,
                                                                     bool returnAddress) -> std::optional<runtime::CodePlace> {
-    std::vector<jit::SourcePlace> places = compiler->sourceAt(address, returnAddress);
-    if (places.empty()) return std::nullopt;
-    const jit::SourcePlace& p = places[0];
-    return runtime::CodePlace{p.file, p.line, columns ? columns->column(p.file, p.line, p.column) : p.column};
+    for (const jit::SourcePlace& p : compiler->sourceAt(address, returnAddress)) {
+      const unsigned column = columns ? columns->column(p.file, p.line, p.column) : p.column;
+      const std::optional<unsigned> length = lineLength(p.file, p.line);
+      if (column == 0 || !length || column <= *length) return runtime::CodePlace{p.file, p.line, column};
+    }
+    return std::nullopt;
   };
 }
 
