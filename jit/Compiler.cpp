@@ -140,6 +140,10 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   // unwind entry, which grows with the square of the functions: 10,000 productions took 1.4 GB
   // and seconds to link, 115 MB with their own sections (finding 018).
   jtmb->getOptions().FunctionSections = true;
+  // And one per variable: the linker then places each by itself (ModelMemory.h lays zero-filled
+  // ones out smallest first), so that one huge array does not push the others it would share
+  // a .bss with out of the code's reach (2 GB).
+  jtmb->getOptions().DataSections = true;
   impl->jtmb = *jtmb;
 
   auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->objectsDir(), impl->config.debugger);
