@@ -142,6 +142,20 @@ std::optional<unsigned> lineLength(const std::string& file, unsigned line) {
   return std::nullopt;
 }
 
+// A compile's errors, each naming the file it is about: those with no place of their own (the
+// link's, the back end's) name `file`, the unit that was compiled.
+std::string namingFile(const std::string& file, llvm::StringRef errors) {
+  std::string out;
+  for (llvm::StringRef rest = errors; !rest.empty();) {
+    auto [line, next] = rest.split('\n');
+    if (line.starts_with("error: ")) out += file + ": ";
+    out += line;
+    if (next.data() != nullptr && line.size() < rest.size()) out += '\n';
+    rest = next;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string installedDataDir() {
@@ -326,6 +340,19 @@ std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guarded
   };
 }
 
+// The guard watches the memory only while model code runs, and a model's arrays are allocated when
+// it is linked, before: an array larger than the limit is refused then, at its declaration,
+// rather than run until the model touches it (docs/faults.md).
+std::function<llvm::Error(const jit::StaticData&)> Session::staticDataCheck(const std::string& file) const {
+  return [limit = limits_.maxMemory, file](const jit::StaticData& d) -> llvm::Error {
+    if (!limit || d.bytes <= limit) return llvm::Error::success();
+    std::string largest = d.largest.empty() ? "" : "; '" + d.largest + "' alone takes " + runtime::sizeInWords(d.largestBytes);
+    return llvm::createStringError((d.declaredAt.empty() ? file : d.declaredAt) + ": error: the model's static data take " +
+                                   runtime::sizeInWords(d.bytes) + ", more than the memory limit (--max-memory " +
+                                   runtime::sizeInWords(limit) + ")" + largest);
+  };
+}
+
 // The statement at a model code address, in the model's own files (the JIT's line tables): the
 // innermost place whose column is on its line as written. One past the line's end is code lcjit
 // generated and placed on the user's line, never a statement the user wrote: the place it was
@@ -454,10 +481,11 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
     so.bufferName = source;
     auto unitColumns = std::make_shared<frontend::OriginalColumns>(*text);
     so.runModelCode = guardedStatics(source, unitColumns);
+    so.checkStaticData = staticDataCheck(source);
     jit::CompileStats unitStats;
     auto unit = compiler_->compile(*text, so, &unitStats);
     for (const std::string& n : unitStats.notes) p.warnings.push_back("lcjit: " + n);
-    if (!unit) return llvm::createStringError(unitColumns->diagnostics(llvm::toString(unit.takeError())));
+    if (!unit) return llvm::createStringError(namingFile(source, unitColumns->diagnostics(llvm::toString(unit.takeError()))));
     p.sourceCode.push_back(std::move(*unit));
   }
   const double unitsMs = jit::msSince(unitsStart);
@@ -491,7 +519,9 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   auto cpp = frontend::rewrite(*text, files.lsystem);
   p.columns = std::make_shared<frontend::OriginalColumns>(std::move(*text));
   // The rewriter's and the compile's errors count columns in the preprocessed text.
-  auto asWritten = [&p](llvm::Error e) { return llvm::createStringError(p.columns->diagnostics(llvm::toString(std::move(e)))); };
+  auto asWritten = [&](llvm::Error e) {
+    return llvm::createStringError(namingFile(files.lsystem, p.columns->diagnostics(llvm::toString(std::move(e)))));
+  };
   if (!cpp) return asWritten(cpp.takeError());
   times.rewriteMs = jit::msSince(t0);
   {
@@ -504,6 +534,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
   co.runModelCode = guardedStatics(files.lsystem, p.columns);
+  co.checkStaticData = staticDataCheck(files.lsystem);
   co.beginNextAhead = editedLive_;
   for (const auto& c : p.sourceCode) co.linkAgainst.push_back(c.get());
   jit::CompileStats stats;
@@ -816,6 +847,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     co.optLevel = 0;
     co.bufferName = "<repl>";
     co.runModelCode = guardedStatics("<repl>", columns);
+    co.checkStaticData = staticDataCheck("<repl>");
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);
