@@ -133,6 +133,29 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   return d;
 }
 
+// The length of line `line` of `file` as it is on the disk (none when it cannot be read).
+std::optional<unsigned> lineLength(const std::string& file, unsigned line) {
+  std::ifstream in(file);
+  std::string text;
+  for (unsigned i = 0; i < line && std::getline(in, text); ++i)
+    if (i + 1 == line) return unsigned(text.size() - (!text.empty() && text.back() == '\r'));
+  return std::nullopt;
+}
+
+// A compile's errors, each naming the file it is about: those with no place of their own (the
+// link's, the back end's) name `file`, the unit that was compiled.
+std::string namingFile(const std::string& file, llvm::StringRef errors) {
+  std::string out;
+  for (llvm::StringRef rest = errors; !rest.empty();) {
+    auto [line, next] = rest.split('\n');
+    if (line.starts_with("error: ")) out += file + ": ";
+    out += line;
+    if (next.data() != nullptr && line.size() < rest.size()) out += '\n';
+    rest = next;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string installedDataDir() {
@@ -317,14 +340,32 @@ std::function<llvm::Error(const std::function<llvm::Error()>&)> Session::guarded
   };
 }
 
-// The statement at a model code address, in the model's own files (the JIT's line tables).
+// The guard watches the memory only while model code runs, and a model's arrays are allocated when
+// it is linked, before: an array larger than the limit is refused then, at its declaration,
+// rather than run until the model touches it (docs/faults.md).
+std::function<llvm::Error(const jit::StaticData&)> Session::staticDataCheck(const std::string& file) const {
+  return [limit = limits_.maxMemory, file](const jit::StaticData& d) -> llvm::Error {
+    if (!limit || d.bytes <= limit) return llvm::Error::success();
+    std::string largest = d.largest.empty() ? "" : "; '" + d.largest + "' alone takes " + runtime::sizeInWords(d.largestBytes);
+    return llvm::createStringError((d.declaredAt.empty() ? file : d.declaredAt) + ": error: the model's static data take " +
+                                   runtime::sizeInWords(d.bytes) + ", more than the memory limit (--max-memory " +
+                                   runtime::sizeInWords(limit) + ")" + largest);
+  };
+}
+
+// The statement at a model code address, in the model's own files (the JIT's line tables): the
+// innermost place whose column is on its line as written. One past the line's end is code lcjit
+// generated and placed on the user's line, never a statement the user wrote: the place it was
+// inlined at is named instead, or the model's call that led there (the guard's next frame).
 runtime::CodeLocator Session::codeLocator(std::shared_ptr<const frontend::OriginalColumns> columns) const {
   return [compiler = compiler_.get(), columns = std::move(columns)](uintptr_t address,
                                                                     bool returnAddress) -> std::optional<runtime::CodePlace> {
-    std::vector<jit::SourcePlace> places = compiler->sourceAt(address, returnAddress);
-    if (places.empty()) return std::nullopt;
-    const jit::SourcePlace& p = places[0];
-    return runtime::CodePlace{p.file, p.line, columns ? columns->column(p.file, p.line, p.column) : p.column};
+    for (const jit::SourcePlace& p : compiler->sourceAt(address, returnAddress)) {
+      const unsigned column = columns ? columns->column(p.file, p.line, p.column) : p.column;
+      const std::optional<unsigned> length = lineLength(p.file, p.line);
+      if (column == 0 || !length || column <= *length) return runtime::CodePlace{p.file, p.line, column};
+    }
+    return std::nullopt;
   };
 }
 
@@ -447,10 +488,11 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
     so.bufferName = source;
     auto unitColumns = std::make_shared<frontend::OriginalColumns>(*text);
     so.runModelCode = guardedStatics(source, unitColumns);
+    so.checkStaticData = staticDataCheck(source);
     jit::CompileStats unitStats;
     auto unit = compiler_->compile(*text, so, &unitStats);
     for (const std::string& n : unitStats.notes) p.warnings.push_back("lcjit: " + n);
-    if (!unit) return llvm::createStringError(unitColumns->diagnostics(llvm::toString(unit.takeError())));
+    if (!unit) return llvm::createStringError(namingFile(source, unitColumns->diagnostics(llvm::toString(unit.takeError()))));
     p.sourceCode.push_back(std::move(*unit));
   }
   const double unitsMs = jit::msSince(unitsStart);
@@ -484,7 +526,9 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   auto cpp = frontend::rewrite(*text, files.lsystem);
   p.columns = std::make_shared<frontend::OriginalColumns>(std::move(*text));
   // The rewriter's and the compile's errors count columns in the preprocessed text.
-  auto asWritten = [&p](llvm::Error e) { return llvm::createStringError(p.columns->diagnostics(llvm::toString(std::move(e)))); };
+  auto asWritten = [&](llvm::Error e) {
+    return llvm::createStringError(namingFile(files.lsystem, p.columns->diagnostics(llvm::toString(std::move(e)))));
+  };
   if (!cpp) return asWritten(cpp.takeError());
   times.rewriteMs = jit::msSince(t0);
   {
@@ -497,6 +541,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   co.optLevel = optLevel;
   co.bufferName = files.lsystem + ".cpp";
   co.runModelCode = guardedStatics(files.lsystem, p.columns);
+  co.checkStaticData = staticDataCheck(files.lsystem);
   co.beginNextAhead = editedLive_;
   for (const auto& c : p.sourceCode) co.linkAgainst.push_back(c.get());
   jit::CompileStats stats;
@@ -809,6 +854,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     co.optLevel = 0;
     co.bufferName = "<repl>";
     co.runModelCode = guardedStatics("<repl>", columns);
+    co.checkStaticData = staticDataCheck("<repl>");
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);

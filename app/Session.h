@@ -24,6 +24,7 @@ struct __lc_Model;
 namespace lcjit::jit {
 class Compiler;
 class ModelCode;
+struct StaticData;
 }  // namespace lcjit::jit
 namespace lcjit::runtime {
 class Engine;
@@ -249,6 +250,9 @@ class Session {
   // `columns` (may be null) places faults' columns as written in the model's files.
   std::function<llvm::Error(const std::function<llvm::Error()>&)> guardedStatics(
       const std::string& file, std::shared_ptr<const frontend::OriginalColumns> columns) const;
+  // Refuses code of `file` whose static data alone are more than --max-memory allows, before any
+  // of it is allocated (CompileOptions::checkStaticData).
+  std::function<llvm::Error(const jit::StaticData&)> staticDataCheck(const std::string& file) const;
   runtime::CodeLocator codeLocator(std::shared_ptr<const frontend::OriginalColumns> columns) const;
   static void splitRules(const frontend::Rewritten& cpp, std::vector<std::string>& rules, std::string& rest);
   std::optional<std::string> incrementalUnit(const frontend::Rewritten& cpp, PreparedModel& p);

@@ -660,7 +660,12 @@ class Rewriter {
     std::string s = "struct " + R + " { __lc_ModuleId id;";
     for (size_t i = 0; i < types.size(); ++i) s += " " + alias[i] + " p" + std::to_string(i) + ";";
     s += " __lc_ModuleId id2; }; enum : __lc_ModuleId { __lc_id_" + name + " = " + std::to_string(id) + " }; ";
-    s += "static inline void";
+    // The emitting function is placed at the module's name, for Clang's errors about it; its
+    // code gets no lines of its own (nodebug): inlined, it takes the line of the produce or
+    // nproduce that calls it, and called, its frame is passed over for the caller's. A fault or
+    // a stop inside it (the string growing) is then named at the statement that was running,
+    // not at the declaration with a column of the generated text past the line's end.
+    s += "static inline __attribute__((__nodebug__)) void";
     out_.glueAt(at, s);
     s = "__lc_emit_" + name + "(__lc_Ctx* c";
     for (size_t i = 0; i < types.size(); ++i) s += ", " + alias[i] + " a" + std::to_string(i);

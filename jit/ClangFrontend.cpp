@@ -7,6 +7,7 @@
 #include <clang/Basic/DiagnosticOptions.h>
 #include <clang/Basic/LangStandard.h>
 #include <clang/Basic/Stack.h>
+#include <clang/CodeGen/ModuleBuilder.h>
 #include <clang/Frontend/Utils.h>
 #include <clang/Lex/PreprocessorOptions.h>
 #include <llvm/ADT/StringExtras.h>
@@ -50,6 +51,28 @@ struct BackendDiagHandler : llvm::DiagnosticHandler {
   std::shared_ptr<std::string> out;
 };
 
+// Where each global variable of the module that `action` generated was declared, while its AST is
+// there: "FILE:LINE:COL" of the declared name, the file and line as #line gives them.
+std::map<std::string, std::string> declarationsOf(clang::CodeGenAction& action, const clang::SourceManager& sm) {
+  std::map<std::string, std::string> places;
+  clang::CodeGenerator* gen = action.getCodeGenerator();
+  llvm::Module* module = gen ? gen->GetModule() : nullptr;
+  if (!module)
+    return places;
+  for (const llvm::GlobalVariable& gv : module->globals()) {
+    if (gv.isDeclaration() || !gv.hasName())
+      continue;
+    const clang::Decl* decl = gen->GetDeclForMangledName(gv.getName());
+    if (!decl)
+      continue;
+    clang::PresumedLoc at = sm.getPresumedLoc(sm.getExpansionLoc(decl->getLocation()));
+    if (at.isValid())
+      places[gv.getName().str()] =
+          std::string(at.getFilename()) + ":" + std::to_string(at.getLine()) + ":" + std::to_string(at.getColumn());
+  }
+  return places;
+}
+
 }  // namespace
 
 bool executeClang(std::shared_ptr<clang::CompilerInvocation> inv, clang::FrontendAction& action,
@@ -90,6 +113,10 @@ bool Frontend::begin() {
   else
     ppo.ImplicitPCHInclude = pchPath;
   inv->getCodeGenOpts().MainFileName = bufferName;
+  // The AST stays until EndSourceFile, for finish() to note where the module's variables are
+  // declared (declarationsOf): clang would free it before its back end, which here only hands
+  // the module over (the IR passes run later), so keeping it costs nothing.
+  inv->getCodeGenOpts().ClearASTBeforeBackend = false;
   if (!lineTables)  // the level's line has -gline-tables-only, which a PCH made for it shares
     inv->getCodeGenOpts().setDebugInfo(llvm::codegenoptions::NoDebugInfo);
   else if (fullDebugInfo)  // code generation's choice: the PCH serves as it is
@@ -115,6 +142,8 @@ Frontend::Result Frontend::finish(llvm::StringRef source) {
     std::memcpy(text.get(), source.data(), std::min(source.size(), capacity));
     if (llvm::Error err = action->Execute())
       dc.text += "error: " + llvm::toString(std::move(err)) + "\n";
+    else
+      r.declaredAt = declarationsOf(*action, ci->getSourceManager());
     action->EndSourceFile();
     begun = false;
   }

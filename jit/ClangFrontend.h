@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -40,6 +41,8 @@ public:
     std::shared_ptr<std::string> backendErrors;  // what the LLVM back end reports later
     std::string diagnostics;
     bool pchProblem = false;
+    // Where each global variable the module defines is declared (CachedObject::declaredAt).
+    std::map<std::string, std::string> declaredAt;
   };
 
   Frontend(std::shared_ptr<clang::CompilerInvocation> base, std::string pchPath, bool pchFallback,

@@ -4,11 +4,13 @@
 #include "jit/CompilerImpl.h"
 #include "jit/Elapsed.h"
 #include "jit/IRRewrites.h"
+#include "jit/StaticData.h"
 
 #include <clang/Basic/Stack.h>
 #include <llvm/ADT/ScopeExit.h>
 #include <llvm/ADT/Twine.h>
 #include <llvm/Demangle/Demangle.h>
+#include <llvm/Support/FormatVariadic.h>
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/Path.h>
@@ -55,6 +57,34 @@ std::string demangleMentions(const std::string& msg) {
     }
   }
   return out;
+}
+
+// The error of a failed link (`what` failed: `cause`), in the model's terms rather than those of
+// lcjit's JITDylibs and the linker's fixups. x86-64 code reaches 2 GB around it (the small code
+// model, which JITLink wants): static data beyond that (many large arrays) fail the link with a
+// relocation "out of range", which is said as what it is, at the declaration of the variable the
+// linker named (or of the largest).
+std::string linkFailure(llvm::StringRef what, std::string cause, const CachedObject& object, const StaticData& data) {
+  if (cause.find("out of range") != std::string::npos && data.bytes >= (uint64_t(1) << 31)) {
+    std::string name = data.largest, at = data.declaredAt;
+    const llvm::StringRef marker = "relocation target \"";
+    if (size_t from = cause.find(marker.str()); from != std::string::npos)
+      if (size_t to = cause.find('"', from + marker.size()); to != std::string::npos) {
+        const std::string symbol = cause.substr(from + marker.size(), to - from - marker.size());
+        auto it = object.declaredAt.find(symbol);
+        name = llvm::demangle(symbol);
+        at = it == object.declaredAt.end() ? "" : it->second;
+      }
+    const std::string gb = llvm::formatv("{0:F2} GB", double(data.bytes) / double(uint64_t(1) << 30)).str();
+    return (at.empty() ? "" : at + ": ") + "error: '" + name +
+           "' lies farther from the model's code than x86-64 code reaches (2 GB): the model's static data take " + gb +
+           "; allocate the large arrays while the model runs (new, std::vector)";
+  }
+  // "In graph lcjit.model.3, section .text: ...": the graph is the JITDylib's, a name of lcjit's.
+  if (llvm::StringRef(cause).starts_with("In graph "))
+    if (size_t comma = cause.find(", "); comma != std::string::npos)
+      cause.erase(0, comma + 2);
+  return "error: " + what.str() + ": " + cause;
 }
 
 }  // namespace
@@ -142,6 +172,10 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   // unwind entry, which grows with the square of the functions: 10,000 productions took 1.4 GB
   // and seconds to link, 115 MB with their own sections (finding 018).
   jtmb->getOptions().FunctionSections = true;
+  // And one per variable: the linker then places each by itself (ModelMemory.h lays zero-filled
+  // ones out smallest first), so that one huge array does not push the others it would share
+  // a .bss with out of the code's reach (2 GB).
+  jtmb->getOptions().DataSections = true;
   impl->jtmb = *jtmb;
 
   auto state = detail::JitState::create(*jtmb, impl->config.hostSymbols, impl->objectsDir(), impl->config.debugger);
@@ -192,6 +226,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         return job.report(ir.takeError());
       // optimize → the module rewritten and optimised; the globals it owns, in `fresh`.
       CachedObject fresh;
+      fresh.declaredAt = std::move(ir->declaredAt);
       if (auto err = impl_->optimize(job, *ir->module, fresh))
         return job.report(std::move(err));
       // generateCode → the object code and its anchor, in `fresh`.
@@ -199,6 +234,13 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
         return job.report(std::move(err));
       job.object = std::make_shared<const CachedObject>(std::move(fresh));
     }
+
+    // checkStaticData → what the object's data would take, refused before any of it is
+    // allocated if the caller says so (a reused object stays cached: it is not at fault).
+    ObjectData data = dataOf(*job.object);
+    if (options.checkStaticData)
+      if (auto err = options.checkStaticData(data.data))
+        return job.report(std::move(err));
 
     auto loadStart = Clock::now();
     // supportCode → the JITDylib of the runtime header's code at level 0 (waited for before the
@@ -212,7 +254,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
     if (!jd)
       return jd.takeError();
     // load → the object linked in it, the model's globals recorded and constructed.
-    auto dylib = impl_->load(job, **jd, loadStart);
+    auto dylib = impl_->load(job, **jd, data, loadStart);
     jitLock.unlock();  // ~Dylib takes it
     const bool reused = job.stats.object != CompileStats::ObjectFrom::Compiled;
     if (!dylib && reused && !again) {
@@ -412,7 +454,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::newDylib(const Job& job, orc::JIT
 
 // Adds the object to JD and links it, records the bytes of the globals it owns, and runs its
 // static constructors; on failure, undoes what ran and removes JD. Called with the JIT's lock.
-llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, orc::JITDylib& JD,
+llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, orc::JITDylib& JD, const ObjectData& data,
                                                                     Clock::time_point loadStart) {
   auto& J = *state->jit;
   auto& ES = J.getExecutionSession();
@@ -428,10 +470,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
   auto fail = [&](llvm::Error err, llvm::StringRef what) -> llvm::Error {
     std::string msg = llvm::toString(std::move(err));
     std::string cause = trimTrailingNewlines(state->takeSessionErrors());
-    if (!cause.empty())
-      msg = "error: " + what.str() + ": " + cause;
-    else
-      msg = "error: " + what.str() + ": " + msg;
+    msg = linkFailure(what, cause.empty() ? msg : cause, object, data.data);
     if (initAttempted) {
       // Destroy what the initializers managed to construct (registered atexit handlers).
       llvm::consumeError(runModelCode([&] { return runOwnAtExits(J, JD); }));
@@ -456,7 +495,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
       return fail(sym.takeError(), "JIT link failed");
   }
   // The owned globals' bytes before any constructor ran: what resetState() puts back.
-  std::vector<std::pair<void*, std::string>> initialState;
+  std::vector<detail::Dylib::Initial> initialState;
   if (!object.stateNames.empty()) {
     orc::SymbolLookupSet names;
     for (const std::string& n : object.stateNames)
@@ -466,7 +505,8 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
       return fail(found.takeError(), "JIT link failed");
     for (size_t i = 0; i < object.stateNames.size(); ++i) {
       char* at = (*found)[J.mangleAndIntern(object.stateNames[i])].getAddress().toPtr<char*>();
-      initialState.emplace_back(at, std::string(at, object.stateSizes[i]));
+      const bool zero = data.zeroFilled.count(object.stateNames[i]) > 0;
+      initialState.push_back({at, object.stateSizes[i], zero, zero ? std::string() : std::string(at, object.stateSizes[i])});
     }
   }
   // Static constructors of the model. One that throws must not escape with the JITDylib half

@@ -6,6 +6,7 @@
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -52,6 +53,17 @@ struct CompilerConfig {
 
 class ModelCode;
 
+// The data a compiled model puts in memory when it is loaded: its variables of static storage,
+// zero-filled or not, and its constants (everything of its object but the code).
+struct StaticData {
+  uint64_t bytes = 0;
+  // The largest variable: its name as the source spells it ("grid", "Model::cells"), its size,
+  // and where it is declared ("FILE:LINE:COL", presumed through #line; "" when not known).
+  std::string largest;
+  uint64_t largestBytes = 0;
+  std::string declaredAt;
+};
+
 struct CompileOptions {
   // 0: -O0 IR, fast instruction selection. 1: light IR pipeline (SROA, early-CSE, instcombine,
   // simplifycfg, inliner) + fast instruction selection. 2: standard O2 pipeline + default codegen.
@@ -85,6 +97,9 @@ struct CompileOptions {
   // that crashes fails the compile (or is reported) instead of ending the process. Empty:
   // called directly.
   std::function<llvm::Error(const std::function<llvm::Error()>& run)> runModelCode;
+  // Asked before the object is linked, before any of its memory is allocated: an error refuses
+  // the model with it (a memory limit that its static data alone would pass). Empty: none.
+  std::function<llvm::Error(const StaticData& data)> checkStaticData;
   // A C++ translation unit of the model's own (an extra .cpp on the command line), compiled as
   // g++ compiles it for lpfg: without the runtime header (no PCH, nothing included implicitly),
   // so its names cannot clash with lpfgall.h's. Slower to parse than model code; the object

@@ -8,6 +8,7 @@
 #include "jit/Elapsed.h"
 #include "jit/ObjectCache.h"
 #include "jit/OrcState.h"
+#include "jit/StaticData.h"
 
 #include <llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h>
 #include <llvm/IR/Module.h>
@@ -68,7 +69,8 @@ struct Compiler::Impl {
   void cacheObject(Job& job);
   llvm::Expected<orc::JITDylib*> supportCode(Job& job);
   llvm::Expected<orc::JITDylib*> newDylib(const Job& job, orc::JITDylib* support);
-  llvm::Expected<std::shared_ptr<detail::Dylib>> load(Job& job, orc::JITDylib& JD, Clock::time_point loadStart);
+  llvm::Expected<std::shared_ptr<detail::Dylib>> load(Job& job, orc::JITDylib& JD, const ObjectData& data,
+                                                      Clock::time_point loadStart);
 
   // Instruction selection at `level`, with the level's kept TargetMachine (OrcState.cpp).
   llvm::Expected<std::string> emitObject(llvm::Module& m, int level);

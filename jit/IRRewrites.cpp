@@ -1,6 +1,7 @@
 // The IR rewrites of IRRewrites.h: a version's state exported or another's used, and its
 // constructors gathered into one init function.
 #include "jit/IRRewrites.h"
+#include "jit/ModelMemory.h"
 
 #include <llvm/IR/Constants.h>
 #include <llvm/IR/DIBuilder.h>
@@ -54,6 +55,9 @@ std::vector<std::string> exportState(llvm::Module& m) {
     } else if (gv.hasLinkOnceLinkage()) {
       gv.setLinkage(llvm::GlobalValue::WeakAnyLinkage);
     }
+    if (gv.hasInitializer() && gv.getInitializer()->isNullValue() &&
+        m.getDataLayout().getTypeAllocSize(gv.getValueType()) >= detail::kFarData)
+      gv.setDSOLocal(false);
     state.push_back(gv.getName().str());
   }
   // The productions' functions too (static in the generated C++): an incremental recompile

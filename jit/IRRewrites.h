@@ -15,7 +15,9 @@ namespace lcjit::jit {
 // Gives the module's mutable globals names another compile of the same source can refer to:
 // internal ones become external under the same (deterministic) name, discardable ones stay.
 // Returns the names: the model's state, which a better-optimised tier shares (CompileOptions::
-// shareStateWith).
+// shareStateWith). A zero-filled one of detail::kFarData bytes or more is reached through the GOT
+// (not dso_local), here and wherever it is shared: the linker may place it far from all code
+// (ModelMemory.h).
 std::vector<std::string> exportState(llvm::Module& m);
 
 // The globals other loaded code owns become declarations here (resolved against that code's

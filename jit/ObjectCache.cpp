@@ -19,13 +19,20 @@ namespace lcjit::jit {
 
 namespace {
 
-// Cache files: "lcjit-object 2\n", the anchor line, a count line, "SIZE NAME" per state global,
-// then the object bytes.
+// Cache files: "lcjit-object 3\n", the anchor line, a count line, "SIZE NAME" per state global,
+// a count line, "NAME FILE:LINE:COL" per declared variable, then the object bytes.
 std::string serialize(const CachedObject& c) {
-  std::string out = "lcjit-object 2\n" + c.anchor + "\n" + std::to_string(c.stateNames.size()) + "\n";
+  std::string out = "lcjit-object 3\n" + c.anchor + "\n" + std::to_string(c.stateNames.size()) + "\n";
   for (size_t i = 0; i < c.stateNames.size(); ++i)
     out += std::to_string(c.stateSizes[i]) + " " + c.stateNames[i] + "\n";
-  return out + c.object;
+  std::string places;
+  size_t n = 0;
+  for (const auto& [name, place] : c.declaredAt)
+    if (place.find('\n') == std::string::npos) {  // a file name with a newline is left out
+      places += name + " " + place + "\n";
+      ++n;
+    }
+  return out + std::to_string(n) + "\n" + places + c.object;
 }
 
 std::optional<CachedObject> deserialize(llvm::StringRef text) {
@@ -40,7 +47,7 @@ std::optional<CachedObject> deserialize(llvm::StringRef text) {
   };
   auto magic = line(), anchor = line(), count = line();
   size_t n = 0;
-  if (!magic || *magic != "lcjit-object 2" || !anchor || !count || count->getAsInteger(10, n))
+  if (!magic || *magic != "lcjit-object 3" || !anchor || !count || count->getAsInteger(10, n))
     return std::nullopt;
   c.anchor = anchor->str();
   for (size_t i = 0; i < n; ++i) {
@@ -53,6 +60,18 @@ std::optional<CachedObject> deserialize(llvm::StringRef text) {
       return std::nullopt;
     c.stateSizes.push_back(size);
     c.stateNames.push_back(name.str());
+  }
+  auto places = line();
+  if (!places || places->getAsInteger(10, n))
+    return std::nullopt;
+  for (size_t i = 0; i < n; ++i) {
+    auto entry = line();
+    if (!entry)
+      return std::nullopt;
+    auto [name, place] = entry->split(' ');
+    if (name.empty() || place.empty())
+      return std::nullopt;
+    c.declaredAt[name.str()] = place.str();
   }
   c.object = text.str();
   return c;

@@ -5,6 +5,7 @@
 #include <llvm/ADT/StringRef.h>
 
 #include <cstdint>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -17,6 +18,9 @@ struct CachedObject {
   std::string anchor;                   // a defined symbol: looking it up links the whole object
   std::vector<std::string> stateNames;  // see exportState
   std::vector<uint64_t> stateSizes;     // their sizes in bytes
+  // Where each variable the object defines is declared, by its symbol: "FILE:LINE:COL" (for
+  // errors about its static data: StaticData::declaredAt).
+  std::map<std::string, std::string> declaredAt;
 };
 
 // The object cache's key: everything the object depends on. The PCH's name (`pchPath`) hashes the

@@ -7,6 +7,7 @@
 #include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
+#include "jit/ModelMemory.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Config/llvm-config.h>
@@ -241,7 +242,13 @@ llvm::Expected<std::shared_ptr<JitState>> JitState::create(const orc::JITTargetM
   };
   auto kept = std::make_shared<PlatformObjects>(jtmb, objectsDir);
   Codegen& fast = state->codegen[0];
+  // This process runs the code, linked into lcjit's own memory manager (ModelMemory.h), which
+  // leaves a model's zero-filled data untouched.
+  auto epc = orc::SelfExecutorProcessControl::Create(nullptr, nullptr, std::make_unique<ModelMemory>());
+  if (!epc)
+    return epc.takeError();
   auto jit = orc::LLJITBuilder()
+                 .setExecutorProcessControl(std::move(*epc))
                  .setJITTargetMachineBuilder(jtmb)
                  .setDataLayout(kept->dataLayout(jtmb))
                  .setCompileFunctionCreator([&fast, kept](orc::JITTargetMachineBuilder b)

@@ -104,8 +104,16 @@ struct Dylib {
   std::vector<std::string> stateNames;              // the mutable globals this version defines
   std::vector<std::shared_ptr<Dylib>> stateOwners;  // the versions whose globals this one uses
   std::vector<std::shared_ptr<Dylib>> linked;       // the versions whose functions it calls
-  // Each owned global's address and its bytes as loaded, before the constructors ran.
-  std::vector<std::pair<void*, std::string>> initialState;
+  // Each owned global as loaded, before the constructors ran: where it is, its size, and its
+  // bytes, unless it was zero-filled (.bss): those are not copied (a model's 1 GB array would be
+  // made resident by the copy), and resetState() makes them zero again.
+  struct Initial {
+    char* at;
+    uint64_t size;
+    bool zero;
+    std::string bytes;
+  };
+  std::vector<Initial> initialState;
   std::function<llvm::Error(const std::function<llvm::Error()>&)> runModelCode;  // CompileOptions'
 
   llvm::Error asModelCode(const std::function<llvm::Error()>& f) const { return runModelCode ? runModelCode(f) : f(); }

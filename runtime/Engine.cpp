@@ -1106,10 +1106,11 @@ void Engine::finish() {
   }
   CurrentScope scope(this);
   auto message = guarded(Phase::Finish, [&] {
+    // End is the last of this guarded call and stays named after it returns: a stop asked for
+    // while it ran and seen only as the call ends is End's (guarded() puts runningCall_ back).
     if (!ended_ && model_->end) {
       calling("End");
       model_->end();
-      calling(nullptr);
     }
   });
   if (message) fail(std::move(*message));

@@ -111,6 +111,13 @@ bool threadAsleep(int tid) {
 
 thread_local StopCounts tlStops;
 
+// How many runs have been asked to stop and have not ended: model code reads it at every module
+// it emits (lcjit_stops_asked, lcjit/abi.h's __lc_put) and, when it is not zero, checks its own
+// run (lcjit_checkpoint), so that a stop inside an nproduce loop unwinds from the nproduce.
+std::atomic<int> gStopsAsked{0};
+static_assert(sizeof(gStopsAsked) == sizeof(int) && std::atomic<int>::is_always_lock_free,
+              "model code reads it as a volatile int");
+
 // One guarded run on one thread. Signals jump to the innermost; the handler fills in what it saw.
 struct Region {
   sigjmp_buf env;
@@ -433,7 +440,7 @@ class Watchdog {
       if (pthread_getcpuclockid(pthread_self(), &GI::cpuClock(g)) != 0) GI::cpuClock(g) = CLOCK_THREAD_CPUTIME_ID;
       GI::stops(g) = &tlStops;
       GI::stopsThrownAtStop(g).store(-1);
-      GI::stop(g).store(0);
+      if (GI::stop(g).exchange(0)) gStopsAsked.fetch_sub(1);  // one that came after the last run
       GI::force(g).store(false);
       GI::forceAsleep(g).store(false);
       GI::stopSince(g) = 0;
@@ -449,16 +456,21 @@ class Watchdog {
     if (wake) this->wake();
   }
 
-  void leave(ModelGuard& g) {
+  // Returns the stop asked for while the run was registered (0: none), which the run may not
+  // have seen: one that came while the thread slept in a system call (it only woke early) or
+  // after its last checkpoint. The outermost run's registration ends here, with that request.
+  int leave(ModelGuard& g) {
     std::lock_guard<std::mutex> lock(m_);
-    if (--GI::depth(g) > 0) return;
+    if (--GI::depth(g) > 0) return GI::stop(g).load();
     guards_.erase(std::find(guards_.begin(), guards_.end(), &g));
     active_.fetch_sub(1);
     lastActiveNs_ = nowNs();
     GI::running(g).store(false);
     GI::force(g).store(false);
     GI::forceAsleep(g).store(false);
-    GI::stop(g).store(0);
+    const int asked = GI::stop(g).exchange(0);
+    if (asked) gStopsAsked.fetch_sub(1);
+    return asked;
   }
 
   // Lock-free, so that a signal handler may call it (the REPL's SIGINT handler cancels a step).
@@ -494,6 +506,7 @@ class Watchdog {
   static void requestStop(ModelGuard& g, FaultKind why, int64_t now) {
     int none = 0;
     if (GI::stop(g).compare_exchange_strong(none, int(why))) {
+      gStopsAsked.fetch_add(1);
       GI::stopCpu(g).store(nsOf(GI::cpuClock(g)));
       GI::stopSince(g).store(now);
     }
@@ -798,7 +811,9 @@ Fault ModelGuard::run(llvm::function_ref<void()> fn) {
   // A crash's or a stop's calls (an exception's are its throw's, callCatching).
   if (fault && fault.kind != FaultKind::Exception && !region.thrown)
     for (int i = 0; i < region.framesTaken; ++i) fault.callers.push_back(reinterpret_cast<uintptr_t>(region.frames[i]));
-  w.leave(*this);
+  // A stop asked for during the run fails it even when the run got to its end without seeing
+  // it (a model asleep in usleep() is only woken early by the forcing signals): it is never lost.
+  if (const int asked = w.leave(*this); asked && !fault) fault = stopFault(asked, *this, observedBytes_.load());
   // What the stopped run freed goes back to the system: the limit is on resident memory, and
   // malloc keeps freed memory for itself, so the next run would start at the limit.
   if (fault.kind == FaultKind::MemoryLimit) malloc_trim(0);
@@ -885,6 +900,8 @@ void interruptModelCodeOnSigint() {
 }
 
 void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols) {
+  symbols.push_back({"lcjit_stops_asked", reinterpret_cast<void*>(&gStopsAsked)});
+  symbols.push_back({"lcjit_checkpoint", reinterpret_cast<void*>(&ModelGuard::checkpoint)});
   symbols.push_back({"__cxa_throw", reinterpret_cast<void*>(&modelThrow)});
   symbols.push_back({"__assert_fail", reinterpret_cast<void*>(&modelAssertFail)});
   using Thrower = void (*)(const char*);

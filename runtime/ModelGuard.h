@@ -152,7 +152,8 @@ void interruptModelCodeOnSigint();
 // Stand-ins for operator new, new[], malloc, calloc and realloc in JIT'd model code (linked by
 // name, see hostFunctions()): they throw ModelStop when the run has been asked to stop, so that a
 // model allocating in a loop unwinds (and frees what it holds) instead of being jumped out of.
-// And one for __cxa_throw, which notes where model code threw (Fault::callers).
+// And one for __cxa_throw, which notes where model code threw (Fault::callers). And what emitting
+// a module checks: lcjit_stops_asked (how many runs have a stop asked for) and lcjit_checkpoint.
 void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols);
 
 // A size as lcjit's limit messages give it: "8.0 KB", "4.00 MB", "11.77 GB".

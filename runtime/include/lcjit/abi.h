@@ -79,6 +79,10 @@ enum __lc_ContextSide { __lc_InLeft = 0, __lc_InRight = 1, __lc_InNewLeft = 2, _
 // Host functions callable from model code. Every one is listed in runtime/HostSymbols.cpp.
 extern "C" {
 void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra);
+// Not zero while a guarded run has been asked to stop (a limit, Ctrl-C): emitting a module then
+// calls lcjit_checkpoint(), which unwinds the run if it is the one asked (runtime/ModelGuard).
+extern const volatile int lcjit_stops_asked;
+void lcjit_checkpoint();
 int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params);
 // The context of the rule running on this thread, for produce/nproduce in functions it calls;
 // outside every rule a context whose successor is thrown away.
@@ -158,7 +162,12 @@ int lcjit_environment(int op);
 // the generated code of every module would otherwise instantiate its own copies in every
 // compile, and -O0 code is selected by FastISel, which gives up on small structs by value and
 // 16-bit arguments and hands the block to the far slower SelectionDAG.
+//
+// A stop asked for while a rule emits modules (nproduce in a loop growing the string past
+// --max-memory) is seen here, at the produce or nproduce that was running, rather than forced
+// wherever in the loop the watchdog's signal lands.
 inline void __lc_put(__lc_Ctx* c, void* r, unsigned size) {
+  if (__builtin_expect(lcjit_stops_asked != 0, 0)) lcjit_checkpoint();
   __builtin_memcpy(static_cast<char*>(r) + size - sizeof(__lc_ModuleId), r, sizeof(__lc_ModuleId));
   __lc_Buffer* b = c->out;
   if (b->cap - b->size < size) lcjit_buffer_reserve(b, size);
