@@ -312,8 +312,8 @@ class Emitter {
       out_.append(t.col - col_, ' ');
       col_ = t.col;
     } else if (!out_.empty() && out_.back() != '\n' &&
-               (t.spaceBefore || (isIdentChar(out_.back()) && isIdentChar(t.text.front())))) {
-      put(" ");
+               ((t.spaceBefore && !(exactColumn && t.col == col_)) || (isIdentChar(out_.back()) && isIdentChar(t.text.front())))) {
+      put(" ");  // (not when the text before ends just at the token's column: the space would move it)
     }
   }
 

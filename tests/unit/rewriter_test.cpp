@@ -481,6 +481,15 @@ TEST(RewriterLines, BodyTokensMapToTheirLineAndColumn) {
   EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,1,0,-1,__lc_pattern_1,__lc_rule_1,22}");
 }
 
+// A module's call starts at the module's column, also where the call before it ends just there
+// (`x);` of A's call fills `x) ` up to B): a space put in between moved Clang's errors about B's
+// parameters one column to the right.
+TEST(RewriterLines, ModuleCallsStartAtTheModulesColumn) {
+  auto r = ok("module A(float), B(float);\nderivation length: 1;\naxiom: A(x) B(y);\n");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_emit_A(__lc_ctx"), "m.l:3:8");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_emit_B(__lc_ctx"), "m.l:3:13");
+}
+
 TEST(RewriterLines, IncludedFileAndBackToMain) {
   std::string pp = "# 1 \"m.l\"\n"
                    "module A;\n"
