@@ -226,6 +226,7 @@ std::optional<std::string> tableLiteral(const Token* sign, const Token& number, 
   if (errno == ERANGE) return std::nullopt;
   if (isFloat || type == "float") {
     errno = 0;
+    if (std::fabs(d) > FLT_MAX) return std::nullopt;
     float f = isFloat ? std::strtof(s.substr(0, i).c_str(), nullptr) : (float)d;
     if (errno == ERANGE || !std::isfinite(f) || (f == 0) != (d == 0) || (f != 0 && std::fabs(f) < FLT_MIN)) return std::nullopt;
   } else if (d != 0 && std::fabs(d) < DBL_MIN) {
