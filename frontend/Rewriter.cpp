@@ -4,6 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <optional>
@@ -166,6 +171,70 @@ std::optional<RewriteError> checkBeforeParsing(const Lexed& lx) {
   return unpaired;
 }
 
+// Module ids stop here (`module X = N;`); above them, kAxiomCall marks where a large axiom's
+// table has a function of calls (Rewriter::axiomTable).
+constexpr long kMaxModuleId = 60000;
+constexpr int kAxiomCall = 0xFFFF;
+// The most modules an axiom compiles as one function of calls; above it, Rewriter::axiomTable,
+// with at most this many calls a function.
+constexpr size_t kAxiomPart = 1024;
+
+// A parameter of a large axiom's module goes in its table (Rewriter::axiomTable) only where it
+// means there exactly what it means in the call: converted to the parameter's type, the same value
+// and no error either way (an array's initializer refuses the narrowing conversions a call
+// takes). So: a plain decimal literal (no suffix but f, no digit separators), maybe signed, for a
+// parameter of an arithmetic type that holds its value. An integer in the type's range (exactly
+// representable in a float or double); a floating literal in a float or double without overflow
+// or underflow. The table's element is then the literal as written; nullopt: keep the call.
+std::optional<std::string> tableLiteral(const Token* sign, const Token& number, const std::string& type) {
+  static const std::map<std::string, std::pair<long long, long long>> kIntegers = {
+      {"int", {INT32_MIN, INT32_MAX}},   {"short", {INT16_MIN, INT16_MAX}},  {"unsigned short", {0, UINT16_MAX}},
+      {"unsigned", {0, UINT32_MAX}},     {"unsigned int", {0, UINT32_MAX}},  {"long", {INT64_MIN, INT64_MAX}},
+      {"long long", {INT64_MIN, INT64_MAX}}, {"unsigned long", {0, INT64_MAX}}, {"unsigned long long", {0, INT64_MAX}},
+      {"float", {-(1LL << 24), 1LL << 24}}, {"double", {-(1LL << 53), 1LL << 53}}};
+  const std::string& s = number.text;
+  if (number.kind != Token::Number || s.empty()) return std::nullopt;
+  const bool negative = sign && sign->text == "-";
+  const std::string text = (sign ? sign->text : "") + s;
+  // An integer: decimal digits, without a leading 0 (octal); up to 18 of them fit a long long.
+  if (std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit((unsigned char)c); })) {
+    if ((s.size() > 1 && s[0] == '0') || s.size() > 18) return std::nullopt;
+    long long v = std::stoll(s) * (negative ? -1 : 1);
+    auto range = kIntegers.find(type);
+    if (range == kIntegers.end() || v < range->second.first || v > range->second.second) return std::nullopt;
+    return text;
+  }
+  // A floating literal: digits with a '.' or an exponent or both, and maybe an f.
+  if (type != "float" && type != "double") return std::nullopt;
+  size_t i = 0, digits = 0;
+  while (i < s.size() && std::isdigit((unsigned char)s[i])) ++i, ++digits;
+  bool point = i < s.size() && s[i] == '.', exponent = false;
+  if (point)
+    for (++i; i < s.size() && std::isdigit((unsigned char)s[i]); ++i) ++digits;
+  if (digits == 0) return std::nullopt;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    size_t e = ++i;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) e = ++i;
+    while (i < s.size() && std::isdigit((unsigned char)s[i])) ++i;
+    if (i == e) return std::nullopt;
+    exponent = true;
+  }
+  const bool isFloat = i < s.size() && (s[i] == 'f' || s[i] == 'F');
+  if (i + isFloat != s.size() || !(point || exponent)) return std::nullopt;
+  errno = 0;
+  double d = std::strtod(s.substr(0, i).c_str(), nullptr);
+  if (errno == ERANGE) return std::nullopt;
+  if (isFloat || type == "float") {
+    errno = 0;
+    if (std::fabs(d) > FLT_MAX) return std::nullopt;
+    float f = isFloat ? std::strtof(s.substr(0, i).c_str(), nullptr) : (float)d;
+    if (errno == ERANGE || !std::isfinite(f) || (f == 0) != (d == 0) || (f != 0 && std::fabs(f) < FLT_MIN)) return std::nullopt;
+  } else if (d != 0 && std::fabs(d) < DBL_MIN) {
+    return std::nullopt;
+  }
+  return text;
+}
+
 // Writes C++ while tracking the source position it corresponds to, so that user tokens keep
 // their line (and, where possible, column) under #line directives.
 class Emitter {
@@ -244,8 +313,8 @@ class Emitter {
       out_.append(t.col - col_, ' ');
       col_ = t.col;
     } else if (!out_.empty() && out_.back() != '\n' &&
-               (t.spaceBefore || (isIdentChar(out_.back()) && isIdentChar(t.text.front())))) {
-      put(" ");
+               ((t.spaceBefore && !(exactColumn && t.col == col_)) || (isIdentChar(out_.back()) && isIdentChar(t.text.front())))) {
+      put(" ");  // (not when the text before ends just at the token's column: the space would move it)
     }
   }
 
@@ -411,10 +480,13 @@ class Rewriter {
       next(), next();
       if (haveAxiom_) fail(t, "the model has more than one axiom");
       haveAxiom_ = true;
-      // Runs once: optimising it gains nothing and cost seconds on a 32,000-module axiom (finding 006).
+      ModuleList list;
+      parseModuleList(";", "axiom", list);
+      const Token& semi = expect(";", "after the axiom");
+      if (list.calls.size() > kAxiomPart) return axiomTable(list, semi), true;
+      // Runs once: optimising it gains nothing and cost seconds on a 32,000-module axiom.
       out_.glueAt(t, "__attribute__((optnone, noinline)) static void __lc_axiom(__lc_Ctx* __lc_ctx) {");
-      successorList(";", "axiom");
-      expect(";", "after the axiom");
+      for (const ModuleCall& c : list.calls) emitCall(list, c);
       out_.glue("}");
       return true;
     }
@@ -622,7 +694,7 @@ class Rewriter {
           fail(n, "module id " + n.text + " is taken: " +
                       (v < __lc_FirstUserModule ? std::string("ids below 103 are the predefined modules'")
                                : "ids up to " + std::to_string(nextModuleId_ - 1) + " are given already"));
-        if (v > 60000) fail(n, "module id " + n.text + " is too large (at most 60000)");
+        if (v > kMaxModuleId) fail(n, "module id " + n.text + " is too large (at most " + std::to_string(kMaxModuleId) + ")");
         nextModuleId_ = (int)v;
       }
       int id = nextModuleId_++;
@@ -919,23 +991,40 @@ class Rewriter {
   }
 
   // A module list in an axiom or successor (`statement`: which), up to (not including)
-  // `terminator` at depth 0.
+  // `terminator` at depth 0, written as calls.
   void successorList(const char* terminator, const char* statement) {
+    ModuleList list;
+    parseModuleList(terminator, statement, list);
+    for (const ModuleCall& c : list.calls) emitCall(list, c);
+  }
+
+  // A module list as parsed: each module's name and each of its parameters as tokens of lx_.
+  struct ModuleCall {
+    size_t name;  // the module's name: lx_.tokens[name]
+    const ModuleEntry* module;
+    size_t firstArg, nargs;  // its parameters: ModuleList::args[firstArg, firstArg + nargs)
+  };
+  struct ModuleList {
+    std::vector<ModuleCall> calls;
+    std::vector<std::pair<size_t, size_t>> args;  // a parameter's tokens, lx_.tokens[first, second)
+  };
+
+  // Parses a module list (see successorList) into `list`; groups `( A B )` are transparent.
+  void parseModuleList(const char* terminator, const char* statement, ModuleList& list) {
     while (!atText(terminator)) {
       const Token& t = cur();
       if (t.kind == Token::End) fail(t, std::string("expected '") + terminator + "' after the module list");
       if (terminator[0] == ';' && (t.is("}") || atNextStatement())) failMissingSemicolon(statement);
       if (t.is("(")) {  // produce( A B ); groups are transparent
         next();
-        successorList(")", statement);
+        parseModuleList(")", statement, list);
         next();
         continue;
       }
       if (t.kind != Token::Identifier) fail(t, "expected a module name in the module list, found '" + t.text + "'");
       const ModuleEntry& m = requireModule(t);
+      ModuleCall call{pos_, &m, list.args.size(), 0};
       next();
-      out_.replaceAt(t, "__lc_emit_" + t.text + "(__lc_ctx");
-      size_t nargs = 0;
       if (atText("(")) {
         next();
         int depth = 0;
@@ -943,6 +1032,7 @@ class Rewriter {
         while (!(depth == 0 && atText(")"))) {
           if (at(Token::End) || (depth == 0 && atText(";")))
             fail(cur(), "expected ')' to close the parameters of module '" + t.text + "'");
+          size_t at = pos_;
           const Token& a = next();
           if (depth == 0 && a.is(",")) {
             if (startArg) fail(a, "missing parameter of module '" + t.text + "'");
@@ -950,22 +1040,137 @@ class Rewriter {
             continue;
           }
           if (startArg) {
-            out_.glue(",");
-            ++nargs;
+            list.args.emplace_back(at, at);
+            ++call.nargs;
             startArg = false;
           }
           if (a.is("(") || a.is("[") || a.is("{")) ++depth;
           if (a.is(")") || a.is("]") || a.is("}")) --depth;
-          out_.token(a);
+          list.args.back().second = at + 1;
         }
-        if (startArg && nargs > 0) fail(cur(), "missing parameter of module '" + t.text + "'");
+        if (startArg && call.nargs > 0) fail(cur(), "missing parameter of module '" + t.text + "'");
         next();
       }
-      out_.glue(");");
-      if (nargs != m.paramTypes.size())
+      if (call.nargs != m.paramTypes.size())
         fail(t, "module '" + t.text + "' has " + std::to_string(m.paramTypes.size()) + " parameter" +
-                    (m.paramTypes.size() == 1 ? "" : "s") + ", " + std::to_string(nargs) + " given");
+                    (m.paramTypes.size() == 1 ? "" : "s") + ", " + std::to_string(call.nargs) + " given");
+      list.calls.push_back(call);
     }
+  }
+
+  // A large axiom is data (a model of a million modules is a 10 MB axiom), but as one function
+  // of calls its code generation grew faster than its length: 32,000 modules compiled in 2 s,
+  // 128,000 in 15 s, a million not in minutes. So an axiom of more than kAxiomPart modules is a
+  // table read by a loop: the module ids in order, and the parameters that are plain numbers
+  // (tableLiteral) in one array per type. A module with any other parameter (an expression, a
+  // constant's name, a call with side effects) keeps its call, at its own line and column, in a
+  // part: a function of at most kAxiomPart such calls, where each run of them (consecutive in the
+  // axiom) is one case of a switch. The ids say kAxiomCall where a run stands, and the loop calls
+  // its case there. Every module is written in its place and every expression evaluated in the
+  // axiom's order, as in the one function; each compiled function is bounded, and there are few
+  // of them (ORC's linking grows faster than their number), so the whole is linear in the axiom.
+  void axiomTable(const ModuleList& list, const Token& semi) {
+    std::vector<std::string> types, values;  // the value arrays: each one's type and elements
+    auto typeIndex = [&](const std::string& type) {
+      auto it = std::find(types.begin(), types.end(), type);
+      if (it != types.end()) return (size_t)(it - types.begin());
+      types.push_back(type);
+      values.emplace_back();
+      return types.size() - 1;
+    };
+    std::map<int, std::string> cases;  // the loop's case of each module id in the table
+    // The ids as a string, one character each: a million of them lex as one token, where an
+    // array's initializer makes and checks an expression for each.
+    std::string ids;
+    auto hex = [](int id) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%x", id);
+      return std::string(b);
+    };
+    std::vector<std::string> literals;
+    size_t parts = 0, calls = 0, runs = 0;  // the parts so far; the calls and the runs in the open one
+    bool inRun = false;                     // the module before was a call
+    auto closePart = [&] { out_.glue("break; } return __lc_k == " + std::to_string(runs - 1) + "; }"); };
+    for (const ModuleCall& c : list.calls) {
+      const ModuleEntry& m = *c.module;
+      const Token& name = lx_.tokens[c.name];
+      literals.clear();
+      for (size_t k = 0; k < c.nargs; ++k) {
+        auto [first, end] = list.args[c.firstArg + k];
+        const bool sign = end - first == 2 && (lx_.tokens[first].is("-") || lx_.tokens[first].is("+"));
+        std::optional<std::string> v;
+        if (end - first == 1 + sign) v = tableLiteral(sign ? &lx_.tokens[first] : nullptr, lx_.tokens[end - 1], m.paramTypes[k]);
+        if (!v) break;
+        literals.push_back(std::move(*v));
+      }
+      if (literals.size() == c.nargs) {
+        inRun = false;
+        ids += hex(m.id);
+        std::map<size_t, int> taken;  // per value array, this module's elements
+        std::string args;
+        for (size_t k = 0; k < c.nargs; ++k) {
+          size_t v = typeIndex(m.paramTypes[k]);
+          values[v] += literals[k] + ",";
+          args += ", __lc_v" + std::to_string(v) + "[" + std::to_string(taken[v]++) + "]";
+        }
+        if (!cases.count(m.id)) {
+          std::string& s = cases[m.id];
+          s = "case " + std::to_string(m.id) + ": __lc_emit_" + name.text + "(__lc_ctx" + args + ");";
+          for (auto [v, count] : taken) s += " __lc_v" + std::to_string(v) + " += " + std::to_string(count) + ";";
+          s += " break; ";
+        }
+        continue;
+      }
+      if (calls == kAxiomPart) {
+        closePart();
+        calls = 0;
+        inRun = false;
+      }
+      if (calls == 0) {
+        out_.glueAt(name, "__attribute__((optnone, noinline)) static bool __lc_axiom_part_" + std::to_string(parts++) +
+                              "(__lc_Ctx* __lc_ctx, unsigned __lc_k) { switch (__lc_k) {");
+        runs = 0;
+      }
+      if (!inRun) {
+        ids += hex(kAxiomCall);
+        out_.glueAt(name, (runs > 0 ? "break; case " : "case ") + std::to_string(runs) + ":");
+        ++runs;
+        inRun = true;
+      }
+      emitCall(list, c);
+      ++calls;
+    }
+    if (calls > 0) closePart();
+    // One line, that of the axiom's ';': anything said about the table belongs there.
+    std::string s = "static const char16_t __lc_axiom_ids[] = u\"" + ids + "\";";
+    for (size_t v = 0; v < types.size(); ++v)
+      s += "static const " + types[v] + " __lc_axiom_values_" + std::to_string(v) + "[] = {" + values[v] + "};";
+    if (parts > 0) {
+      s += "static bool (*const __lc_axiom_parts[])(__lc_Ctx*, unsigned) = {";
+      for (size_t p = 0; p < parts; ++p) s += "__lc_axiom_part_" + std::to_string(p) + ",";
+      s += "};";
+    }
+    s += "static void __lc_axiom(__lc_Ctx* __lc_ctx) {";
+    for (size_t v = 0; v < types.size(); ++v)
+      s += "const " + types[v] + "* __lc_v" + std::to_string(v) + " = __lc_axiom_values_" + std::to_string(v) + ";";
+    if (parts > 0) s += "unsigned __lc_part = 0, __lc_run = 0;";
+    s += "for (unsigned __lc_i = 0; __lc_i < sizeof __lc_axiom_ids / 2 - 1; ++__lc_i) switch (__lc_axiom_ids[__lc_i]) {";
+    for (auto& [id, c] : cases) s += c;
+    if (parts > 0) s += "default: if (__lc_axiom_parts[__lc_part](__lc_ctx, __lc_run++)) ++__lc_part, __lc_run = 0;";
+    s += "}}";
+    out_.glueAt(semi, s);
+  }
+
+  // `__lc_emit_A(__lc_ctx, <the parameters' tokens>);`, the name at the module's column.
+  void emitCall(const ModuleList& list, const ModuleCall& c) {
+    const Token& name = lx_.tokens[c.name];
+    out_.replaceAt(name, "__lc_emit_" + name.text + "(__lc_ctx");
+    for (size_t k = 0; k < c.nargs; ++k) {
+      out_.glue(",");
+      auto [first, end] = list.args[c.firstArg + k];
+      for (size_t i = first; i < end; ++i) out_.token(lx_.tokens[i]);
+    }
+    out_.glue(");");
   }
 
   // ---- the model description

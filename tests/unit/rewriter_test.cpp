@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 using lcjit::frontend::rewrite;
 using lcjit::frontend::Rewritten;
@@ -479,6 +482,15 @@ TEST(RewriterLines, BodyTokensMapToTheirLineAndColumn) {
   EXPECT_EQ(ruleEntry(r.cpp, 1), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,1,0,-1,__lc_pattern_1,__lc_rule_1,22}");
 }
 
+// A module's call starts at the module's column, also where the call before it ends just there
+// (`x);` of A's call fills `x) ` up to B): a space put in between moved Clang's errors about B's
+// parameters one column to the right.
+TEST(RewriterLines, ModuleCallsStartAtTheModulesColumn) {
+  auto r = ok("module A(float), B(float);\nderivation length: 1;\naxiom: A(x) B(y);\n");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_emit_A(__lc_ctx"), "m.l:3:8");
+  EXPECT_EQ(sourcePosition(r.cpp, "__lc_emit_B(__lc_ctx"), "m.l:3:13");
+}
+
 TEST(RewriterLines, IncludedFileAndBackToMain) {
   std::string pp = "# 1 \"m.l\"\n"
                    "module A;\n"
@@ -503,12 +515,156 @@ TEST(RewriterLines, IncludedFileAndBackToMain) {
 // axiom, run once, is not worth optimising.
 TEST(RewriterLines, LongAxiomLinesStayLinear) {
   std::string axiom;
-  for (int i = 0; i < 3000; ++i) axiom += "A(1) ";  // 15,000 columns
+  for (int i = 0; i < 3000; ++i) axiom += "A(x) ";  // 15,000 columns, each module a call
   auto r = ok("module A(float);\nderivation length: 1;\naxiom: " + axiom + ";\n");
   // Padding every argument to its column would take 3000 × 7,500 = 22 MB; only columns up to 4096
   // are kept, about 820 arguments padded by 2,000 on average: under 2 MB, whatever the length.
   EXPECT_LT(r.cpp.size(), 2000000u);
-  EXPECT_HAS(squash(r.cpp), "__attribute__((optnone,noinline))staticvoid__lc_axiom(");
+  EXPECT_HAS(squash(r.cpp), "__attribute__((optnone,noinline))staticbool__lc_axiom_part_0(");
+}
+
+// ---- a large axiom: a table read by a loop, and calls in functions of bounded size
+
+// A model whose axiom is `n` modules, module i written as `each(i)`, after `declarations`.
+std::string axiomModel(const std::string& declarations, int n, const std::function<std::string(int)>& each) {
+  std::string m = declarations + "\nderivation length: 1;\naxiom:";
+  for (int i = 0; i < n; ++i) m += " " + each(i);
+  return m + ";\n";
+}
+
+// The axiom's module ids as the table writes them: a char16_t string, one \x escape per module
+// (none where id(i) is negative).
+std::string idsTable(int n, const std::function<int(int)>& id) {
+  std::string s = "staticconstchar16_t__lc_axiom_ids[]=u\"";
+  char b[8];
+  for (int i = 0; i < n; ++i)
+    if (id(i) >= 0) s += (std::snprintf(b, sizeof b, "\\x%x", id(i)), b);
+  return s + "\";";
+}
+
+// The functions that hold the axiom's calls: the squashed C++ cut at each one's start.
+std::vector<std::string> axiomParts(const std::string& squashed) {
+  const std::string head = "__attribute__((optnone,noinline))staticbool__lc_axiom_part_";
+  std::vector<std::string> parts;
+  for (size_t p = squashed.find(head); p != std::string::npos;) {
+    size_t next = squashed.find(head, p + 1);
+    parts.push_back(squashed.substr(p, (next == std::string::npos ? squashed.find("__lc_axiom_ids", p) : next) - p));
+    p = next;
+  }
+  return parts;
+}
+
+// An axiom was one function of calls, whose code generation grew faster than its length (128,000
+// modules: 15 s; a million: minutes). Above 1,024 modules, the numbers are data: the module ids in
+// a string and the parameters in an array per type, read by one loop, and the C++ holds one call
+// per module declared, however long the axiom.
+TEST(RewriterAxiomTable, PlainNumbersBecomeATableReadByALoop) {
+  auto number = [](int i) { return std::to_string(1000 + i % 9000); };  // as long in either axiom
+  auto each = [&](int i) { return "A(" + number(i) + ") B(" + number(i) + ".5, -" + number(i) + ")"; };
+  const std::string decl = "module A(int), B(float, double);";
+  auto small = ok(axiomModel(decl, 1500, each)), large = ok(axiomModel(decl, 6000, each));
+  for (const Rewritten* r : {&small, &large}) {
+    EXPECT_EQ(count(r->cpp, "__lc_emit_A(__lc_ctx"), 1u);
+    EXPECT_EQ(count(r->cpp, "__lc_emit_B(__lc_ctx"), 1u);
+    EXPECT_HASNT(r->cpp, "__lc_axiom_part_");
+  }
+  std::string s = squash(small.cpp), ints, floats, doubles;
+  for (int i = 0; i < 1500; ++i) {
+    ints += number(i) + ",";
+    floats += number(i) + ".5,";
+    doubles += "-" + number(i) + ",";
+  }
+  EXPECT_HAS(s, idsTable(3000, [](int i) { return i % 2 ? 104 : 103; }));  // A is 103, B 104
+  EXPECT_HAS(s, "staticconstint__lc_axiom_values_0[]={" + ints + "};");
+  EXPECT_HAS(s, "staticconstfloat__lc_axiom_values_1[]={" + floats + "};");
+  EXPECT_HAS(s, "staticconstdouble__lc_axiom_values_2[]={" + doubles + "};");
+  EXPECT_HAS(s, "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){constint*__lc_v0=__lc_axiom_values_0;"
+                "constfloat*__lc_v1=__lc_axiom_values_1;constdouble*__lc_v2=__lc_axiom_values_2;"
+                "for(unsigned__lc_i=0;__lc_i<sizeof__lc_axiom_ids/2-1;++__lc_i)switch(__lc_axiom_ids[__lc_i]){"
+                "case103:__lc_emit_A(__lc_ctx,__lc_v0[0]);__lc_v0+=1;break;"
+                "case104:__lc_emit_B(__lc_ctx,__lc_v1[0],__lc_v2[0]);__lc_v1+=1;__lc_v2+=1;break;}}");
+  // Four times the modules, four times the text (less: the rest of the model is the same).
+  EXPECT_LT(large.cpp.size(), 4 * small.cpp.size());
+  EXPECT_GT(large.cpp.size(), 3 * small.cpp.size());
+}
+
+TEST(RewriterAxiomTable, UpTo1024ModulesTheAxiomIsOneFunctionOfCalls) {
+  auto each = [](int) { return std::string("A(1)"); };
+  std::string s = squash(ok(axiomModel("module A(int);", 1024, each)).cpp);
+  EXPECT_EQ(count(s, "__lc_emit_A(__lc_ctx,1);"), 1024u);
+  EXPECT_HAS(s, "__attribute__((optnone,noinline))staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){__lc_emit_A(__lc_ctx,1);");
+  EXPECT_HAS(squash(ok(axiomModel("module A(int);", 1025, each)).cpp), idsTable(1025, [](int) { return 103; }));
+}
+
+// Any other parameter (an expression, a name, a call with side effects) keeps its call at its own
+// line and column, in a function of at most 1,024 calls, where each run of calls is one case; the
+// loop calls that case where the run stands, so modules and side effects keep the axiom's order.
+TEST(RewriterAxiomTable, OtherParametersKeepTheirCallsInFunctionsOfBoundedSize) {
+  auto each = [](int i) { return i % 3 == 2 ? "A(" + std::to_string(i) + ")" : "A(k + " + std::to_string(i) + ")"; };
+  std::string s = squash(ok(axiomModel("module A(int);", 5000, each)).cpp);
+  // Runs of two calls, then a module of the table: 1,667 runs, 3,334 calls.
+  EXPECT_HAS(s, idsTable(5000, [](int i) { return i % 3 == 0 ? 0xffff : i % 3 == 2 ? 103 : -1; }));
+  std::vector<std::string> parts = axiomParts(s);
+  ASSERT_EQ(parts.size(), 4u);  // 1,024 calls a function
+  size_t calls = 0;
+  for (size_t p = 0; p < parts.size(); ++p) {
+    EXPECT_EQ(parts[p].rfind("__attribute__((optnone,noinline))staticbool__lc_axiom_part_" + std::to_string(p) +
+                                 "(__lc_Ctx*__lc_ctx,unsigned__lc_k){switch(__lc_k){case0:",
+                             0),
+              0u);
+    size_t here = count(parts[p], "__lc_emit_A(");
+    EXPECT_LE(here, 1024u);
+    calls += here;
+  }
+  EXPECT_EQ(calls, 3334u);
+  EXPECT_HAS(parts[0], "case0:__lc_emit_A(__lc_ctx,k+0);__lc_emit_A(__lc_ctx,k+1);break;case1:__lc_emit_A(__lc_ctx,k+3);");
+  EXPECT_HAS(parts[0], "__lc_emit_A(__lc_ctx,k+1534);break;}return__lc_k==511;}");  // the 1,024th call: module 3 × 511 + 1
+  EXPECT_HAS(s, "staticbool(*const__lc_axiom_parts[])(__lc_Ctx*,unsigned)={__lc_axiom_part_0,__lc_axiom_part_1,"
+                "__lc_axiom_part_2,__lc_axiom_part_3,};");
+  EXPECT_HAS(s, "default:if(__lc_axiom_parts[__lc_part](__lc_ctx,__lc_run++))++__lc_part,__lc_run=0;}}");
+
+  // One run of 3,000 calls is one case in each of three functions: where one ends, the next goes on.
+  std::string run = squash(ok(axiomModel("module A(int);", 3000, [](int i) { return "A(k + " + std::to_string(i) + ")"; })).cpp);
+  EXPECT_HAS(run, idsTable(3, [](int) { return 0xffff; }));
+  parts = axiomParts(run);
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_HAS(parts[1], "switch(__lc_k){case0:__lc_emit_A(__lc_ctx,k+1024);");
+  EXPECT_HAS(parts[1], "__lc_emit_A(__lc_ctx,k+2047);break;}return__lc_k==0;}");
+
+  // A call keeps the module's line and column: module 4000 on a line of its own.
+  auto marked = ok(axiomModel("module A(int);", 5000, [&](int i) { return i == 4000 ? "\n  A(the_marker)" : each(i); }));
+  EXPECT_EQ(sourcePosition(marked.cpp, "the_marker"), "m.l:4:5");
+}
+
+// The table holds a parameter only where it means there what it means in the call: the same
+// value of the parameter's type, and no error either way (an array's initializer refuses the
+// narrowing a call takes). Anything else stays a call.
+TEST(RewriterAxiomTable, OnlyNumbersThatMeanTheSameGoInTheTable) {
+  struct Case {
+    const char* type;
+    const char* value;
+    bool table;
+  };
+  const Case cases[] = {
+      {"int", "7", true},           {"int", "-7", true},            {"int", "+7", true},
+      {"int", "2147483647", true},  {"int", "-2147483648", true},   {"int", "2147483648", false},
+      {"int", "1.5", false},        {"int", "0x10", false},         {"int", "010", false},
+      {"int", "1'000", false},      {"int", "7u", false},           {"int", "'a'", false},
+      {"int", "(7)", false},        {"int", "- -7", false},         {"unsigned", "-1", false},
+      {"unsigned int", "4294967295", true}, {"short", "40000", false}, {"long", "5000000000", true},
+      {"float", "1.5", true},       {"float", "1.5f", true},        {"float", ".5", true},
+      {"float", "1e5", true},       {"float", "16777216", true},    {"float", "16777217", false},
+      {"float", "1e39", false},     {"float", "1e-50", false},      {"float", "3.5L", false},
+      {"float", "0x1p3", false},    {"double", "1e308", true},      {"double", "1e309", false},
+      {"double", "1.5f", true},     {"double", "9007199254740993", false}, {"bool", "1", false},
+      {"int*", "0", false},         {"char", "1", false},
+  };
+  for (const Case& c : cases) {
+    std::string m = axiomModel(std::string("module A(") + c.type + "), B;", 1100, [&](int i) { return i ? "B" : "A(" + std::string(c.value) + ")"; });
+    std::string s = squash(ok(m).cpp), value = squash(c.value);
+    EXPECT_EQ(has(s, "__lc_emit_A(__lc_ctx," + value + ");"), !c.table) << c.type << " " << c.value;
+    EXPECT_EQ(has(s, "__lc_axiom_values_0[]={" + value + ",};"), c.table) << c.type << " " << c.value;
+  }
 }
 
 TEST(RewriterLines, GeneratedTablesHaveTheirOwnName) {
