@@ -7,6 +7,7 @@
 #include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
+#include "runtime/files/InputFile.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Config/llvm-config.h>
@@ -91,7 +92,7 @@ public:
     const std::string file = path(llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl");
     std::unique_ptr<llvm::MemoryBuffer> kept;
     if (!file.empty())
-      if (auto read = llvm::MemoryBuffer::getFile(file, /*IsText=*/true))
+      if (auto read = runtime::readInputFile(file))
         kept = std::move(*read);
     if (kept) {
       auto dl = llvm::DataLayout::parse(kept->getBuffer());
