@@ -1,5 +1,6 @@
 // See LpfgMak.h.
 #include "app/LpfgMak.h"
+#include "runtime/files/InputFile.h"
 
 #include <llvm/Support/CommandLine.h>
 #include <llvm/Support/FileSystem.h>
@@ -26,6 +27,9 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
   fs::path dir = fs::absolute(modelDir.empty() ? "." : modelDir).lexically_normal();
   fs::path makefile = dir / "lpfg.mak";
   if (!fs::exists(makefile)) return std::nullopt;
+  // make would wait for ever on a FIFO (and read /dev/zero until its time is up).
+  if (auto readable = runtime::readInputFile(makefile.string()); !readable)
+    return llvm::createStringError(makefile.string() + ": error: cannot read it: " + readable.getError().message());
   auto make = llvm::sys::findProgramByName("make");
   if (!make) return llvm::createStringError(makefile.string() + ": error: lcjit reads lpfg.mak with make, which is not installed");
 
