@@ -9,10 +9,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include "app/Background.h"
@@ -582,14 +580,10 @@ class InteractiveModel {
   void readAnimationFile() {
     animation_ = runtime::AnimationSettings();
     if (animationFile_.empty()) return;
-    std::ifstream in(animationFile_);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::vector<runtime::ViewFileWarning> warnings;
-    animation_ = runtime::parseAnimationFile(text.str(), animationFile_, warnings);
-    for (auto& w : warnings)
-      if (!options_.quiet)
-        std::fprintf(stderr, "%s:%d:%d: warning: %s\n", w.file.c_str(), w.line, w.column, w.message.c_str());
+    std::vector<std::string> warnings;
+    animation_ = runtime::loadAnimationFile(animationFile_, warnings);
+    for (const std::string& w : warnings)
+      if (!options_.quiet) std::fprintf(stderr, "%s\n", w.c_str());
   }
 
   // Start recording: every frame shown from then on, to --record's video or numbered files, by

@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include "runtime/Termination.h"
+#include "runtime/files/InputFile.h"
 
 extern char** environ;
 
@@ -332,6 +333,9 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
   auto failure = [&](const std::string& where, const std::string& why) {
     return llvm::createStringError(where + ": error: " + why);
   };
+  // make would wait for ever on a FIFO (and read /dev/zero until its time is up).
+  if (auto readable = runtime::readInputFile(name); !readable)
+    return failure(name, "cannot read it: " + readable.getError().message());
   auto make = llvm::sys::findProgramByName("make");
   if (!make) return failure(name, "lcjit reads lpfg.mak with make, which is not installed");
 

@@ -18,7 +18,7 @@ namespace lcjit::app {
 namespace {
 
 llvm::Expected<std::string> readAll(const std::string& path) {
-  auto buf = runtime::textfile::readFile(path, /*text=*/false);
+  auto buf = runtime::textfile::readFile(path);
   if (!buf) return buf.takeError();
   return (*buf)->getBuffer().str();
 }

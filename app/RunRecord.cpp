@@ -4,6 +4,7 @@
 #include "app/Session.h"
 #include "frontend/CacheFiles.h"
 #include "runtime/Engine.h"
+#include "runtime/files/InputFile.h"
 #include "runtime/turtle/Drawing.h"
 
 #include <llvm/ADT/StringExtras.h>
@@ -57,7 +58,7 @@ Json measures(runtime::Engine& engine) {
 }
 
 std::string blake3Of(const std::string& path) {
-  auto file = llvm::MemoryBuffer::getFile(path, /*IsText=*/false, /*RequiresNullTerminator=*/false);
+  auto file = runtime::readInputFile(path, /*nullTerminated=*/false);
   if (!file) return "";
   auto bytes = llvm::arrayRefFromStringRef((*file)->getBuffer());
   return llvm::toHex(llvm::BLAKE3::hash<32>(bytes), /*LowerCase=*/true);

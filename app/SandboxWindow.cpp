@@ -11,10 +11,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <utility>
 
 #include "app/FileMonitor.h"
@@ -64,13 +62,10 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   runtime::AnimationSettings animation;
   for (const std::string& f : files.other)
     if (std::filesystem::path(f).extension() == ".a") {
-      std::ifstream in(f);
-      std::stringstream text;
-      text << in.rdbuf();
-      std::vector<runtime::ViewFileWarning> warnings;
-      animation = runtime::parseAnimationFile(text.str(), f, warnings);
-      for (auto& w : warnings)
-        if (!o.quiet) std::fprintf(stderr, "%s:%d:%d: warning: %s\n", w.file.c_str(), w.line, w.column, w.message.c_str());
+      std::vector<std::string> warnings;
+      animation = runtime::loadAnimationFile(f, warnings);
+      for (const std::string& w : warnings)
+        if (!o.quiet) std::fprintf(stderr, "%s\n", w.c_str());
     }
   int toStep = o.toStep == kFirstFrame ? animation.firstFrame : o.toStep;
   runtime::Engine& engine = session.engine();

@@ -16,6 +16,7 @@
 #include "runtime/Engine.h"
 #include "runtime/Functions.h"
 #include "runtime/HostFunctions.h"
+#include "runtime/files/TextLines.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "jit/Compiler.h"
@@ -252,10 +253,9 @@ std::string withSourceLines(const std::string& diagnostics) {
     int row = std::atoi(line.c_str() + l + 1), column = std::atoi(line.c_str() + c + 1);
     if (row <= 0 || column <= 0 || file.empty() || file[0] == '<') continue;  // <lcjit: generated ...>
     auto [it, fresh] = files.try_emplace(file);
-    if (fresh) {
-      std::ifstream f(file);
-      for (std::string s; std::getline(f, s);) it->second.push_back(s);
-    }
+    if (fresh)
+      if (auto text = runtime::readInputFile(file, /*nullTerminated=*/false))
+        for (std::string_view s : runtime::textfile::splitLines((*text)->getBuffer())) it->second.emplace_back(s);
     if (row > (int)it->second.size()) continue;
     std::string source = it->second[row - 1];
     std::string caret;

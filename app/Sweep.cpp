@@ -25,6 +25,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include "runtime/files/InputFile.h"
 #include "runtime/files/ReplacingFile.h"
 
 extern char** environ;
@@ -63,11 +64,9 @@ std::string blake3Hex(const std::string& text) {
 }
 
 llvm::Expected<std::string> readText(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return failure(file.string() + ": error: cannot read it: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  auto in = runtime::readInputFile(file.string(), /*nullTerminated=*/false);
+  if (!in) return failure(file.string() + ": error: cannot read it: " + in.getError().message());
+  return (*in)->getBuffer().str();
 }
 
 // --- The sweep file -----------------------------------------------------------------------------

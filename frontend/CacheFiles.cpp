@@ -1,6 +1,7 @@
 // See CacheFiles.h.
 #include "frontend/CacheFiles.h"
 
+#include "runtime/files/InputFile.h"
 #include "runtime/files/ReplacingFile.h"
 
 #include <llvm/ADT/StringExtras.h>
@@ -42,7 +43,7 @@ bool writeCheckedCacheFile(const std::string& path, llvm::StringRef bytes) {
 
 CheckedRead readCheckedCacheFile(const std::string& path) {
   CheckedRead r;
-  auto file = llvm::MemoryBuffer::getFile(path, /*IsText=*/false, /*RequiresNullTerminator=*/false);
+  auto file = runtime::readInputFile(path, /*nullTerminated=*/false);
   if (!file) return r;
   llvm::StringRef text = (*file)->getBuffer();
   // Another version's file (no checksum line): not loaded, and overwritten by the next store.
@@ -114,7 +115,7 @@ void hashDirectoryTree(llvm::SHA256& out, const std::string& dir) {
     std::error_code ec2;
     auto size = fs::file_size(f, ec2);
     if (!ec2 && size <= budget) {
-      if (auto buf = llvm::MemoryBuffer::getFile(p, /*IsText=*/false, /*RequiresNullTerminator=*/false)) {
+      if (auto buf = runtime::readInputFile(p, /*nullTerminated=*/false)) {
         h.update((*buf)->getBuffer());
         budget -= size;
         continue;

@@ -5,6 +5,7 @@
 #include "frontend/Preprocess.h"
 #include "frontend/CacheFiles.h"
 #include "frontend/ClangDiagnostics.h"
+#include "runtime/files/InputFile.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticOptions.h>
@@ -137,29 +138,28 @@ public:
     return st;
   }
 
+  // Every file clang reads is read here, and only if it is a regular file (InputFile.h): an
+  // #include of a FIFO or of /dev/zero is clang's "cannot open file" at the #include, not a
+  // hang or all of the memory.
   llvm::ErrorOr<std::unique_ptr<llvm::vfs::File>> openFileForRead(const llvm::Twine& path) override {
-    auto f = ProxyFileSystem::openFileForRead(path);
-    if (!f)
-      return f;
-    auto st = (*f)->status();
-    if (!st || !st->isRegularFile())
-      return f;
     std::string name = path.str();
+    llvm::sys::fs::file_status onDisk;
+    auto buf = runtime::readInputFile(name, /*nullTerminated=*/false, &onDisk);
+    if (!buf)
+      return buf.getError();
+    llvm::vfs::Status st = llvm::vfs::Status::copyWithNewName(onDisk, name);
     std::string text;
     if (const std::string* changed = overridden(name)) {
       text = *changed;
-      st = llvm::vfs::Status::copyWithNewSize(*st, text.size());
+      st = llvm::vfs::Status::copyWithNewSize(st, text.size());
     } else {
-      auto buf = (*f)->getBuffer(name, st->getSize(), false, false);
-      if (!buf)
-        return buf.getError();
       text = (*buf)->getBuffer().str();
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       originals_[name] = text;
     }
-    return std::unique_ptr<llvm::vfs::File>(new MemFile(*st, std::move(text)));
+    return std::unique_ptr<llvm::vfs::File>(new MemFile(st, std::move(text)));
   }
 
   std::vector<std::string> openedFiles() const {
@@ -185,7 +185,7 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = overridden_.find(name);
     if (it == overridden_.end()) {
-      auto buf = getUnderlyingFS().getBufferForFile(name);
+      auto buf = runtime::readInputFile(name);
       if (!buf)
         return nullptr;
       it = overridden_.emplace(name, overrideDefines((*buf)->getBuffer().str(), overrides_, defined_, functionLike_)).first;
@@ -458,10 +458,10 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     return memo->second;
   std::optional<std::string>& result = known[image];
 
-  if (auto existing = llvm::MemoryBuffer::getFile(image, /*IsText=*/true); existing && stampsHold((*existing)->getBuffer(), kMacroImageFollows))
+  if (auto existing = runtime::readInputFile(image); existing && stampsHold((*existing)->getBuffer(), kMacroImageFollows))
     return result = dir;
   if (!prebuiltDir.empty())
-    if (auto prebuilt = llvm::MemoryBuffer::getFile(prebuiltDir + name + "/lpfgall.h", /*IsText=*/true);
+    if (auto prebuilt = runtime::readInputFile(prebuiltDir + name + "/lpfgall.h");
         prebuilt && stampsHold((*prebuilt)->getBuffer(), kMacroImageFollows))
       return result = prebuiltDir + name;
 
@@ -535,7 +535,7 @@ public:
 
   // The kept text, if every file it was made from is as it was.
   std::optional<std::string> find() const {
-    auto kept = llvm::MemoryBuffer::getFile(path_, /*IsText=*/false, /*RequiresNullTerminator=*/false);
+    auto kept = runtime::readInputFile(path_, /*nullTerminated=*/false);
     llvm::StringRef rest;
     if (!kept || !stampsHold((*kept)->getBuffer(), kTextFollows, &rest))
       return std::nullopt;  // changed files, or damaged
@@ -596,9 +596,9 @@ llvm::Error checkOverrides(const PreprocessOptions& options, const RecordingFS& 
 
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options) {
   if (!options.mainText) {
-    auto probe = llvm::MemoryBuffer::getFile(lsystemPath, /*IsText=*/true);
+    auto probe = runtime::readInputFile(lsystemPath);
     if (!probe)
-      return llvm::createStringError("error: cannot open L-system file '" + lsystemPath + "': " + probe.getError().message());
+      return llvm::createStringError(lsystemPath + ": error: cannot open file: " + probe.getError().message());
   }
 
   std::vector<std::string> args = baseArguments(options.languageStandard);
@@ -658,7 +658,7 @@ void OriginalColumns::build() const {
     auto it = originals.find(file);
     if (it != originals.end()) return it->second;
     std::vector<std::string> lines;
-    if (auto buffer = llvm::MemoryBuffer::getFile(file)) {
+    if (auto buffer = runtime::readInputFile(file)) {
       llvm::StringRef rest = (*buffer)->getBuffer();
       while (!rest.empty()) {
         auto [l, r] = rest.split('\n');

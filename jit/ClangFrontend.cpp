@@ -3,6 +3,7 @@
 #include "jit/ClangFrontend.h"
 #include "frontend/CacheFiles.h"
 #include "jit/CompilerImpl.h"
+#include "runtime/files/InputFile.h"
 
 #include <clang/Basic/DiagnosticOptions.h>
 #include <clang/Basic/LangStandard.h>
@@ -233,7 +234,7 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   // The driver's cc1 line from an earlier run: the driver was a tenth of a run whose model came
   // from the object cache, which needs the line for the cache's keys and no invocation at all.
   const std::string kept = keptCc1Path(args);
-  if (auto file = llvm::MemoryBuffer::getFile(kept, /*IsText=*/false, /*RequiresNullTerminator=*/false)) {
+  if (auto file = runtime::readInputFile(kept, /*nullTerminated=*/false)) {
     llvm::StringRef rest;
     if (frontend::stampsHold((*file)->getBuffer(), kCc1Follows, &rest) && rest.starts_with("-cc1") &&
         rest.ends_with(llvm::StringRef("\0", 1))) {

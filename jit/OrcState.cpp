@@ -8,6 +8,7 @@
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
 #include "jit/ModelMemory.h"
+#include "runtime/files/InputFile.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Config/llvm-config.h>
@@ -92,7 +93,7 @@ public:
     const std::string file = path(llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl");
     std::unique_ptr<llvm::MemoryBuffer> kept;
     if (!file.empty())
-      if (auto read = llvm::MemoryBuffer::getFile(file, /*IsText=*/true))
+      if (auto read = runtime::readInputFile(file))
         kept = std::move(*read);
     if (kept) {
       auto dl = llvm::DataLayout::parse(kept->getBuffer());

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 
 #include "runtime/Functions.h"
 #include "runtime/files/ReplacingFile.h"
@@ -1255,9 +1254,9 @@ llvm::Error Engine::writeBinary(const std::string& path) const {
 }
 
 llvm::Error Engine::readBinary(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return llvm::createStringError(llvm::inconvertibleErrorCode(), "%s: error: cannot open file", path.c_str());
-  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  auto file = textfile::readFile(path);
+  if (!file) return file.takeError();
+  const llvm::StringRef bytes = (*file)->getBuffer();
   // Validate every record before replacing the string.
   size_t p = 0;
   while (p < bytes.size()) {

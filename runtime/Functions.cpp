@@ -6,6 +6,8 @@
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/Path.h>
 
+#include "runtime/files/InputFile.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -221,8 +223,8 @@ public:
 
   llvm::Error open() {
     if (buf_) return llvm::Error::success();  // given as text
-    auto buf = llvm::MemoryBuffer::getFile(path_, /*IsText=*/true);
-    if (!buf) return llvm::createStringError(path_ + ": error: cannot open file");
+    auto buf = readInputFile(path_);
+    if (!buf) return llvm::createStringError(path_ + ": error: cannot open file: " + buf.getError().message());
     buf_ = std::move(*buf);
     return llvm::Error::success();
   }

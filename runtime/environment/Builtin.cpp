@@ -2,12 +2,13 @@
 // specification file, which queries it keeps, the float arithmetic and its order) are the facts
 // of vlab's build, measured against it; docs/environment.md lists them.
 #include "runtime/environment/Builtin.h"
+#include "runtime/files/InputFile.h"
 
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
+#include <sstream>
 #include <string_view>
 
 namespace lcjit::runtime {
@@ -114,8 +115,10 @@ llvm::Expected<std::unique_ptr<EnvironmentLink>> startHonda81(const CommSpec& sp
     return spec.error("honda81 needs a specification file (radius, 3d case) after its options (line " +
                           std::to_string(spec.executableLine) + ")");
   const std::string& specFile = argv[a];
-  std::ifstream in(specFile);
-  if (!in) return spec.error("honda81 cannot open its specification file '" + specFile + "'");
+  auto file = readInputFile(specFile);
+  if (!file)
+    return spec.error("honda81 cannot open its specification file '" + specFile + "': " + file.getError().message());
+  std::istringstream in((*file)->getBuffer().str());
   float radius = 0;
   bool is3d = false;
   std::string line;

@@ -27,6 +27,7 @@
 #include <unistd.h>
 
 #include "runtime/Termination.h"
+#include "runtime/files/InputFile.h"
 
 namespace lcjit::runtime {
 
@@ -349,11 +350,9 @@ llvm::Error ChildLink::waitAnswer(const std::function<void()>& poll, Clock::time
 llvm::Expected<std::string> ChildLink::receive(int& flags) {
   std::string text;
   if (spec_.transport == Transport::Files) {
-    std::ifstream f(fromFile_, std::ios::binary);
-    if (!f) return spec_.error(name() + " wrote no answer file (" + fromFile_ + ")");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    text = ss.str();
+    auto file = readInputFile(fromFile_, /*nullTerminated=*/false);
+    if (!file) return spec_.error(name() + " wrote no answer file (" + fromFile_ + ": " + file.getError().message() + ")");
+    text = (*file)->getBuffer().str();
   } else {
     text.assign(shm_ + kToField, strnlen(shm_ + kToField, kFromField));
   }

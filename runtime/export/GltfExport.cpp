@@ -111,7 +111,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
           // refers to the file, relative to the output's folder.
           image.uri = file;
           if (std::string mime = gltfImageType(file); binary && !mime.empty()) {
-            if (auto bytes = textfile::readFile(cx.textureFile(key.texture), /*text=*/false)) {
+            if (auto bytes = textfile::readFile(cx.textureFile(key.texture))) {
               image.bufferView = b.view((*bytes)->getBufferStart(), (*bytes)->getBufferSize(), 0);
               image.mimeType = mime;
               image.uri.clear();

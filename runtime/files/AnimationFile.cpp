@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "runtime/files/InputFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
@@ -197,6 +198,20 @@ AnimationSettings parseAnimationFile(std::string_view preprocessedText, const st
                                      std::vector<ViewFileWarning>& warnings) {
   AnimationSettings as;
   Parser(as, warnings, fileName).run(preprocessedText);
+  return as;
+}
+
+AnimationSettings loadAnimationFile(const std::string& path, std::vector<std::string>& warnings) {
+  auto text = readInputFile(path);
+  if (!text) {
+    warnings.push_back(path + ": warning: cannot open file: " + text.getError().message() +
+                       "; lpfg's animation defaults are used");
+    return AnimationSettings();
+  }
+  std::vector<ViewFileWarning> found;
+  AnimationSettings as = parseAnimationFile((*text)->getBuffer(), path, found);
+  for (const ViewFileWarning& w : found)
+    warnings.push_back(w.file + ":" + std::to_string(w.line) + ":" + std::to_string(w.column) + ": warning: " + w.message);
   return as;
 }
 

@@ -47,6 +47,10 @@ struct AnimationSettings {
 // As lpfg does after reading: `clear between frames: off` forces `double buffer` off (warning).
 AnimationSettings parseAnimationFile(std::string_view preprocessedText, const std::string& fileName,
                                      std::vector<ViewFileWarning>& warnings);
+// The animation file `path` read (as it is, not preprocessed) and parsed; its warnings as
+// "FILE:LINE:COLUMN: warning: …" lines. A file that cannot be read (missing, a FIFO, a device) is
+// one warning, "FILE: warning: cannot open file: WHY", and the settings are lpfg's defaults.
+AnimationSettings loadAnimationFile(const std::string& path, std::vector<std::string>& warnings);
 
 // Which derivation steps are displayed while animating (lpfg's LPFG::_Step/Timer/_Rewind):
 //  * rewind(): derive from the axiom to `first frame` and display it (the current frame);

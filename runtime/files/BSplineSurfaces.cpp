@@ -9,6 +9,8 @@
 
 #include <llvm/Support/MemoryBuffer.h>
 
+#include "runtime/files/InputFile.h"
+
 namespace lcjit::runtime {
 namespace {
 
@@ -401,7 +403,7 @@ BSplineFile parseBSpline(std::string_view text, const std::string& name, std::ve
 }
 
 BSplineFile loadBSpline(const std::string& path, std::vector<std::string>& warnings) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/true);
+  auto buf = readInputFile(path);
   if (!buf) {
     warnings.push_back(path + ": warning: cannot open file: " + buf.getError().message() +
                        "; lpfg's initial flat 10 x 10 net is used instead");

@@ -201,7 +201,7 @@ llvm::Expected<CurveFile> readCurveFile(const std::string& path) {
   if (ext == ".func" || ext == ".fset") kind = CurveFile::Kind::Function;
   else if (ext == ".con" || ext == ".cset") kind = CurveFile::Kind::Contour;
   else return fail(path, 0, "not a function (.func, .fset) or contour (.con, .cset) file");
-  auto buf = textfile::readFile(path, /*text=*/false);
+  auto buf = textfile::readFile(path);
   if (!buf) return buf.takeError();
   return parseCurveFile((*buf)->getBuffer(), kind, path);
 }

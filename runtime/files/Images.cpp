@@ -322,8 +322,8 @@ llvm::Expected<Image> decodeImage(const uint8_t* data, size_t size, const std::s
 }
 
 llvm::Expected<Image> loadImage(const std::string& path) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/false);
-  if (!buf) return textfile::fail(path, 0, "cannot open file: " + buf.getError().message());
+  auto buf = textfile::readFile(path);
+  if (!buf) return buf.takeError();
   const auto& b = **buf;
   return decodeImage(reinterpret_cast<const uint8_t*>(b.getBufferStart()), b.getBufferSize(), path);
 }

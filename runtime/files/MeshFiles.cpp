@@ -438,7 +438,7 @@ llvm::Expected<MeshData> parsePly(std::string_view bytes, const std::string& fil
 }
 
 llvm::Expected<MeshData> loadMesh(const std::string& path, const MeshLoadOptions& options) {
-  auto buf = textfile::readFile(path, /*text=*/false);
+  auto buf = textfile::readFile(path);
   if (!buf) return buf.takeError();
   std::string_view data = (*buf)->getBuffer();
   const std::string lp = lower(path);

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "runtime/files/InputFile.h"
 #include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
@@ -29,8 +30,7 @@ llvm::Error fileError(const std::string& path, const std::string& what) {
 }
 
 llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readBinary(const std::string& path) {
-  auto buffer = llvm::MemoryBuffer::getFile(path, /*IsText=*/false,
-                                            /*RequiresNullTerminator=*/false);
+  auto buffer = readInputFile(path, /*nullTerminated=*/false);
   if (!buffer)
     return llvm::createStringError(buffer.getError(), "%s: cannot read: %s", path.c_str(),
                                    buffer.getError().message().c_str());

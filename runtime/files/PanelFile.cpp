@@ -6,8 +6,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "runtime/files/TextLines.h"
 
@@ -40,10 +38,8 @@ std::optional<std::pair<size_t, size_t>> wordSpan(std::string_view line, size_t 
 }
 
 std::string readText(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  auto buffer = readInputFile(p.string());
+  return buffer ? (*buffer)->getBuffer().str() : std::string();
 }
 
 }  // namespace

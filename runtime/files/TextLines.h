@@ -12,6 +12,8 @@
 #include <llvm/Support/Error.h>
 #include <llvm/Support/MemoryBuffer.h>
 
+#include "runtime/files/InputFile.h"
+
 namespace lcjit::runtime::textfile {
 
 // "FILE:LINE: error: MSG"; line 0: an error of the whole file, "FILE: error: MSG".
@@ -25,10 +27,10 @@ inline llvm::Error failAt(const std::string& file, size_t line, size_t column, c
                                  msg.c_str());
 }
 
-// The whole file, or "PATH: error: cannot open file: why". `text`: line ends as the platform's
-// text files have them (false for binary formats).
-inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::string& path, bool text = true) {
-  auto buf = llvm::MemoryBuffer::getFile(path, /*IsText=*/text);
+// The whole file, or "PATH: error: cannot open file: why" (why: "not a regular file (a FIFO)"
+// too, InputFile.h).
+inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::string& path) {
+  auto buf = readInputFile(path);
   if (!buf) return fail(path, 0, "cannot open file: " + buf.getError().message());
   return std::move(*buf);
 }

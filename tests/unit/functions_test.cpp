@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 using lcjit::runtime::FunctionStore;
@@ -243,7 +245,7 @@ TEST(Functions, Errors) {
                   "'fver 1 1' is known)");
   const std::string missing = data("does_not_exist.func");
   EXPECT_EQ(errorText(s.loadFunction(missing)),
-            missing + ": error: cannot open file");
+            missing + ": error: cannot open file: " + std::strerror(ENOENT));
   // A .func is not a function set.
   const std::string lin = data("linear.func");
   EXPECT_EQ(errorText(s.loadFunctionSet(lin)),
