@@ -40,6 +40,7 @@
 #include "app/Session.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
+#include "runtime/files/InputFile.h"
 #include "runtime/files/ReplacingFile.h"
 
 extern char** environ;
@@ -379,11 +380,6 @@ bool isSystemFolder(const fs::path& f) {
   return false;
 }
 
-const char* kindOf(mode_t mode) {
-  return S_ISDIR(mode) ? "a folder" : S_ISFIFO(mode) ? "a FIFO" : S_ISSOCK(mode) ? "a socket"
-         : S_ISCHR(mode) ? "a character device" : S_ISBLK(mode) ? "a block device" : "not a regular file";
-}
-
 }  // namespace
 
 llvm::Error checkSandboxFolder(const std::string& folder, const char* what, bool writable) {
@@ -416,8 +412,10 @@ llvm::Error checkSandboxInput(const std::string& input, const std::string& model
         (folder ? " (name the folder itself: -I " + target.string() + ")" : std::string()) + " (docs/security.md)");
   // Bound into the sandbox, a socket could be connected to; a FIFO or a device read without end.
   struct stat st {};
-  if (::stat(target.c_str(), &st) == 0 && (folder ? !S_ISDIR(st.st_mode) : !S_ISREG(st.st_mode)))
-    return llvm::createStringError(input + ": error: " + (folder ? "not a folder" : std::string("not a regular file (") + kindOf(st.st_mode) + ")") +
+  if (::stat(target.c_str(), &st) != 0) return llvm::Error::success();  // the run says it is missing
+  if (folder && !S_ISDIR(st.st_mode)) return llvm::createStringError(input + ": error: not a folder");
+  if (std::error_code refused = runtime::inputRefusal(st.st_mode); !folder && refused)
+    return llvm::createStringError(input + ": error: " + refused.message() +
                                    "; a sandboxed run reads only regular files (docs/security.md)");
   return llvm::Error::success();
 }
@@ -429,7 +427,8 @@ llvm::Error checkSandboxOutput(const std::string& out, const std::string& modelF
   };
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    return refuse(std::string("is ") + kindOf(st.st_mode) + "; name a file, which is all a sandboxed run may write there");
+    return refuse((S_ISDIR(st.st_mode) ? std::string("is a folder") : runtime::inputRefusal(st.st_mode).message()) +
+                  "; name a file, which is all a sandboxed run may write there");
   if (under(target, canonicalOr(modelFolder))) return llvm::Error::success();
   if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return refuse("its folder " + folder.string() + " is not there");
   if (folder == folder.root_path() || isSystemFolder(folder))

@@ -55,6 +55,8 @@ std::error_code lastError() { return {errno, std::generic_category()}; }
 
 }  // namespace
 
+std::error_code inputRefusal(unsigned mode) { return refusal(mode_t(mode)); }
+
 bool isNotRegularFile(std::error_code ec) { return ec.category() == notRegularCategory(); }
 
 llvm::ErrorOr<std::unique_ptr<llvm::MemoryBuffer>> readInputFile(const llvm::Twine& path, bool nullTerminated,

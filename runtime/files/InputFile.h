@@ -23,6 +23,10 @@ namespace lcjit::runtime {
 llvm::ErrorOr<std::unique_ptr<llvm::MemoryBuffer>> readInputFile(const llvm::Twine& path, bool nullTerminated = true,
                                                                  llvm::sys::fs::file_status* status = nullptr);
 
+// Why a file of mode `mode` (stat's st_mode) is not read as input, in readInputFile's words; none
+// for a regular file. For who must judge a file without reading it (the sandbox's parent).
+std::error_code inputRefusal(unsigned mode);
+
 // Whether `ec` is readInputFile's refusal of something that is not a regular file.
 bool isNotRegularFile(std::error_code ec);
 

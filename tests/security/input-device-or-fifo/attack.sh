@@ -124,13 +124,14 @@ attempt "lpfg.mak" fifo 1 "lpfg.mak: error: cannot read it" -b -out o.png -w 50 
 in_folder sweep-file plant.l && make_input fifo sweep.yaml
 attempt "the sweep file" fifo 1 "sweep.yaml: error: cannot read it" sweep plan sweep.yaml --out planned
 
-# Under --sandbox the same readers run in the sandboxed child: a FIFO in the model's folder, named
-# by the view file and given on the command line.
+# Under --sandbox the same readers run in the sandboxed child: a FIFO in the model's folder named by
+# the view file. One given on the command line is refused before the run: the parent shows the
+# sandbox only regular files (a FIFO or a socket bound into it would be a way to talk out).
 if command -v bwrap > /dev/null && bwrap --unshare-all --ro-bind / / true 2> /dev/null; then
   in_folder sandbox-view-line plant.l && echo "surface: leaf.s 1 4 4" > plant.v && make_input fifo leaf.s
   attempt "--sandbox: a surface file" fifo 0 "leaf.s: warning: cannot open file" --sandbox -b -out o.png -w 50 50 plant.l plant.v
   in_folder sandbox-contours plant.l && make_input fifo plant.con
-  attempt "--sandbox: a contour file" fifo 0 "plant.con: warning: cannot open file" --sandbox -b -out o.png -w 50 50 plant.l plant.con
+  attempt "--sandbox: a contour file" fifo 1 "plant.con: error:" --sandbox -b -out o.png -w 50 50 plant.l plant.con
 else
   echo "note: bubblewrap cannot make a sandbox here; the --sandbox runs were not tried"
 fi
