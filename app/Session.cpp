@@ -801,12 +801,20 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     jit::CompileOptions co;
     co.optLevel = 0;
     co.bufferName = "<repl>";
-    co.runModelCode = guardedStatics("<repl>", columns);
+    // Once its static initializers have begun (a global typed here), the input has run as this
+    // form: a fault or an interrupt there is its outcome, and no other form runs it again.
+    // (Shared: the unit keeps runModelCode for its static destructors.)
+    auto ran = std::make_shared<bool>(false);
+    co.runModelCode = [ran, statics = guardedStatics("<repl>", columns)](const std::function<llvm::Error()>& run) {
+      *ran = true;
+      return statics(run);
+    };
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);
     if (!code) {
       errors.push_back(columns->diagnostics(llvm::toString(code.takeError())));
+      if (*ran) return llvm::createStringError(errors.back());
       continue;
     }
     std::shared_ptr<jit::ModelCode> unit = std::move(*code);
