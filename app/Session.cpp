@@ -796,6 +796,18 @@ bool Session::installTier(BetterTier tier) {
 // names its section or group itself (`interpretation:`, `group 2:`).
 static const std::string kReplSection = "\nendgroup\nendvgroup\nproduction:\n";
 
+// The input followed by `closing`, generated code that ends what the input is put in. On a line
+// of its own, so that nothing at the end of the input takes it in (a `//` comment, an
+// unterminated literal), but numbered as the input's last line and indented to stand just after
+// it: an error about the input ending too soon ("expected expression") points just after what was
+// typed, and no error points at a line or a bracket the user did not type.
+static std::string withClosing(const std::string& input, const std::string& closing) {
+  size_t lastLine = input.rfind('\n');
+  size_t column = lastLine == std::string::npos ? input.size() : input.size() - lastLine - 1;
+  long line = 1 + std::count(input.begin(), input.end(), '\n');
+  return input + "\n#line " + std::to_string(line) + " \"<repl>\"\n" + std::string(column, ' ') + closing;
+}
+
 // C++ at the REPL. The input is compiled as the last part of the model: the .l file (included,
 // so its macros, modules and functions are there), the declarations typed so far, then the input
 // as a declaration (file scope), as statements, or as an expression whose value is printed (in a
@@ -820,20 +832,19 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
   for (Form form : tries) {
     int n = ++replInputs_;
     std::string entry = "__lc_repl_input_" + std::to_string(n);
-    std::string declared = ended ? text : text + ";";
-    std::string typed = "#line 1 \"<repl>\"\n" + (form == Form::Declarations ? declared : text) + "\n";
+    std::string declared = ended ? text : withClosing(text, ";");
+    const std::string atInput = "#line 1 \"<repl>\"\n";
     std::string wrapped;
     switch (form) {
-      case Form::Declarations: wrapped = kReplSection + typed; break;
-      case Form::Statements: wrapped = "extern \"C\" void " + entry + "() {\n" + typed + ";}\n"; break;
+      case Form::Declarations: wrapped = kReplSection + atInput + declared + "\n"; break;
+      case Form::Statements: wrapped = "extern \"C\" void " + entry + "() {\n" + atInput + text + "\n;}\n"; break;
       case Form::Expression:
-        // The closing on the input's line: "expected expression" then points just after it.
-        wrapped = "extern \"C\" void " + entry + "() { __lc_repl::print([&]() -> decltype(auto) { return (\n" +
-                  typed.substr(0, typed.size() - 1) + " ); }); }\n";
+        wrapped = "extern \"C\" void " + entry + "() { __lc_repl::print([&]() -> decltype(auto) { return (\n" + atInput +
+                  withClosing(text, " ); }); }") + "\n";
         break;
     }
     std::string source = "#include \"" + lsystem_ + "\"\n";
-    for (const std::string& d : replDeclarations_) source += kReplSection + "#line 1 \"<repl>\"\n" + d + "\n";
+    for (const std::string& d : replDeclarations_) source += kReplSection + atInput + d + "\n";
     source += wrapped;
 
     frontend::PreprocessOptions pp = preprocess_;
@@ -853,13 +864,21 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
     jit::CompileOptions co;
     co.optLevel = 0;
     co.bufferName = "<repl>";
-    co.runModelCode = guardedStatics("<repl>", columns);
+    // Once its static initializers have begun (a global typed here), the input has run as this
+    // form: a fault or an interrupt there is its outcome, and no other form runs it again.
+    // (Shared: the unit keeps runModelCode for its static destructors.)
+    auto ran = std::make_shared<bool>(false);
+    co.runModelCode = [ran, statics = guardedStatics("<repl>", columns)](const std::function<llvm::Error()>& run) {
+      *ran = true;
+      return statics(run);
+    };
     co.checkStaticData = staticDataCheck("<repl>");
     for (const auto& owner : stateOwners_) co.shareStateWith.push_back(owner.get());
     for (const auto& source : sourceCode_) co.linkAgainst.push_back(source.get());
     auto code = compiler_->compile(cpp->cpp, co);
     if (!code) {
       errors.push_back(columns->diagnostics(llvm::toString(code.takeError())));
+      if (*ran) return llvm::createStringError(errors.back());
       continue;
     }
     std::shared_ptr<jit::ModelCode> unit = std::move(*code);

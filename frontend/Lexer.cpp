@@ -119,13 +119,15 @@ Lexed lex(const std::string& text, const std::string& mainFile) {
         std::string close = ")" + delim + "\"";
         size_t e = open == std::string::npos ? std::string::npos : text.find(close, open);
         i = e == std::string::npos ? n : e + close.size();
+        t.unterminated = e == std::string::npos;
       } else {
         ++i;
         while (i < n && text[i] != q && text[i] != '\n') {
           if (text[i] == '\\' && i + 1 < n) ++i;
           ++i;
         }
-        if (i < n && text[i] == q) ++i;
+        t.unterminated = i >= n || text[i] != q;
+        if (!t.unterminated) ++i;
       }
       t.kind = q == '"' ? Token::String : Token::Char;
     } else {

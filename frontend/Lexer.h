@@ -14,6 +14,7 @@ struct Token {
   int line = 1;
   int col = 1;
   bool spaceBefore = false;  // whitespace or a line break precedes it in the source
+  bool unterminated = false;  // a String or Char the line (a raw string: the text) ends inside
 
   bool is(const char* s) const { return (kind == Punct || kind == Identifier) && text == s; }
 };

@@ -121,6 +121,15 @@ std::optional<RewriteError> checkBeforeParsing(const Lexed& lx) {
       continue;
     }
     const std::string& s = t.text;
+    // The literal takes in the rest of its line, brackets and all: said as Clang (and g++) say
+    // it, at the literal, rather than as a bracket it swallowed that is never closed.
+    if (t.unterminated) {
+      size_t quote = s.find_first_of("\"'");
+      if (t.kind == Token::Char) throw RewriteError{t, "missing terminating ' character"};
+      if (quote == 0 || s[quote - 1] != 'R') throw RewriteError{t, "missing terminating '\"' character"};
+      std::string delimiter = s.substr(quote + 1, s.find('(', quote) - quote - 1);
+      throw RewriteError{t, "raw string missing terminating delimiter )" + delimiter + "\""};
+    }
     if (t.kind == Token::Identifier && s.size() > kMaxIdentifier)
       throw RewriteError{t, "an identifier of " + std::to_string(s.size()) + " characters: lcjit takes names of up to " +
                                 std::to_string(kMaxIdentifier)};

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "runtime/Engine.h"
+#include "runtime/ModelGuard.h"
 
 namespace lcjit::repl {
 namespace {
@@ -39,6 +40,9 @@ struct sigaction previousInterrupt;
 void onInterrupt(int) {
   interrupted = true;
   if (runtime::Engine* e = interruptible.load()) e->cancelStep();
+  // And any other model code running: Start, an interpretation, the initializer of a global
+  // typed at the prompt or of a model being loaded.
+  runtime::interruptEveryRun();
 }
 
 char wordBreaks[64];  // libedit wants a char*, not a const one
@@ -83,6 +87,15 @@ struct LineReaderCallbacks {
 LineReader::LineReader(LineHandler onLine, Completer complete)
     : onLine_(std::move(onLine)), complete_(std::move(complete)) {
   interactive_ = isatty(STDIN_FILENO) && isatty(STDOUT_FILENO);
+  // Ctrl-C interrupts what runs, whatever drives the REPL: a person at a terminal, or a script,
+  // an editor or a notebook kernel through a pipe (a kernel sends SIGINT for its Interrupt).
+  // No SA_RESTART on a terminal: Ctrl-C must end more()'s wait for a key. Through a pipe, with
+  // SA_RESTART, a write to a full stdout is not cut short (poll() wakes either way).
+  struct sigaction sa {};
+  sa.sa_handler = onInterrupt;
+  sa.sa_flags = interactive_ ? 0 : SA_RESTART;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &previousInterrupt);
   if (!interactive_) return;
   active = this;
   history_ = historyFile();
@@ -96,22 +109,17 @@ LineReader::LineReader(LineHandler onLine, Completer complete)
   using_history();
   stifle_history(1000);
   read_history(history_.c_str());
-  // No SA_RESTART: Ctrl-C at the prompt must wake poll().
-  struct sigaction sa {};
-  sa.sa_handler = onInterrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, &previousInterrupt);
 }
 
 LineReader::~LineReader() {
+  sigaction(SIGINT, &previousInterrupt, nullptr);
+  interruptible = nullptr;
   if (!interactive_) return;
   if (installed_) {
     rl_callback_handler_remove();
     std::fputs("\r\033[K", stdout);  // the prompt shown after the last command
     std::fflush(stdout);
   }
-  sigaction(SIGINT, &previousInterrupt, nullptr);
-  interruptible = nullptr;
   active = nullptr;
 }
 
@@ -169,6 +177,10 @@ LineReader::Status LineReader::pollTerminal(int timeoutMs) {
 
 LineReader::Status LineReader::pollPlain(int timeoutMs) {
   for (;;) {
+    // Ctrl-C with nothing running (or after what it interrupted had ended) is spent here, as at
+    // a terminal's prompt, and the session goes on: C++ waiting for its closing brackets is
+    // dropped (Repl), but no line is, since none is being typed: what a script sent stays sent.
+    if (interrupted.exchange(false)) return Status::Interrupted;
     size_t nl = pending_.find('\n');
     if (nl != std::string::npos || (end_ && !pending_.empty())) {
       std::string line = pending_.substr(0, nl);

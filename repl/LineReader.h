@@ -2,7 +2,8 @@
 // completion through a given function), driven one key at a time through its callback interface
 // so that the REPL's one thread can draw the :view window and watch files while a line is being
 // typed. From anything else (a script, a pipe): plain lines, with no prompt, editing or history,
-// so that a script's output is only what its commands print.
+// so that a script's output is only what its commands print. From both, SIGINT (Ctrl-C, or a
+// notebook's Interrupt) stops what runs and never ends the REPL.
 #pragma once
 #include <functional>
 #include <string>
@@ -33,8 +34,8 @@ class LineReader {
 
   enum class Status { Ok, Interrupted, End };
   // Reads the input there is, waiting at most `timeoutMs` (< 0: until some arrives), and calls
-  // onLine for each whole line. Interrupted: Ctrl-C dropped the line being typed. End: end of
-  // input (Ctrl-D).
+  // onLine for each whole line. Interrupted: Ctrl-C (SIGINT) came while nothing ran; on a
+  // terminal it dropped the line being typed. End: end of input (Ctrl-D).
   Status poll(int timeoutMs);
   // For output that comes while a prompt is shown (a watched file was reloaded): the prompt line
   // is cleared, `print` runs, and the prompt and the text typed so far are drawn again below.
@@ -45,8 +46,9 @@ class LineReader {
   // The terminal's height in lines (24 when it cannot be told).
   int screenRows() const;
 
-  // Ctrl-C on a terminal while a command runs: true once per press. `engine`'s derivation step in
-  // progress is cancelled by it (Engine::cancelStep); null: none.
+  // Ctrl-C (SIGINT, from a terminal or sent to the process) while a command runs: true once per
+  // press. `engine`'s derivation step in progress is cancelled by it (Engine::cancelStep); null:
+  // none. Any other model code running is interrupted (runtime::interruptEveryRun).
   static bool takeInterrupt();
   static void setInterruptible(runtime::Engine* engine);
 

@@ -211,6 +211,7 @@ class Repl {
     auto value = session_->evaluate(cpp);
     repl::LineReader::setInterruptible(nullptr);
     engine().clearCancel();  // an interrupt of the input must not cancel the next step
+    repl::LineReader::takeInterrupt();  // … nor count as one of the prompt
     if (!value) return report(value.takeError());
     if (!value->empty()) std::printf("%s\n", value->c_str());
     view_.markChanged();  // a statement may have changed what the model draws
@@ -294,7 +295,9 @@ class Repl {
       if (shown.enabled)
         shown.update(jit::msSince(t0), [&] { return app::progressText(e.stepNo(), e.derivationLength(), e.moduleCount()); });
       if (repl::LineReader::takeInterrupt()) {
-        std::printf("interrupted\n");
+        // Model code that did not return was made to: that ends the derivation, as a fault does.
+        if (e.faulted()) report(e.takeFault());
+        else std::printf("interrupted\n");
         break;
       }
       if (!more) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 
@@ -48,10 +49,18 @@ llvm::Expected<std::vector<std::string>> splitWords(std::string_view line) {
 }
 
 bool isCompleteCpp(std::string_view text) {
+  auto identChar = [](char c) { return std::isalnum((unsigned char)c) || c == '_' || c == '$'; };
   int depth = 0;
-  enum { Code, LineComment, BlockComment, String, Char } state = Code;
+  enum { Code, LineComment, BlockComment, String, Char, RawString } state = Code;
+  std::string rawEnd;  // `)delimiter"`, which ends the raw string
   for (size_t i = 0; i < text.size(); ++i) {
     char c = text[i], next = i + 1 < text.size() ? text[i + 1] : '\0';
+    // A backslash at the end of a line joins the next line to it, before anything else is read
+    // (in a comment and a literal too), except in a raw string.
+    if (c == '\\' && state != RawString && (next == '\n' || (next == '\r' && text.substr(i + 2, 1) == "\n"))) {
+      i += next == '\r' ? 2 : 1;
+      continue;
+    }
     switch (state) {
       case Code:
         if (c == '/' && next == '/') state = LineComment, ++i;
@@ -60,6 +69,28 @@ bool isCompleteCpp(std::string_view text) {
         else if (c == '\'') state = Char;
         else if (c == '(' || c == '[' || c == '{') ++depth;
         else if (c == ')' || c == ']' || c == '}') --depth;
+        else if (std::isdigit((unsigned char)c) || (c == '.' && std::isdigit((unsigned char)next))) {
+          // A number: its ' are digit separators (1'000'000), not a character literal.
+          while (i + 1 < text.size() &&
+                 (identChar(text[i + 1]) || text[i + 1] == '.' ||
+                  (text[i + 1] == '\'' && i + 2 < text.size() && identChar(text[i + 2])) ||
+                  ((text[i + 1] == '+' || text[i + 1] == '-') && std::strchr("eEpP", text[i]))))
+            ++i;
+        } else if (identChar(c)) {
+          size_t start = i;
+          while (i + 1 < text.size() && identChar(text[i + 1])) ++i;
+          std::string_view word = text.substr(start, i + 1 - start);
+          bool raw = (word == "R" || word == "u8R" || word == "uR" || word == "UR" || word == "LR") &&
+                     i + 1 < text.size() && text[i + 1] == '"';
+          size_t open = raw ? text.find_first_of("( )\\\t\n\"", i + 2) : std::string_view::npos;
+          if (open != std::string_view::npos && text[open] == '(' && open - (i + 2) <= 16) {
+            // R"delimiter( … )delimiter": nothing inside counts, line breaks included.
+            rawEnd = ")" + std::string(text.substr(i + 2, open - (i + 2))) + "\"";
+            state = RawString;
+            i = open;
+          }
+          // An encoding prefix (u8"…", L'x') is read as the literal after it, next time round.
+        }
         break;
       case LineComment:
         if (c == '\n') state = Code;
@@ -72,11 +103,14 @@ bool isCompleteCpp(std::string_view text) {
         if (c == '\\') ++i;
         else if (c == (state == String ? '"' : '\'') || c == '\n') state = Code;  // no literal spans lines
         break;
+      case RawString:
+        if (text.substr(i, rawEnd.size()) == rawEnd) state = Code, i += rawEnd.size() - 1;
+        break;
     }
   }
   size_t end = text.find_last_not_of(" \t\r\n");
-  bool continued = end != std::string_view::npos && text[end] == '\\' && state != LineComment;
-  return depth <= 0 && state != BlockComment && !continued;
+  bool continued = end != std::string_view::npos && text[end] == '\\' && state != RawString;
+  return depth <= 0 && state != BlockComment && state != RawString && !continued;
 }
 
 std::vector<std::string> completeFileName(std::string_view prefix) {

@@ -464,6 +464,9 @@ class Watchdog {
     if (--GI::depth(g) > 0) return GI::stop(g).load();
     guards_.erase(std::find(guards_.begin(), guards_.end(), &g));
     active_.fetch_sub(1);
+    // A Ctrl-C is for the runs it found; once they are over, a run that starts next (the REPL's
+    // next input) is not stopped by it, however late the watchdog looks.
+    if (guards_.empty()) sigintPending_.store(false);
     lastActiveNs_ = nowNs();
     GI::running(g).store(false);
     GI::force(g).store(false);
@@ -757,10 +760,7 @@ struct sigaction gPreviousSigint;
 
 void onSigint(int) {
   Watchdog* w = Watchdog::existing();
-  if (w && w->active_.load() > 0 && !w->sigintPending_.exchange(true)) {
-    w->wake();
-    return;
-  }
+  if (w && !w->sigintPending_.load() && interruptEveryRun()) return;
   // Nothing to interrupt, or the second Ctrl-C: what SIGINT did before.
   if (gPreviousSigint.sa_handler != SIG_IGN) runTerminationCleanups();
   sigaction(SIGINT, &gPreviousSigint, nullptr);
@@ -883,6 +883,14 @@ size_t defaultMemoryLimit() {
     return physical / 2;
   }();
   return limit;
+}
+
+bool interruptEveryRun() {
+  Watchdog* w = Watchdog::existing();
+  if (!w || w->active_.load() == 0) return false;
+  w->sigintPending_.store(true);
+  w->wake();
+  return true;
 }
 
 void interruptModelCodeOnSigint() {

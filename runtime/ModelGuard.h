@@ -148,6 +148,9 @@ class ModelGuard {
 // runs, ends the program as before. Also installs the guard's other handlers at once: call it
 // before anything compiles, so that LLVM's handlers, installed later, hand signals on to them.
 void interruptModelCodeOnSigint();
+// What that Ctrl-C does, for a program's own SIGINT handler (the REPL's): every guarded run in
+// progress stops, interrupted. False when none runs. Async-signal-safe.
+bool interruptEveryRun();
 
 // Stand-ins for operator new, new[], malloc, calloc and realloc in JIT'd model code (linked by
 // name, see hostFunctions()): they throw ModelStop when the run has been asked to stop, so that a

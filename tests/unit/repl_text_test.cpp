@@ -93,6 +93,28 @@ TEST(ReplInput, CompleteCpp) {
   // A line-continuing backslash asks for more; too many closing brackets are the compiler's.
   EXPECT_FALSE(isCompleteCpp("#define TWICE(x) \\"));
   EXPECT_TRUE(isCompleteCpp("f())"));
+  // As C++ lexes it: an unterminated literal ends at its line (the compiler says what is wrong);
+  // a ' in a number separates digits; a raw string holds brackets, quotes and line breaks until
+  // its delimiter; a backslash at a line's end joins the next line, to a comment too.
+  EXPECT_TRUE(isCompleteCpp("\"unterminated"));
+  EXPECT_TRUE(isCompleteCpp("'x"));
+  EXPECT_TRUE(isCompleteCpp("\"{"));
+  EXPECT_FALSE(isCompleteCpp("f(\"x"));
+  EXPECT_TRUE(isCompleteCpp("int a[] = {1'000};"));
+  EXPECT_TRUE(isCompleteCpp("f(0x1'0p+1'0, .5'5)"));
+  EXPECT_FALSE(isCompleteCpp("int a[] = {1'000,"));
+  EXPECT_TRUE(isCompleteCpp("u8'{' + L'(' + u\"[\""));
+  EXPECT_TRUE(isCompleteCpp("R\"(a{b\"c)\""));
+  EXPECT_TRUE(isCompleteCpp("R\"x(a)\"{)x\""));
+  EXPECT_TRUE(isCompleteCpp("LR\"(()\" + u8R\"-({)-\""));
+  EXPECT_FALSE(isCompleteCpp("R\"(abc"));
+  EXPECT_FALSE(isCompleteCpp("R\"x(a)\""));
+  EXPECT_TRUE(isCompleteCpp("R\"x(a\n{\n)x\""));
+  EXPECT_FALSE(isCompleteCpp("puts(R\"(\n)\"\n"));
+  EXPECT_TRUE(isCompleteCpp("R(\"{\")"));  // R is only a name here
+  EXPECT_TRUE(isCompleteCpp("x = 1; // a comment \\\n{"));
+  EXPECT_FALSE(isCompleteCpp("x = 1; // a comment \\"));
+  EXPECT_TRUE(isCompleteCpp("puts(\"a\\\n(\")"));
 }
 
 TEST(ReplInput, SplitWords) {
