@@ -263,6 +263,7 @@ struct SpawnSetup {
   std::vector<int> cgroups;     // cgroup.procs to join (RunCgroup::joinFds)
   rlim_t tasks = 0;             // RLIMIT_NPROC, 0: unchanged
   bool quiet = false;           // standard output and error to /dev/null
+  sigset_t signals{};           // the signal mask to exec with (the parent's before it blocked any)
 };
 
 // fork + exec of `argv` with the environment `env`, in a process group of its own, the limits set
@@ -275,6 +276,7 @@ pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>
   for (const std::string& s : env) cenv.push_back(const_cast<char*>(s.c_str()));
   cenv.push_back(nullptr);
   int null = ::open("/dev/null", O_RDWR | O_CLOEXEC);
+  pid_t parent = ::getpid();
   pid_t pid = ::fork();
   if (pid != 0) {
     if (pid > 0) ::setpgid(pid, pid);  // both sides: whichever runs first
@@ -282,6 +284,11 @@ pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>
     return pid;
   }
   ::setpgid(0, 0);
+  // bubblewrap dies with lcjit from its first instruction (it asks for the same itself, but only
+  // once it has made the sandbox's process): also when lcjit is killed outright.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL, 0, 0, 0);
+  if (::getppid() != parent) _exit(127);
+  ::sigprocmask(SIG_SETMASK, &setup.signals, nullptr);
   if (!joinCgroups(setup.cgroups)) _exit(126);
   for (int fd : setup.keep) ::fcntl(fd, F_SETFD, 0);
   if (null >= 0) {
@@ -345,6 +352,7 @@ const std::string& sandboxUnavailable() {
     setup.limits.cpuSeconds = 10;
     setup.keep = {sec};
     setup.quiet = true;
+    ::sigprocmask(SIG_SETMASK, nullptr, &setup.signals);
     pid_t pid = spawn(argv, keptEnvironment(), setup);
     ::close(sec);
     int ws = 0;
@@ -517,7 +525,18 @@ llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxP
   // Without a cgroup, RLIMIT_NPROC bounds the tasks — for a user other than root, and counting
   // the user's tasks elsewhere too (the kernel counts them all).
   else if (::getuid() != 0 && plan.limits.threads) setup.tasks = tasksOfUser(::getuid()) + plan.limits.threads;
+  // A signal that ends lcjit between the fork and the run's registration (gLiveRun) would leave
+  // bubblewrap unknown to the cleanup: those signals wait until it is registered.
+  sigset_t ending;
+  sigemptyset(&ending);
+  for (int sig : {SIGTERM, SIGHUP, SIGQUIT, SIGINT}) sigaddset(&ending, sig);
+  ::sigprocmask(SIG_BLOCK, &ending, &setup.signals);
   pid_t pid = spawn(argv, keptEnvironment(), setup);
+  if (pid > 0) {
+    run->bwrapPid_ = pid;
+    gLiveRun = run.get();
+  }
+  ::sigprocmask(SIG_SETMASK, &setup.signals, nullptr);
   ::close(sec), ::close(report[1]), ::close(info[1]);
   if (reply[1] >= 0) ::close(reply[1]);
   if (pid < 0) {
@@ -525,8 +544,6 @@ llvm::Expected<std::unique_ptr<SandboxedRun>> SandboxedRun::start(const SandboxP
     if (reply[0] >= 0) ::close(reply[0]);
     return llvm::createStringError(std::string("lcjit: --sandbox: cannot start bwrap: ") + std::strerror(errno));
   }
-  run->bwrapPid_ = pid;
-  gLiveRun = run.get();
   run->reportFd_ = report[0];
   run->infoFd_ = info[0];
   run->replyFd_ = reply[0];

@@ -2,12 +2,14 @@
 // hierarchies, making the run's cgroup there with its limits, killing and removing it.
 #include "app/SandboxCgroup.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -106,6 +108,41 @@ bool hasWord(const std::string& list, std::string_view word) {
   return false;
 }
 
+// Every process in the cgroup `dir` killed, until none is left (v1, or a kernel before v2's
+// cgroup.kill). A sandboxed run cannot start processes (seccomp), so the list only shrinks.
+void killEvery(const std::string& dir) {
+  for (int round = 0; round < 1000; ++round) {
+    std::istringstream procs(readFile(dir + "/cgroup.procs"));
+    bool any = false;
+    for (pid_t pid; procs >> pid;) {
+      ::kill(pid, SIGKILL);
+      any = true;
+    }
+    if (!any) return;
+    ::usleep(1000);
+  }
+}
+
+// The runs' cgroups of an lcjit that is gone (killed outright, or by a signal with a run under
+// way): what is left in them killed, the folders removed. Made by `lcjit-run-PID-N` and, for
+// cgroup v2, lcjit's own leaf `lcjit-PID`.
+void sweepStale(const std::string& parent) {
+  DIR* d = ::opendir(parent.c_str());
+  for (dirent* e; d && (e = ::readdir(d));) {
+    std::string name = e->d_name;
+    const char* digits = name.rfind("lcjit-run-", 0) == 0 ? name.c_str() + 10
+                         : name.rfind("lcjit-", 0) == 0   ? name.c_str() + 6
+                                                          : nullptr;
+    if (!digits || *digits < '0' || *digits > '9') continue;
+    pid_t owner = (pid_t)std::strtol(digits, nullptr, 10);
+    if (owner <= 0 || ::kill(owner, 0) == 0 || errno != ESRCH) continue;
+    std::string dir = parent + "/" + name;
+    killEvery(dir);
+    for (int i = 0; i < 200 && ::rmdir(dir.c_str()) != 0 && errno == EBUSY; ++i) ::usleep(1000);
+  }
+  if (d) ::closedir(d);
+}
+
 // A name no other run (of this lcjit or another) has.
 std::string runName() {
   static int n = 0;
@@ -148,6 +185,7 @@ std::unique_ptr<RunCgroup> RunCgroup::create(uint64_t memoryMax, uint64_t tasksM
   auto limit = [](uint64_t v) { return v ? std::to_string(v) : std::string("max"); };
   std::string v2why;
   if (std::string parent = v2Parent(v2why); !parent.empty()) {
+    sweepStale(parent);
     std::string dir = parent + "/" + runName();
     if (::mkdir(dir.c_str(), 0755) == 0) {
       g->v2_ = true;
@@ -178,6 +216,7 @@ std::unique_ptr<RunCgroup> RunCgroup::create(uint64_t memoryMax, uint64_t tasksM
       v1why = std::string("no cgroup v1 ") + controller + " hierarchy";
       break;
     }
+    sweepStale(own);
     std::string dir = own + "/" + name;
     if (::mkdir(dir.c_str(), 0755) != 0) {
       v1why = dir + ": " + std::strerror(errno);
@@ -218,19 +257,7 @@ RunCgroup::~RunCgroup() {
 void RunCgroup::killAll() {
   if (dirs_.empty()) return;
   if (v2_ && writeFile(dirs_[0] + "/cgroup.kill", "1")) return;
-  // v1, or a kernel before cgroup.kill (5.14): every process listed, until the list is empty. The
-  // run cannot start processes (seccomp), so the list only shrinks.
-  const std::string& dir = !pidsDir_.empty() ? pidsDir_ : dirs_[0];
-  for (int round = 0; round < 1000; ++round) {
-    std::istringstream procs(readFile(dir + "/cgroup.procs"));
-    bool any = false;
-    for (pid_t pid; procs >> pid;) {
-      ::kill(pid, SIGKILL);
-      any = true;
-    }
-    if (!any) return;
-    ::usleep(1000);
-  }
+  killEvery(!pidsDir_.empty() ? pidsDir_ : dirs_[0]);
 }
 
 bool RunCgroup::memoryLimitReached() const {

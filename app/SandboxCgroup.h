@@ -19,7 +19,8 @@ namespace lcjit::app {
 class RunCgroup {
  public:
   // A new cgroup under lcjit's own, with memory.max = `memoryMax` bytes and pids.max = `tasksMax`
-  // (0: no limit of that kind). Null, with `why` set, where none can be made.
+  // (0: no limit of that kind). Null, with `why` set, where none can be made. Runs' cgroups that an
+  // lcjit no longer there left behind are killed and removed first.
   static std::unique_ptr<RunCgroup> create(uint64_t memoryMax, uint64_t tasksMax, std::string& why);
   ~RunCgroup();  // kills what is left in it and removes it
 

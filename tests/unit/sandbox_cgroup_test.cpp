@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -112,5 +114,49 @@ TEST(RunCgroup, KillAllEndsEveryProcessInIt) {
   ASSERT_EQ(waitpid(child, &status, 0), child);
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
   ASSERT_EQ(waitpid(grandchild, &status, 0), grandchild);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+}
+
+TEST(RunCgroup, ALeftRunOfAGoneLcjitIsKilledAndRemoved) {
+  std::string why;
+  if (!RunCgroup::create(0, 0, why)) GTEST_SKIP() << "no cgroup for a run here: " << why;
+  prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0);
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  // An "lcjit" that makes a run's cgroup, puts a process in it and is killed outright: its
+  // destructors never run, the cgroup and the process stay.
+  pid_t lcjit = fork();
+  if (lcjit == 0) {
+    std::string w;
+    auto g = RunCgroup::create(0, 0, w);
+    if (!g) _exit(100);
+    pid_t run = fork();
+    if (run == 0) {
+      if (!lcjit::app::joinCgroups(g->joinFds())) _exit(101);
+      for (;;) pause();
+    }
+    (void)!write(fds[1], &run, sizeof run);
+    for (;;) pause();
+  }
+  pid_t run = -1;
+  ASSERT_EQ(read(fds[0], &run, sizeof run), (ssize_t)sizeof run);
+  // The run is in its cgroup once it has written to cgroup.procs: wait for that, not for a time.
+  std::string cgroupFile = "/proc/" + std::to_string(run) + "/cgroup";
+  for (int i = 0; i < 60000; ++i) {
+    std::ifstream in(cgroupFile);
+    std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (all.find("lcjit-run-" + std::to_string(lcjit)) != std::string::npos) break;
+    usleep(1000);
+  }
+  kill(lcjit, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(waitpid(lcjit, &status, 0), lcjit);
+  // The next lcjit's first run finds it and ends it.
+  auto next = RunCgroup::create(0, 0, why);
+  ASSERT_TRUE(next);
+  pid_t ended = 0;
+  for (int i = 0; i < 60000 && (ended = waitpid(run, &status, WNOHANG)) == 0; ++i) usleep(1000);
+  if (ended == 0) kill(run, SIGKILL), waitpid(run, &status, 0);
+  ASSERT_EQ(ended, run) << "the left run is still there";
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
 }
