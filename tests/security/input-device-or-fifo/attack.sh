@@ -57,21 +57,21 @@ command -v python3 > /dev/null && kinds="$kinds socket"
 for k in $kinds; do
   # The model itself: an error, as a missing one.
   in_folder "model-$k" plant.l && rm plant.l && make_input $k plant.l
-  attempt "the model" $k 1 "plant.l: error: cannot open file" -b -out o.png -w 50 50 plant.l
+  attempt "the model" $k 1 "plant.l: error: cannot open file" -b -out o.obj -w 50 50 plant.l
   # A header it includes: an error at the #include.
   in_folder "include-$k" includes.l && make_input $k header.h
-  attempt "an included header" $k 1 "includes.l:3:10: error: cannot open file './header.h'" -b -out o.png -w 50 50 includes.l
+  attempt "an included header" $k 1 "includes.l:3:10: error: cannot open file './header.h'" -b -out o.obj -w 50 50 includes.l
   # The view file: lcjit goes on with the default view.
   in_folder "view-$k" plant.l && make_input $k plant.v
-  attempt "the view file" $k 0 "plant.v: warning: cannot open file" -b -out o.png -w 50 50 plant.l plant.v
+  attempt "the view file" $k 0 "plant.v: warning: cannot open file" -b -out o.obj -w 50 50 plant.l plant.v
 done
 in_folder include-urandom urandom.l
-attempt "an include of /dev/urandom" urandom 1 "urandom.l:3:10: error: cannot open file '/dev/urandom'" -b -out o.png -w 50 50 urandom.l
+attempt "an include of /dev/urandom" urandom 1 "urandom.l:3:10: error: cannot open file '/dev/urandom'" -b -out o.obj -w 50 50 urandom.l
 
 # The files a view file's lines name: each left out with a warning, as a missing one.
 while read -r kind file line; do
   in_folder "view-line-$kind-$file" plant.l && echo "$line" > plant.v && make_input "$kind" "$file"
-  attempt "'$line' in the view file" "$kind" 0 "$file: warning: cannot open file" -b -out o.png -w 50 50 plant.l plant.v
+  attempt "'$line' in the view file" "$kind" 0 "$file: warning: cannot open file" -b -out o.obj -w 50 50 plant.l plant.v
 done << 'EOF'
 zero leaf.s surface: leaf.s 1 4 4
 fifo leaf.s surface: leaf.s 1 4 4
@@ -89,7 +89,7 @@ EOF
 # Colours and contours: left out with a message, as a missing file is.
 while read -r kind file says; do
   in_folder "input-$kind-$file" plant.l && make_input "$kind" "$file"
-  attempt "$file" "$kind" 0 "$file: $says" -b -out o.png -w 50 50 plant.l "$file"
+  attempt "$file" "$kind" 0 "$file: $says" -b -out o.obj -w 50 50 plant.l "$file"
 done << 'EOF'
 zero plant.mat cannot read
 fifo plant.map cannot read
@@ -100,7 +100,7 @@ EOF
 # Functions, the environment file and a C++ source: errors, as a missing file is.
 while read -r kind file; do
   in_folder "input-$kind-$file" plant.l && make_input "$kind" "$file"
-  attempt "$file" "$kind" 1 "$file: error: cannot open file" -b -out o.png -w 50 50 plant.l "$file"
+  attempt "$file" "$kind" 1 "$file: error: cannot open file" -b -out o.obj -w 50 50 plant.l "$file"
 done << 'EOF'
 zero plant.func
 fifo plant.fset
@@ -113,12 +113,12 @@ EOF
 # LoadString: the model's own message (it prints lcjit's error and goes on), as for a missing file.
 for k in zero fifo; do
   in_folder "load-string-$k" loads.l && make_input $k saved.strb
-  attempt "LoadString's file" $k 0 "saved.strb: error: cannot open file" -b -out o.png -w 50 50 loads.l
+  attempt "LoadString's file" $k 0 "saved.strb: error: cannot open file" -b -out o.obj -w 50 50 loads.l
 done
 
 # lpfg.mak (make would wait on it for ever): an error.
 in_folder lpfg-mak plant.l && make_input fifo lpfg.mak
-attempt "lpfg.mak" fifo 1 "lpfg.mak: error: cannot read it" -b -out o.png -w 50 50 plant.l
+attempt "lpfg.mak" fifo 1 "lpfg.mak: error: cannot read it" -b -out o.obj -w 50 50 plant.l
 
 # A sweep file: an error.
 in_folder sweep-file plant.l && make_input fifo sweep.yaml
@@ -129,9 +129,9 @@ attempt "the sweep file" fifo 1 "sweep.yaml: error: cannot read it" sweep plan s
 # sandbox only regular files (a FIFO or a socket bound into it would be a way to talk out).
 if command -v bwrap > /dev/null && bwrap --unshare-all --ro-bind / / true 2> /dev/null; then
   in_folder sandbox-view-line plant.l && echo "surface: leaf.s 1 4 4" > plant.v && make_input fifo leaf.s
-  attempt "--sandbox: a surface file" fifo 0 "leaf.s: warning: cannot open file" --sandbox -b -out o.png -w 50 50 plant.l plant.v
+  attempt "--sandbox: a surface file" fifo 0 "leaf.s: warning: cannot open file" --sandbox -b -out o.obj -w 50 50 plant.l plant.v
   in_folder sandbox-contours plant.l && make_input fifo plant.con
-  attempt "--sandbox: a contour file" fifo 1 "plant.con: error:" --sandbox -b -out o.png -w 50 50 plant.l plant.con
+  attempt "--sandbox: a contour file" fifo 1 "plant.con: error:" --sandbox -b -out o.obj -w 50 50 plant.l plant.con
 else
   echo "note: bubblewrap cannot make a sandbox here; the --sandbox runs were not tried"
 fi
