@@ -70,9 +70,7 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& en
     runtime::Bounds b = pane.geometry.framingBounds();
     if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
     const auto& w = windows[id];
-    pane.rect = {std::clamp(w.left, 0.f, 1.f), std::clamp(w.top, 0.f, 1.f), 0, 0};
-    pane.rect.width = std::clamp(w.width, 0.f, 1 - pane.rect.left);  // lpfg reads a width; keep it inside
-    pane.rect.height = std::clamp(w.height, 0.f, 1 - pane.rect.top);
+    pane.rect = viewer::ViewPane::Rect::inside(w.left, w.top, w.width, w.height);
     pane.viewId = id;
     panes.push_back(std::move(pane));
   }

@@ -132,6 +132,10 @@ struct ViewPane {
   runtime::Geometry geometry;
   struct Rect {
     float left = 0, top = 0, width = 1, height = 1;
+    // A view file's `window:` fractions, kept inside the picture. Only a window that reaches past
+    // an edge is cut at it: `0.8 0 0.2 0.5` ends at 1 in float, and its width stays 0.2 (20 of
+    // lpfg's 100 cells), where 1 - 0.8 would be 0.19999999 (19 cells).
+    static Rect inside(float left, float top, float width, float height);
   } rect;
   int viewId = 0;
 };

@@ -263,6 +263,28 @@ TEST(Render, ViewsAreLaidOutAsLpfgsGridLayout) {
   EXPECT_EQ(lone, (std::vector<A>{{0, 0, 300, 200}}));
 }
 
+// Ten windows of 0.2 x 0.5, the fifth column at `0.8 0 0.2 0.5`, a 1-pixel border, 400 wide:
+// lpfg's borders fall at columns 79, 159, 239 and 320. The last column's width is 0.2 (20 cells),
+// not 1 - 0.8 in float (0.19999999, 19 cells, which moves the borders to 80, 161, 242, 323).
+TEST(Render, AWindowEndingAtTheRightEdgeKeepsItsWidth) {
+  std::vector<ViewPane::Rect> rects;
+  for (float top : {0.f, 0.5f})
+    for (float left : {0.f, 0.2f, 0.4f, 0.6f, 0.8f}) rects.push_back(ViewPane::Rect::inside(left, top, 0.2f, 0.5f));
+  EXPECT_EQ(rects[4].width, 0.2f);
+  auto laid = paneRects(rects, 400, 400, 1);
+  ASSERT_EQ(laid.size(), 10u);
+  const int borders[4] = {79, 159, 239, 320};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(laid[size_t(i)][0] + laid[size_t(i)][2], borders[i]) << "view " << i << " ends before the border";
+    EXPECT_EQ(laid[size_t(i) + 1][0], borders[i] + 1) << "view " << i + 1 << " starts after it";
+  }
+  EXPECT_EQ(laid[4][0] + laid[4][2], 400);
+  // A window reaching past the edge is still cut at it.
+  ViewPane::Rect past = ViewPane::Rect::inside(0.7f, 0.6f, 0.5f, 0.5f);
+  EXPECT_FLOAT_EQ(past.left + past.width, 1);
+  EXPECT_FLOAT_EQ(past.top + past.height, 1);
+}
+
 TEST(Render, NonSquareImage) {
   Image im = render(centredTriangle(), ViewSettings{}, colors(), 300, 150);
   EXPECT_EQ(im.width, 300);
