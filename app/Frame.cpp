@@ -63,13 +63,15 @@ std::string sizeProblem(int width, int height) {
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
   std::vector<viewer::ViewPane> panes;
   const auto& windows = view.windows;
-  for (int id : engine.views()) {
-    if (id < 0 || id >= (int)windows.size()) continue;
+  const std::vector<int>& opened = engine.views();
+  for (int id = 0; id < (int)windows.size(); ++id) {
     viewer::ViewPane pane;
-    if (auto e = engine.interpret(pane.geometry, id)) return std::move(e);
-    runtime::Bounds b = pane.geometry.framingBounds();
-    if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
-    const auto& w = windows[id];
+    if (std::find(opened.begin(), opened.end(), id) != opened.end()) {
+      if (auto e = engine.interpret(pane.geometry, id)) return std::move(e);
+      runtime::Bounds b = pane.geometry.framingBounds();
+      if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
+    }
+    const auto& w = windows[size_t(id)];
     pane.rect = viewer::ViewPane::Rect::inside(w.left, w.top, w.width, w.height);
     pane.viewId = id;
     panes.push_back(std::move(pane));

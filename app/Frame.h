@@ -29,9 +29,11 @@ bool isFrameOutput(const std::string& path);
 // upper bound (GL's, some 16384), which it reports when it cannot make one.
 std::string badPictureSize(double width, double height);
 
-// Multi-view (manual §7.3): every view the model opened with UseView that the view file has a
-// `window:` for, interpreted by its view group, in that window's rectangle (kept inside the
-// picture). Empty for a model with one view. Also records each view's bounding box (vvXmin ...).
+// Multi-view (manual §7.3): a view file with `window:` lines lays the picture out as lpfg's window
+// does, one pane per line, in the file's order. The views the model opened with UseView are
+// interpreted by their view group; a window no view was opened for is its background (in lpfg, an
+// empty widget holds its place), so are all of them when the model opened none. Empty for a
+// view file without `window:` lines (one view). Also records each view's bounding box (vvXmin …).
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view);
 
 // The model's colours and textures as the renderer takes them (textures rows top first),

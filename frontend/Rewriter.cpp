@@ -567,6 +567,7 @@ class Rewriter {
       next();
       if (w == "vgroup" || w == "window") {
         vgroup_ = id;
+        vgroupsDeclared_.push_back(id);
       } else {
         group_ = id;
         groupKind_ = w == "group" ? 0 : 1;
@@ -1251,6 +1252,10 @@ class Rewriter {
     for (int id : verify_) s += std::to_string(id) + ",";
     if (verify_.empty()) s += "0";
     s += "};\n";
+    // NumOfViews: lpfg's translator counts the view groups declared, whether or not they hold rules.
+    s += "static int __lc_num_of_views() { int n = 0;";
+    for (const std::string& id : vgroupsDeclared_) s += " if ((int)(" + id + ") > n) n = (int)(" + id + ");";
+    s += " return n + 1; }\n";
     s += "static const __lc_Model __lc_the_model = {" + std::to_string(__lc_AbiVersion) + ", " + std::to_string(nextModuleId_ - __lc_FirstUserModule) +
          ", __lc_user_modules, " + std::to_string(rules_.size()) + ", __lc_rules, " + std::to_string(filters_.size()) +
          ", __lc_filters, __lc_axiom, __lc_derivation_length, " + fnOrNull(haveRing_, "__lc_ring_lsystem") + ", " +
@@ -1258,7 +1263,7 @@ class Rewriter {
          ", " + fnOrNull(controls_.count("__lc_start"), "__lc_start") + ", " +
          fnOrNull(controls_.count("__lc_start_each"), "__lc_start_each") + ", " +
          fnOrNull(controls_.count("__lc_end_each"), "__lc_end_each") + ", " + fnOrNull(controls_.count("__lc_end"), "__lc_end") +
-         ", " + cString(main) + ", " + std::to_string(verify_.size()) + ", __lc_verify};\n";
+         ", " + cString(main) + ", " + std::to_string(verify_.size()) + ", __lc_verify, __lc_num_of_views};\n";
     s += "extern \"C\" const __lc_Model* __lc_model() { return &__lc_the_model; }\n";
     out_.generated(s);
   }
@@ -1282,6 +1287,7 @@ class Rewriter {
   bool atStatementStart_ = true;
   int kind_ = 0;
   std::string group_ = "0", vgroup_ = "0";
+  std::vector<std::string> vgroupsDeclared_;  // every `vgroup N:` (C++ expressions), for NumOfViews
   int groupChecks_ = 0;
   int groupKind_ = 0;
   int ruleGroupKind_ = 0;

@@ -771,7 +771,15 @@ Engine::Origin Engine::originOf(size_t index) const {
   return origins_[index];
 }
 
+int Engine::numOfViews() const { return model_->numOfViews ? model_->numOfViews() : 1; }
+
 void Engine::useView(int id) {
+  // lpfg's UseView checks the number against the model's view groups and says so in the model's
+  // output; the view is not opened (its window stays empty).
+  if (id < 0 || id >= numOfViews()) {
+    print(("Invalid vgroup id = " + std::to_string(id) + ". Ignored\n").c_str());
+    return;
+  }
   if (std::find(views_.begin(), views_.end(), id) == views_.end()) views_.push_back(id);
 }
 void Engine::closeView(int id) { views_.erase(std::remove(views_.begin(), views_.end(), id), views_.end()); }

@@ -163,6 +163,7 @@ class Engine {
   // UseView/CloseView (§6.4): the views the model has opened, in order.
   void useView(int id);
   void closeView(int id);
+  int numOfViews() const;  // the model's view groups (NumOfViews)
   const std::vector<int>& views() const { return views_; }
   // Inserts one module record before the module at string offset `offset` (MouseIns, §5.9).
   bool insertBefore(size_t offset, const char* record);

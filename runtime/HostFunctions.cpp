@@ -190,6 +190,10 @@ void lcjit_user_menu_item(const char* label, int code) {
 void lcjit_use_view(int id, int open) {
   if (Engine* e = engine()) open ? e->useView(id) : e->closeView(id);
 }
+int lcjit_num_of_views() {
+  Engine* e = engine();
+  return e ? e->numOfViews() : 1;
+}
 float lcjit_view_box(int id, int axis, int max) { return lcjit::runtime::Views::instance().box(id, axis, max != 0); }
 float lcjit_view_scale(int id) { return lcjit::runtime::Views::instance().scale(id); }
 void lcjit_camera_position(int id, CameraPosition* out) { *out = lcjit::runtime::Views::instance().camera(id); }
@@ -321,7 +325,7 @@ std::vector<std::pair<std::string, void*>> hostFunctions() {
       LCJIT_HOST(lcjit_output_frame),   LCJIT_HOST(lcjit_curve),          LCJIT_HOST(lcjit_curve_length),
       LCJIT_HOST(lcjit_curve_op),       LCJIT_HOST(lcjit_get_surface),    LCJIT_HOST(lcjit_get_surface_point),
       LCJIT_HOST(lcjit_user_menu_item), LCJIT_HOST(lcjit_user_menu_choice), LCJIT_HOST(lcjit_user_menu_clear),
-      LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view),
+      LCJIT_HOST(lcjit_mouse_status),   LCJIT_HOST(lcjit_animation_request), LCJIT_HOST(lcjit_use_view), LCJIT_HOST(lcjit_num_of_views),
       LCJIT_HOST(lcjit_view_box),       LCJIT_HOST(lcjit_view_scale),     LCJIT_HOST(lcjit_camera_position),
       LCJIT_HOST(lcjit_current_ctx),    LCJIT_HOST(lcjit_model_value),    LCJIT_HOST(lcjit_run),
       LCJIT_HOST(lcjit_get_bsurface),   LCJIT_HOST(lcjit_tablet_status),  LCJIT_HOST(lcjit_terrain_query),

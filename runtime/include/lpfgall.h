@@ -234,6 +234,8 @@ template <int N, int M> BsurfaceObjNM<N, M> Set(const BsurfaceObjNM<N, M>& s, in
 }
 
 // §6.4 View functions and §6.8 mouse and menu: fed by the window; neutral values without one.
+// A view the model has no view group for is not opened (lpfg: "Invalid vgroup id = 1. Ignored").
+inline int NumOfViews() { return lcjit_num_of_views(); }
 inline void UseView(int id) { lcjit_use_view(id, 1); }
 inline void CloseView(int id) { lcjit_use_view(id, 0); }
 inline float vvXmin(int id) { return lcjit_view_box(id, 0, 0); }

@@ -2,6 +2,7 @@
 // produce/nproduce, contexts, groups and filters, #line mapping back to the .l file, and the
 // rewriter's own error messages (FILE:LINE:COL: error: ...).
 #include "frontend/Rewriter.h"
+#include "runtime/include/lcjit/abi.h"
 
 #include <gtest/gtest.h>
 
@@ -164,7 +165,7 @@ TEST(RewriterStatements, AxiomAndDerivationLength) {
   EXPECT_HAS(s, "staticint__lc_derivation_length(){return(int)(2+3);}");
   EXPECT_HAS(s, "staticvoid__lc_axiom(__lc_Ctx*__lc_ctx){__lc_emit_A(__lc_ctx,1);__lc_emit_SB(__lc_ctx);__lc_emit_F(__lc_ctx,2);"
                 "__lc_emit_EB(__lc_ctx);__lc_emit_A(__lc_ctx,3.5f);}");
-  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,\"m.l\",0,__lc_verify};");
+  EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,nullptr,\"m.l\",0,__lc_verify,__lc_num_of_views};");
   EXPECT_HAS(s, "extern\"C\"const__lc_Model*__lc_model(){return&__lc_the_model;}");
   EXPECT_EQ(r.ruleCount, 0);
 }
@@ -192,7 +193,7 @@ TEST(RewriterStatements, ControlStatementsAndDepths) {
   EXPECT_HAS(s, "staticint__lc_decomposition_depth(){return(int)(4);}");
   EXPECT_HAS(s, "staticint__lc_interpretation_depth(){return(int)(7);}");
   EXPECT_HAS(s, "__lc_axiom,__lc_derivation_length,__lc_ring_lsystem,__lc_decomposition_depth,__lc_interpretation_depth,"
-                "__lc_start,__lc_start_each,__lc_end_each,__lc_end,\"m.l\",0,__lc_verify};");
+                "__lc_start,__lc_start_each,__lc_end_each,__lc_end,\"m.l\",0,__lc_verify,__lc_num_of_views};");
 }
 
 TEST(RewriterStatements, CppPassesThrough) {
@@ -330,14 +331,24 @@ TEST(RewriterModules, ExplicitIds) {
   EXPECT_HAS(s, "__lc_id_A=105");
   EXPECT_HAS(s, "__lc_id_B=106");
   EXPECT_HAS(s, "__lc_user_modules[]={{\"\",4,0,nullptr},{\"\",4,0,nullptr},{\"A\",");
-  EXPECT_HAS(s, "__lc_the_model={3,4,");
+  EXPECT_HAS(s, "__lc_the_model={" + std::to_string(__lc_AbiVersion) + ",4,");
+}
+
+// NumOfViews: the highest `vgroup` number declared, plus 1, as lpfg's translator counts them
+// (a group without rules counts; `window N:` is the same declaration); 1 without any.
+TEST(RewriterStatements, NumOfViewsCountsDeclaredViewGroups) {
+  std::string none = squash(ok("module A;\nderivation length: 1;\naxiom: A;\n").cpp);
+  EXPECT_HAS(none, "staticint__lc_num_of_views(){intn=0;returnn+1;}");
+  std::string some = squash(ok("module A;\nderivation length: 1;\naxiom: A;\ninterpretation:\nvgroup 2:\n"
+                               "A : { produce F(1); }\nendvgroup\nwindow 1:\n").cpp);
+  EXPECT_HAS(some, "if((int)(2)>n)n=(int)(2);if((int)(1)>n)n=(int)(1);returnn+1;");
 }
 
 // VerifyString (manual §10.4): its module ids go into the model table.
 TEST(RewriterStatements, VerifyStringListsModuleIds) {
   std::string s = squash(ok("module A, B;\nderivation length: 1;\naxiom: A;\nVerifyString: A B B;\nA : produce A B;\n").cpp);
   EXPECT_HAS(s, "staticconst__lc_ModuleId__lc_verify[]={103,104,104,};");
-  EXPECT_HAS(s, "\"m.l\",3,__lc_verify};");
+  EXPECT_HAS(s, "\"m.l\",3,__lc_verify,__lc_num_of_views};");
 }
 
 // lpfg also takes one produce statement without braces as the body: `A(t) : produce A(t+dt);`.

@@ -4,7 +4,7 @@
 #pragma once
 #include "modules.h"
 
-enum { __lc_AbiVersion = 3 };
+enum { __lc_AbiVersion = 4 };
 
 struct __lc_Buffer {
   char* data;
@@ -71,6 +71,9 @@ struct __lc_Model {
   // VerifyString: (manual §10.4): the module ids the final string must have, in order.
   uint32_t nVerify;
   const __lc_ModuleId* verify;
+  // NumOfViews(): the highest `vgroup` number the model declares, plus 1 (1 without any), as
+  // lpfg's translator counts them; UseView takes 0 .. NumOfViews() - 1.
+  int (*numOfViews)();
 };
 
 // Which context an InXContext(...) expression tests.
@@ -128,6 +131,7 @@ void lcjit_mouse_status(struct MouseStatus* out);
 // §6.5: 0 DisplayFrame, 1 RunSimulation, 2 PauseSimulation (the window acts on them).
 void lcjit_animation_request(int what);
 void lcjit_use_view(int id, int open);  // UseView (open = 1) / CloseView (0)
+int lcjit_num_of_views();
 float lcjit_view_box(int id, int axis, int max);
 float lcjit_view_scale(int id);
 void lcjit_camera_position(int id, struct CameraPosition* out);
