@@ -148,14 +148,29 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   };
   runtime::EngineHooks hooks;
   if (options.quiet) hooks.print = [](const char*) {};
-  hooks.outputFrame = [&](const char* path) { fail(frames.write(path, engine, session.drawing())); };
+  // OutputFrame: see BatchOptions::outputFrames.
+  NamedFrames framesNamed;
+  bool frameNoted = false;
+  hooks.outputFrame = [&](const char* path) {
+    if (options.outputFrames) {
+      framesNamed.name(path);
+    } else if (!frameNoted && !options.quiet) {
+      frameNoted = true;
+      std::fprintf(stderr, "lcjit: note: OutputFrame(\"%s\") writes nothing in batch mode, as in lpfg; --output-frames "
+                   "writes each such file once its step is over\n", path);
+    }
+  };
+  auto writeFramesNamed = [&] { fail(framesNamed.writeAll(frames, engine, session.drawing())); };
+  if (options.outputFrames)
+    hooks.afterStep = [&](int) { writeFramesNamed(); };
   if (!options.quiet)
     for (const std::string& w : session.warnings()) std::fprintf(stderr, "%s\n", w.c_str());
   if (options.dumpSteps)
     hooks.afterDerivation = [&](int step) { std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str()); };
   bool interpretFailed = false;  // -dtfes: an interpretation rule's fault, reported once
   if (options.dumpInterpretedEach || options.debug)
-    hooks.afterStep = [&](int step) {
+    hooks.afterStep = [&, frames = std::move(hooks.afterStep)](int step) {
+      if (frames) frames(step);
       if (options.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
       if (!options.dumpInterpretedEach || interpretFailed) return;
       char suffix[16];
@@ -231,6 +246,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     };
   engine.setProfiling(!options.profile.empty());
   engine.begin(hooks);
+  writeFramesNamed();  // Start's
   if (sequence) writeFrame(0);
   while (engine.step()) {
     if (betweenSteps)
@@ -239,6 +255,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       releaseProgramPagesOnceAt(engine.string().size());
   }
   engine.finish();
+  if (!engine.faulted()) writeFramesNamed();  // End's
   if (auto e = engine.takeFault()) {
     if (stopped && *stopped) {
       llvm::consumeError(std::move(e));

@@ -32,6 +32,13 @@ struct BatchOptions {
   bool quiet = false, verbose = false, debug = false, stats = false;
   bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;
+  // OutputFrame("file") from model code. lpfg's batch mode only records the name and writes
+  // nothing (its window writes the picture once it has drawn the step), so by default neither
+  // does lcjit, and the model's interpretation rules run exactly when lpfg runs them.
+  // --output-frames writes each named file once its step is over (after EndEach; after Start
+  // or End for their calls), as lpfg's window does when it shows every step: its interpretation
+  // then runs the rules once more per picture, as the window's drawing does.
+  bool outputFrames = false;
   // --profile: per-rule counts and times (ProfileReport.h) written as JSON to this file after
   // the run and its outputs (their interpretation included).
   std::string profile;

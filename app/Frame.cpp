@@ -159,4 +159,20 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   return llvm::Error::success();
 }
 
+void NamedFrames::name(const char* path) {
+  if (path && std::find(paths_.begin(), paths_.end(), path) == paths_.end()) paths_.push_back(path);
+}
+
+llvm::Error NamedFrames::writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing) {
+  std::vector<std::string> paths = std::move(paths_);
+  paths_.clear();
+  llvm::Error first = llvm::Error::success();
+  for (const std::string& path : paths)
+    if (llvm::Error e = frames.write(path, engine, drawing)) {
+      if (first) llvm::consumeError(std::move(e));
+      else first = std::move(e);
+    }
+  return first;
+}
+
 }  // namespace lcjit::app

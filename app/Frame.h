@@ -75,4 +75,20 @@ class FrameWriter {
 #endif
 };
 
+// OutputFrame("file") from model code names a file; it is written once the step (or Start, or
+// End) is over, never in the middle of the model's code: lpfg only records the name there, and
+// a picture drawn at once would run the interpretation rules before the rest of EndEach. Each
+// name once per step, in the order named.
+class NamedFrames {
+ public:
+  void name(const char* path);
+  bool empty() const { return paths_.empty(); }
+  // Writes every file named since the last call (each interprets the current string), then
+  // forgets them; the first failure is the error, the others are still tried.
+  llvm::Error writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing);
+
+ private:
+  std::vector<std::string> paths_;
+};
+
 }  // namespace lcjit::app

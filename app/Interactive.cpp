@@ -42,11 +42,13 @@ class InteractiveModel {
  public:
   InteractiveModel(Session& session, const ModelFiles& files, viewer::Window& window, const InteractiveOptions& o)
       : session_(session), files_(files), window_(window), options_(o) {
-    hooks_.outputFrame = [this](const char* path) { report(frames_.write(path, session_.engine(), session_.drawing())); };
+    // OutputFrame's files are written once their step is over (NamedFrames), on the worker.
+    hooks_.outputFrame = [this](const char* path) { named_.name(path); };
     if (o.quiet) hooks_.print = [](const char*) {};
     // How far the worker has come, for the window's status line (poll); the module count may walk
     // the string, so it is taken (with its step) at most twice a second.
     hooks_.afterStep = [this, debug = o.debug](int step) {
+      writeNamedFrames();
       if (debug || jit::msSince(progressCountedAt_) >= 500) {  // the step and its count, together
         progressCountedAt_ = Clock::now();
         progressModules_ = session_.engine().moduleCount();
@@ -385,6 +387,9 @@ class InteractiveModel {
     }
     reload(*parts, rerunsSimulation(a), resetsView(a));
   }
+  void writeNamedFrames() {
+    if (!named_.empty() && !session_.engine().faulted()) report(named_.writeAll(frames_, session_.engine(), session_.drawing()));
+  }
   void writePendingSaves() {
     for (const std::string& path : std::exchange(pendingSaves_, {})) {
       if (std::filesystem::path(path).extension() == ".v") report(saveViewParameters(path));
@@ -543,6 +548,7 @@ class InteractiveModel {
     progressCountedAt_ = {};
     work_ = std::async(std::launch::async, [this, work = std::move(work)] {
       work();
+      writeNamedFrames();  // named by Start or End
       Scene scene;
       if (auto e = session_.engine().takeFault()) {
         scene.error = llvm::toString(std::move(e));
@@ -633,6 +639,7 @@ class InteractiveModel {
   InteractiveOptions options_;
   runtime::EngineHooks hooks_;
   FrameWriter frames_;
+  NamedFrames named_;  // OutputFrame's, on the worker thread
   RenderLook look_;
   ParameterPanel parameters_;
   std::vector<ProfileRow> profileRows_;  // of the run the window shows

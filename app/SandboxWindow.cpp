@@ -75,19 +75,25 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   FrameWriter frames;
   runtime::EngineHooks hooks;
   if (o.quiet) hooks.print = [](const char*) {};
-  hooks.outputFrame = [&](const char* path) {
-    if (auto e = frames.write(path, engine, drawing)) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
+  NamedFrames named;  // OutputFrame's files, written once their step is over
+  hooks.outputFrame = [&](const char* path) { named.name(path); };
+  auto writeNamed = [&] {
+    if (named.empty() || engine.faulted()) return;
+    if (auto e = named.writeAll(frames, engine, drawing)) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
   };
   hooks.afterStep = [&](int step) {
+    writeNamed();
     if (o.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());
     if (o.progress) o.progress(step);
   };
   // The window's camera is the parent's: model code sees the one a new window starts with.
   runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
   engine.begin(hooks);
+  writeNamed();  // Start's
   bool more = true;
   while (more && (toStep < 0 || engine.stepNo() < toStep)) more = engine.step();
   if (toStep < 0) engine.finish();
+  writeNamed();  // End's
   reply.steps = engine.stepNo();
   reply.derivationLength = engine.derivationLength();
   reply.animation = {animation.firstFrame, animation.resolvedLastFrame(reply.derivationLength),

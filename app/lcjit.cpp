@@ -67,7 +67,7 @@ std::vector<std::string> childArgs(const std::vector<std::string>& inputs, const
   a.insert(a.end(), {"--fps", std::to_string(bo.fps)});
   if (explicitO) a.insert(a.end(), {"-O", std::to_string(bo.optLevel)});
   for (auto [on, flag] : {std::pair{bo.debug, "-d"}, {bo.dumpSteps, "--ds"}, {bo.dumpInterpreted, "--dtf"},
-                          {bo.dumpInterpretedEach, "--dtfes"}, {bo.quiet, "-q"}, {bo.verbose, "-v"},
+                          {bo.dumpInterpretedEach, "--dtfes"}, {bo.outputFrames, "--output-frames"}, {bo.quiet, "-q"}, {bo.verbose, "-v"},
                           {bo.stats, "--stats"}, {cleanEA, "--cleanEA20"}, {plainErrors, "--plain-errors"}})
     if (on) a.push_back(flag);
   char number[64];
@@ -132,6 +132,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   app.add_flag("--ds", bo.dumpSteps, "(-ds) print the string after each derivation step");
   app.add_flag("--dtf", bo.dumpInterpreted, "(-dtf) write the final string's turtle commands to <model>.str (lpfg's text)");
   app.add_flag("--dtfes", bo.dumpInterpretedEach, "(-dtfes) the same after every step, to <model>NNNNNNNN.str");
+  app.add_flag("--output-frames", bo.outputFrames,
+               "batch: write the files the model names with OutputFrame, each once its step is over (lpfg's batch "
+               "mode writes none)");
   app.add_flag("-q", bo.quiet, "quiet: no messages");
   app.add_flag("-v", bo.verbose, "verbose: phase timings and sizes on stderr");
   app.set_version_flag("--version", std::string("lcjit " LCJIT_VERSION " (LLVM and Clang " LLVM_VERSION_STRING ")"));
