@@ -1463,7 +1463,7 @@ struct Renderer::Impl {
 // Label fonts (fontconfig) and the Renderer's public face
 
 runtime::text::FontSpec labelFont(const ViewSettings& view) {
-  return {.family = view.winFont, .weight = view.winFontWeight, .italic = view.winFontItalic, .kerning = false};
+  return {.family = view.winFont, .weight = view.winFontWeight, .italic = view.winFontItalic};
 }
 
 std::string labelFontFile(const ViewSettings& view) { return runtime::text::Fonts::shared().primaryFile(labelFont(view)); }

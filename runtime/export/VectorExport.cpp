@@ -199,7 +199,7 @@ std::string commentText(std::string_view s) {
 class LabelGlyphs {
  public:
   explicit LabelGlyphs(const ViewSettings& v)
-      : spec_{.family = v.winFont, .weight = v.winFontWeight, .italic = v.winFontItalic, .kerning = false},
+      : spec_{.family = v.winFont, .weight = v.winFontWeight, .italic = v.winFontItalic},
         em_((float)text::pixelSizeForPoints(v.winFontSize)) {}
   float em() const { return em_; }
   // f(outline, x, y): each glyph of `label` anchored at window point p, its origin at (x, y).

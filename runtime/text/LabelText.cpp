@@ -116,6 +116,9 @@ struct Face {
   int index = 0;
   FT_Face ft = nullptr;
   int ftPixelSize = 0;
+  // Qt draws this family and style from a Type 1 file of the same outlines (the URW fonts come as
+  // both; Qt takes the Type 1 one), which has no kerning table: Qt does not kern it.
+  bool qtType1 = false;
   hb_face_t* hbFace = nullptr;     // null without HarfBuzz
   std::map<int, hb_font_t*> fonts;  // by scale
   ~Face() {
@@ -226,6 +229,29 @@ struct Fonts::Impl {
 
   bool has(int face, char32_t c) { return face >= 0 && FT_Get_Char_Index(faces[face]->ft, c) != 0; }
 
+  // Whether fontconfig lists a Type 1 file of the matched face's family and style (Nimbus Roman's
+  // .t1 beside its .otf): Qt, asked for "Times", reports "Nimbus Roman [urw]", the Type 1 file's
+  // foundry, and finds no kerning table in it.
+  static bool hasType1Twin(FcPattern* match) {
+    FcChar8 *family = nullptr, *style = nullptr, *format = nullptr;
+    if (FcPatternGetString(match, FC_FAMILY, 0, &family) != FcResultMatch ||
+        FcPatternGetString(match, FC_STYLE, 0, &style) != FcResultMatch)
+      return false;
+    if (FcPatternGetString(match, FC_FONTFORMAT, 0, &format) == FcResultMatch &&
+        std::string_view(reinterpret_cast<const char*>(format)) == "Type 1")
+      return false;
+    FcPattern* twin = FcPatternBuild(nullptr, FC_FAMILY, FcTypeString, family, FC_STYLE, FcTypeString, style,
+                                     FC_FONTFORMAT, FcTypeString, reinterpret_cast<const FcChar8*>("Type 1"),
+                                     static_cast<const char*>(nullptr));
+    FcObjectSet* objects = FcObjectSetBuild(FC_FILE, static_cast<const char*>(nullptr));
+    FcFontSet* set = twin && objects ? FcFontList(nullptr, twin, objects) : nullptr;
+    bool found = set && set->nfont > 0;
+    if (set) FcFontSetDestroy(set);
+    if (objects) FcObjectSetDestroy(objects);
+    if (twin) FcPatternDestroy(twin);
+    return found;
+  }
+
   SpecFaces& facesFor(const FontSpec& spec) {
     for (auto& s : specs)
       if (s->spec == spec) return *s;
@@ -253,6 +279,7 @@ struct Fonts::Impl {
           std::string file;
           int index = 0;
           if (fileOf(match, file, index)) sf->primary = faceId(file, index);
+          if (sf->primary >= 0 && hasType1Twin(match)) faces[sf->primary]->qtType1 = true;
           FcPatternDestroy(match);
         }
       }
@@ -356,8 +383,9 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
                         (int)(end - start));
     hb().hb_buffer_guess_segment_properties(buffer);
     const int face = faceOf[start];
+    const bool kerning = spec.kerning && !impl_->faces[face]->qtType1;
     const hb_feature_t noKerning{HB_TAG('k', 'e', 'r', 'n'), 0, HB_FEATURE_GLOBAL_START, HB_FEATURE_GLOBAL_END};
-    hb().hb_shape(impl_->font(face, pixelSize), buffer, spec.kerning ? nullptr : &noKerning, spec.kerning ? 0 : 1);
+    hb().hb_shape(impl_->font(face, pixelSize), buffer, kerning ? nullptr : &noKerning, kerning ? 0 : 1);
     unsigned n = 0;
     const hb_glyph_info_t* info = hb().hb_buffer_get_glyph_infos(buffer, &n);
     const hb_glyph_position_t* pos = hb().hb_buffer_get_glyph_positions(buffer, &n);

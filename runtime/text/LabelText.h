@@ -15,8 +15,8 @@ struct FontSpec {
   int weight = 50;  // Qt's scale: 50 regular, 75 bold
   bool italic = false;
   std::string file;
-  // The face's kerning pairs. Off for lpfg's pictures: Qt, as lpfg uses it, lays labels out
-  // unkerned (the materials example: 9 pixels differ from lpfg's picture unkerned, 400 kerned).
+  // The face's kerning pairs, as Qt's QFont applies them by default. A face that Qt reads from
+  // its Type 1 file (Times: Nimbus Roman, foundry urw) has none there, and is laid out unkerned.
   bool kerning = true;
   bool operator==(const FontSpec&) const = default;
 };
