@@ -194,7 +194,7 @@ std::string commentText(std::string_view s) {
 }
 
 // Labels as the renderer draws them: the same faces (the view's `winfont:`, fontconfig's
-// fallbacks), HarfBuzz's shaping without kerning (as lpfg's), the em at 96 dpi, the left end at
+// fallbacks), HarfBuzz's shaping kerned as Qt kerns, the em at 96 dpi, the left end at
 // the anchor and the baseline 2 px below it. Outlines in window pixels, y down; each glyph's outline is loaded once.
 class LabelGlyphs {
  public:
