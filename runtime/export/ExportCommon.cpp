@@ -100,11 +100,15 @@ std::string Context::texturePath(int t) const {
   return (rel.empty() ? absFile : rel).generic_string();
 }
 
-int clampColor(int index) { return index < 0 ? 0 : index > 255 ? 255 : index; }
+int colorKey(int color) {
+  if (isRgbColor(color)) return color;
+  return color < 0 ? 0 : color > 255 ? 255 : color;
+}
 
 std::string materialName(MaterialKey key) {
-  if (key.texture < 0) return fmt::format("s{:03d}", clampColor(key.color));
-  return fmt::format("s{:03d}_t{}", clampColor(key.color), key.texture);
+  int c = colorKey(key.color);
+  std::string name = isRgbColor(c) ? fmt::format("rgb_{:06X}", c & 0xFFFFFF) : fmt::format("s{:03d}", c);
+  return key.texture < 0 ? name : name + fmt::format("_t{}", key.texture);
 }
 
 size_t Polylines::edgeCount() const {
@@ -130,10 +134,10 @@ Polylines chainSegments(const std::vector<Segment>& segments) {
 
 std::vector<MaterialKey> usedMaterials(const Geometry& g) {
   std::vector<MaterialKey> keys;
-  std::unordered_map<int, int> seen;
+  std::unordered_map<int64_t, int> seen;
   MaterialKey last{-1000, -1000};
   forEachTriangle(g, [&](size_t, uint32_t a, uint32_t, uint32_t, int texture) {
-    MaterialKey k{clampColor(g.vertices[a].color), texture};
+    MaterialKey k{colorKey(g.vertices[a].color), texture};
     if (k == last) return;
     last = k;
     if (seen.emplace(k.packed(), (int)keys.size()).second) keys.push_back(k);

@@ -84,7 +84,10 @@ struct Context {
   mutable std::optional<CameraMatrices> camera_;
 };
 
-int clampColor(int index);
+// A vertex's colour as the exporters key it: an index kept within 0..255, or an explicit colour
+// (kRgbColor | 0xRRGGBB: the terrain's grid, a model's RGB colour) as it is; cx.color() gives
+// either's RGBA.
+int colorKey(int color);
 // f without a negative zero (prints "0", not "-0").
 inline float z(float f) { return f + 0.0f; }
 // v scaled to length 1, or v itself when it has no length (model code's Normalize() divides by
@@ -130,9 +133,10 @@ template <class F> void forEachTriangle(const Geometry& g, F&& f) {
 struct MaterialKey {
   int color = 1, texture = -1;
   bool operator==(const MaterialKey&) const = default;
-  int packed() const { return (texture + 1) * 256 + color; }
+  int64_t packed() const { return (int64_t(texture) + 1) << 32 | uint32_t(color); }
 };
-// lpfg's material names: s001 (colour 1), s001_t0 (colour 1 with texture 0).
+// lpfg's material names: s001 (colour 1), s001_t0 (colour 1 with texture 0); an explicit colour's
+// is rgb_RRGGBB (rgb_RRGGBB_t0).
 std::string materialName(MaterialKey key);
 
 // Segments as polylines: consecutive segments of one colour that share an end become one chain.

@@ -74,7 +74,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
   model.asset.generator = "lcjit";
 
   // Materials: one per (colour index, texture) used, named as in the OBJ export.
-  std::unordered_map<int, int> materialOf;  // MaterialKey::packed → material
+  std::unordered_map<int64_t, int> materialOf;  // MaterialKey::packed → material
   std::unordered_map<int, int> textureOf;   // texture index → glTF texture (-1: no file)
   auto material = [&](MaterialKey key) {
     auto [it, added] = materialOf.emplace(key.packed(), (int)model.materials.size());
@@ -85,8 +85,8 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
     auto& pbr = mat.pbrMetallicRoughness;
     pbr.metallicFactor = 0;
     float alpha;
-    if (cx.palette.usesMaterials()) {
-      const Material& mm = cx.palette.material(clampColor(key.color));
+    if (cx.palette.usesMaterials() && !isRgbColor(key.color)) {
+      const Material& mm = cx.palette.material(colorKey(key.color));
       alpha = 1 - mm.transparency;
       pbr.baseColorFactor = {mm.diffuse[0], mm.diffuse[1], mm.diffuse[2], alpha};
       pbr.roughnessFactor = std::clamp(std::sqrt(2.0 / (mm.shininess + 2.0)), 0.0, 1.0);
@@ -163,7 +163,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
 
     // Triangles bucketed by material, each bucket one primitive over a slice of one index view.
     std::vector<MaterialKey> keys = usedMaterials(g);
-    std::unordered_map<int, int> slot;
+    std::unordered_map<int64_t, int> slot;
     for (size_t i = 0; i < keys.size(); ++i) slot[keys[i].packed()] = (int)i;
     std::vector<size_t> count(keys.size() + 1, 0);
     std::vector<int> triSlot(g.triangleCount());
@@ -171,7 +171,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
       MaterialKey last{-1000, -1000};
       int s = 0;
       forEachTriangle(g, [&](size_t t, uint32_t a, uint32_t, uint32_t, int texture) {
-        MaterialKey k{clampColor(g.vertices[a].color), texture};
+        MaterialKey k{colorKey(g.vertices[a].color), texture};
         if (!(k == last)) s = slot[k.packed()], last = k;
         triSlot[t] = s;
         count[s + 1] += 3;
@@ -210,13 +210,13 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
     // Edges grouped by colour: one LINES primitive per colour.
     std::vector<int> colors;
     for (const Polyline& l : lines.lines)
-      if (std::find(colors.begin(), colors.end(), clampColor(l.color)) == colors.end()) colors.push_back(clampColor(l.color));
+      if (std::find(colors.begin(), colors.end(), colorKey(l.color)) == colors.end()) colors.push_back(colorKey(l.color));
     std::vector<uint32_t> idx;
     std::vector<std::pair<size_t, size_t>> ranges;
     for (int c : colors) {
       size_t first = idx.size();
       for (const Polyline& l : lines.lines)
-        if (clampColor(l.color) == c)
+        if (colorKey(l.color) == c)
           for (uint32_t i = 0; i + 1 < l.count; ++i) {
             idx.push_back(l.first + i);
             idx.push_back(l.first + i + 1);

@@ -15,8 +15,8 @@ uint8_t toByte(float c) { return (uint8_t)std::lround(std::clamp(c, 0.0f, 1.0f) 
 void writeMaterial(FileWriter& w, const Context& cx, MaterialKey key) {
   w.print("newmtl {}\n", materialName(key));
   const Rgba& c = cx.color(key.color);
-  if (cx.palette.usesMaterials()) {
-    const Material& m = cx.palette.material(clampColor(key.color));
+  if (cx.palette.usesMaterials() && !isRgbColor(key.color)) {
+    const Material& m = cx.palette.material(colorKey(key.color));
     w.print("Ka {} {} {}\n", m.ambient[0], m.ambient[1], m.ambient[2]);
     w.print("Kd {} {} {}\n", m.diffuse[0], m.diffuse[1], m.diffuse[2]);
     w.print("Ks {} {} {}\n", m.specular[0], m.specular[1], m.specular[2]);
@@ -51,7 +51,7 @@ llvm::Error writeObj(const Context& cx) {
 
   std::vector<MaterialKey> materials = usedMaterials(g);
   for (const Polyline& l : lines.lines) {
-    MaterialKey k{clampColor(l.color), -1};
+    MaterialKey k{colorKey(l.color), -1};
     if (std::find(materials.begin(), materials.end(), k) == materials.end()) materials.push_back(k);
   }
 
@@ -79,7 +79,7 @@ llvm::Error writeObj(const Context& cx) {
     w.print("o plant\n");
     MaterialKey last{-1000, -1000};
     forEachTriangle(g, [&](size_t, uint32_t a, uint32_t b, uint32_t c, int texture) {
-      MaterialKey k{clampColor(g.vertices[a].color), texture};
+      MaterialKey k{colorKey(g.vertices[a].color), texture};
       if (!(k == last)) {
         w.print("usemtl {}\n", materialName(k));
         last = k;
@@ -94,7 +94,7 @@ llvm::Error writeObj(const Context& cx) {
   for (const Polyline& l : lines.lines)
     if (std::find(colors.begin(), colors.end(), l.color) == colors.end()) colors.push_back(l.color);
   for (int color : colors) {
-    std::string name = materialName({clampColor(color), -1});
+    std::string name = materialName({colorKey(color), -1});
     w.print("o lines_{}\nusemtl {}\n", name, name);
     for (const Polyline& l : lines.lines) {
       if (l.color != color) continue;
@@ -139,12 +139,13 @@ llvm::Error writePly(const Context& cx) {
   w.print("element edge {}\nproperty int vertex1\nproperty int vertex2\n", lines.edgeCount());
   w.text("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
 
-  std::array<std::array<uint8_t, 4>, 256> bytes;
-  for (int c = 0; c < 256; ++c)
-    for (int k = 0; k < 4; ++k) bytes[c][k] = toByte(cx.colors[c][k]);
+  auto bytesOf = [&](int color) {
+    const Rgba& c = cx.color(color);
+    return std::array<uint8_t, 4>{toByte(c[0]), toByte(c[1]), toByte(c[2]), toByte(c[3])};
+  };
 
   auto vertex = [&](V3f p, V3f n, V2f uv, int color) {
-    const auto& c = bytes[clampColor(color)];
+    const auto c = bytesOf(color);
     if (ascii) {
       w.print("{} {} {} {} {} {}", z(p.x), z(p.y), z(p.z), z(n.x), z(n.y), z(n.z));
       if (m.textured) w.print(" {} {}", z(uv.x), z(uv.y));
@@ -174,7 +175,7 @@ llvm::Error writePly(const Context& cx) {
     }
   }
   for (const Polyline& l : lines.lines) {
-    const auto& c = bytes[clampColor(l.color)];
+    const auto c = bytesOf(l.color);
     for (uint32_t i = 0; i + 1 < l.count; ++i) {
       int32_t a = int32_t(nv + l.first + i), b = a + 1;
       if (ascii) {
@@ -216,11 +217,11 @@ llvm::Error writeStl(const Context& cx) {
     uint32_t n = (uint32_t)count;
     w.put(n);
   }
-  std::array<uint16_t, 256> words;
-  for (int c = 0; c < 256; ++c) {
+  auto word = [&](int color) {
     auto five = [&](float f) { return (uint16_t)std::lround(std::clamp(f, 0.0f, 1.0f) * 31); };
-    words[c] = uint16_t(0x8000 | five(cx.colors[c][0]) << 10 | five(cx.colors[c][1]) << 5 | five(cx.colors[c][2]));
-  }
+    const Rgba& c = cx.color(color);
+    return uint16_t(0x8000 | five(c[0]) << 10 | five(c[1]) << 5 | five(c[2]));
+  };
   const auto& idx = g.indices;
   for (size_t t = 0; t < count; ++t) {
     const MeshVertex &a = g.vertices[idx[3 * t]], &b = g.vertices[idx[3 * t + 1]], &c = g.vertices[idx[3 * t + 2]];
@@ -236,7 +237,7 @@ llvm::Error writeStl(const Context& cx) {
                      b.position.z, c.position.x, c.position.y, c.position.z};
       uint8_t rec[50];
       std::memcpy(rec, f, 48);
-      uint16_t attr = words[clampColor(a.color)];
+      uint16_t attr = word(a.color);
       std::memcpy(rec + 48, &attr, 2);
       w.write(rec, 50);
     }

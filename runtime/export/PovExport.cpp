@@ -151,7 +151,7 @@ llvm::Error writePov(const Context& cx) {
   // labels get their own (lpfg's text colour).
   std::vector<MaterialKey> keys = usedMaterials(g);
   auto need = [&](int color) {
-    MaterialKey k{clampColor(color), -1};
+    MaterialKey k{colorKey(color), -1};
     if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
   };
   for (const Segment& s : g.segments) need(s.color);
@@ -160,7 +160,7 @@ llvm::Error writePov(const Context& cx) {
   for (MaterialKey k : keys) {
     const Rgba& col = cx.color(k.color);
     std::string pigment, finish;
-    if (lit) {
+    if (lit && !isRgbColor(k.color)) {
       const Material& m = cx.palette.material(k.color);
       pigment = fmt::format("srgbt <{},{},{},{}>", m.diffuse[0], m.diffuse[1], m.diffuse[2], m.transparency);
       float spec = (m.specular[0] + m.specular[1] + m.specular[2]) / 3;
@@ -182,8 +182,8 @@ llvm::Error writePov(const Context& cx) {
   }
   std::vector<int> labelColors;
   for (const Label& l : g.labels)
-    if (std::find(labelColors.begin(), labelColors.end(), clampColor(l.color)) == labelColors.end())
-      labelColors.push_back(clampColor(l.color));
+    if (std::find(labelColors.begin(), labelColors.end(), colorKey(l.color)) == labelColors.end())
+      labelColors.push_back(colorKey(l.color));
   for (int c : labelColors) {
     auto t = cx.palette.textColor(c);
     w.print("#declare text_{} = texture {{ pigment {{ srgb <{},{},{}> }} finish {{ {} }} }}\n",
@@ -208,7 +208,7 @@ llvm::Error writePov(const Context& cx) {
       for (const MeshVertex& v : g.vertices) w.print(",\n    {}", P2{v.uv});
       w.text("\n  }\n");
     }
-    std::unordered_map<int, int> slot;
+    std::unordered_map<int64_t, int> slot;
     std::vector<MaterialKey> meshKeys = usedMaterials(g);
     w.print("  texture_list {{ {}", meshKeys.size());
     for (size_t i = 0; i < meshKeys.size(); ++i) {
@@ -219,7 +219,7 @@ llvm::Error writePov(const Context& cx) {
     MaterialKey last{-1000, -1000};
     int s = 0;
     forEachTriangle(g, [&](size_t, uint32_t a, uint32_t b, uint32_t c, int texture) {
-      MaterialKey k{clampColor(g.vertices[a].color), texture};
+      MaterialKey k{colorKey(g.vertices[a].color), texture};
       if (!(k == last)) s = slot[k.packed()], last = k;
       w.print(",\n    <{},{},{}>,{}", a, b, c, s);
     });
@@ -237,18 +237,18 @@ llvm::Error writePov(const Context& cx) {
   for (const Segment& s : g.segments) {
     if (sameVector(s.from, s.to)) continue;
     float r = std::max(1e-6f, 0.5f * s.width * pixelSize((s.from + s.to) * 0.5f));
-    w.print("cylinder {{ {}, {}, {} texture {{ {} }} }}\n", P3{s.from}, P3{s.to}, r, materialName({clampColor(s.color), -1}));
+    w.print("cylinder {{ {}, {}, {} texture {{ {} }} }}\n", P3{s.from}, P3{s.to}, r, materialName({colorKey(s.color), -1}));
   }
   for (const Disc& d : g.discs) {
     w.print("disc {{ {}, {}, {}", P3{d.center}, P3{f.back}, d.outer);
     if (d.inner > 0) w.print(", {}", d.inner);
-    w.print(" texture {{ {} }} }}\n", materialName({clampColor(d.color), -1}));
+    w.print(" texture {{ {} }} }}\n", materialName({colorKey(d.color), -1}));
   }
   for (const Label& l : g.labels) {
     float h = cx.view.winFontSize * pixelSize(l.position);
     V3f x = f.right * h, y = f.up * h, z = f.back * h;
     w.print("text {{ ttf \"timrom.ttf\" \"{}\" 0.01, 0 texture {{ {} }} matrix <{},{},{}, {},{},{}, {},{},{}, {},{},{}> }}\n",
-            povString(l.text), "text_" + materialName({clampColor(l.color), -1}), x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z,
+            povString(l.text), "text_" + materialName({colorKey(l.color), -1}), x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z,
             l.position.x, l.position.y, l.position.z);
   }
   return w.close();

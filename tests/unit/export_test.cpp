@@ -429,6 +429,51 @@ TEST_F(ExportTest, PlyAscii) {
   checkPly(readPly(p), geometry, palette, meshBounds());
 }
 
+// Explicit colours (kRgbColor | 0xRRGGBB: the terrain's grid, drawn as they are) keep their RGB in
+// every mesh format, in colormap mode and with materials: 0x123456 is 18 52 86, 0.0705882
+// 0.203922 0.337255; palette entry 255 (what clamping the value as an index gives) is not used.
+TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
+  Geometry g;
+  const int rgb = rgbColor(0x12, 0x34, 0x56), line = rgbColor(0xAB, 0xCD, 0xEF);
+  auto vtx = [&](V3f p) {
+    MeshVertex v;
+    v.position = p;
+    v.normal = V3f(0, 0, 1);
+    v.color = rgb;
+    return g.addVertex(v);
+  };
+  g.addTriangle(vtx({0, 0, 0}), vtx({1, 0, 0}), vtx({0, 1, 0}));
+  g.segments.push_back({{0, 0, 0}, {0, 2, 0}, 1, line});
+  in.geometry = &g;
+  for (bool materials : {false, true}) {
+    SCOPED_TRACE(materials ? "materials" : "colormap");
+    if (materials) {  // entry 255 red: {index, transparency, ambient, diffuse, emission, specular, shininess}
+      const unsigned char record[15] = {255, 0, 0, 0, 0, 255, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+      std::ofstream(dir / "red.mat", std::ios::binary).write((const char*)record, sizeof record);
+      llvm::Error e = palette.loadMaterials((dir / "red.mat").string());
+      ASSERT_FALSE((bool)e) << llvm::toString(std::move(e));
+    }
+    ASSERT_EQ(palette.usesMaterials(), materials);
+    exportTo("rgb.obj");
+    std::string mtl = readAll(dir / "rgb.mtl");
+    EXPECT_NE(mtl.find("newmtl rgb_123456\n"), std::string::npos) << mtl;
+    EXPECT_NE(mtl.find("Kd 0.07058824 0.20392157 0.3372549\n"), std::string::npos) << mtl;
+    EXPECT_NE(mtl.find("newmtl rgb_ABCDEF\n"), std::string::npos) << mtl;
+    EXPECT_EQ(mtl.find("s255"), std::string::npos) << mtl;
+    in.ascii = true;
+    std::string ply = readAll(exportTo("rgb.ply"));
+    in.ascii = false;
+    EXPECT_NE(ply.find(" 18 52 86 255\n"), std::string::npos) << ply;
+    EXPECT_NE(ply.find(" 171 205 239 255\n"), std::string::npos) << ply;
+    std::string gltf = readAll(exportTo("rgb.gltf"));
+    EXPECT_NE(gltf.find("\"rgb_123456\""), std::string::npos);
+    EXPECT_NE(gltf.find("0.0705882"), std::string::npos);
+    std::string pov = readAll(exportTo("rgb.pov"));
+    EXPECT_NE(pov.find("#declare rgb_123456 = texture { pigment { srgbt <0.07058824,0.20392157,0.3372549,0> }"),
+              std::string::npos) << pov;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 
 TEST_F(ExportTest, StlBinary) {
