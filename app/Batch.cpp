@@ -169,8 +169,8 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     hooks.afterDerivation = [&](int step) { std::printf("After step %d:\n%s", step, engine.text(engine.string()).c_str()); };
   bool interpretFailed = false;  // -dtfes: an interpretation rule's fault, reported once
   if (options.dumpInterpretedEach || options.debug)
-    hooks.afterStep = [&, frames = std::move(hooks.afterStep)](int step) {
-      if (frames) frames(step);
+    hooks.afterStep = [&, before = std::move(hooks.afterStep)](int step) {
+      if (before) before(step);
       if (options.debug) std::printf("lcjit: step %d: %zu modules\n", step, engine.moduleCount());  // -d: lpfg's debug output
       if (!options.dumpInterpretedEach || interpretFailed) return;
       char suffix[16];
@@ -255,7 +255,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
       releaseProgramPagesOnceAt(engine.string().size());
   }
   engine.finish();
-  if (!engine.faulted()) writeFramesNamed();  // End's
+  writeFramesNamed();  // End's
   if (auto e = engine.takeFault()) {
     if (stopped && *stopped) {
       llvm::consumeError(std::move(e));

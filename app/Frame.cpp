@@ -166,6 +166,7 @@ void NamedFrames::name(const char* path) {
 llvm::Error NamedFrames::writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing) {
   std::vector<std::string> paths = std::move(paths_);
   paths_.clear();
+  if (engine.faulted()) return llvm::Error::success();
   llvm::Error first = llvm::Error::success();
   for (const std::string& path : paths)
     if (llvm::Error e = frames.write(path, engine, drawing)) {

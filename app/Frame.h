@@ -84,7 +84,8 @@ class NamedFrames {
   void name(const char* path);
   bool empty() const { return paths_.empty(); }
   // Writes every file named since the last call (each interprets the current string), then
-  // forgets them; the first failure is the error, the others are still tried.
+  // forgets them; the first failure is the error, the others are still tried. After a fault of
+  // the run (engine.faulted()) nothing is written: the string is not the step's.
   llvm::Error writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing);
 
  private:

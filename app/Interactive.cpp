@@ -388,7 +388,7 @@ class InteractiveModel {
     reload(*parts, rerunsSimulation(a), resetsView(a));
   }
   void writeNamedFrames() {
-    if (!named_.empty() && !session_.engine().faulted()) report(named_.writeAll(frames_, session_.engine(), session_.drawing()));
+    if (!named_.empty()) report(named_.writeAll(frames_, session_.engine(), session_.drawing()));
   }
   void writePendingSaves() {
     for (const std::string& path : std::exchange(pendingSaves_, {})) {

@@ -78,7 +78,7 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   NamedFrames named;  // OutputFrame's files, written once their step is over
   hooks.outputFrame = [&](const char* path) { named.name(path); };
   auto writeNamed = [&] {
-    if (named.empty() || engine.faulted()) return;
+    if (named.empty()) return;
     if (auto e = named.writeAll(frames, engine, drawing)) std::fprintf(stderr, "%s\n", llvm::toString(std::move(e)).c_str());
   };
   hooks.afterStep = [&](int step) {
