@@ -1560,18 +1560,6 @@ std::vector<std::array<int, 2>> layoutAxis(const std::vector<CellSpan>& spans, i
 
 }  // namespace
 
-ViewPane::Rect ViewPane::Rect::inside(float left, float top, float width, float height) {
-  Rect r;
-  r.left = std::clamp(left, 0.f, 1.f);
-  r.top = std::clamp(top, 0.f, 1.f);
-  // Compared as the sum lpfg's fractions make in float, not against 1 - left, which rounds.
-  r.width = std::max(width, 0.f);
-  if (r.left + r.width > 1) r.width = 1 - r.left;
-  r.height = std::max(height, 0.f);
-  if (r.top + r.height > 1) r.height = 1 - r.top;
-  return r;
-}
-
 std::vector<std::array<int, 4>> paneRects(const std::vector<ViewPane::Rect>& rects, int w, int h, int border) {
   // lpfg truncates 100 × the float fraction: 0.29 is 28 cells.
   auto cells = [](float f) { return std::clamp(int(100.0f * f), 0, 100); };

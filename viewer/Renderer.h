@@ -18,6 +18,7 @@
 //    screen-space quads covering what an aliased wide GL line covers.
 // A million segments take ~0.2 s to draw on llvmpipe with two cores.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -135,7 +136,18 @@ struct ViewPane {
     // A view file's `window:` fractions, kept inside the picture. Only a window that reaches past
     // an edge is cut at it: `0.8 0 0.2 0.5` ends at 1 in float, and its width stays 0.2 (20 of
     // lpfg's 100 cells), where 1 - 0.8 would be 0.19999999 (19 cells).
-    static Rect inside(float left, float top, float width, float height);
+    // Inline: a build without rendering lays no panes out but reads the view file's windows.
+    static Rect inside(float left, float top, float width, float height) {
+      Rect r;
+      r.left = std::clamp(left, 0.f, 1.f);
+      r.top = std::clamp(top, 0.f, 1.f);
+      // Compared as the sum lpfg's fractions make in float, not against 1 - left, which rounds.
+      r.width = std::max(width, 0.f);
+      if (r.left + r.width > 1) r.width = 1 - r.left;
+      r.height = std::max(height, 0.f);
+      if (r.top + r.height > 1) r.height = 1 - r.top;
+      return r;
+    }
   } rect;
   int viewId = 0;
 };
