@@ -1,8 +1,9 @@
 // Exporters: the turtle's geometry (Geometry.h) written to files other programs open.
 //
 //   .obj (+ .mtl)  Wavefront: triangles with normals (and uv when textured), one material per
-//                  colour index (`s001`, lpfg's names; `s001_t0` with a texture), pixel segments
-//                  as `l` polylines in objects `lines_s001` (one per colour).
+//                  colour index (`s001`, lpfg's names; `s001_t0` with a texture) and per explicit
+//                  colour (`rgb_FF8000`), pixel segments as `l` polylines in objects `lines_s001`
+//                  (one per colour).
 //   .ply           binary little-endian (ASCII with `ascii`): vertices with normal, colour (and
 //                  s/t when textured), triangle faces, segments as `edge` elements.
 //   .stl           binary (ASCII with `ascii`): triangles only — STL holds nothing else, so
@@ -20,7 +21,8 @@
 //                  segments as cylinders, discs and labels.
 //
 // Discs (CircleFront*) become camera-facing triangle fans/rings in the mesh formats; labels appear
-// only in SVG, PostScript and POV-Ray. Colours come from the Palette (colormap or materials).
+// only in SVG, PostScript and POV-Ray. Colours come from the Palette (colormap or materials);
+// an explicit colour (kRgbColor | 0xRRGGBB, Geometry.h) is written as it is, flat, as lpfg draws it.
 #pragma once
 #include <optional>
 #include <string>

@@ -312,7 +312,7 @@ llvm::Error writeSvg(const Context& cx) {
       case Item::Line: return cx.color(g.segments[it.index].color);
       case Item::Disc:
       case Item::Ring: return cx.color(g.discs[it.index].color);
-      case Item::Text: return cx.palette.textColor(g.labels[it.index].color);
+      case Item::Text: return cx.textColor(g.labels[it.index].color);
     }
     return {};
   };
@@ -540,7 +540,7 @@ llvm::Error writePostScript(const Context& cx, bool eps) {
       case Item::Text: {
         const Label& l = g.labels[it.index];
         const glm::vec3& p = pic.labelAt[it.index];
-        w.print("% label: {}\n{} setrgbcolor\n", commentText(l.text), rgb(cx.palette.textColor(l.color)));
+        w.print("% label: {}\n{} setrgbcolor\n", commentText(l.text), rgb(cx.textColor(l.color)));
         auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
         labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
           w.text("newpath ");
@@ -611,7 +611,7 @@ llvm::Error writePdf(const Context& cx) {
       case Item::Text: {
         const Label& l = g.labels[it.index];
         const glm::vec3& p = pic.labelAt[it.index];
-        out("% label: {}\n{} rg\n", commentText(l.text), rgb(cx.palette.textColor(l.color)));
+        out("% label: {}\n{} rg\n", commentText(l.text), rgb(cx.textColor(l.color)));
         auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
         labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
           outlinePath(o, x, y, [&](const std::string& op) { content.append(op.data(), op.data() + op.size()); }, at);

@@ -430,7 +430,7 @@ TEST_F(ExportTest, PlyAscii) {
 }
 
 // Explicit colours (kRgbColor | 0xRRGGBB: the terrain's grid, drawn as they are) keep their RGB in
-// every mesh format, in colormap mode and with materials: 0x123456 is 18 52 86, 0.0705882
+// every format, in colormap mode and with materials: 0x123456 is 18 52 86, 0.0705882
 // 0.203922 0.337255; palette entry 255 (what clamping the value as an index gives) is not used.
 TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
   Geometry g;
@@ -444,6 +444,7 @@ TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
   };
   g.addTriangle(vtx({0, 0, 0}), vtx({1, 0, 0}), vtx({0, 1, 0}));
   g.segments.push_back({{0, 0, 0}, {0, 2, 0}, 1, line});
+  g.labels.push_back({{0, 0, 0}, "x", rgb});
   in.geometry = &g;
   for (bool materials : {false, true}) {
     SCOPED_TRACE(materials ? "materials" : "colormap");
@@ -471,6 +472,33 @@ TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
     std::string pov = readAll(exportTo("rgb.pov"));
     EXPECT_NE(pov.find("#declare rgb_123456 = texture { pigment { srgbt <0.07058824,0.20392157,0.3372549,0> }"),
               std::string::npos) << pov;
+    // Used by what has the colour: the mesh's texture list, the segment's cylinder; the glTF's
+    // triangle and line primitives.
+    EXPECT_NE(pov.find("texture { rgb_123456 }"), std::string::npos);
+    EXPECT_NE(pov.find("texture { rgb_ABCDEF } }"), std::string::npos);
+    EXPECT_NE(pov.find("#declare text_rgb_123456 = texture { pigment { srgb <0.07058824,0.20392157,0.3372549> }"),
+              std::string::npos);  // the label's
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, (dir / "rgb.gltf").string())) << err;
+    ASSERT_EQ(model.meshes.size(), 1u);
+    std::map<int, std::string> materialOf;  // primitive mode → its material's name
+    for (const tinygltf::Primitive& p : model.meshes[0].primitives) materialOf[p.mode] = model.materials[p.material].name;
+    EXPECT_EQ(materialOf[TINYGLTF_MODE_TRIANGLES], "rgb_123456");
+    EXPECT_EQ(materialOf[TINYGLTF_MODE_LINE], "rgb_ABCDEF");
+    // STL's VisCAM word: 5 bits of each, 18/255·31 → 2, 52/255·31 → 6, 86/255·31 → 10.
+    std::string stl = readAll(exportTo("rgb.stl"));
+    ASSERT_EQ(stl.size(), 84u + 50u);
+    uint16_t attr;
+    std::memcpy(&attr, stl.data() + 84 + 48, 2);
+    EXPECT_EQ(attr, 0x8000 | 2 << 10 | 6 << 5 | 10);
+    // The 2D formats: the colours themselves (SVG's hex; PostScript's and PDF's numbers to 1/1000).
+    std::string svg = readAll(exportTo("rgb.svg"));
+    EXPECT_NE(svg.find("{fill:#123456}"), std::string::npos);
+    EXPECT_NE(svg.find("{stroke:#abcdef}"), std::string::npos);
+    EXPECT_NE(readAll(exportTo("rgb.eps")).find("\n0.071 0.204 0.337 "), std::string::npos);
+    EXPECT_NE(readAll(exportTo("rgb.pdf")).find("\n0.671 0.804 0.937 RG "), std::string::npos);
   }
 }
 
