@@ -16,7 +16,9 @@
 //                  width, discs as circles, labels as text.
 //   .ps / .eps     the same 2D drawing in PostScript (lpfg's page layout for .ps; .eps has a
 //                  tight %%BoundingBox at 1 pt per pixel).
-//   .pdf           the same 2D drawing as one PDF page (1 pt per pixel, Helvetica labels).
+//   .pdf           the same 2D drawing as one PDF page (1 pt per pixel, labels as glyph outlines).
+//                  Each 2D format draws every view of a multi-view model in its rectangle
+//                  (ExportInput::views).
 //   .pov           a POV-Ray scene: camera, lights, background, a mesh2 with a texture list,
 //                  segments as cylinders, discs and labels.
 //
@@ -31,6 +33,7 @@
 
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Geometry.h"
+#include "runtime/turtle/ViewLayout.h"
 #include "runtime/files/Palette.h"
 #include "runtime/files/ViewFile.h"
 #include <llvm/Support/Error.h>
@@ -56,6 +59,15 @@ struct ExportInput {
   ViewAdjustment adjust;
   std::optional<CameraMatrices> camera;
 
+  // A multi-view model's views (manual §7.3; one per `window:` line of the view file, as the
+  // picture lays them out), or nullptr. The formats that draw a page (exportDrawsPage) draw every
+  // view in its rectangle of the width × height page (paneRects, paneCamera), the view file's
+  // window border colour between them, as the picture does. The 3D formats write `geometry`,
+  // view 0, as lpfg's window saves an OBJ: they have no page to place views on, and the views
+  // draw one model in one space, so together they would overlap; for a view file of several
+  // `window:` lines, `note` says so.
+  const std::vector<ViewPane>* views = nullptr;
+
   // When given: what the file leaves out of a picture that has it, for the user (an STL of a
   // model drawn only with lines holds no triangle: said, not written silently). "" otherwise.
   std::string* note = nullptr;
@@ -70,6 +82,9 @@ std::optional<ExportFormat> exportFormatFor(std::string_view pathOrExtension);
 bool isExportFormat(std::string_view pathOrExtension);
 // "obj", "ply", … (the canonical extension, no dot).
 const char* exportFormatExtension(ExportFormat format);
+// SVG, PostScript/EPS, PDF: a 2D page, which holds every view of a multi-view model
+// (ExportInput::views); the others are 3D scenes, which hold view 0.
+bool exportDrawsPage(ExportFormat format);
 
 // Writes `in` to `path` in the format its extension names. Errors name the file.
 llvm::Error exportGeometry(const std::string& path, const ExportInput& in);

@@ -1205,6 +1205,105 @@ TEST_F(ExportTest, PostScriptGradient) {
   EXPECT_NE(ps.find(std::string("\n") + want), std::string::npos) << want;
 }
 
+// A multi-view model (manual §7.3): the 2D formats draw every view in its rectangle of the page,
+// as the picture lays them out (paneRects), each framed in it alone — its drawing centred in its
+// rectangle — with the window border colour between them. The 3D formats hold `geometry` (view 0)
+// and say so.
+TEST_F(ExportTest, MultiView) {
+  std::vector<ViewPane> views(2);
+  views[0].geometry.segments.push_back({{0, 0, 0}, {1, 1, 0}, 1, 3});
+  views[1].geometry.segments.push_back({{5, 5, 0}, {5, 7, 0}, 1, 4});
+  views[0].rect = ViewPane::Rect::inside(0, 0, 0.5f, 1);
+  views[1].rect = ViewPane::Rect::inside(0.5f, 0, 0.5f, 1);
+  views[1].viewId = 1;
+  view.windows = {{"left", 0, 0, 0.5f, 1}, {"right", 0.5f, 0, 0.5f, 1}};
+  view.windowBorderSize = 4;
+  view.windowBorderColor = {1, 0, 0};
+  in.camera.reset();
+  in.width = 400, in.height = 200;
+  in.views = &views;
+  // Side by side, 4 px apart, the whole height: {x0, top y0, width, height} of each.
+  const auto rects = paneRects({views[0].rect, views[1].rect}, 400, 200, 4);
+  ASSERT_EQ(rects.size(), 2u);
+  EXPECT_EQ(rects[0][0], 0);
+  EXPECT_EQ(rects[1][0] - (rects[0][0] + rects[0][2]), 4);
+  EXPECT_EQ(rects[1][0] + rects[1][2], 400);
+  EXPECT_EQ(rects[0][3], 200);
+  // Where each view's segment's midpoint falls on the page (x right, y down), and its colour.
+  auto centre = [&](int v) {
+    return std::pair<float, float>(rects[v][0] + rects[v][2] / 2.0f, rects[v][1] + rects[v][3] / 2.0f);
+  };
+  const std::string colors[2] = {hex(color(3)), hex(color(4))};
+
+  std::string note;
+  in.note = &note;
+  std::string svg = readAll(exportTo("mv.svg"));
+  EXPECT_EQ(note, "");
+  EXPECT_NE(svg.find("<rect id=\"border\" x=\"0\" y=\"0\" width=\"400\" height=\"200\" fill=\"#ff0000\"/>"), std::string::npos);
+  const SvgPicture classes = readSvg(svg);
+  for (int v = 0; v < 2; ++v) {
+    SCOPED_TRACE(v);
+    const std::string head = fmt::format("<svg id=\"view{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"", v, rects[v][0],
+                                         rects[v][1], rects[v][2], rects[v][3]);
+    size_t at = svg.find(head);
+    ASSERT_NE(at, std::string::npos) << svg;
+    std::string inside = svg.substr(at, svg.find("</svg>", at) - at);
+    EXPECT_NE(inside.find(fmt::format("fill=\"{}\"", hex(color(0)))), std::string::npos);  // its background
+    SvgPicture pic = readSvg(inside);
+    ASSERT_EQ(pic.paths.size(), 1u);
+    ASSERT_EQ(pic.paths[0].subpaths.size(), 1u);
+    const auto& ends = pic.paths[0].subpaths[0];
+    ASSERT_EQ(ends.size(), 2u);
+    // In the view's own coordinates: centred in it, inside it.
+    EXPECT_TRUE(near({(ends[0].first + ends[1].first) / 2, (ends[0].second + ends[1].second) / 2},
+                     {rects[v][2] / 2.0f, rects[v][3] / 2.0f}, 0.11f));
+    for (auto [x, y] : ends) {
+      EXPECT_GE(x, 0);
+      EXPECT_LE(x, rects[v][2]);
+      EXPECT_GE(y, 0);
+      EXPECT_LE(y, rects[v][3]);
+    }
+    EXPECT_EQ(classColor(classes, pic.paths[0], 's'), colors[v]);
+  }
+
+  // EPS and PDF (1 pt per pixel, y up): each view clipped to its rectangle, its line in it.
+  std::string eps = readAll(exportTo("mv.eps"));
+  EXPECT_NE(eps.find("\n1 0 0 setrgbcolor fill\n"), std::string::npos);  // the border
+  auto epsLines = [&](const std::string& text, const std::regex& pattern) {
+    std::vector<std::array<float, 4>> out;
+    for (std::sregex_iterator it(text.begin(), text.end(), pattern), end; it != end; ++it)
+      out.push_back({std::stof((*it)[1]), std::stof((*it)[2]), std::stof((*it)[3]), std::stof((*it)[4])});
+    return out;
+  };
+  const auto psLines = epsLines(eps, std::regex("([-0-9.]+) ([-0-9.]+) ([-0-9.]+) ([-0-9.]+) L\n"));
+  std::string pdf = readAll(exportTo("mv.pdf"));
+  const auto pdfLines = epsLines(pdf, std::regex("RG [0-9.]+ w ([-0-9.]+) ([-0-9.]+) m ([-0-9.]+) ([-0-9.]+) l S\n"));
+  ASSERT_EQ(psLines.size(), 2u);
+  ASSERT_EQ(pdfLines.size(), 2u);
+  for (int v = 0; v < 2; ++v) {
+    SCOPED_TRACE(v);
+    const auto [cx, cy] = centre(v);
+    for (const auto& l : {psLines[v], pdfLines[v]})
+      EXPECT_TRUE(near({(l[0] + l[2]) / 2, (l[1] + l[3]) / 2}, {cx, 200 - cy}, 0.011f)) << l[0] << " " << l[1];
+    EXPECT_NE(eps.find(fmt::format("gsave newpath {} {} moveto {} 0 rlineto 0 {} rlineto", rects[v][0],
+                                   200 - rects[v][1] - rects[v][3], rects[v][2], rects[v][3])),
+              std::string::npos);
+    EXPECT_NE(pdf.find(fmt::format("q {} {} {} {} re W n ", rects[v][0], 200 - rects[v][1] - rects[v][3], rects[v][2],
+                                   rects[v][3])),
+              std::string::npos);
+  }
+  exportTo("mv.ps");
+  EXPECT_EQ(note, "");
+
+  // A mesh format: `geometry` (view 0), and a note of the views it leaves out.
+  PlyData ply = readPly(exportTo("mv.ply"));
+  EXPECT_EQ(ply.edges.size(), geometry.segments.size());
+  EXPECT_NE(note.find("mv.ply holds view 0 (left) only: the view file's 2 windows are laid out together only in "
+                      "pictures"),
+            std::string::npos)
+      << note;
+}
+
 // Default palette and view; empty geometry.
 TEST_F(ExportTest, DefaultsAndEmpty) {
   in.palette = nullptr;
