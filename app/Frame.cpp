@@ -145,6 +145,14 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine,
   } else {
     runtime::ExportInput in;
     in.geometry = &geometry;
+    // A multi-view model's views, for the formats that lay them out on a page as the picture does.
+    std::vector<viewer::ViewPane> panes;
+    if (std::optional<runtime::ExportFormat> f = runtime::exportFormatFor(path); f && runtime::exportDrawsPage(*f)) {
+      auto views = interpretViews(engine, drawing.view);
+      if (!views) return views.takeError();
+      panes = std::move(*views);
+    }
+    if (!panes.empty()) in.views = &panes;
     in.palette = &drawing.palette;
     in.view = &drawing.view;
     in.textureFiles = drawing.textureFiles;

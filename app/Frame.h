@@ -2,7 +2,8 @@
 // chooses: .png/.jpg/.jpeg/.bmp render headless through EGL with the viewer's renderer (in a build
 // with LCJIT_WITH_RENDERING); .obj, .ply, .stl, .gltf, .glb, .svg, .ps, .eps and .pov go through
 // the exporters; a video's frames (.mp4, .webm) are the pictures, written by FrameSequence.
-// Every output is the same interpreted Geometry framed by the same camera.
+// Every output is the same interpreted Geometry framed by the same camera; a multi-view model's
+// pictures and 2D exports (.svg, .ps, .eps, .pdf) hold every view, laid out alike (interpretViews).
 #pragma once
 #include <memory>
 #include <string>

@@ -218,8 +218,7 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
     const ViewPane& pane = panes[i];
     const std::array<int, 4>& rect = rects[i];
     r.setGeometry(pane.geometry);
-    runtime::CameraMatrices cam = runtime::frameView(view, pane.geometry.framingBounds(), pane.geometry.camera, rect[2],
-                                                     rect[3], pane.viewId, options.adjust);
+    runtime::CameraMatrices cam = runtime::paneCamera(view, pane, rect, options.adjust);
     RenderOptions o = options.render;
     o.viewportX = rect[0];
     o.viewportY = options.height - rect[1] - rect[3];  // GL counts from the bottom

@@ -18,7 +18,6 @@
 //    screen-space quads covering what an aliased wide GL line covers.
 // A million segments take ~0.2 s to draw on llvmpipe with two cores.
 #pragma once
-#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -27,6 +26,7 @@
 
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Geometry.h"
+#include "runtime/turtle/ViewLayout.h"
 #include "runtime/files/Palette.h"
 #include "runtime/files/ViewFile.h"
 #include "runtime/text/LabelText.h"
@@ -127,34 +127,8 @@ class Renderer {
   RenderStats stats_;
 };
 
-// One view of a multi-view model (manual §7.3): what its view group draws, in its `window:`
-// rectangle (fractions of the picture, from the top left).
-struct ViewPane {
-  runtime::Geometry geometry;
-  struct Rect {
-    float left = 0, top = 0, width = 1, height = 1;
-    // A view file's `window:` fractions, kept inside the picture. Only a window that reaches past
-    // an edge is cut at it: `0.8 0 0.2 0.5` ends at 1 in float, and its width stays 0.2 (20 of
-    // lpfg's 100 cells), where 1 - 0.8 would be 0.19999999 (19 cells).
-    // Inline: a build without rendering lays no panes out but reads the view file's windows.
-    static Rect inside(float left, float top, float width, float height) {
-      Rect r;
-      r.left = std::clamp(left, 0.f, 1.f);
-      r.top = std::clamp(top, 0.f, 1.f);
-      // Compared as the sum lpfg's fractions make in float, not against 1 - left, which rounds.
-      r.width = std::max(width, 0.f);
-      if (r.left + r.width > 1) r.width = 1 - r.left;
-      r.height = std::max(height, 0.f);
-      if (r.top + r.height > 1) r.height = 1 - r.top;
-      return r;
-    }
-  } rect;
-  int viewId = 0;
-};
-
-// The views' rectangles in pixels of a w×h picture, each {x0, top y0, width, height}, laid out as
-// lpfg's window lays them out (a grid of 100 × 100 cells; the view file's `window border:` width
-// between views that meet; a part of the picture no view covers goes to the views).
-std::vector<std::array<int, 4>> paneRects(const std::vector<ViewPane::Rect>& rects, int w, int h, int border);
+// Multi-view (manual §7.3): the views and their layout, shared with the 2D exporters.
+using runtime::paneRects;
+using runtime::ViewPane;
 
 }  // namespace lcjit::viewer

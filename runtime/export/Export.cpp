@@ -33,6 +33,11 @@ const char* exportFormatExtension(ExportFormat format) {
   return "";
 }
 
+bool exportDrawsPage(ExportFormat format) {
+  return format == ExportFormat::Svg || format == ExportFormat::Ps || format == ExportFormat::Eps ||
+         format == ExportFormat::Pdf;
+}
+
 llvm::Error exportGeometry(const std::string& path, const ExportInput& in) {
   std::optional<ExportFormat> format = exportFormatFor(path);
   if (!format) {
@@ -54,19 +59,31 @@ llvm::Error exportGeometry(const std::string& path, ExportFormat format, const E
                                      "cannot export '%s': triangle vertex index %u out of range (%zu vertices)",
                                      path.c_str(), i, nv);
   exporting::Context cx(path, in);
-  switch (format) {
-    case ExportFormat::Obj: return exporting::writeObj(cx);
-    case ExportFormat::Ply: return exporting::writePly(cx);
-    case ExportFormat::Stl: return exporting::writeStl(cx);
-    case ExportFormat::Gltf: return exporting::writeGltf(cx, false);
-    case ExportFormat::Glb: return exporting::writeGltf(cx, true);
-    case ExportFormat::Svg: return exporting::writeSvg(cx);
-    case ExportFormat::Ps: return exporting::writePostScript(cx, false);
-    case ExportFormat::Eps: return exporting::writePostScript(cx, true);
-    case ExportFormat::Pdf: return exporting::writePdf(cx);
-    case ExportFormat::Pov: return exporting::writePov(cx);
+  auto write = [&]() -> llvm::Error {
+    switch (format) {
+      case ExportFormat::Obj: return exporting::writeObj(cx);
+      case ExportFormat::Ply: return exporting::writePly(cx);
+      case ExportFormat::Stl: return exporting::writeStl(cx);
+      case ExportFormat::Gltf: return exporting::writeGltf(cx, false);
+      case ExportFormat::Glb: return exporting::writeGltf(cx, true);
+      case ExportFormat::Svg: return exporting::writeSvg(cx);
+      case ExportFormat::Ps: return exporting::writePostScript(cx, false);
+      case ExportFormat::Eps: return exporting::writePostScript(cx, true);
+      case ExportFormat::Pdf: return exporting::writePdf(cx);
+      case ExportFormat::Pov: return exporting::writePov(cx);
+    }
+    return llvm::createStringError(std::errc::invalid_argument, "cannot export '%s': unknown format", path.c_str());
+  };
+  if (llvm::Error e = write()) return e;
+  // A multi-view model in a 3D format: view 0 only (ExportInput::views), said.
+  const auto& windows = cx.view.windows;
+  if (!exportDrawsPage(format) && in.note && windows.size() > 1) {
+    if (!in.note->empty()) *in.note += "; ";
+    *in.note += fmt::format("{} holds view 0{} only: the view file's {} windows are laid out together only in "
+                            "pictures and in .svg, .ps, .eps and .pdf",
+                            path, windows[0].name.empty() ? "" : " (" + windows[0].name + ")", windows.size());
   }
-  return llvm::createStringError(std::errc::invalid_argument, "cannot export '%s': unknown format", path.c_str());
+  return llvm::Error::success();
 }
 
 }  // namespace lcjit::runtime

@@ -66,7 +66,7 @@ Context::Context(const std::string& p, const ExportInput& i)
       geometry(*i.geometry),
       palette(i.palette ? *i.palette : defaultPalette_),
       view(i.view ? *i.view : defaultView_) {
-  for (int c = 0; c < 256; ++c) colors[c] = palette.color(c);
+  for (int c = 0; c < 256; ++c) colors_[c] = palette.color(c);
 }
 
 const CameraMatrices& Context::camera() const {
@@ -100,15 +100,11 @@ std::string Context::texturePath(int t) const {
   return (rel.empty() ? absFile : rel).generic_string();
 }
 
-int colorKey(int color) {
-  if (isRgbColor(color)) return color;
-  return color < 0 ? 0 : color > 255 ? 255 : color;
-}
-
 std::string materialName(MaterialKey key) {
-  int c = colorKey(key.color);
+  const int c = colorKey(key.color);
   std::string name = isRgbColor(c) ? fmt::format("rgb_{:06X}", c & 0xFFFFFF) : fmt::format("s{:03d}", c);
-  return key.texture < 0 ? name : name + fmt::format("_t{}", key.texture);
+  if (key.texture >= 0) name += fmt::format("_t{}", key.texture);
+  return name;
 }
 
 size_t Polylines::edgeCount() const {

@@ -55,6 +55,13 @@ class FileWriter {
 
 using Rgba = std::array<float, 4>;
 
+// A colour as exporters key and name it: an index clamped to 0..255, an explicit colour
+// (kRgbColor) kept, as kRgbColor | 0xRRGGBB.
+inline int colorKey(int c) {
+  if (isRgbColor(c)) return kRgbColor | (c & 0xFFFFFF);
+  return c < 0 ? 0 : c > 255 ? 255 : c;
+}
+
 // The input with defaults filled in.
 struct Context {
   Context(const std::string& path, const ExportInput& in);
@@ -63,13 +70,20 @@ struct Context {
   const Geometry& geometry;
   const Palette& palette;
   const ViewSettings& view;
-  std::array<Rgba, 256> colors;  // palette.color(i), looked up once
 
-  // An index's colour, or an explicit one (kRgbColor).
-  Rgba color(int index) const {
-    if (isRgbColor(index))
-      return {float((index >> 16) & 255) / 255, float((index >> 8) & 255) / 255, float(index & 255) / 255, 1};
-    return colors[index < 0 ? 0 : index > 255 ? 255 : index];
+  // The exporters read a geometry colour (an index 0..255, or kRgbColor | 0xRRGGBB: Geometry.h)
+  // only through these three and colorKey.
+  // A colour's RGBA: an index's from the palette, an explicit colour as it is.
+  Rgba color(int c) const {
+    if (isRgbColor(c)) return {float((c >> 16) & 255) / 255, float((c >> 8) & 255) / 255, float(c & 255) / 255, 1};
+    return colors_[colorKey(c)];
+  }
+  // A label's colour: lpfg's text colour of an index, an explicit colour as it is.
+  Rgba textColor(int c) const { return isRgbColor(c) ? color(c) : palette.textColor(c); }
+  // The material `c` is drawn lit with: an index's in materials mode; nullptr for a colour drawn
+  // flat as color() gives it (colormap mode, and explicit colours, which lpfg draws unlit).
+  const Material* material(int c) const {
+    return palette.usesMaterials() && !isRgbColor(c) ? &palette.material(colorKey(c)) : nullptr;
   }
   const CameraMatrices& camera() const;  // in.camera, else frameView (computed once)
   // Texture `t`'s file on disk (absolute when it can be made so); "" when `t` names no file.
@@ -79,15 +93,12 @@ struct Context {
   std::string texturePath(int t) const;
 
  private:
+  std::array<Rgba, 256> colors_;  // palette.color(i), looked up once
   Palette defaultPalette_;
   ViewSettings defaultView_;
   mutable std::optional<CameraMatrices> camera_;
 };
 
-// A vertex's colour as the exporters key it: an index kept within 0..255, or an explicit colour
-// (kRgbColor | 0xRRGGBB: the terrain's grid, a model's RGB colour) as it is; cx.color() gives
-// either's RGBA.
-int colorKey(int color);
 // f without a negative zero (prints "0", not "-0").
 inline float z(float f) { return f + 0.0f; }
 // v scaled to length 1, or v itself when it has no length (model code's Normalize() divides by
@@ -129,14 +140,14 @@ template <class F> void forEachTriangle(const Geometry& g, F&& f) {
   upTo(count, -1);
 }
 
-// A triangle's material: its first vertex's colour index and its run's texture.
+// A triangle's material: its first vertex's colour (colorKey) and its run's texture.
 struct MaterialKey {
   int color = 1, texture = -1;
   bool operator==(const MaterialKey&) const = default;
-  int64_t packed() const { return (int64_t(texture) + 1) << 32 | uint32_t(color); }
+  int64_t packed() const { return int64_t(texture + 1) << 32 | uint32_t(color); }
 };
-// lpfg's material names: s001 (colour 1), s001_t0 (colour 1 with texture 0); an explicit colour's
-// is rgb_RRGGBB (rgb_RRGGBB_t0).
+// lpfg's material names: s001 (colour 1), s001_t0 (colour 1 with texture 0); an explicit colour
+// is named after it: rgb_FF8000 (rgb_FF8000_t0).
 std::string materialName(MaterialKey key);
 
 // Segments as polylines: consecutive segments of one colour that share an end become one chain.

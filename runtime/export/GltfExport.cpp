@@ -73,7 +73,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
   model.asset.version = "2.0";
   model.asset.generator = "lcjit";
 
-  // Materials: one per (colour index, texture) used, named as in the OBJ export.
+  // Materials: one per (colour, texture) used, named as in the OBJ export.
   std::unordered_map<int64_t, int> materialOf;  // MaterialKey::packed → material
   std::unordered_map<int, int> textureOf;   // texture index → glTF texture (-1: no file)
   auto material = [&](MaterialKey key) {
@@ -85,8 +85,8 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
     auto& pbr = mat.pbrMetallicRoughness;
     pbr.metallicFactor = 0;
     float alpha;
-    if (cx.palette.usesMaterials() && !isRgbColor(key.color)) {
-      const Material& mm = cx.palette.material(colorKey(key.color));
+    if (const Material* lit = cx.material(key.color)) {
+      const Material& mm = *lit;
       alpha = 1 - mm.transparency;
       pbr.baseColorFactor = {mm.diffuse[0], mm.diffuse[1], mm.diffuse[2], alpha};
       pbr.roughnessFactor = std::clamp(std::sqrt(2.0 / (mm.shininess + 2.0)), 0.0, 1.0);
@@ -94,7 +94,7 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
         mat.emissiveFactor = {std::min(1.0f, mm.emission[0]), std::min(1.0f, mm.emission[1]),
                               std::min(1.0f, mm.emission[2])};
     } else {
-      const Rgba& c = cx.color(key.color);
+      const Rgba c = cx.color(key.color);
       alpha = c[3];
       pbr.baseColorFactor = {c[0], c[1], c[2], c[3]};
       pbr.roughnessFactor = 1;

@@ -14,9 +14,8 @@ uint8_t toByte(float c) { return (uint8_t)std::lround(std::clamp(c, 0.0f, 1.0f) 
 
 void writeMaterial(FileWriter& w, const Context& cx, MaterialKey key) {
   w.print("newmtl {}\n", materialName(key));
-  const Rgba& c = cx.color(key.color);
-  if (cx.palette.usesMaterials() && !isRgbColor(key.color)) {
-    const Material& m = cx.palette.material(colorKey(key.color));
+  if (const Material* lit = cx.material(key.color)) {
+    const Material& m = *lit;
     w.print("Ka {} {} {}\n", m.ambient[0], m.ambient[1], m.ambient[2]);
     w.print("Kd {} {} {}\n", m.diffuse[0], m.diffuse[1], m.diffuse[2]);
     w.print("Ks {} {} {}\n", m.specular[0], m.specular[1], m.specular[2]);
@@ -27,6 +26,7 @@ void writeMaterial(FileWriter& w, const Context& cx, MaterialKey key) {
     bool specular = m.specular[0] > 0 || m.specular[1] > 0 || m.specular[2] > 0;
     w.print("illum {}\n", specular ? 2 : 1);
   } else {
+    const Rgba c = cx.color(key.color);
     w.print("Ka 0 0 0\nKd {} {} {}\nKs 0 0 0\nNs 1\n", c[0], c[1], c[2]);
     if (c[3] < 1) w.print("d {}\n", c[3]);
     w.print("illum 1\n");
@@ -58,7 +58,7 @@ llvm::Error writeObj(const Context& cx) {
   {
     FileWriter mtl;
     if (auto e = mtl.open(mtlPath)) return e;
-    mtl.print("# Materials written by lcjit: one per colour index (from the {})\n\n",
+    mtl.print("# Materials written by lcjit: one per colour index (from the {}) and explicit colour\n\n",
               cx.palette.usesMaterials() ? "materials" : "colormap");
     for (MaterialKey k : materials) writeMaterial(mtl, cx, k);
     if (auto e = mtl.close()) return e;
@@ -92,12 +92,12 @@ llvm::Error writeObj(const Context& cx) {
   // Lines, one object per colour (a `usemtl` between `l` statements trips some readers).
   std::vector<int> colors;
   for (const Polyline& l : lines.lines)
-    if (std::find(colors.begin(), colors.end(), l.color) == colors.end()) colors.push_back(l.color);
+    if (std::find(colors.begin(), colors.end(), colorKey(l.color)) == colors.end()) colors.push_back(colorKey(l.color));
   for (int color : colors) {
-    std::string name = materialName({colorKey(color), -1});
+    std::string name = materialName({color, -1});
     w.print("o lines_{}\nusemtl {}\n", name, name);
     for (const Polyline& l : lines.lines) {
-      if (l.color != color) continue;
+      if (colorKey(l.color) != color) continue;
       w.text("l");
       for (uint32_t i = 0; i < l.count; ++i) w.print(" {}", nv + l.first + i + 1);
       w.text("\n");
@@ -139,13 +139,12 @@ llvm::Error writePly(const Context& cx) {
   w.print("element edge {}\nproperty int vertex1\nproperty int vertex2\n", lines.edgeCount());
   w.text("property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n");
 
-  auto bytesOf = [&](int color) {
-    const Rgba& c = cx.color(color);
+  auto bytes = [&](int color) {
+    const Rgba c = cx.color(color);
     return std::array<uint8_t, 4>{toByte(c[0]), toByte(c[1]), toByte(c[2]), toByte(c[3])};
   };
-
   auto vertex = [&](V3f p, V3f n, V2f uv, int color) {
-    const auto c = bytesOf(color);
+    const auto c = bytes(color);
     if (ascii) {
       w.print("{} {} {} {} {} {}", z(p.x), z(p.y), z(p.z), z(n.x), z(n.y), z(n.z));
       if (m.textured) w.print(" {} {}", z(uv.x), z(uv.y));
@@ -175,7 +174,7 @@ llvm::Error writePly(const Context& cx) {
     }
   }
   for (const Polyline& l : lines.lines) {
-    const auto c = bytesOf(l.color);
+    const auto c = bytes(l.color);
     for (uint32_t i = 0; i + 1 < l.count; ++i) {
       int32_t a = int32_t(nv + l.first + i), b = a + 1;
       if (ascii) {
@@ -218,8 +217,8 @@ llvm::Error writeStl(const Context& cx) {
     w.put(n);
   }
   auto word = [&](int color) {
-    auto five = [&](float f) { return (uint16_t)std::lround(std::clamp(f, 0.0f, 1.0f) * 31); };
-    const Rgba& c = cx.color(color);
+    const Rgba c = cx.color(color);
+    auto five = [](float f) { return (uint16_t)std::lround(std::clamp(f, 0.0f, 1.0f) * 31); };
     return uint16_t(0x8000 | five(c[0]) << 10 | five(c[1]) << 5 | five(c[2]));
   };
   const auto& idx = g.indices;

@@ -1,7 +1,7 @@
 // POV-Ray 3.7 scene: the renderer's camera (explicit right-handed vectors, no look_at, so the
 // picture is not mirrored), the view file's lights, background colour 0, one texture per colour
-// index used (lpfg's names s001…), the triangles as one mesh2, segments as cylinders sized from
-// their pixel width, discs facing the camera, labels as text.
+// used (lpfg's names s001…; rgb_FF8000 for an explicit colour), the triangles as one mesh2,
+// segments as cylinders sized from their pixel width, discs facing the camera, labels as text.
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -87,8 +87,8 @@ llvm::Error writePov(const Context& cx) {
           g.segments.size(), g.discs.size(), g.labels.size());
   w.print("// render: povray +I{} +W{} +H{} +A\n#version 3.7;\n", baseName(cx.path), cam.width, cam.height);
 
-  // lpfg draws colormap colours unlit (flat: emission only here) and materials lit.
-  const bool lit = cx.palette.usesMaterials();
+  // lpfg draws colormap colours (and explicit ones) unlit (flat: emission only here) and
+  // materials lit.
   std::vector<Light> lights = cx.view.lights;
   if (lights.empty()) lights.push_back(Light());
   Rgb ambient{0.2f, 0.2f, 0.2f};  // OpenGL's global ambient, plus every light's
@@ -126,7 +126,8 @@ llvm::Error writePov(const Context& cx) {
     glm::vec4 q = toModel * glm::vec4(toGlm(p), 1);
     return V3f(q.x, q.y, q.z);
   };
-  if (!lit) w.text("// colormap mode: drawn unlit, as lpfg does; the lights matter only for materials\n");
+  if (!cx.palette.usesMaterials())
+    w.text("// colormap mode: drawn unlit, as lpfg does; the lights matter only for materials\n");
   for (const Light& l : lights) {
     const Rgb& c = l.diffuse;
     if (l.kind == Light::Kind::Directional) {
@@ -158,10 +159,9 @@ llvm::Error writePov(const Context& cx) {
   for (const Disc& d : g.discs) need(d.color);
   const char* flat = "ambient 0 diffuse 0 emission 1";
   for (MaterialKey k : keys) {
-    const Rgba& col = cx.color(k.color);
     std::string pigment, finish;
-    if (lit && !isRgbColor(k.color)) {
-      const Material& m = cx.palette.material(k.color);
+    if (const Material* lit = cx.material(k.color)) {
+      const Material& m = *lit;
       pigment = fmt::format("srgbt <{},{},{},{}>", m.diffuse[0], m.diffuse[1], m.diffuse[2], m.transparency);
       float spec = (m.specular[0] + m.specular[1] + m.specular[2]) / 3;
       finish = fmt::format("ambient srgb <{},{},{}> diffuse 1", m.ambient[0], m.ambient[1], m.ambient[2]);
@@ -169,6 +169,7 @@ llvm::Error writePov(const Context& cx) {
       if (m.emission[0] > 0 || m.emission[1] > 0 || m.emission[2] > 0)
         finish += fmt::format(" emission srgb <{},{},{}>", m.emission[0], m.emission[1], m.emission[2]);
     } else {
+      const Rgba col = cx.color(k.color);
       pigment = fmt::format("srgbt <{},{},{},{}>", col[0], col[1], col[2], 1 - col[3]);
       finish = flat;
     }
@@ -185,7 +186,7 @@ llvm::Error writePov(const Context& cx) {
     if (std::find(labelColors.begin(), labelColors.end(), colorKey(l.color)) == labelColors.end())
       labelColors.push_back(colorKey(l.color));
   for (int c : labelColors) {
-    auto t = cx.palette.textColor(c);
+    const Rgba t = cx.textColor(c);
     w.print("#declare text_{} = texture {{ pigment {{ srgb <{},{},{}> }} finish {{ {} }} }}\n",
             materialName({c, -1}), t[0], t[1], t[2], flat);
   }

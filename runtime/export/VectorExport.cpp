@@ -1,7 +1,9 @@
 // The 2D picture: SVG, PostScript/EPS and PDF. Everything is projected with the renderer's framing
 // (frameView / projectToWindow) and drawn back to front (painter's algorithm, by mean depth), in
 // flat palette colours like lpfg's PostScript output. Labels are shaped as the renderer shapes
-// them (runtime/text): SVG keeps them as text, PostScript and PDF draw the glyphs' outlines.
+// them (runtime/text): SVG keeps them as text, PostScript and PDF draw the glyphs' outlines. A
+// multi-view model's page holds every view in its rectangle, as the picture lays them out
+// (ViewLayout.h), each view clipped to it.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -40,7 +42,10 @@ struct Item {
   enum Kind : uint8_t { Triangle, Line, Disc, Ring, Text } kind;
 };
 
+// One view's drawing, in its own window coordinates (x right, y down, pixels).
 struct Picture {
+  const Geometry* g = nullptr;
+  int x = 0, y = 0;  // its top left corner on the page
   int width = 0, height = 0;
   std::vector<glm::vec3> win;  // projected mesh vertices
   std::vector<Item> items;     // back to front
@@ -56,12 +61,11 @@ uint32_t quantise(float depth) { return (uint32_t)std::lround(std::clamp(depth, 
 
 bool inDepth(const glm::vec3& p) { return p.z >= 0 && p.z <= 1 && std::isfinite(p.x) && std::isfinite(p.y); }
 
-Picture draw(const Context& cx) {
+Picture draw(const Context& cx, const Geometry& g, const CameraMatrices& cam) {
   Picture pic;
-  const CameraMatrices& cam = cx.camera();
+  pic.g = &g;
   pic.width = cam.width;
   pic.height = cam.height;
-  const Geometry& g = cx.geometry;
   const float W = (float)cam.width, H = (float)cam.height;
 
   pic.win.resize(g.vertices.size());
@@ -148,6 +152,39 @@ Picture draw(const Context& cx) {
   // Far (depth 1) first; drawing order (triangles, segments, discs, labels) among equals.
   std::stable_sort(pic.items.begin(), pic.items.end(), [](const Item& a, const Item& b) { return a.depth > b.depth; });
   return pic;
+}
+
+// What a 2D file shows: the picture of the geometry, or each of a multi-view model's views in its
+// rectangle of the page (paneRects, paneCamera: as the renderer lays them out), the window border
+// colour between them.
+struct Page {
+  int width = 0, height = 0;
+  std::vector<Picture> pictures;
+  bool multiView = false;
+  Rgba border{0, 0, 0, 1};
+};
+
+Page drawPage(const Context& cx) {
+  Page page;
+  if (!cx.in.views || cx.in.views->empty()) {
+    page.pictures.push_back(draw(cx, cx.geometry, cx.camera()));
+    page.width = page.pictures[0].width, page.height = page.pictures[0].height;
+    return page;
+  }
+  const std::vector<ViewPane>& views = *cx.in.views;
+  page.multiView = true;
+  page.width = std::max(1, cx.in.width), page.height = std::max(1, cx.in.height);
+  const Rgb& b = cx.view.windowBorderColor;
+  page.border = {b.r, b.g, b.b, 1};
+  std::vector<ViewPane::Rect> rects;
+  for (const ViewPane& v : views) rects.push_back(v.rect);
+  const std::vector<std::array<int, 4>> placed = paneRects(rects, page.width, page.height, cx.view.windowBorderSize);
+  for (size_t i = 0; i < views.size(); ++i) {
+    Picture pic = draw(cx, views[i].geometry, paneCamera(cx.view, views[i], placed[i], cx.in.adjust));
+    pic.x = placed[i][0], pic.y = placed[i][1];
+    page.pictures.push_back(std::move(pic));
+  }
+  return page;
 }
 
 struct Hex {
@@ -289,8 +326,7 @@ std::string gridNumber(float v) {
 }
 
 llvm::Error writeSvg(const Context& cx) {
-  Picture pic = draw(cx);
-  const Geometry& g = cx.geometry;
+  const Page page = drawPage(cx);
   FileWriter w;
   if (auto e = w.open(cx.path)) return e;
 
@@ -306,22 +342,24 @@ llvm::Error writeSvg(const Context& cx) {
     if (added) classColor.push_back(c);
     return it->second;
   };
-  auto itemColor = [&](const Item& it) -> Rgba {
+  auto itemColor = [&](const Picture& pic, const Item& it) -> Rgba {
+    const Geometry& g = *pic.g;
     switch (it.kind) {
       case Item::Triangle: return pic.triangleColor[it.index];
       case Item::Line: return cx.color(g.segments[it.index].color);
       case Item::Disc:
       case Item::Ring: return cx.color(g.discs[it.index].color);
-      case Item::Text: return cx.palette.textColor(g.labels[it.index].color);
+      case Item::Text: return cx.textColor(g.labels[it.index].color);
     }
     return {};
   };
-  for (const Item& it : pic.items) colorClass(itemColor(it));
+  for (const Picture& pic : page.pictures)
+    for (const Item& it : pic.items) colorClass(itemColor(pic, it));
 
   w.print("<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n<!-- written by lcjit; coordinates to 1/{} px -->\n",
           kSvgGrid);
   w.print("<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\">\n",
-          pic.width, pic.height);
+          page.width, page.height);
   // Triangles (.t) get a hairline of their own colour so anti-aliasing leaves no seams between them.
   w.print("<style>\n.t{{stroke-width:.5px;stroke-linejoin:round}}.l{{fill:none;stroke-linecap:butt}}\n");
   w.print("text{{font-family:\"{}\";font-size:{}px;font-kerning:none{}{}}}\n", xmlEscape(cx.view.winFont),
@@ -332,9 +370,11 @@ llvm::Error writeSvg(const Context& cx) {
     w.text(i % 4 == 3 || i + 1 == classColor.size() ? "\n" : "");
   }
   w.text("</style>\n");
-  w.print("<rect id=\"background\" x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" fill=\"{}\"/>\n", pic.width, pic.height,
-          Hex{cx.color(0)});
-  w.print("<g id=\"plant\" xml:space=\"preserve\">\n");
+  // One view: its background, then the plant. Several: the border colour, then each view as an
+  // <svg> of its own (its viewport clips it, its coordinates are the view's), background and plant.
+  w.print("<rect id=\"{}\" x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" fill=\"{}\"/>\n",
+          page.multiView ? "border" : "background", page.width, page.height,
+          Hex{page.multiView ? page.border : cx.color(0)});
 
   // Consecutive opaque triangles of one colour share a group (<g class="t fN sN">), as do
   // consecutive opaque segments of one colour and width: the style is said once, while each shape
@@ -398,68 +438,79 @@ llvm::Error writeSvg(const Context& cx) {
     return false;
   };
 
-  for (const Item& it : pic.items) {
-    const Rgba col = itemColor(it);
-    const int cls = colorClass(col);
-    switch (it.kind) {
-      case Item::Triangle: {
-        const uint32_t* i = &g.indices[3 * it.index];
-        const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
-        if (col[3] < 1) {
-          flush();
-          w.print("<path class=\"f{:x}\" fill-opacity=\"{}\" d=\"M{} {} {} {} {} {}z\"/>\n", cls, num3(col[3]),
-                  gridNumber(a.x), gridNumber(a.y), gridNumber(b.x), gridNumber(b.y), gridNumber(c.x), gridNumber(c.y));
+  for (size_t view = 0; view < page.pictures.size(); ++view) {
+    const Picture& pic = page.pictures[view];
+    const Geometry& g = *pic.g;
+    if (page.multiView)
+      w.print("<svg id=\"view{0}\" x=\"{1}\" y=\"{2}\" width=\"{3}\" height=\"{4}\" overflow=\"hidden\">\n"
+              "<rect x=\"0\" y=\"0\" width=\"{3}\" height=\"{4}\" fill=\"{5}\"/>\n<g xml:space=\"preserve\">\n",
+              view, pic.x, pic.y, pic.width, pic.height, Hex{cx.color(0)});
+    else
+      w.print("<g id=\"plant\" xml:space=\"preserve\">\n");
+    for (const Item& it : pic.items) {
+      const Rgba col = itemColor(pic, it);
+      const int cls = colorClass(col);
+      switch (it.kind) {
+        case Item::Triangle: {
+          const uint32_t* i = &g.indices[3 * it.index];
+          const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
+          if (col[3] < 1) {
+            flush();
+            w.print("<path class=\"f{:x}\" fill-opacity=\"{}\" d=\"M{} {} {} {} {} {}z\"/>\n", cls, num3(col[3]),
+                    gridNumber(a.x), gridNumber(a.y), gridNumber(b.x), gridNumber(b.y), gridNumber(c.x), gridNumber(c.y));
+            break;
+          }
+          begin(Triangles, cls, 0);
+          const std::array<Point, 3> t{Point{onGrid(a.x), onGrid(a.y)}, Point{onGrid(b.x), onGrid(b.y)},
+                                       Point{onGrid(c.x), onGrid(c.y)}};
+          if (mergeQuad(t)) {
+            flushPending();
+          } else {
+            flushPending();
+            pending.assign(t.begin(), t.end());
+          }
           break;
         }
-        begin(Triangles, cls, 0);
-        const std::array<Point, 3> t{Point{onGrid(a.x), onGrid(a.y)}, Point{onGrid(b.x), onGrid(b.y)},
-                                     Point{onGrid(c.x), onGrid(c.y)}};
-        if (mergeQuad(t)) {
-          flushPending();
-        } else {
-          flushPending();
-          pending.assign(t.begin(), t.end());
-        }
-        break;
-      }
-      case Item::Line: {
-        const Segment& s = g.segments[it.index];
-        const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
-        if (col[3] < 1) {
-          flush();
-          w.print("<path class=\"l s{:x}\" stroke-width=\"{}\" stroke-opacity=\"{}\" d=\"M{} {} {} {}\"/>\n", cls,
-                  num(s.width), num3(col[3]), gridNumber(a.x), gridNumber(a.y), gridNumber(b.x), gridNumber(b.y));
+        case Item::Line: {
+          const Segment& s = g.segments[it.index];
+          const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
+          if (col[3] < 1) {
+            flush();
+            w.print("<path class=\"l s{:x}\" stroke-width=\"{}\" stroke-opacity=\"{}\" d=\"M{} {} {} {}\"/>\n", cls,
+                    num(s.width), num3(col[3]), gridNumber(a.x), gridNumber(a.y), gridNumber(b.x), gridNumber(b.y));
+            break;
+          }
+          begin(Lines, cls, (float)num(s.width).v);
+          const Point ends[2] = {{onGrid(a.x), onGrid(a.y)}, {onGrid(b.x), onGrid(b.y)}};
+          writePath(ends, 2, false);
           break;
         }
-        begin(Lines, cls, (float)num(s.width).v);
-        const Point ends[2] = {{onGrid(a.x), onGrid(a.y)}, {onGrid(b.x), onGrid(b.y)}};
-        writePath(ends, 2, false);
-        break;
-      }
-      case Item::Disc:
-      case Item::Ring: {
-        flush();
-        const Picture::Circle& c = pic.circles[it.index];
-        if (it.kind == Item::Disc)
-          w.print("<circle class=\"f{:x}\" cx=\"{}\" cy=\"{}\" r=\"{}\"/>\n", cls, gridNumber(c.x), gridNumber(c.y), num(c.r));
-        else
-          w.print("<circle class=\"s{:x}\" fill=\"none\" stroke-width=\"{}\" cx=\"{}\" cy=\"{}\" r=\"{}\"/>\n", cls, num(c.w),
-                  gridNumber(c.x), gridNumber(c.y), num(c.r));
-        break;
-      }
-      case Item::Text: {
-        flush();
-        const Label& l = g.labels[it.index];
-        const glm::vec3& p = pic.labelAt[it.index];
-        // The renderer's placement: left end at the anchor, baseline 2 px below it.
-        w.print("<text class=\"f{:x}\" x=\"{}\" y=\"{}\">{}</text>\n", cls, gridNumber(p.x), gridNumber(p.y + 2),
-                xmlEscape(text::cleanUtf8(l.text, true)));
-        break;
+        case Item::Disc:
+        case Item::Ring: {
+          flush();
+          const Picture::Circle& c = pic.circles[it.index];
+          if (it.kind == Item::Disc)
+            w.print("<circle class=\"f{:x}\" cx=\"{}\" cy=\"{}\" r=\"{}\"/>\n", cls, gridNumber(c.x), gridNumber(c.y), num(c.r));
+          else
+            w.print("<circle class=\"s{:x}\" fill=\"none\" stroke-width=\"{}\" cx=\"{}\" cy=\"{}\" r=\"{}\"/>\n", cls, num(c.w),
+                    gridNumber(c.x), gridNumber(c.y), num(c.r));
+          break;
+        }
+        case Item::Text: {
+          flush();
+          const Label& l = g.labels[it.index];
+          const glm::vec3& p = pic.labelAt[it.index];
+          // The renderer's placement: left end at the anchor, baseline 2 px below it.
+          w.print("<text class=\"f{:x}\" x=\"{}\" y=\"{}\">{}</text>\n", cls, gridNumber(p.x), gridNumber(p.y + 2),
+                  xmlEscape(text::cleanUtf8(l.text, true)));
+          break;
+        }
       }
     }
+    flush();
+    w.text(page.multiView ? "</g>\n</svg>\n" : "</g>\n");
   }
-  flush();
-  w.print("</g>\n</svg>\n");
+  w.text("</svg>\n");
   return w.close();
 }
 
@@ -471,14 +522,13 @@ llvm::Error writeSvg(const Context& cx) {
 // font in the file or the printer.
 
 llvm::Error writePostScript(const Context& cx, bool eps) {
-  Picture pic = draw(cx);
-  const Geometry& g = cx.geometry;
-  const float W = (float)pic.width, H = (float)pic.height;
+  const Page page = drawPage(cx);
+  const float W = (float)page.width, H = (float)page.height;
   float s, ox, oy, wx, wy;
   int x1, y1, x2, y2;
   if (eps) {
     s = 1, ox = 0, oy = 0, wx = W, wy = H;
-    x1 = 0, y1 = 0, x2 = pic.width, y2 = pic.height;
+    x1 = 0, y1 = 0, x2 = page.width, y2 = page.height;
   } else {
     s = std::min(576.0f / W, 720.0f / H);
     wx = W * s, wy = H * s;
@@ -488,8 +538,9 @@ llvm::Error writePostScript(const Context& cx, bool eps) {
     y2 = (int)std::floor(y1 + wy);
     ox = (float)x1, oy = (float)y1;
   }
-  auto X = [&](float x) { return num(ox + x * s); };
-  auto Y = [&](float y) { return num(oy + (H - y) * s); };
+  const Picture* placed = nullptr;  // the view being drawn: its window coordinates on the page
+  auto X = [&](float x) { return num(ox + (float(placed->x) + x) * s); };
+  auto Y = [&](float y) { return num(oy + (H - float(placed->y) - y) * s); };
   auto rgb = [&](const Rgba& c) { return fmt::format("{} {} {}", num3(c[0]), num3(c[1]), num3(c[2])); };
 
   FileWriter w;
@@ -511,45 +562,54 @@ llvm::Error writePostScript(const Context& cx, bool eps) {
   w.print("{} setlinecap 1 setlinejoin\n", std::clamp(cx.view.postscriptLinecap, 0, 2));
   w.print("newpath {} {} moveto 0 {} rlineto {} 0 rlineto 0 {} rlineto closepath clip\n", x1, y1, num(wy), num(wx),
           num(-wy));
-  w.print("{} setrgbcolor fill\n", rgb(cx.color(0)));
+  w.print("{} setrgbcolor fill\n", rgb(page.multiView ? page.border : cx.color(0)));
   LabelGlyphs labels(cx.view);
 
-  for (const Item& it : pic.items) {
-    switch (it.kind) {
-      case Item::Triangle: {
-        const uint32_t* i = &g.indices[3 * it.index];
-        const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
-        w.print("{} {} {} {} {} {} {} T\n", rgb(pic.triangleColor[it.index]), X(c.x), Y(c.y), X(b.x), Y(b.y), X(a.x),
-                Y(a.y));
-        break;
-      }
-      case Item::Line: {
-        const Segment& sg = g.segments[it.index];
-        const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
-        w.print("{} {} {} {} {} {} L\n", rgb(cx.color(sg.color)), num(sg.width * s), X(b.x), Y(b.y), X(a.x), Y(a.y));
-        break;
-      }
-      case Item::Disc:
-      case Item::Ring: {
-        const Picture::Circle& c = pic.circles[it.index];
-        const std::string col = rgb(cx.color(g.discs[it.index].color));
-        if (it.kind == Item::Disc) w.print("{} {} {} {} D\n", col, X(c.x), Y(c.y), num(c.r * s));
-        else w.print("{} {} {} {} {} R\n", col, num(c.w * s), X(c.x), Y(c.y), num(c.r * s));
-        break;
-      }
-      case Item::Text: {
-        const Label& l = g.labels[it.index];
-        const glm::vec3& p = pic.labelAt[it.index];
-        w.print("% label: {}\n{} setrgbcolor\n", commentText(l.text), rgb(cx.palette.textColor(l.color)));
-        auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
-        labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
-          w.text("newpath ");
-          outlinePath(o, x, y, [&](const std::string& op) { w.text(op); }, at);
-          w.text("fill\n");
-        });
-        break;
+  for (const Picture& pic : page.pictures) {
+    placed = &pic;
+    const Geometry& g = *pic.g;
+    if (page.multiView)  // the view's rectangle, clipped, in the background colour
+      w.print("gsave newpath {} {} moveto {} 0 rlineto 0 {} rlineto {} 0 rlineto closepath clip {} setrgbcolor fill\n",
+              X(0), Y(float(pic.height)), num(float(pic.width) * s), num(float(pic.height) * s),
+              num(-float(pic.width) * s), rgb(cx.color(0)));
+    for (const Item& it : pic.items) {
+      switch (it.kind) {
+        case Item::Triangle: {
+          const uint32_t* i = &g.indices[3 * it.index];
+          const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
+          w.print("{} {} {} {} {} {} {} T\n", rgb(pic.triangleColor[it.index]), X(c.x), Y(c.y), X(b.x), Y(b.y), X(a.x),
+                  Y(a.y));
+          break;
+        }
+        case Item::Line: {
+          const Segment& sg = g.segments[it.index];
+          const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
+          w.print("{} {} {} {} {} {} L\n", rgb(cx.color(sg.color)), num(sg.width * s), X(b.x), Y(b.y), X(a.x), Y(a.y));
+          break;
+        }
+        case Item::Disc:
+        case Item::Ring: {
+          const Picture::Circle& c = pic.circles[it.index];
+          const std::string col = rgb(cx.color(g.discs[it.index].color));
+          if (it.kind == Item::Disc) w.print("{} {} {} {} D\n", col, X(c.x), Y(c.y), num(c.r * s));
+          else w.print("{} {} {} {} {} R\n", col, num(c.w * s), X(c.x), Y(c.y), num(c.r * s));
+          break;
+        }
+        case Item::Text: {
+          const Label& l = g.labels[it.index];
+          const glm::vec3& p = pic.labelAt[it.index];
+          w.print("% label: {}\n{} setrgbcolor\n", commentText(l.text), rgb(cx.textColor(l.color)));
+          auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
+          labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
+            w.text("newpath ");
+            outlinePath(o, x, y, [&](const std::string& op) { w.text(op); }, at);
+            w.text("fill\n");
+          });
+          break;
+        }
       }
     }
+    if (page.multiView) w.text("grestore\n");
   }
   w.print("showpage\n%%Trailer\n%%EOF\n");
   return w.close();
@@ -559,16 +619,16 @@ llvm::Error writePostScript(const Context& cx, bool eps) {
 // uncompressed content stream, labels as filled glyph outlines (any script, no font to embed; the
 // text itself is in a comment before them). Built in memory for the xref offsets.
 llvm::Error writePdf(const Context& cx) {
-  Picture pic = draw(cx);
-  const Geometry& g = cx.geometry;
-  const float H = (float)pic.height;
-  auto X = [&](float x) { return num(x); };
-  auto Y = [&](float y) { return num(H - y); };
+  const Page page = drawPage(cx);
+  const float H = (float)page.height;
+  const Picture* placed = nullptr;  // the view being drawn: its window coordinates on the page
+  auto X = [&](float x) { return num(float(placed->x) + x); };
+  auto Y = [&](float y) { return num(H - float(placed->y) - y); };
   auto rgb = [&](const Rgba& c) { return fmt::format("{} {} {}", num3(c[0]), num3(c[1]), num3(c[2])); };
   LabelGlyphs labels(cx.view);
   fmt::memory_buffer content;
   auto out = [&](std::string_view f, const auto&... args) { fmt::format_to(fmt::appender(content), fmt::runtime(f), args...); };
-  out("1 J 1 j {} rg 0 0 {} {} re f\n", rgb(cx.color(0)), pic.width, pic.height);
+  out("1 J 1 j {} rg 0 0 {} {} re f\n", rgb(page.multiView ? page.border : cx.color(0)), page.width, page.height);
   // A circle as four Bézier quarter arcs (k = 0.5523 of the radius for the control points).
   auto circle = [&](float cx0, float cy0, float r) {
     const float k = 0.5523f * r;
@@ -577,49 +637,58 @@ llvm::Error writePdf(const Context& cx) {
         num(cx0 - r), num(cy0 + k), num(cx0 - r), num(cy0), num(cx0 - r), num(cy0 - k), num(cx0 - k), num(cy0 - r),
         num(cx0), num(cy0 - r), num(cx0 + k), num(cy0 - r), num(cx0 + r), num(cy0 - k), num(cx0 + r), num(cy0));
   };
-  for (const Item& it : pic.items) {
-    switch (it.kind) {
-      case Item::Triangle: {
-        const uint32_t* i = &g.indices[3 * it.index];
-        const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
-        const std::string col = rgb(pic.triangleColor[it.index]);
-        // Filled and outlined by half a point in its own colour against seams, as in PostScript.
-        out("{} rg {} RG 0.5 w {} {} m {} {} l {} {} l h B\n", col, col, X(a.x), Y(a.y), X(b.x), Y(b.y), X(c.x), Y(c.y));
-        break;
-      }
-      case Item::Line: {
-        const Segment& sg = g.segments[it.index];
-        const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
-        out("{} RG {} w {} {} m {} {} l S\n", rgb(cx.color(sg.color)), num(sg.width), X(a.x), Y(a.y), X(b.x), Y(b.y));
-        break;
-      }
-      case Item::Disc:
-      case Item::Ring: {
-        const Picture::Circle& c = pic.circles[it.index];
-        const std::string col = rgb(cx.color(g.discs[it.index].color));
-        if (it.kind == Item::Disc) {
-          out("{} rg ", col);
-          circle(c.x, H - c.y, c.r);
-          out("f\n");
-        } else {
-          out("{} RG {} w ", col, num(c.w));
-          circle(c.x, H - c.y, c.r);
-          out("S\n");
+  for (const Picture& pic : page.pictures) {
+    placed = &pic;
+    const Geometry& g = *pic.g;
+    if (page.multiView) {  // the view's rectangle, clipped, in the background colour
+      const std::string rect = fmt::format("{} {} {} {} re", pic.x, page.height - pic.y - pic.height, pic.width, pic.height);
+      out("q {} W n {} rg {} f\n", rect, rgb(cx.color(0)), rect);
+    }
+    for (const Item& it : pic.items) {
+      switch (it.kind) {
+        case Item::Triangle: {
+          const uint32_t* i = &g.indices[3 * it.index];
+          const glm::vec3 &a = pic.win[i[0]], &b = pic.win[i[1]], &c = pic.win[i[2]];
+          const std::string col = rgb(pic.triangleColor[it.index]);
+          // Filled and outlined by half a point in its own colour against seams, as in PostScript.
+          out("{} rg {} RG 0.5 w {} {} m {} {} l {} {} l h B\n", col, col, X(a.x), Y(a.y), X(b.x), Y(b.y), X(c.x), Y(c.y));
+          break;
         }
-        break;
-      }
-      case Item::Text: {
-        const Label& l = g.labels[it.index];
-        const glm::vec3& p = pic.labelAt[it.index];
-        out("% label: {}\n{} rg\n", commentText(l.text), rgb(cx.palette.textColor(l.color)));
-        auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
-        labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
-          outlinePath(o, x, y, [&](const std::string& op) { content.append(op.data(), op.data() + op.size()); }, at);
-          out("f\n");
-        });
-        break;
+        case Item::Line: {
+          const Segment& sg = g.segments[it.index];
+          const glm::vec3 &a = pic.segmentEnds[2 * it.index], &b = pic.segmentEnds[2 * it.index + 1];
+          out("{} RG {} w {} {} m {} {} l S\n", rgb(cx.color(sg.color)), num(sg.width), X(a.x), Y(a.y), X(b.x), Y(b.y));
+          break;
+        }
+        case Item::Disc:
+        case Item::Ring: {
+          const Picture::Circle& c = pic.circles[it.index];
+          const std::string col = rgb(cx.color(g.discs[it.index].color));
+          if (it.kind == Item::Disc) {
+            out("{} rg ", col);
+            circle(float(pic.x) + c.x, H - float(pic.y) - c.y, c.r);
+            out("f\n");
+          } else {
+            out("{} RG {} w ", col, num(c.w));
+            circle(float(pic.x) + c.x, H - float(pic.y) - c.y, c.r);
+            out("S\n");
+          }
+          break;
+        }
+        case Item::Text: {
+          const Label& l = g.labels[it.index];
+          const glm::vec3& p = pic.labelAt[it.index];
+          out("% label: {}\n{} rg\n", commentText(l.text), rgb(cx.textColor(l.color)));
+          auto at = [&](float x, float y) { return fmt::format("{} {}", X(x), Y(y)); };
+          labels.forEach(l, p, [&](const text::GlyphOutline& o, float x, float y) {
+            outlinePath(o, x, y, [&](const std::string& op) { content.append(op.data(), op.data() + op.size()); }, at);
+            out("f\n");
+          });
+          break;
+        }
       }
     }
+    if (page.multiView) out("Q\n");
   }
   std::string pdf = "%PDF-1.4\n";
   std::vector<size_t> offsets;
@@ -630,7 +699,7 @@ llvm::Error writePdf(const Context& cx) {
   object("<< /Type /Catalog /Pages 2 0 R >>");
   object("<< /Type /Pages /Kids [3 0 R] /Count 1 >>");
   object(fmt::format("<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {} {}] /Contents 4 0 R /Resources << >> >>",
-                     pic.width, pic.height));
+                     page.width, page.height));
   object(fmt::format("<< /Length {} >>\nstream\n{}endstream", content.size(), fmt::to_string(content)));
   size_t xref = pdf.size();
   pdf += fmt::format("xref\n0 {}\n0000000000 65535 f \n", offsets.size() + 1);

@@ -430,7 +430,7 @@ TEST_F(ExportTest, PlyAscii) {
 }
 
 // Explicit colours (kRgbColor | 0xRRGGBB: the terrain's grid, drawn as they are) keep their RGB in
-// every mesh format, in colormap mode and with materials: 0x123456 is 18 52 86, 0.0705882
+// every format, in colormap mode and with materials: 0x123456 is 18 52 86, 0.0705882
 // 0.203922 0.337255; palette entry 255 (what clamping the value as an index gives) is not used.
 TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
   Geometry g;
@@ -444,6 +444,7 @@ TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
   };
   g.addTriangle(vtx({0, 0, 0}), vtx({1, 0, 0}), vtx({0, 1, 0}));
   g.segments.push_back({{0, 0, 0}, {0, 2, 0}, 1, line});
+  g.labels.push_back({{0, 0, 0}, "x", rgb});
   in.geometry = &g;
   for (bool materials : {false, true}) {
     SCOPED_TRACE(materials ? "materials" : "colormap");
@@ -471,6 +472,33 @@ TEST_F(ExportTest, ExplicitColoursKeepTheirRgb) {
     std::string pov = readAll(exportTo("rgb.pov"));
     EXPECT_NE(pov.find("#declare rgb_123456 = texture { pigment { srgbt <0.07058824,0.20392157,0.3372549,0> }"),
               std::string::npos) << pov;
+    // Used by what has the colour: the mesh's texture list, the segment's cylinder; the glTF's
+    // triangle and line primitives.
+    EXPECT_NE(pov.find("texture { rgb_123456 }"), std::string::npos);
+    EXPECT_NE(pov.find("texture { rgb_ABCDEF } }"), std::string::npos);
+    EXPECT_NE(pov.find("#declare text_rgb_123456 = texture { pigment { srgb <0.07058824,0.20392157,0.3372549> }"),
+              std::string::npos);  // the label's
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, (dir / "rgb.gltf").string())) << err;
+    ASSERT_EQ(model.meshes.size(), 1u);
+    std::map<int, std::string> materialOf;  // primitive mode → its material's name
+    for (const tinygltf::Primitive& p : model.meshes[0].primitives) materialOf[p.mode] = model.materials[p.material].name;
+    EXPECT_EQ(materialOf[TINYGLTF_MODE_TRIANGLES], "rgb_123456");
+    EXPECT_EQ(materialOf[TINYGLTF_MODE_LINE], "rgb_ABCDEF");
+    // STL's VisCAM word: 5 bits of each, 18/255·31 → 2, 52/255·31 → 6, 86/255·31 → 10.
+    std::string stl = readAll(exportTo("rgb.stl"));
+    ASSERT_EQ(stl.size(), 84u + 50u);
+    uint16_t attr;
+    std::memcpy(&attr, stl.data() + 84 + 48, 2);
+    EXPECT_EQ(attr, 0x8000 | 2 << 10 | 6 << 5 | 10);
+    // The 2D formats: the colours themselves (SVG's hex; PostScript's and PDF's numbers to 1/1000).
+    std::string svg = readAll(exportTo("rgb.svg"));
+    EXPECT_NE(svg.find("{fill:#123456}"), std::string::npos);
+    EXPECT_NE(svg.find("{stroke:#abcdef}"), std::string::npos);
+    EXPECT_NE(readAll(exportTo("rgb.eps")).find("\n0.071 0.204 0.337 "), std::string::npos);
+    EXPECT_NE(readAll(exportTo("rgb.pdf")).find("\n0.671 0.804 0.937 RG "), std::string::npos);
   }
 }
 
@@ -1175,6 +1203,105 @@ TEST_F(ExportTest, PostScriptGradient) {
   char want[64];
   std::snprintf(want, sizeof want, "%g ", std::round(c[0] * k * 1000) / 1000);
   EXPECT_NE(ps.find(std::string("\n") + want), std::string::npos) << want;
+}
+
+// A multi-view model (manual §7.3): the 2D formats draw every view in its rectangle of the page,
+// as the picture lays them out (paneRects), each framed in it alone — its drawing centred in its
+// rectangle — with the window border colour between them. The 3D formats hold `geometry` (view 0)
+// and say so.
+TEST_F(ExportTest, MultiView) {
+  std::vector<ViewPane> views(2);
+  views[0].geometry.segments.push_back({{0, 0, 0}, {1, 1, 0}, 1, 3});
+  views[1].geometry.segments.push_back({{5, 5, 0}, {5, 7, 0}, 1, 4});
+  views[0].rect = ViewPane::Rect::inside(0, 0, 0.5f, 1);
+  views[1].rect = ViewPane::Rect::inside(0.5f, 0, 0.5f, 1);
+  views[1].viewId = 1;
+  view.windows = {{"left", 0, 0, 0.5f, 1}, {"right", 0.5f, 0, 0.5f, 1}};
+  view.windowBorderSize = 4;
+  view.windowBorderColor = {1, 0, 0};
+  in.camera.reset();
+  in.width = 400, in.height = 200;
+  in.views = &views;
+  // Side by side, 4 px apart, the whole height: {x0, top y0, width, height} of each.
+  const auto rects = paneRects({views[0].rect, views[1].rect}, 400, 200, 4);
+  ASSERT_EQ(rects.size(), 2u);
+  EXPECT_EQ(rects[0][0], 0);
+  EXPECT_EQ(rects[1][0] - (rects[0][0] + rects[0][2]), 4);
+  EXPECT_EQ(rects[1][0] + rects[1][2], 400);
+  EXPECT_EQ(rects[0][3], 200);
+  // Where each view's segment's midpoint falls on the page (x right, y down), and its colour.
+  auto centre = [&](int v) {
+    return std::pair<float, float>(rects[v][0] + rects[v][2] / 2.0f, rects[v][1] + rects[v][3] / 2.0f);
+  };
+  const std::string colors[2] = {hex(color(3)), hex(color(4))};
+
+  std::string note;
+  in.note = &note;
+  std::string svg = readAll(exportTo("mv.svg"));
+  EXPECT_EQ(note, "");
+  EXPECT_NE(svg.find("<rect id=\"border\" x=\"0\" y=\"0\" width=\"400\" height=\"200\" fill=\"#ff0000\"/>"), std::string::npos);
+  const SvgPicture classes = readSvg(svg);
+  for (int v = 0; v < 2; ++v) {
+    SCOPED_TRACE(v);
+    const std::string head = fmt::format("<svg id=\"view{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"", v, rects[v][0],
+                                         rects[v][1], rects[v][2], rects[v][3]);
+    size_t at = svg.find(head);
+    ASSERT_NE(at, std::string::npos) << svg;
+    std::string inside = svg.substr(at, svg.find("</svg>", at) - at);
+    EXPECT_NE(inside.find(fmt::format("fill=\"{}\"", hex(color(0)))), std::string::npos);  // its background
+    SvgPicture pic = readSvg(inside);
+    ASSERT_EQ(pic.paths.size(), 1u);
+    ASSERT_EQ(pic.paths[0].subpaths.size(), 1u);
+    const auto& ends = pic.paths[0].subpaths[0];
+    ASSERT_EQ(ends.size(), 2u);
+    // In the view's own coordinates: centred in it, inside it.
+    EXPECT_TRUE(near({(ends[0].first + ends[1].first) / 2, (ends[0].second + ends[1].second) / 2},
+                     {rects[v][2] / 2.0f, rects[v][3] / 2.0f}, 0.11f));
+    for (auto [x, y] : ends) {
+      EXPECT_GE(x, 0);
+      EXPECT_LE(x, rects[v][2]);
+      EXPECT_GE(y, 0);
+      EXPECT_LE(y, rects[v][3]);
+    }
+    EXPECT_EQ(classColor(classes, pic.paths[0], 's'), colors[v]);
+  }
+
+  // EPS and PDF (1 pt per pixel, y up): each view clipped to its rectangle, its line in it.
+  std::string eps = readAll(exportTo("mv.eps"));
+  EXPECT_NE(eps.find("\n1 0 0 setrgbcolor fill\n"), std::string::npos);  // the border
+  auto epsLines = [&](const std::string& text, const std::regex& pattern) {
+    std::vector<std::array<float, 4>> out;
+    for (std::sregex_iterator it(text.begin(), text.end(), pattern), end; it != end; ++it)
+      out.push_back({std::stof((*it)[1]), std::stof((*it)[2]), std::stof((*it)[3]), std::stof((*it)[4])});
+    return out;
+  };
+  const auto psLines = epsLines(eps, std::regex("([-0-9.]+) ([-0-9.]+) ([-0-9.]+) ([-0-9.]+) L\n"));
+  std::string pdf = readAll(exportTo("mv.pdf"));
+  const auto pdfLines = epsLines(pdf, std::regex("RG [0-9.]+ w ([-0-9.]+) ([-0-9.]+) m ([-0-9.]+) ([-0-9.]+) l S\n"));
+  ASSERT_EQ(psLines.size(), 2u);
+  ASSERT_EQ(pdfLines.size(), 2u);
+  for (int v = 0; v < 2; ++v) {
+    SCOPED_TRACE(v);
+    const auto [cx, cy] = centre(v);
+    for (const auto& l : {psLines[v], pdfLines[v]})
+      EXPECT_TRUE(near({(l[0] + l[2]) / 2, (l[1] + l[3]) / 2}, {cx, 200 - cy}, 0.011f)) << l[0] << " " << l[1];
+    EXPECT_NE(eps.find(fmt::format("gsave newpath {} {} moveto {} 0 rlineto 0 {} rlineto", rects[v][0],
+                                   200 - rects[v][1] - rects[v][3], rects[v][2], rects[v][3])),
+              std::string::npos);
+    EXPECT_NE(pdf.find(fmt::format("q {} {} {} {} re W n ", rects[v][0], 200 - rects[v][1] - rects[v][3], rects[v][2],
+                                   rects[v][3])),
+              std::string::npos);
+  }
+  exportTo("mv.ps");
+  EXPECT_EQ(note, "");
+
+  // A mesh format: `geometry` (view 0), and a note of the views it leaves out.
+  PlyData ply = readPly(exportTo("mv.ply"));
+  EXPECT_EQ(ply.edges.size(), geometry.segments.size());
+  EXPECT_NE(note.find("mv.ply holds view 0 (left) only: the view file's 2 windows are laid out together only in "
+                      "pictures"),
+            std::string::npos)
+      << note;
 }
 
 // Default palette and view; empty geometry.
