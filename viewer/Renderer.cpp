@@ -29,7 +29,8 @@
 //    (Geometry::oneSidedLighting: back faces of everything else lit with the front normal).
 //    Colours kRgbColor | 0xRRGGBB are drawn unlit as they are (the terrain's grid, glColor3f).
 //  - Labels (GLWidget::renderText): drawn over the picture, left end at the anchor, baseline 2 px
-//    below it, QFont point size = `winfont:` size (96 dpi).
+//    below it, QFont point size = `winfont:` size (96 dpi); Qt's glyphs, pixmap, colour bytes and
+//    lpfg's alpha test as runtime/text/LabelText.h restates them (RasterLabel).
 //
 // Sections, in order (each begins with a `// ----` rule; Impl's parts with `// --- Name`):
 //   Shaders · Shader programs · Renderer::Impl: GL objects and uploads (setGeometry, setTextures,
@@ -289,7 +290,7 @@ void main() {
 const char* kTextVS = R"(
 layout(location = 0) in vec2 aPos;  // window pixels, y down
 layout(location = 1) in vec2 aUV;
-layout(location = 2) in vec4 aColor;
+layout(location = 2) in vec4 aColor;  // the label colour's bytes, 0-255
 uniform vec2 uViewport;
 out vec2 vUV; out vec4 vColor;
 void main() {
@@ -301,12 +302,17 @@ const char* kTextFS = R"(
 in vec2 vUV; in vec4 vColor;
 uniform sampler2D uAtlas;
 out vec4 oColor;
+// Qt's premultiplied pixel (LabelText.h premultiply(): x·a + (x·a >> 8) + 128 >> 8, exact in
+// floats), blended ONE, ONE_MINUS_SRC_ALPHA; lpfg's alpha test drops coverage under 27/255
+// (kMinDrawnCoverage).
 void main() {
-  float a = texture(uAtlas, vUV).r;
-  if (a <= 0.0) discard;
-  oColor = vec4(vColor.rgb, vColor.a * a);
+  float a = floor(texture(uAtlas, vUV).r * 255.0 + 0.5);
+  if (a < 27.0) discard;
+  vec3 t = vColor.rgb * a;
+  oColor = vec4(floor((t + floor(t / 256.0) + 128.0) / 256.0) / 255.0, a / 255.0);
 }
 )";
+static_assert(runtime::text::kMinDrawnCoverage == 27, "kTextFS's alpha test");
 
 // ---------------------------------------------------------------------------------------------
 // Shader programs (compile, link, one per variant)
@@ -389,30 +395,22 @@ struct SegmentChunk {
   std::vector<WidthGroup> groups;  // empty unless the widths are fragmented
 };
 
-// Label glyphs, rendered by FreeType into one atlas as the labels need them.
-struct Glyph {
+// Label pictures: each label text's pixmap as lpfg's Qt draws it (Fonts::labelBitmap), in one
+// atlas, packed as the labels first need them.
+struct LabelImage {
   int x = 0, y = 0, width = 0, height = 0;  // in the atlas
-  int left = 0, top = 0;                    // bitmap offset from the pen, y up
+  int left = 0, top = 0;                    // the pixmap's corner from the anchor's pixel, y up
 };
-// Each glyph up to four times, drawn a quarter pixel further right each time: Qt positions
-// light-hinted glyphs to a quarter pixel (its subpixel positions), and the coverage of the edges
-// shows it.
-constexpr int kSubpixelPositions = 4;
-struct GlyphKey {
-  int face;
-  uint32_t glyph;
-  int phase;
-  bool operator<(const GlyphKey& o) const { return std::tie(face, glyph, phase) < std::tie(o.face, o.glyph, o.phase); }
-};
-struct GlyphSet {
-  int pixelSize = 0;
+struct LabelAtlas {
+  runtime::text::FontSpec spec;  // what the pictures were drawn with
+  int points = 0;
   GLuint atlas = 0;
   int atlasSize = 256;
-  bool dirty = false;  // the texture lags the bitmaps
-  std::map<GlyphKey, Glyph> glyphs;
-  std::map<GlyphKey, std::vector<uint8_t>> bitmaps;  // kept to re-pack into a bigger atlas
-  std::vector<uint8_t> pixels;                     // atlasSize²
-  int x = 1, y = 1, rowHeight = 0;                 // the shelf packer's pen
+  bool dirty = false;  // the texture lags the pictures
+  std::unordered_map<std::string, LabelImage> images;
+  std::unordered_map<std::string, std::vector<uint8_t>> bitmaps;  // kept to re-pack into a bigger atlas
+  std::vector<uint8_t> pixels;                                  // atlasSize²
+  int x = 1, y = 1, rowHeight = 0;                              // the shelf packer's pen
 };
 
 }  // namespace
@@ -455,11 +453,7 @@ struct Renderer::Impl {
   RenderPalette palette;
   bool paletteDirty = true;
 
-  GlyphSet glyphs;
-  // The labels shaped (runtime/text), for this font and size; redone when either changes.
-  std::vector<runtime::text::ShapedText> shaped;
-  runtime::text::FontSpec shapedSpec;
-  int shapedSize = 0;
+  LabelAtlas labelAtlas;
 
   std::string* error = nullptr;
   RenderStats* stats = nullptr;
@@ -564,7 +558,6 @@ struct Renderer::Impl {
     }
     discs = g.discs;
     labels = g.labels;
-    shaped.clear();
 
     // Segments: 32 bytes each, in chunks that fit a buffer texture.
     segmentCount = (uint32_t)g.segments.size();
@@ -1177,120 +1170,114 @@ struct Renderer::Impl {
 
   // --- Labels ----------------------------------------------------------------------------------
 
-  // FreeType with light hinting, as Qt draws lpfg's labels on Linux (fontconfig's usual
-  // "hintslight"): the same face at an em of pixelSize gives the same pixels, near enough.
-  // Glyphs are shelf-packed into the atlas as they first appear; a full atlas doubles and
+  // Pictures are shelf-packed into the atlas as they first appear; a full atlas doubles and
   // everything is packed again.
-  bool packGlyph(const GlyphKey& key, const std::vector<uint8_t>& bits) {
-    Glyph& g = glyphs.glyphs[key];
-    if (g.width == 0) return true;
-    const int size = glyphs.atlasSize;
-    if (glyphs.x + g.width + 1 > size) glyphs.x = 1, glyphs.y += glyphs.rowHeight + 1, glyphs.rowHeight = 0;
-    if (glyphs.y + g.height + 1 > size) return false;
-    g.x = glyphs.x, g.y = glyphs.y;
-    for (int r = 0; r < g.height; ++r)
-      std::memcpy(&glyphs.pixels[size_t(g.y + r) * size + g.x], &bits[size_t(r) * g.width], (size_t)g.width);
-    glyphs.x += g.width + 1;
-    glyphs.rowHeight = std::max(glyphs.rowHeight, g.height);
-    glyphs.dirty = true;
+  bool packLabel(const std::string& text, const std::vector<uint8_t>& bits) {
+    LabelAtlas& a = labelAtlas;
+    LabelImage& im = a.images[text];
+    if (im.width == 0) return true;
+    const int size = a.atlasSize;
+    if (im.width + 2 > size) return false;
+    if (a.x + im.width + 1 > size) a.x = 1, a.y += a.rowHeight + 1, a.rowHeight = 0;
+    if (a.y + im.height + 1 > size) return false;
+    im.x = a.x, im.y = a.y;
+    for (int r = 0; r < im.height; ++r)
+      std::memcpy(&a.pixels[size_t(im.y + r) * size + im.x], &bits[size_t(r) * im.width], (size_t)im.width);
+    a.x += im.width + 1;
+    a.rowHeight = std::max(a.rowHeight, im.height);
+    a.dirty = true;
     return true;
   }
 
-  const Glyph& glyph(const GlyphKey& key) {
-    if (auto it = glyphs.glyphs.find(key); it != glyphs.glyphs.end()) return it->second;
-    runtime::text::GlyphBitmap b;
-    Glyph& g = glyphs.glyphs[key];
-    if (!runtime::text::Fonts::shared().bitmap(key.face, key.glyph, glyphs.pixelSize,
-                                               float(key.phase) / kSubpixelPositions, b))
-      return g;
-    g.left = b.left, g.top = b.top, g.width = b.width, g.height = b.height;
-    if (glyphs.pixels.empty()) glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
-    bool fits = packGlyph(key, b.pixels);
-    while (!fits && glyphs.atlasSize < 4096) {
-      glyphs.atlasSize *= 2;
-      glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
-      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
-      fits = packGlyph(key, b.pixels);
-      for (auto& [k, bits] : glyphs.bitmaps) fits = fits && packGlyph(k, bits);
+  // The picture of a label text, drawn and packed the first time.
+  const LabelImage& labelImage(const std::string& text) {
+    LabelAtlas& a = labelAtlas;
+    if (auto it = a.images.find(text); it != a.images.end()) return it->second;
+    runtime::text::Fonts& fonts = runtime::text::Fonts::shared();
+    runtime::text::GlyphBitmap b =
+        fonts.labelBitmap(fonts.shape(text, a.spec, (float)runtime::text::pixelSizeForPoints(a.points)), a.points);
+    LabelImage& im = a.images[text];
+    im.left = b.left, im.top = b.top, im.width = b.width, im.height = b.height;
+    if (a.pixels.empty()) a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
+    bool fits = packLabel(text, b.pixels);
+    while (!fits && a.atlasSize < 4096) {
+      a.atlasSize *= 2;
+      a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
+      a.x = a.y = 1, a.rowHeight = 0;
+      fits = packLabel(text, b.pixels);
+      for (auto& [t, bits] : a.bitmaps) fits = fits && packLabel(t, bits);
     }
-    if (!fits) {  // the largest atlas is full: start it afresh (glyphs already placed this frame are skipped)
-      glyphs.glyphs.clear(), glyphs.bitmaps.clear();
-      std::fill(glyphs.pixels.begin(), glyphs.pixels.end(), 0);
-      glyphs.x = glyphs.y = 1, glyphs.rowHeight = 0;
-      Glyph& fresh = glyphs.glyphs[key];
+    if (!fits) {  // the largest atlas is full: start it afresh (labels already placed this frame are skipped)
+      a.images.clear(), a.bitmaps.clear();
+      std::fill(a.pixels.begin(), a.pixels.end(), 0);
+      a.x = a.y = 1, a.rowHeight = 0;
+      LabelImage& fresh = a.images[text];
       fresh.left = b.left, fresh.top = b.top, fresh.width = b.width, fresh.height = b.height;
-      if (!packGlyph(key, b.pixels)) fresh.width = 0;
-      glyphs.bitmaps[key] = std::move(b.pixels);
+      if (!packLabel(text, b.pixels)) fresh.width = 0;
+      a.bitmaps[text] = std::move(b.pixels);
       return fresh;
     }
-    glyphs.bitmaps[key] = std::move(b.pixels);
-    return g;
+    a.bitmaps[text] = std::move(b.pixels);
+    return im;
   }
 
   void uploadAtlas() {
-    if (!glyphs.atlas) glGenTextures(1, &glyphs.atlas);
-    glBindTexture(GL_TEXTURE_2D, glyphs.atlas);
+    LabelAtlas& a = labelAtlas;
+    if (!a.atlas) glGenTextures(1, &a.atlas);
+    glBindTexture(GL_TEXTURE_2D, a.atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (glyphs.pixels.empty()) glyphs.pixels.assign(size_t(glyphs.atlasSize) * glyphs.atlasSize, 0);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, glyphs.atlasSize, glyphs.atlasSize, 0, GL_RED, GL_UNSIGNED_BYTE,
-                 glyphs.pixels.data());
+    if (a.pixels.empty()) a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, a.atlasSize, a.atlasSize, 0, GL_RED, GL_UNSIGNED_BYTE, a.pixels.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
-    glyphs.dirty = false;
+    a.dirty = false;
   }
 
+  // Each label's picture at its anchor's pixel (runtime/text: lpfg's pixmap, its left end 5 px
+  // before the anchor, the baseline 2 px below it).
   void drawLabels(const ViewSettings& view, const CameraMatrices& cam, const RenderOptions& options) {
     if (labels.empty() || !options.drawLabels) return;
-    const int pixelSize = runtime::text::pixelSizeForPoints(view.winFontSize);
     runtime::text::FontSpec spec = labelFont(view);
     spec.file = options.fontFile;
-    if (shaped.size() != labels.size() || !(spec == shapedSpec) || shapedSize != pixelSize) {
-      shaped.clear();
-      for (const runtime::Label& l : labels)
-        shaped.push_back(runtime::text::Fonts::shared().shape(l.text, spec, (float)pixelSize));
-      shapedSpec = spec, shapedSize = pixelSize;
-    }
-    if (glyphs.pixelSize != pixelSize) {
-      glyphs = GlyphSet{.pixelSize = pixelSize, .atlas = glyphs.atlas};
-    }
+    // A new font, or an atlas grown mostly of texts earlier frames had (an animated counter's):
+    // drawn afresh.
+    if (!(spec == labelAtlas.spec) || labelAtlas.points != view.winFontSize ||
+        labelAtlas.images.size() > 4 * labels.size() + 1024)
+      labelAtlas = LabelAtlas{.spec = spec, .points = view.winFontSize, .atlas = labelAtlas.atlas};
     // Quads first (they may grow the atlas), the texture coordinates once the atlas is final.
     struct Quad {
-      float x0, y0;
-      GlyphKey key;
+      int x, y;  // the anchor's pixel
+      const std::string* text;
       std::array<float, 4> col;
     };
     std::vector<Quad> quads;
-    for (size_t i = 0; i < labels.size(); ++i) {
-      const runtime::Label& l = labels[i];
+    for (const runtime::Label& l : labels) {
       glm::vec4 c = cam.projection * cam.view * glm::vec4(l.position.x, l.position.y, l.position.z, 1);
       if (c.w <= 0) continue;
       glm::vec3 w = runtime::projectToWindow(cam, l.position);
-      float x = std::round(w.x), y = std::round(w.y) + 2;  // baseline 2 px below the anchor
+      if (labelImage(l.text).width == 0) continue;
       auto col = palette.textColor(l.color);
-      for (const runtime::text::PlacedGlyph& pg : shaped[i].glyphs) {
-        // The pen's whole pixel, and its fraction down to a quarter (Qt's subPixelPositionForX).
-        float px = x + pg.x, whole = std::floor(px);
-        int phase = std::min(kSubpixelPositions - 1, int((px - whole) * kSubpixelPositions));
-        GlyphKey key{pg.face, pg.glyph, phase};
-        const Glyph& g = glyph(key);
-        if (g.width == 0) continue;
-        quads.push_back({whole + g.left, std::round(y + pg.y) - g.top, key, {col[0], col[1], col[2], 1}});
-      }
+      std::array<float, 4> bytes{};
+      for (int k = 0; k < 3; ++k) bytes[k] = (float)runtime::text::colorByte(col[k]);
+      quads.push_back({(int)std::round(w.x), (int)std::round(w.y), &l.text, bytes});
     }
     if (quads.empty()) return;
-    if (glyphs.dirty || !glyphs.atlas) uploadAtlas();
+    if (labelAtlas.dirty || !labelAtlas.atlas) uploadAtlas();
     std::vector<float> v;
     v.reserve(quads.size() * 48);
-    const float n = 1.0f / glyphs.atlasSize;
+    const float n = 1.0f / labelAtlas.atlasSize;
     for (const Quad& q : quads) {
-      const Glyph& g = glyphs.glyphs[q.key];
-      float x0 = q.x0, y0 = q.y0, x1 = x0 + g.width, y1 = y0 + g.height;
-      float s0 = g.x * n, t0 = g.y * n, s1 = (g.x + g.width) * n, t1 = (g.y + g.height) * n;
+      auto it = labelAtlas.images.find(*q.text);
+      if (it == labelAtlas.images.end() || it->second.width == 0) continue;
+      const LabelImage& im = it->second;
+      float x0 = float(q.x + im.left), y0 = float(q.y - im.top), x1 = x0 + im.width, y1 = y0 + im.height;
+      float s0 = im.x * n, t0 = im.y * n, s1 = (im.x + im.width) * n, t1 = (im.y + im.height) * n;
       float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
                           {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
       for (auto& p : quad) v.insert(v.end(), {p[0], p[1], p[2], p[3], q.col[0], q.col[1], q.col[2], 1.0f});
     }
+    if (v.empty()) return;
     glBindVertexArray(textVao);
     glBindBuffer(GL_ARRAY_BUFFER, textVbo);
     if (v.size() * sizeof(float) > textVboSize) {
@@ -1304,11 +1291,13 @@ struct Renderer::Impl {
     glUniform2f(text.loc("uViewport"), (float)cam.width, (float)cam.height);
     glUniform1i(text.loc("uAtlas"), 0);
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, glyphs.atlas);
+    glBindTexture(GL_TEXTURE_2D, labelAtlas.atlas);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // Qt's premultiplied pixmap
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(v.size() / 8));
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     ++stats->drawCalls;
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
@@ -1454,7 +1443,7 @@ struct Renderer::Impl {
     }
     if (!textures.empty()) glDeleteTextures((GLsizei)textures.size(), textures.data());
     glDeleteBuffers(1, &colorsUbo);
-    GLuint tex[] = {paletteTex, shadowTex, glyphs.atlas};
+    GLuint tex[] = {paletteTex, shadowTex, labelAtlas.atlas};
     glDeleteTextures(3, tex);
     if (shadowFbo) glDeleteFramebuffers(1, &shadowFbo);
   }

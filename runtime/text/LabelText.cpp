@@ -31,7 +31,9 @@ namespace {
   X(hb_font_get_glyph_h_advance) X(hb_buffer_create) X(hb_buffer_destroy) X(hb_buffer_clear_contents)         \
   X(hb_buffer_add_utf32) X(hb_buffer_guess_segment_properties) X(hb_shape) X(hb_buffer_get_glyph_infos)       \
   X(hb_buffer_get_glyph_positions) X(hb_unicode_funcs_get_default) X(hb_unicode_general_category)             \
-  X(hb_unicode_script)
+  X(hb_unicode_script) X(hb_font_create_sub_font) X(hb_font_set_funcs) X(hb_font_set_ppem) X(hb_font_funcs_create)        \
+  X(hb_font_funcs_set_glyph_h_advance_func) X(hb_font_funcs_make_immutable) X(hb_font_funcs_set_nominal_glyph_func)    \
+  X(hb_font_funcs_set_glyph_extents_func) X(hb_face_create_for_tables) X(hb_face_set_upem) X(hb_face_set_glyph_count)
 
 struct HarfBuzz {
 #define LCJIT_DECLARE(name) decltype(&::name) name = nullptr;
@@ -107,9 +109,15 @@ std::string cleanUtf8(std::string_view utf8, bool forXml) {
 
 namespace {
 
-// HarfBuzz positions in 1/1024 pixel: finer than FreeType's 26.6, so that advances keep the
-// precision of the unhinted advance Qt lays lpfg's labels out with.
-constexpr int kUnits = 1024;
+// HarfBuzz positions in Qt's units, 1/64 pixel (kPenUnits).
+constexpr int kUnits = kPenUnits;
+
+struct Face;
+// The data of a font's advance callback.
+struct QtAdvances {
+  Face* face;
+  int pixelSize;
+};
 
 struct Face {
   std::string file;
@@ -117,10 +125,13 @@ struct Face {
   FT_Face ft = nullptr;
   int ftPixelSize = 0;
   // Qt draws this family and style from a Type 1 file of the same outlines (the URW fonts come as
-  // both; Qt takes the Type 1 one), which has no kerning table: Qt does not kern it.
+  // both; Qt takes the Type 1 one). A Type 1 file has none of the OpenType tables, so HarfBuzz
+  // shapes it for Qt without any: no kerning, no ligatures, marks placed by HarfBuzz's fallback.
+  // lcjit reads the OpenType file and gives HarfBuzz a face without tables too (tablelessFace).
   bool qtType1 = false;
   hb_face_t* hbFace = nullptr;     // null without HarfBuzz
-  std::map<int, hb_font_t*> fonts;  // by scale
+  std::map<int, hb_font_t*> fonts;  // by pixel size
+  std::map<int, std::unique_ptr<QtAdvances>> advances;  // the fonts' advance callbacks' data, by pixel size
   ~Face() {
     for (auto& [s, f] : fonts) hb().hb_font_destroy(f);
     if (hbFace) hb().hb_face_destroy(hbFace);
@@ -145,6 +156,57 @@ struct SpecFaces {
       if (c.charset) FcCharSetDestroy(c.charset);
   }
 };
+
+bool setSize(Face& f, int pixelSize) {
+  if (f.ftPixelSize == pixelSize) return true;
+  if (FT_Set_Pixel_Sizes(f.ft, 0, (FT_UInt)pixelSize)) return false;
+  f.ftPixelSize = pixelSize;
+  return true;
+}
+
+// A glyph's advance as Qt lays labels out with light hinting: FreeType's unhinted (linear)
+// advance in 16.16 pixels, truncated to 1/64 pixel.
+int64_t qtAdvance(Face& f, uint32_t glyph, int pixelSize) {
+  FT_Fixed a = 0;
+  if (!setSize(f, pixelSize) || FT_Get_Advance(f.ft, glyph, FT_LOAD_NO_HINTING, &a)) return 0;
+  return int64_t(a) >> 10;
+}
+
+// Qt's font functions for HarfBuzz, restated: the glyph of a character from FreeType's Unicode
+// cmap, Qt's advance, and a glyph's box as Qt's glyph cache measures it (the light-hinted
+// glyph's, out to whole pixels; HarfBuzz places marks by it when the face has no mark tables).
+hb_position_t qtAdvanceForHarfBuzz(hb_font_t*, void* data, hb_codepoint_t glyph, void*) {
+  auto* q = static_cast<QtAdvances*>(data);
+  return hb_position_t(qtAdvance(*q->face, glyph, q->pixelSize));
+}
+hb_bool_t qtGlyphForHarfBuzz(hb_font_t*, void* data, hb_codepoint_t c, hb_codepoint_t* glyph, void*) {
+  *glyph = FT_Get_Char_Index(static_cast<QtAdvances*>(data)->face->ft, c);
+  return *glyph != 0;
+}
+hb_bool_t qtExtentsForHarfBuzz(hb_font_t*, void* data, hb_codepoint_t glyph, hb_glyph_extents_t* e, void*) {
+  auto* q = static_cast<QtAdvances*>(data);
+  *e = hb_glyph_extents_t{};
+  if (!setSize(*q->face, q->pixelSize)) return true;
+  FT_Face ft = q->face->ft;
+  const FT_Int32 hinting = q->pixelSize <= 64 ? FT_LOAD_TARGET_LIGHT : FT_LOAD_NO_HINTING;
+  if (FT_Load_Glyph(ft, glyph, FT_LOAD_DEFAULT | FT_LOAD_NO_BITMAP | FT_LOAD_IGNORE_GLOBAL_ADVANCE_WIDTH | hinting))
+    return true;
+  const FT_Glyph_Metrics& m = ft->glyph->metrics;
+  const FT_Pos left = m.horiBearingX & -64, right = (m.horiBearingX + m.width + 63) & -64;
+  const FT_Pos top = (m.horiBearingY + 63) & -64, bottom = (m.horiBearingY - m.height) & -64;
+  // Qt's y points down, as this font's scale does.
+  *e = hb_glyph_extents_t{hb_position_t(left), hb_position_t(-top), hb_position_t(right - left), hb_position_t(top - bottom)};
+  return true;
+}
+
+// A HarfBuzz face with no tables, as Qt's HarfBuzz sees a Type 1 file.
+hb_face_t* tablelessFace(FT_Face ft) {
+  hb_face_t* face = hb().hb_face_create_for_tables([](hb_face_t*, hb_tag_t, void*) -> hb_blob_t* { return nullptr; },
+                                                   nullptr, nullptr);
+  hb().hb_face_set_upem(face, ft->units_per_EM ? ft->units_per_EM : 1000);
+  hb().hb_face_set_glyph_count(face, (unsigned)ft->num_glyphs);
+  return face;
+}
 
 int fcWeight(int weight) {
   return weight <= 25 ? FC_WEIGHT_LIGHT : weight <= 50 ? FC_WEIGHT_REGULAR : weight <= 63 ? FC_WEIGHT_DEMIBOLD
@@ -210,21 +272,27 @@ struct Fonts::Impl {
     return id;
   }
 
-  hb_font_t* font(int face, float pixelSize) {
-    int scale = (int)std::lround(pixelSize * kUnits);
-    auto& fonts = faces[face]->fonts;
-    if (auto it = fonts.find(scale); it != fonts.end()) return it->second;
-    hb_font_t* f = hb().hb_font_create(faces[face]->hbFace);
-    hb().hb_font_set_scale(f, scale, scale);
-    return fonts[scale] = f;
-  }
-
-  // The unhinted advance from FreeType (HarfBuzz's own when it is there).
-  float advance(int face, uint32_t glyph, float pixelSize) {
-    FT_Face ft = faces[face]->ft;
-    FT_Fixed a = 0;
-    if (FT_Get_Advance(ft, glyph, FT_LOAD_NO_SCALE, &a)) return 0;
-    return float(a) * pixelSize / float(ft->units_per_EM ? ft->units_per_EM : 1000);
+  // The face at an em of pixelSize as Qt sets it up for HarfBuzz: scaled to 1/64 pixel, y down,
+  // its ppem given (for the face's device-table adjustments), Qt's advances.
+  hb_font_t* font(int face, int pixelSize) {
+    Face& f = *faces[face];
+    if (auto it = f.fonts.find(pixelSize); it != f.fonts.end()) return it->second;
+    static hb_font_funcs_t* const funcs = [] {
+      hb_font_funcs_t* fs = hb().hb_font_funcs_create();
+      hb().hb_font_funcs_set_nominal_glyph_func(fs, qtGlyphForHarfBuzz, nullptr, nullptr);
+      hb().hb_font_funcs_set_glyph_h_advance_func(fs, qtAdvanceForHarfBuzz, nullptr, nullptr);
+      hb().hb_font_funcs_set_glyph_extents_func(fs, qtExtentsForHarfBuzz, nullptr, nullptr);
+      hb().hb_font_funcs_make_immutable(fs);
+      return fs;
+    }();
+    hb_font_t* parent = hb().hb_font_create(f.hbFace);
+    hb().hb_font_set_scale(parent, pixelSize * kUnits, -pixelSize * kUnits);
+    hb().hb_font_set_ppem(parent, (unsigned)pixelSize, (unsigned)pixelSize);
+    hb_font_t* font = hb().hb_font_create_sub_font(parent);
+    hb().hb_font_destroy(parent);
+    auto& data = f.advances[pixelSize] = std::make_unique<QtAdvances>(QtAdvances{&f, pixelSize});
+    hb().hb_font_set_funcs(font, funcs, data.get(), nullptr);
+    return f.fonts[pixelSize] = font;
   }
 
   bool has(int face, char32_t c) { return face >= 0 && FT_Get_Char_Index(faces[face]->ft, c) != 0; }
@@ -250,6 +318,16 @@ struct Fonts::Impl {
     if (objects) FcObjectSetDestroy(objects);
     if (twin) FcPatternDestroy(twin);
     return found;
+  }
+
+  static void markQtType1(Face& f) {
+    if (f.qtType1) return;
+    f.qtType1 = true;
+    if (!f.hbFace) return;
+    for (auto& [size, font] : f.fonts) hb().hb_font_destroy(font);
+    f.fonts.clear();
+    hb().hb_face_destroy(f.hbFace);
+    f.hbFace = tablelessFace(f.ft);
   }
 
   SpecFaces& facesFor(const FontSpec& spec) {
@@ -279,7 +357,7 @@ struct Fonts::Impl {
           std::string file;
           int index = 0;
           if (fileOf(match, file, index)) sf->primary = faceId(file, index);
-          if (sf->primary >= 0 && hasType1Twin(match)) faces[sf->primary]->qtType1 = true;
+          if (sf->primary >= 0 && hasType1Twin(match)) markQtType1(*faces[sf->primary]);
           FcPatternDestroy(match);
         }
       }
@@ -318,13 +396,6 @@ struct Fonts::Impl {
     if (face < 0) face = sf.primary;  // its .notdef box: what is missing shows as missing
     return sf.chosen[c] = face;
   }
-
-  bool setSize(Face& f, int pixelSize) {
-    if (f.ftPixelSize == pixelSize) return true;
-    if (FT_Set_Pixel_Sizes(f.ft, 0, (FT_UInt)pixelSize)) return false;
-    f.ftPixelSize = pixelSize;
-    return true;
-  }
 };
 
 Fonts& Fonts::shared() {
@@ -348,7 +419,8 @@ std::string Fonts::faceFile(int face) {
 ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixelSize) {
   ShapedText out;
   const std::u32string text = decodeUtf8(utf8);
-  if (text.empty() || !(pixelSize > 0)) return out;
+  const int em = (int)std::lround(pixelSize);  // Qt's ems are whole pixels
+  if (text.empty() || em <= 0) return out;
   std::lock_guard lock(impl_->mutex);
   SpecFaces& sf = impl_->facesFor(spec);
   if (sf.primary < 0) return out;
@@ -357,19 +429,19 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
   std::vector<int> faceOf(text.size());
   for (size_t i = 0; i < text.size(); ++i)
     faceOf[i] = i > 0 && isMark(text[i]) && impl_->has(faceOf[i - 1], text[i]) ? faceOf[i - 1] : impl_->pick(sf, text[i]);
+  // The pen in 1/64 pixel, summed exactly as Qt sums its fixed-point advances.
+  int64_t pen = 0;
   if (!hb().loaded) {  // no shaping: the cmap's glyph per character, the face's advances
-    float pen = 0;
     for (size_t i = 0; i < text.size(); ++i) {
       uint32_t glyph = FT_Get_Char_Index(impl_->faces[faceOf[i]]->ft, text[i]);
-      out.glyphs.push_back({faceOf[i], glyph, pen, 0});
-      pen += impl_->advance(faceOf[i], glyph, pixelSize);
+      out.glyphs.push_back({faceOf[i], glyph, float(pen) / kUnits, 0});
+      pen += qtAdvance(*impl_->faces[faceOf[i]], glyph, em);
     }
-    out.advance = pen;
+    out.advance = float(pen) / kUnits;
     return out;
   }
   // Runs of one face and one script (characters common to all scripts join either side).
   hb_buffer_t* buffer = hb().hb_buffer_create();
-  float pen = 0;
   for (size_t start = 0; start < text.size();) {
     hb_script_t script = scriptOf(text[start]);
     size_t end = start + 1;
@@ -383,29 +455,28 @@ ShapedText Fonts::shape(std::string_view utf8, const FontSpec& spec, float pixel
                         (int)(end - start));
     hb().hb_buffer_guess_segment_properties(buffer);
     const int face = faceOf[start];
-    const bool kerning = spec.kerning && !impl_->faces[face]->qtType1;
+    const bool kerning = spec.kerning;
     const hb_feature_t noKerning{HB_TAG('k', 'e', 'r', 'n'), 0, HB_FEATURE_GLOBAL_START, HB_FEATURE_GLOBAL_END};
-    hb().hb_shape(impl_->font(face, pixelSize), buffer, kerning ? nullptr : &noKerning, kerning ? 0 : 1);
+    hb().hb_shape(impl_->font(face, em), buffer, kerning ? nullptr : &noKerning, kerning ? 0 : 1);
     unsigned n = 0;
     const hb_glyph_info_t* info = hb().hb_buffer_get_glyph_infos(buffer, &n);
     const hb_glyph_position_t* pos = hb().hb_buffer_get_glyph_positions(buffer, &n);
     for (unsigned i = 0; i < n; ++i) {
-      out.glyphs.push_back({face, info[i].codepoint, pen + float(pos[i].x_offset) / kUnits,
-                            -float(pos[i].y_offset) / kUnits});
-      pen += float(pos[i].x_advance) / kUnits;
+      out.glyphs.push_back({face, info[i].codepoint, float(pen + pos[i].x_offset) / kUnits,
+                            float(pos[i].y_offset) / kUnits});
+      pen += pos[i].x_advance;
     }
     start = end;
   }
   hb().hb_buffer_destroy(buffer);
-  out.advance = pen;
+  out.advance = float(pen) / kUnits;
   return out;
 }
 
 float Fonts::glyphAdvance(int face, uint32_t glyph, float pixelSize) {
   std::lock_guard lock(impl_->mutex);
   if (face < 0 || face >= (int)impl_->faces.size()) return 0;
-  if (!hb().loaded) return impl_->advance(face, glyph, pixelSize);
-  return float(hb().hb_font_get_glyph_h_advance(impl_->font(face, pixelSize), glyph)) / kUnits;
+  return float(qtAdvance(*impl_->faces[face], glyph, (int)std::lround(pixelSize))) / kUnits;
 }
 
 GlyphOutline Fonts::outline(int face, uint32_t glyph, float pixelSize) {
@@ -467,17 +538,30 @@ GlyphOutline Fonts::outline(int face, uint32_t glyph, float pixelSize) {
   return out;
 }
 
-bool Fonts::bitmap(int face, uint32_t glyph, int pixelSize, float shift, GlyphBitmap& out) {
+namespace {
+// Qt draws glyphs from its glyph cache up to an em of this many pixels, and fills the outlines
+// of larger ones.
+constexpr int kQtCachedGlyphLimit = 64;
+}  // namespace
+
+int subpixelSteps(int pixelSize) { return pixelSize <= kQtCachedGlyphLimit ? 4 : kPenUnits; }
+
+bool Fonts::bitmap(int face, uint32_t glyph, int pixelSize, int phase, GlyphBitmap& out) {
   out = GlyphBitmap();
   std::lock_guard lock(impl_->mutex);
   if (face < 0 || face >= (int)impl_->faces.size()) return false;
   Face& f = *impl_->faces[face];
-  if (!impl_->setSize(f, pixelSize)) return false;
+  if (!setSize(f, pixelSize)) return false;
   FT_Face ft = f.ft;
-  if (FT_Load_Glyph(ft, glyph, FT_LOAD_DEFAULT | FT_LOAD_TARGET_LIGHT)) return false;
-  if (ft->glyph->format == FT_GLYPH_FORMAT_OUTLINE)
-    FT_Outline_Translate(&ft->glyph->outline, (FT_Pos)std::lround(shift * 64), 0);
-  if (FT_Render_Glyph(ft->glyph, FT_RENDER_MODE_LIGHT)) return false;
+  // Qt's glyph cache loads light-hinted glyphs and moves them right by the quarter pixel plus
+  // 1/64; a filled outline is unhinted, at the pen's 1/64.
+  const bool cached = pixelSize <= kQtCachedGlyphLimit;
+  const FT_Int32 load = FT_LOAD_DEFAULT | FT_LOAD_NO_BITMAP | FT_LOAD_IGNORE_GLOBAL_ADVANCE_WIDTH |
+                        (cached ? FT_LOAD_TARGET_LIGHT : FT_LOAD_NO_HINTING);
+  const FT_Pos shift = cached ? phase * (kPenUnits / subpixelSteps(pixelSize)) + 1 : phase;
+  if (FT_Load_Glyph(ft, glyph, load)) return false;
+  if (ft->glyph->format == FT_GLYPH_FORMAT_OUTLINE) FT_Outline_Translate(&ft->glyph->outline, shift, 0);
+  if (FT_Render_Glyph(ft->glyph, cached ? FT_RENDER_MODE_LIGHT : FT_RENDER_MODE_NORMAL)) return false;
   const FT_Bitmap& b = ft->glyph->bitmap;
   out.left = ft->glyph->bitmap_left;
   out.top = ft->glyph->bitmap_top;
@@ -495,6 +579,47 @@ bool Fonts::bitmap(int face, uint32_t glyph, int pixelSize, float shift, GlyphBi
     }
   }
   return true;
+}
+
+RasterLabel rasterLabel(const ShapedText& shaped, int points) {
+  RasterLabel r;
+  const int steps = subpixelSteps(pixelSizeForPoints(points));
+  // lpfg's pixmap, from the anchor's pixel: the pen starts 5 px in, the baseline 2 px below.
+  constexpr int kPenStart = 5, kBaseline = 2;
+  for (const PlacedGlyph& g : shaped.glyphs) {
+    const int64_t x = int64_t(kPenStart) * kPenUnits + std::llround(double(g.x) * kPenUnits);
+    const int64_t whole = x >= 0 ? x / kPenUnits : -((-x + kPenUnits - 1) / kPenUnits);
+    const int phase = int(x - whole * kPenUnits) * steps / kPenUnits;
+    r.glyphs.push_back({g.face, g.glyph, phase, int(whole) - kPenStart, kBaseline + (int)std::floor(g.y + 0.5f)});
+  }
+  // The pixmap: the label's rounded advance and 10 px wide, points + points/3 + 1 rows high.
+  r.left = -kPenStart;
+  r.right = r.left + (int)std::floor(shaped.advance + 0.5f) + 10;
+  r.top = kBaseline - points;
+  r.bottom = r.top + points + points / 3 + 1;
+  return r;
+}
+
+GlyphBitmap Fonts::labelBitmap(const ShapedText& shaped, int points) {
+  const RasterLabel r = rasterLabel(shaped, points);
+  const int em = pixelSizeForPoints(points);
+  GlyphBitmap out;
+  out.left = r.left, out.top = -r.top;
+  out.width = r.right - r.left, out.height = r.bottom - r.top;
+  out.pixels.assign(size_t(out.width) * out.height, 0);
+  GlyphBitmap g;
+  for (const RasterGlyph& rg : r.glyphs) {
+    if (!bitmap(rg.face, rg.glyph, em, rg.phase, g)) continue;
+    // The bitmap's corner in the pixmap, then Qt's source-over of the glyph's coverage.
+    const int x0 = rg.x + g.left - r.left, y0 = rg.y - g.top - r.top;
+    for (int y = std::max(0, -y0); y < g.height && y0 + y < out.height; ++y)
+      for (int x = std::max(0, -x0); x < g.width && x0 + x < out.width; ++x) {
+        const int c = g.pixels[size_t(y) * g.width + x];
+        uint8_t& d = out.pixels[size_t(y0 + y) * out.width + x0 + x];
+        if (c) d = uint8_t(c + premultiply(d, 255 - c));
+      }
+  }
+  return out;
 }
 
 }  // namespace lcjit::runtime::text

@@ -102,9 +102,107 @@ TEST(Text, OutlinesAndBitmaps) {
   EXPECT_LT(bottom, 3);
   GlyphBitmap b0, b2;
   ASSERT_TRUE(fonts.bitmap(o.glyphs[0].face, o.glyphs[0].glyph, 20, 0, b0));
-  ASSERT_TRUE(fonts.bitmap(o.glyphs[0].face, o.glyphs[0].glyph, 20, 0.5f, b2));
+  ASSERT_TRUE(fonts.bitmap(o.glyphs[0].face, o.glyphs[0].glyph, 20, 2, b2));  // half a pixel on
   EXPECT_GT(std::count_if(b0.pixels.begin(), b0.pixels.end(), [](uint8_t v) { return v > 128; }), 20);
   EXPECT_NE(b0.pixels, b2.pixels);
+}
+
+// Qt's layout of lpfg's labels: each glyph advances by its unhinted width truncated to 1/64
+// pixel. DejaVu Sans has 2048 units to the em; at 32 px a unit is exactly 1/64 pixel (M 1767,
+// i 569, n 1298, t 803 units: the pens Qt's QTextLayout reports, 0, 27.609375, 36.5, 56.78125).
+// At 21 px, M's 1767 units are 18.1186 px, which Qt truncates to 1159/64 = 18.109375.
+TEST(Text, QtAdvances) {
+  Fonts& fonts = Fonts::shared();
+  FontSpec dejavu;
+  dejavu.file = kDejaVu;
+  ShapedText mint = fonts.shape("Mint", dejavu, 32);
+  ASSERT_EQ(mint.glyphs.size(), 4u);
+  const float pens[] = {0, 27.609375f, 36.5f, 56.78125f};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(mint.glyphs[i].x, pens[i]) << i;
+  EXPECT_EQ(mint.advance, 69.328125f);
+  ShapedText m = fonts.shape("M", dejavu, 21);
+  EXPECT_EQ(m.advance, 18.109375f);
+  EXPECT_EQ(fonts.glyphAdvance(m.glyphs[0].face, m.glyphs[0].glyph, 21), 18.109375f);
+}
+
+// Where the glyphs of "Mint" (24 points: 32 px) fall in lpfg's pixmap: the pen 5 px in, each
+// glyph at its pen's whole pixel, the fraction in quarters (5 + 27.609 = 32.609: pixel 32, phase
+// 2); the pixmap 69 + 10 columns wide (the advance rounded), 24 + 8 + 1 rows high, the baseline
+// 24 rows down, laid 5 px left of the anchor with the baseline 2 px below it.
+TEST(Text, RasterLabel) {
+  FontSpec dejavu;
+  dejavu.file = kDejaVu;
+  RasterLabel r = rasterLabel(Fonts::shared().shape("Mint", dejavu, 32), 24);
+  ASSERT_EQ(r.glyphs.size(), 4u);
+  const int whole[] = {0, 27, 36, 56}, phase[] = {0, 2, 2, 3};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(r.glyphs[i].x, whole[i]) << i;
+    EXPECT_EQ(r.glyphs[i].phase, phase[i]) << i;
+    EXPECT_EQ(r.glyphs[i].y, 2) << i;
+  }
+  EXPECT_EQ(r.left, -5);
+  EXPECT_EQ(r.right, 74);
+  EXPECT_EQ(r.top, -22);
+  EXPECT_EQ(r.bottom, 11);
+  EXPECT_EQ(subpixelSteps(32), 4);
+  EXPECT_EQ(subpixelSteps(64), 4);  // Qt's glyph cache takes ems up to 64 px
+  EXPECT_EQ(subpixelSteps(65), 64);
+}
+
+// The pixmaps Qt 5.15 draws for lpfg (QPainter::drawText into a transparent QPixmap, lpfg's
+// GLWidget::renderText, run under Xvfb at 96 dpi): rows of their alpha, as Qt drew them.
+//  - DejaVu Sans 24 pt, "Mint", row 15: light-hinted stems at quarter pixels plus 1/64 (the n's
+//    stems: 148 255 255 128 and 204 255 255 20);
+//  - Times 16 pt (Nimbus Roman), "ÉÅÖ", row 0: the accents cut off at the pixmap's top.
+TEST(Text, LabelBitmapAsQtDrawsIt) {
+  Fonts& fonts = Fonts::shared();
+  FontSpec dejavu;
+  dejavu.file = kDejaVu;
+  GlyphBitmap mint = fonts.labelBitmap(fonts.shape("Mint", dejavu, 32), 24);
+  ASSERT_EQ(mint.width, 79);
+  ASSERT_EQ(mint.height, 33);
+  EXPECT_EQ(mint.left, -5);
+  EXPECT_EQ(mint.top, 22);
+  const std::vector<uint8_t> row15 = {
+      0, 0, 0, 0, 0, 0, 0, 0, 216, 255, 255, 56, 0, 0, 0, 82, 255, 255, 95, 191, 255, 238, 7, 0, 0, 0,
+      148, 255, 255, 128, 0, 0, 0, 0, 0, 120, 255, 255, 104, 0, 0, 0, 0, 0, 148, 255, 255, 80, 0, 0,
+      0, 0, 0, 0, 0, 0, 204, 255, 255, 20, 0, 0, 0, 0, 68, 255, 255, 160, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+      0, 0};
+  EXPECT_EQ(std::vector<uint8_t>(mint.pixels.begin() + 15 * 79, mint.pixels.begin() + 16 * 79), row15);
+
+  FontSpec times;
+  times.family = "Times";
+  GlyphBitmap accents = fonts.labelBitmap(fonts.shape("\xc3\x89\xc3\x85\xc3\x96", times, 21), 16);
+  ASSERT_EQ(accents.width, 53);
+  ASSERT_EQ(accents.height, 22);
+  const std::vector<uint8_t> row0 = {
+      0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 137, 85, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 63, 199, 198, 111, 0, 0,
+      0, 0, 0, 0, 0, 0, 0, 0, 122, 222, 21, 0, 84, 229, 55, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  EXPECT_EQ(std::vector<uint8_t>(accents.pixels.begin(), accents.pixels.begin() + 53), row0);
+}
+
+// Qt reads Times from Nimbus Roman's Type 1 file, which has no OpenType tables: no ligatures
+// ("office" stays six glyphs, where the OpenType file has an "ffi" ligature) and no kerning.
+TEST(Text, Type1FaceAsQtShapesIt) {
+  Fonts& fonts = Fonts::shared();
+  FontSpec times;
+  times.family = "Times";
+  EXPECT_EQ(fonts.shape("office", times, 21).glyphs.size(), 6u);
+  ShapedText av = fonts.shape("AV", times, 21);
+  ASSERT_EQ(av.glyphs.size(), 2u);
+  EXPECT_EQ(av.glyphs[1].x, fonts.glyphAdvance(av.glyphs[0].face, av.glyphs[0].glyph, 21));
+}
+
+// The label colour's bytes and Qt's premultiplied products: an opaque colour's alpha is the
+// coverage itself, which lpfg's alpha test then compares.
+TEST(Text, ColourBytes) {
+  for (int n = 0; n < 256; ++n) {
+    EXPECT_EQ(colorByte(n / 255.0f), n);
+    EXPECT_EQ(premultiply(255, n), n);
+    EXPECT_EQ(premultiply(n, 255), n);
+  }
+  EXPECT_EQ(premultiply(191, 20), 15);   // 191·20/255 = 14.98
+  EXPECT_EQ(premultiply(100, 128), 50);  // 50.2
 }
 
 }  // namespace
