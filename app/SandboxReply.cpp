@@ -153,8 +153,9 @@ bool getGeometry(Reader& r, runtime::Geometry& g, size_t textures) {
     uint64_t size = b.kind == runtime::DrawBatch::Kind::Triangles  ? g.indices.size()
                     : b.kind == runtime::DrawBatch::Kind::Segments ? g.segments.size()
                     : b.kind == runtime::DrawBatch::Kind::Discs    ? g.discs.size()
+                    : b.kind == runtime::DrawBatch::Kind::Labels   ? g.labels.size()
                                                                    : 0;
-    if (uint8_t(b.kind) > uint8_t(runtime::DrawBatch::Kind::Discs)) return r.bad("an enumeration is out of range");
+    if (uint8_t(b.kind) > uint8_t(runtime::DrawBatch::Kind::Labels)) return r.bad("an enumeration is out of range");
     if (uint64_t(b.first) + b.count > size) return r.bad("a drawing batch is past its primitives");
   }
   return true;

@@ -28,16 +28,18 @@
 //    (TriangleRun::fill), and two-sided lighting stays off once a terrain is drawn
 //    (Geometry::oneSidedLighting: back faces of everything else lit with the front normal).
 //    Colours kRgbColor | 0xRRGGBB are drawn unlit as they are (the terrain's grid, glColor3f).
-//  - Labels (GLWidget::renderText): drawn over the picture, left end at the anchor, baseline 2 px
-//    below it, QFont point size = `winfont:` size (96 dpi); Qt's glyphs, pixmap, colour bytes and
-//    lpfg's alpha test as runtime/text/LabelText.h restates them (RasterLabel).
+//  - Labels (GLWidget::renderText, a QPainter on the widget when the turtle meets the label):
+//    drawn over what is drawn before them, and under what the string draws after them (with a z
+//    buffer: where that passes the depth test; the label writes no depth), left end at the anchor,
+//    baseline 2 px below it, QFont point size = `winfont:` size (96 dpi); Qt's glyphs, pixmap,
+//    colour bytes and lpfg's alpha test as runtime/text/LabelText.h restates them (RasterLabel).
 //
 // Sections, in order (each begins with a `// ----` rule; Impl's parts with `// --- Name`):
 //   Shaders · Shader programs · Renderer::Impl: GL objects and uploads (setGeometry, setTextures,
 //   uploadPalette, lights, discs) · --- Drawing ranges (triangles, segments as lines or quads,
-//   discs, painter's order) · --- Shadows · --- Labels · --- The frame (draw: passes, clipping,
-//   shadow map, labels) · Label fonts and the Renderer's public face. (The multi-view layout is
-//   runtime/turtle/ViewLayout.cpp's.)
+//   discs, painter's order, labels where the string has them) · --- Shadows · --- Labels (their
+//   quads, a range of them drawn) · --- The frame (draw: passes, clipping, shadow map) · Label
+//   fonts and the Renderer's public face. (The multi-view layout is runtime/turtle/ViewLayout.cpp's.)
 #include "viewer/Renderer.h"
 
 #include <algorithm>
@@ -54,6 +56,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <map>
+#include <optional>
 #include <tuple>
 
 namespace lcjit::viewer {
@@ -445,6 +448,7 @@ struct Renderer::Impl {
   std::vector<runtime::TriangleRun> runs;
   std::vector<DrawBatch> order;
   bool orderComplete = false;  // `order` covers every primitive (else it is not used)
+  bool labelsInOrder = false;  // some of `order`'s batches are labels
   bool oneSided = false;       // Geometry::oneSidedLighting
   std::vector<runtime::Disc> discs;
   std::vector<runtime::Label> labels;
@@ -454,6 +458,10 @@ struct Renderer::Impl {
   bool paletteDirty = true;
 
   LabelAtlas labelAtlas;
+  // This frame's label quads in textVbo (prepareLabels): label i's six vertices (none when it is
+  // not drawn) from labelFirstVertex[i]; empty when no label is drawn.
+  std::vector<uint32_t> labelFirstVertex;
+  glm::vec2 labelViewport{1, 1};
 
   std::string* error = nullptr;
   RenderStats* stats = nullptr;
@@ -552,9 +560,11 @@ struct Renderer::Impl {
     if (runs.empty() && indexCount) runs.push_back({0, indexCount, -1});
     order = g.order;
     {
-      uint64_t covered[3] = {0, 0, 0};
+      uint64_t covered[4] = {0, 0, 0, 0};
       for (const DrawBatch& b : order) covered[int(b.kind)] += b.count;
-      orderComplete = covered[0] == g.indices.size() && covered[1] == g.segments.size() && covered[2] == g.discs.size();
+      orderComplete = covered[0] == g.indices.size() && covered[1] == g.segments.size() &&
+                      covered[2] == g.discs.size() && covered[3] == g.labels.size();
+      labelsInOrder = covered[3] > 0;
     }
     discs = g.discs;
     labels = g.labels;
@@ -1081,11 +1091,35 @@ struct Renderer::Impl {
     }
   }
 
-  void drawAll(const Pass& pass, bool painterOrder) {
+  // Everything, in lpfg's order where it shows: batch by batch in painter's order; with a z buffer
+  // and opaque colours, each kind at once, except that labels (withLabels: the picture's pass, not
+  // the shadow map's) split the drawing where the string has them, since what comes after a label
+  // covers it. Without a (complete) order: lines, polygons, discs, then labels.
+  void drawAll(const Pass& pass, bool painterOrder, bool withLabels = false) {
     currentProgram = -1;
-    if (painterOrder && orderComplete) {
+    if (orderComplete && (painterOrder || (withLabels && labelsInOrder))) {
+      constexpr uint32_t kNone = ~0u;
+      uint32_t lo[3] = {kNone, kNone, kNone}, hi[3] = {0, 0, 0};  // since the last label, by kind
+      auto flush = [&] {
+        if (lo[1] != kNone) drawSegments(pass, lo[1], std::min(hi[1], segmentCount) - std::min(lo[1], segmentCount));
+        if (lo[0] != kNone) drawTriangles(pass, lo[0], std::min(hi[0], indexCount) - std::min(lo[0], indexCount));
+        if (lo[2] != kNone) drawDiscs(pass, lo[2], hi[2] - lo[2]);
+        for (int k = 0; k < 3; ++k) lo[k] = kNone, hi[k] = 0;
+      };
       uint32_t covered[3] = {0, 0, 0};
       for (const DrawBatch& b : order) {
+        if (b.kind == DrawBatch::Kind::Labels) {
+          flush();
+          if (withLabels) drawLabelRange(b.first, b.count);
+          continue;
+        }
+        const int k = int(b.kind);
+        covered[k] = std::max(covered[k], b.first + b.count);
+        if (!painterOrder) {
+          lo[k] = std::min(lo[k], b.first);
+          hi[k] = std::max(hi[k], b.first + b.count);
+          continue;
+        }
         switch (b.kind) {
           case DrawBatch::Kind::Triangles:
             drawTriangles(pass, b.first, std::min(b.count, indexCount > b.first ? indexCount - b.first : 0));
@@ -1094,10 +1128,10 @@ struct Renderer::Impl {
             drawSegments(pass, b.first, std::min(b.count, segmentCount > b.first ? segmentCount - b.first : 0));
             break;
           case DrawBatch::Kind::Discs: drawDiscs(pass, b.first, b.count); break;
+          case DrawBatch::Kind::Labels: break;
         }
-        uint32_t& c = covered[int(b.kind)];
-        c = std::max(c, b.first + b.count);
       }
+      flush();
       if (covered[0] < indexCount) drawTriangles(pass, covered[0], indexCount - covered[0]);
       if (covered[1] < segmentCount) drawSegments(pass, covered[1], segmentCount - covered[1]);
       if (covered[2] < discs.size()) drawDiscs(pass, covered[2], (uint32_t)discs.size() - covered[2]);
@@ -1107,6 +1141,7 @@ struct Renderer::Impl {
       drawSegments(pass, 0, segmentCount);
       drawTriangles(pass, 0, indexCount);
       drawDiscs(pass, 0, (uint32_t)discs.size());
+      if (withLabels) drawLabelRange(0, (uint32_t)labels.size());
     }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
@@ -1235,8 +1270,10 @@ struct Renderer::Impl {
   }
 
   // Each label's picture at its anchor's pixel (runtime/text: lpfg's pixmap, its left end 5 px
-  // before the anchor, the baseline 2 px below it).
-  void drawLabels(const ViewSettings& view, const CameraMatrices& cam, const RenderOptions& options) {
+  // before the anchor, the baseline 2 px below it): the quads of the frame's labels, uploaded
+  // before anything is drawn, since drawAll draws them where the string has them.
+  void prepareLabels(const ViewSettings& view, const CameraMatrices& cam, const RenderOptions& options) {
+    labelFirstVertex.clear();
     if (labels.empty() || !options.drawLabels) return;
     runtime::text::FontSpec spec = labelFont(view);
     spec.file = options.fontFile;
@@ -1251,8 +1288,10 @@ struct Renderer::Impl {
       const std::string* text;
       std::array<float, 4> col;
     };
-    std::vector<Quad> quads;
-    for (const runtime::Label& l : labels) {
+    std::vector<std::optional<Quad>> quads(labels.size());
+    bool any = false;
+    for (size_t i = 0; i < labels.size(); ++i) {
+      const runtime::Label& l = labels[i];
       glm::vec4 c = cam.projection * cam.view * glm::vec4(l.position.x, l.position.y, l.position.z, 1);
       if (c.w <= 0) continue;
       glm::vec3 w = runtime::projectToWindow(cam, l.position);
@@ -1260,25 +1299,32 @@ struct Renderer::Impl {
       auto col = palette.textColor(l.color);
       std::array<float, 4> bytes{};
       for (int k = 0; k < 3; ++k) bytes[k] = (float)runtime::text::colorByte(col[k]);
-      quads.push_back({(int)std::round(w.x), (int)std::round(w.y), &l.text, bytes});
+      quads[i] = Quad{(int)std::round(w.x), (int)std::round(w.y), &l.text, bytes};
+      any = true;
     }
-    if (quads.empty()) return;
+    if (!any) return;
     if (labelAtlas.dirty || !labelAtlas.atlas) uploadAtlas();
     std::vector<float> v;
-    v.reserve(quads.size() * 48);
+    v.reserve(labels.size() * 48);
+    labelFirstVertex.reserve(labels.size() + 1);
     const float n = 1.0f / labelAtlas.atlasSize;
-    for (const Quad& q : quads) {
-      auto it = labelAtlas.images.find(*q.text);
+    for (const std::optional<Quad>& q : quads) {
+      labelFirstVertex.push_back(uint32_t(v.size() / 8));
+      if (!q) continue;
+      auto it = labelAtlas.images.find(*q->text);
       if (it == labelAtlas.images.end() || it->second.width == 0) continue;
       const LabelImage& im = it->second;
-      float x0 = float(q.x + im.left), y0 = float(q.y - im.top), x1 = x0 + im.width, y1 = y0 + im.height;
+      float x0 = float(q->x + im.left), y0 = float(q->y - im.top), x1 = x0 + im.width, y1 = y0 + im.height;
       float s0 = im.x * n, t0 = im.y * n, s1 = (im.x + im.width) * n, t1 = (im.y + im.height) * n;
       float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
                           {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
-      for (auto& p : quad) v.insert(v.end(), {p[0], p[1], p[2], p[3], q.col[0], q.col[1], q.col[2], 1.0f});
+      for (auto& p : quad) v.insert(v.end(), {p[0], p[1], p[2], p[3], q->col[0], q->col[1], q->col[2], 1.0f});
     }
-    if (v.empty()) return;
-    glBindVertexArray(textVao);
+    labelFirstVertex.push_back(uint32_t(v.size() / 8));
+    if (v.empty()) {
+      labelFirstVertex.clear();
+      return;
+    }
     glBindBuffer(GL_ARRAY_BUFFER, textVbo);
     if (v.size() * sizeof(float) > textVboSize) {
       textVboSize = v.size() * sizeof(float);
@@ -1286,21 +1332,34 @@ struct Renderer::Impl {
     } else {
       glBufferSubData(GL_ARRAY_BUFFER, 0, v.size() * sizeof(float), v.data());
     }
-    if (!ensureLinked(text)) return;
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    labelViewport = {(float)cam.width, (float)cam.height};
+  }
+
+  // Labels [first, first+count) over what is drawn so far, as lpfg's QPainter draws its pixmap (no
+  // depth test, no depth written); the state the other draws expect is theirs again afterwards.
+  void drawLabelRange(uint32_t first, uint32_t count) {
+    if (labelFirstVertex.empty() || first >= labels.size()) return;
+    const uint32_t end = std::min<uint32_t>(first + count, (uint32_t)labels.size());
+    const uint32_t a = labelFirstVertex[first], b = labelFirstVertex[end];
+    if (a >= b || !ensureLinked(text)) return;
     glUseProgram(text.id);
-    glUniform2f(text.loc("uViewport"), (float)cam.width, (float)cam.height);
+    glUniform2f(text.loc("uViewport"), labelViewport.x, labelViewport.y);
     glUniform1i(text.loc("uAtlas"), 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, labelAtlas.atlas);
+    glBindVertexArray(textVao);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
+    clipDistances(false);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // Qt's premultiplied pixmap
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(v.size() / 8));
+    glDrawArrays(GL_TRIANGLES, GLint(a), GLsizei(b - a));
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     ++stats->drawCalls;
     glBindVertexArray(0);
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    currentProgram = -1;  // the next draw binds its program and state afresh
+    if (depthTestOn) glEnable(GL_DEPTH_TEST);
   }
 
   // --- The frame -------------------------------------------------------------------------------
@@ -1405,12 +1464,11 @@ struct Renderer::Impl {
       glBindTexture(GL_TEXTURE_2D, shadowOk ? shadowTex : 0);
       glActiveTexture(GL_TEXTURE0);
     }
+    prepareLabels(view, cam, options);
     beginPass({&cam, &lights, &view, lit, false, matBase, shadowMatrix, lightView, lightProj});
     Pass pass{&mesh[v], &segment[v], &lines[v], wireframe, view.backfaceCulling, false};
-    drawAll(pass, !depthTest || translucent);  // blending needs lpfg's order even with a z buffer
+    drawAll(pass, !depthTest || translucent, true);  // blending needs lpfg's order even with a z buffer
     if (wireframe) glLineWidth(1);
-
-    drawLabels(view, cam, options);
 
     glUseProgram(0);
     glBindVertexArray(0);

@@ -85,11 +85,13 @@ struct Bounds {
 
 // Interpretation order across primitive kinds (painter order matters with `z buffer: off`, lpfg's
 // default): each batch is a contiguous range of one kind (`first`/`count` count indices for
-// triangles, elements for segments and discs). Producers using addTriangle/addSegment/addDisc get
-// it for free. If the batches do not cover every primitive (something pushed into the vectors
-// directly), renderers ignore them and draw segments, then triangles, then discs.
+// triangles, elements for segments, discs and labels). Producers using addTriangle/addSegment/
+// addDisc/addLabel get it for free. lpfg draws a label when its turtle meets it, so what is drawn
+// after a label covers it, z buffer or not. If the batches do not cover every primitive (something
+// pushed into the vectors directly), renderers ignore them and draw segments, then triangles, then
+// discs, then labels.
 struct DrawBatch {
-  enum class Kind : uint8_t { Triangles, Segments, Discs } kind = Kind::Triangles;
+  enum class Kind : uint8_t { Triangles, Segments, Discs, Labels } kind = Kind::Triangles;
   uint32_t first = 0, count = 0;
 };
 
@@ -170,6 +172,10 @@ struct Geometry {
     discs.push_back(d);
     noteOrder(DrawBatch::Kind::Discs, (uint32_t)discs.size() - 1, 1);
     if (trackSources) discSources.push_back(currentSource);
+  }
+  void addLabel(const Label& l) {
+    labels.push_back(l);
+    noteOrder(DrawBatch::Kind::Labels, (uint32_t)labels.size() - 1, 1);
   }
   // Records that [first, first+count) of `kind` comes next in drawing order.
   void noteOrder(DrawBatch::Kind kind, uint32_t first, uint32_t count) {

@@ -601,7 +601,7 @@ void Turtle::executeModule(char* rec) {
           case __lc_id_DrawSurface: drawPatch(userPatch_, false); break;
           case __lc_id_Label: {
             const char* text = param<const char*>(rec, p0<__lc_R_Label>());
-            out_->labels.push_back({t.position, text ? text : "", t.color});
+            out_->addLabel({t.position, text ? text : "", t.color});
             break;
           }
           case __lc_id_Camera: out_->camera = CameraPose{t.position, t.heading, t.up}; break;

@@ -24,7 +24,7 @@ app::SandboxReply sample() {
   g.addTriangle(0, 1, 2);
   g.addSegment({V3f(0, 0, 0), V3f(1, 2, 3), 3, 5});
   g.addDisc({V3f(1, 1, 1), 0.5f, 2, runtime::rgbColor(1, 2, 3)});
-  g.labels.push_back({V3f(1, 0, 0), "a label", 9});
+  g.addLabel({V3f(1, 0, 0), "a label", 9});  // a batch of the drawing order too
   g.camera = runtime::CameraPose{V3f(1, 2, 3), V3f(0, 0, 1), V3f(0, 1, 0)};
   g.extent.add(V3f(-1, -2, -3));
   g.extent.add(V3f(4, 5, 6));
@@ -155,6 +155,9 @@ TEST(SandboxReply, RefusesGarbageAndLies) {
   EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("texture"), std::string::npos);
   r = sample();
   r.main.order.push_back({runtime::DrawBatch::Kind::Segments, 0, 9});
+  EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("batch"), std::string::npos);
+  r = sample();
+  r.main.order.push_back({runtime::DrawBatch::Kind::Labels, 1, 1});  // one label only
   EXPECT_NE(refusal(app::encodeSandboxReply(r)).find("batch"), std::string::npos);
   r = sample();
   r.animation.step = 0;  // the window would never reach a next frame
