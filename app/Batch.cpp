@@ -475,7 +475,7 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     if (status == 2)
       std::fprintf(stderr, "lcjit: reload %d (%s): %s; its run stopped for a newer change\n", reload, names.c_str(),
                    compiled.c_str());
-    else if (status == 1)  // the run's error is above; what it would have written was not (finding 016)
+    else if (status == 1)  // the run's error is above; what it would have written was not
       std::fprintf(stderr, "lcjit: reload %d (%s): %s; the run failed after %d steps%s%s; %.1f ms in all\n", reload,
                    names.c_str(), compiled.c_str(), session.engine().stepsDone(),
                    options.out.empty() ? "" : ", nothing written: ", options.out.empty() ? "" : (options.out + " is the last good run's").c_str(),

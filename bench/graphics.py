@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Graphics benchmarks (issue 3): interpretation of ../shared/bench/turtle.l (2 M turtle
+"""Graphics benchmarks: interpretation of bench/models/turtle.l (2 M turtle
 commands) into geometry data, and rendering bench/segments.l (1 M segments) to a PNG with Mesa's
 software rasteriser. Reports lcjit's --stats phases (median of --repeat runs); targets:
 interpretation <= 150 ms, render <= 1 s. Not a pass/fail test.
@@ -8,7 +8,7 @@ Usage: bench/graphics.py [--lcjit build/lcjit] [--repeat 3]"""
 import argparse, json, os, statistics, subprocess, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CASES = [("turtle.l -> geometry", os.path.join(ROOT, "..", "shared", "bench", "turtle.l"), "out.obj", "interpret_ms", 150),
+CASES = [("turtle.l -> geometry", os.path.join(ROOT, "bench", "models", "turtle.l"), "out.obj", "interpret_ms", 150),
          ("segments.l -> png", os.path.join(ROOT, "bench", "segments.l"), "out.png", "render_ms", 1000)]
 
 

@@ -15,7 +15,7 @@ time from noticing the change to the string written (p50; the rest is the file s
 and the pipe).
 
 Usage: bench/reload.py [--lcjit build/lcjit] [--edits 20] [model.l ...]   (default: examples/*.l)
-Targets (issue 5): p50 <= 50 ms for the teaching models; <= 20 ms for a one-production edit."""
+Targets: p50 <= 50 ms for the teaching models; <= 20 ms for a one-production edit."""
 import argparse, glob, os, re, select, shutil, statistics, subprocess, sys, tempfile, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

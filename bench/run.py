@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Benchmark lcjit: per model, the cold (no PCH cache) and warm (PCH cached) whole-run time and
-the --stats phases. Models: ../shared/bench/*.l and tests/models/*.l (or the paths given).
+the --stats phases. Models: bench/models/*.l and tests/models/*.l (or the paths given).
 
 Usage: bench/run.py [--lcjit build/lcjit] [--repeat 3] [--corpus] [model.l ...]
 Targets (see README): warm whole run of a teaching model <= 100 ms; branching.l derivation
@@ -31,7 +31,7 @@ def main():
     ap.add_argument("-O", dest="opt", type=int, default=1)
     ap.add_argument("models", nargs="*")
     a = ap.parse_args()
-    models = a.models or sorted(glob.glob(os.path.join(ROOT, "..", "shared", "bench", "*.l")))
+    models = a.models or sorted(glob.glob(os.path.join(ROOT, "bench", "models", "*.l")))
     if a.corpus:
         models += sorted(glob.glob(os.path.join(ROOT, "tests", "models", "*.l")))
     print(f"{'model':28} {'cold ms':>9} {'warm ms':>9} {'pre':>6} {'rewrite':>7} {'compile':>8} {'derive':>8} "

@@ -1,22 +1,33 @@
 #!/usr/bin/env python3
-"""lcjit against the reference lpfg, row by row (issue 16's table): paired runs with hyperfine,
+"""lcjit against the reference lpfg, row by row (docs/performance.md's table): paired runs with hyperfine,
 alternating which program goes first from one round to the next, and the ratio of the medians
 (lpfg time / lcjit time: above 1, lcjit is faster). Peak memory with /usr/bin/time. The machine's
 load average is printed before and after: figures taken beside other work are not comparable.
 
-Needs the reference lpfg (../shared/tools/build_lpfg.sh; default prefix /opt/lpfg-ref) and
+Needs the reference lpfg (tests/compat/build_reference_lpfg.sh; default prefix /opt/lpfg-ref) and
 hyperfine (Debian package). Nothing here is a test; docs/performance.md keeps a table it printed.
 
 Usage: bench/vs_lpfg.py [--lcjit build/lcjit] [--lpfg-prefix /opt/lpfg-ref] [--runs 10] [--rounds 3]
                         [--research DIR] [--rows branching,signal,...] [--json FILE]
 Rows: branching signal startup first_run compute_heavy out_str dtf memory compile_20k
   compute_heavy needs --research DIR, the folder of the LPFG-LIGNUM model (inuritdino/LPFG-LIGNUM,
-  lpfg-dist); compile_20k is lcjit alone (finding 018's 20 000 productions; no lpfg figure).
+  lpfg-dist); compile_20k is lcjit alone (a generated model of 20 000 productions; no lpfg figure).
+Models: bench/models/ (branching.l, signal.l, turtle.l).
 """
 import argparse, json, os, shutil, statistics, subprocess, sys, tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.path.join(ROOT, "..", "shared")
+MODELS = os.path.join(ROOT, "bench", "models")
+
+
+def productions_20k():
+    """A model of 20 000 productions, one per value of A's parameter: what a script generating a
+    model writes, and the compile's worst case for functions per model."""
+    lines = ["#include <lpfgall.h>", "module A(int);", "derivation length: 1;", "axiom: A(1);"]
+    lines += [f"A(n) : {{ if (n == {k}) produce A(n+1); }}" for k in range(20000)]
+    return "\n".join(lines) + "\n"
+
+
 ONE_MODULE = "#include <lpfgall.h>\nderivation length: 1;\nmodule A();\nAxiom: A;\nproduction:\nA: { produce A; }\n"
 ROWS = ["branching", "signal", "startup", "first_run", "compute_heavy", "out_str", "dtf", "memory", "compile_20k"]
 TARGETS = {"branching": 4, "signal": 4, "startup": 1, "first_run": 8, "compute_heavy": 1, "out_str": 2, "dtf": 2,
@@ -97,12 +108,12 @@ def main():
     if not shutil.which("hyperfine"):
         sys.exit("hyperfine is needed (apt install hyperfine)")
     if not os.path.exists(os.path.join(a.lpfg_prefix, "bin", "lpfg")):
-        sys.exit(f"no reference lpfg under {a.lpfg_prefix} (../shared/tools/build_lpfg.sh builds one)")
+        sys.exit(f"no reference lpfg under {a.lpfg_prefix} (tests/compat/build_reference_lpfg.sh builds one)")
     with tempfile.TemporaryDirectory() as work:
         lcjit = os.path.join(work, "lcjit")
         shutil.copy(os.path.realpath(a.lcjit), lcjit)  # a rebuild meanwhile does not change what is measured
         b = Bench(a, work)
-        bench = os.path.join(SHARED, "bench")
+        bench = MODELS
         rows = []
         before = load()
 
@@ -165,8 +176,9 @@ def main():
                 lc = b.peak_kb(d, [lcjit, "-b", "branching.l"])
                 add(row, "peak resident memory, branching.l", lp, lc, unit="KiB")
             elif row == "compile_20k":
-                model = os.path.join(SHARED, "findings", "006-large-axiom-slow-compile", "prods_20k.l")
-                d = b.folder(row, [model])
+                d = b.folder(row, [])
+                with open(os.path.join(d, "prods_20k.l"), "w") as out:
+                    out.write(productions_20k())
                 secs, kb = [], []
                 for _ in range(3):
                     fresh = os.path.join(work, "cache-20k")

@@ -19,7 +19,7 @@ namespace lcjit::frontend {
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes);
 
 // Cache files whose contents are loaded and run (object code) carry a SHA-256 of themselves,
-// checked when read: a file damaged on disk is never loaded (finding 008).
+// checked when read: a file damaged on disk is never loaded.
 bool writeCheckedCacheFile(const std::string& path, llvm::StringRef bytes);
 struct CheckedRead {
   std::optional<std::string> bytes;  // the contents, when the file is there and whole
@@ -30,7 +30,7 @@ CheckedRead readCheckedCacheFile(const std::string& path);
 // A cache folder lcjit may trust: what is in it is loaded and run as the user, so it must be the
 // user's alone. Creates `dir` (mode 0700, parents as needed) when it is missing; then it must be a
 // directory, not a symbolic link, owned by the user, and writable by no one else. Otherwise an
-// error saying why (a planted object file would run as the user: finding 009).
+// error saying why (a planted object file would run as the user).
 llvm::Error useAsCacheFolder(const std::string& dir);
 
 // A fresh folder of this process's own (mode 0700, an unpredictable name in $TMPDIR or /tmp),

@@ -58,17 +58,17 @@ bool isIdentChar(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
 // Clang's parser (and this rewriter) recurse once per bracket, per operator in prefix position,
 // per right-associative operator (=, ?:) and per statement inside a statement (if, else if,
 // while, for…). A model nested deeper than the compiling thread's stack allows would end lcjit,
-// and with it a live session (finding 001: 2,000 '!' in one expression, 8,000 nested ifs). So
+// and with it a live session (2,000 '!' in one expression, 8,000 nested ifs). So
 // before anything parses, each statement's nesting is measured token by token: the depth is the
 // open brackets plus, at every bracket level, the nesting operators and statements since that
 // level's last ';' or ','. Deeper than kMaxNesting is an error at the token that goes too deep;
 // clang managed ~1,500 nested '!' on an 8 MB stack, so 1,000 leaves room for the rest.
 // checkBeforeParsing does that, and refuses directive lines the compiler would meet before any
-// line of the model (finding 003).
+// line of the model.
 constexpr int kMaxBrackets = 256;  // clang's -fbracket-depth default
 constexpr int kMaxNesting = 1000;
 // Clang's typo correction of an unknown name costs its length times every candidate's: 100,000
-// characters took a minute (finding 005). No model's names come near this.
+// characters took a minute. No model's names come near this.
 constexpr size_t kMaxIdentifier = 1024;
 
 bool isNestingKeyword(const std::string& s) {
@@ -88,7 +88,7 @@ bool isRightAssociative(const std::string& s) {
 
 // Also pairs the brackets: one left open (or a stray closer) would swallow or cut the generated
 // code that follows the model's text, and Clang's errors would land there, in lcjit's tables,
-// instead of at the bracket (finding 004). The first unpaired one is returned, not thrown: the
+// instead of at the bracket. The first unpaired one is returned, not thrown: the
 // rewriter's own errors ("expected ')' to close the parameter list of module 'A'") say more
 // where they apply, so it is reported only when rewriting finds nothing.
 std::optional<RewriteError> checkBeforeParsing(const Lexed& lx) {
@@ -113,7 +113,7 @@ std::optional<RewriteError> checkBeforeParsing(const Lexed& lx) {
     if (t.kind == Token::Directive) {
       // What the preprocessor leaves is '#pragma …' or a kept '#include <…>'; a line that starts
       // with '#' and no directive name ('##include', a doubled '#') would reach the compiler
-      // before any line of the model, as an error in a '.l.cpp' file (finding 003).
+      // before any line of the model, as an error in a '.l.cpp' file.
       size_t k = 1;
       while (k < t.text.size() && (t.text[k] == ' ' || t.text[k] == '\t')) ++k;
       if (k < t.text.size() && !std::isalpha((unsigned char)t.text[k]))
@@ -301,7 +301,7 @@ class Emitter {
   // With `exactColumn` (user tokens), generated text that pushed the output past the token's
   // column starts a fresh line under #line, so that Clang's column numbers match the .l file.
   // Columns past kMaxPaddedColumn are not kept: each fresh line would repeat the padding, and a
-  // 200,000-character axiom line grew to gigabytes of spaces (finding 006).
+  // 200,000-character axiom line grew to gigabytes of spaces.
   static constexpr int kMaxPaddedColumn = 4096;
   void moveTo(const Token& t, bool exactColumn = false) {
     bool drifted = exactColumn && file_ == t.file && t.line == line_ && t.col < col_ && t.col <= kMaxPaddedColumn;
@@ -477,7 +477,7 @@ class Rewriter {
     const std::string& w = t.text;
     if (w == "module" && peek().kind == Token::Identifier) return moduleDeclaration(), true;
     if (w == "derivation" && peek().is("length") && peek(2).is(":")) {
-      if (haveDerivationLength_)  // finding 003: a C++ redefinition of lcjit's own name, before
+      if (haveDerivationLength_)  // a C++ redefinition of lcjit's own name, before
         fail(t, "'derivation length:' is given twice (first on line " + std::to_string(derivationLengthAt_.line) + ")");
       derivationLengthAt_ = t;
       next(), next(), next();
@@ -554,7 +554,7 @@ class Rewriter {
       const Token& number = next();
       std::string id = number.text;
       // A number as C++ reads it (0x…, 0… octal) that fits an int: else the error would come from
-      // the generated tables, with no line of the model (finding 004).
+      // the generated tables, with no line of the model.
       int value = 0;
       if (number.kind == Token::Number && llvm::StringRef(id).getAsInteger(0, value))
         fail(number, "'" + id + "' is not a " + w + " number (an int: decimal, 0x… or 0… octal)");
@@ -722,7 +722,7 @@ class Rewriter {
 
   // Each parameter type is written once, as a typedef with the user's tokens at their own columns,
   // and the generated code names the alias: a misspelt type is one error at the type in the .l
-  // file, not one per generated use at columns past the line's end (finding 003).
+  // file, not one per generated use at columns past the line's end.
   void emitModule(const Token& at, const Token& nameToken, int id, const std::vector<std::string>& types,
                   const std::vector<std::vector<Token>>& typeTokens) {
     const std::string& name = nameToken.text;
@@ -1308,7 +1308,7 @@ llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::st
   Lexed lx = lex(preprocessed, mainFile);
   std::vector<std::string> files = lx.files;
   // What is missing at the end of the file is reported just after its last token (line 1 of an
-  // empty file), not on a line past its end (finding 020).
+  // empty file), not on a line past its end.
   Token endAt = lx.tokens.back();
   endAt.line = 1, endAt.col = 1;
   for (auto it = lx.tokens.rbegin(); it != lx.tokens.rend(); ++it)

@@ -170,7 +170,7 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   jtmb->getOptions().AllowFPOpFusion = llvm::FPOpFusion::Strict;
   // One section per function: JITLink (LLVM 19) splits a shared .text block at every function's
   // unwind entry, which grows with the square of the functions: 10,000 productions took 1.4 GB
-  // and seconds to link, 115 MB with their own sections (finding 018).
+  // and seconds to link, 115 MB with their own sections.
   jtmb->getOptions().FunctionSections = true;
   // And one per variable: the linker then places each by itself (ModelMemory.h lays zero-filled
   // ones out smallest first), so that one huge array does not push the others it would share

@@ -34,7 +34,7 @@ namespace {
 
 // GeneratePCHAction with the PCH written to memory instead of the output file: clang's output
 // streams end the process (report_fatal_error) when a write fails, and a full disk must only
-// cost the cache (finding 010). The caller writes the bytes with its own checks.
+// cost the cache. The caller writes the bytes with its own checks.
 class PchToMemoryAction : public clang::GeneratePCHAction {
 public:
   explicit PchToMemoryAction(llvm::SmallVectorImpl<char>& bytes) : bytes_(bytes) {}

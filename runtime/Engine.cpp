@@ -693,7 +693,7 @@ bool Engine::deriveGillespie(int group) {
 void Engine::expand(int kind, char* src, size_t n, int depth, int group, ModuleBuffer* target, Turtle* turtle,
                     const std::function<void(const char*)>* sink, size_t level) {
   // One successor buffer per level the recursion reaches, not per level the depth allows: a
-  // `maximum depth` of a billion costs nothing until decomposition goes that deep (finding 002).
+  // `maximum depth` of a billion costs nothing until decomposition goes that deep.
   if (levels_.size() <= level) levels_.resize(level + 1);
   if (!levels_[level]) levels_[level] = std::make_unique<ModuleBuffer>();
   ModuleBuffer& succ = *levels_[level];

@@ -470,7 +470,7 @@ public:
       char* endp = nullptr;
       float v = std::strtof(value.c_str(), &endp);
       // Models #include their .vset too, so the whole value must be a number: what follows it
-      // would be expanded into the model (finding 011). A C float suffix is fine.
+      // would be expanded into the model. A C float suffix is fine.
       if (endp != value.c_str() && (*endp == 'f' || *endp == 'F')) ++endp;
       if (endp == value.c_str() || *endp != '\0' || !std::isfinite(v)) {
         std::string shown;

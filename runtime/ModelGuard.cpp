@@ -79,7 +79,7 @@ constexpr int64_t kUnwindGraceNs = 2'000'000'000;
 constexpr int64_t kBlockedGraceNs = 100'000'000;
 // Then SIGUSR2 every kForceTickNs until it lands in JIT'd code. Never in host code while it runs:
 // a jump out of lcjit's or libc's code (a vector growing, malloc) leaves their data half changed
-// (finding 013: a double free); host loops check for a stop themselves instead. Only a thread
+// (a double free); host loops check for a stop themselves instead. Only a thread
 // that has been asleep in a system call for kForceAnywhereNs (a model blocked in read()) is
 // jumped out of wherever it sleeps.
 constexpr int64_t kForceTickNs = 250'000;

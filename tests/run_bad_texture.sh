@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A texture that cannot be decoded (finding 012: a corrupt JPEG Huffman table that stb_image
+# A texture that cannot be decoded (a corrupt JPEG Huffman table that stb_image
 # wrote past) is left out with a warning naming it, and the run goes on: exit 0, the output
 # written. lpfg, too, draws a model whose texture failed to load.
 # Usage: run_bad_texture.sh LCJIT EXAMPLES_DIR CORRUPT_JPEG

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Batch tiers (issue 16): a batch run without -O starts with -O1 code; once the derivation has run
+# Batch tiers: a batch run without -O starts with -O1 code; once the derivation has run
 # --tier-after milliseconds, -O2 compiles in the background, is swapped in between steps and goes
 # into the cache; the next run starts with it. The string is the same whichever code made which
 # step: lpfg's -O3 string, worked out by hand (one A, so `count` goes up once a step). A model of

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A damaged cache entry (finding 008) is never loaded: it is deleted, the model compiled again and
+# A damaged cache entry is never loaded: it is deleted, the model compiled again and
 # the right string written, with a note naming the file; the run after that is quiet. Damage as
 # the finding measured it: code bytes flipped (lcjit died of SIGSEGV), a file cut in half, its
 # second half zeroed, the ELF header changed; and, checksum made to match, an object that will not

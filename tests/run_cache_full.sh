@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A cache folder that cannot be written (a full disk, findings 010 and 017; here a file-size limit
+# A cache folder that cannot be written (a full disk; here a file-size limit
 # of 2 MB, which fails the ~9 MB PCH's write as ENOSPC would) costs only the cache: the run gives
 # the right string with one warning, and leaves no temporary file; in --watch, the -O2 tier's
 # failed PCH write does not end the session, and an edit is still compiled and written.

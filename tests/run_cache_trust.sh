@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The disk cache holds code lcjit loads and runs, so a cache folder is used only when it is the
-# user's alone (finding 009): made 0700 when missing; one that is writable by others, a symbolic
+# user's alone: made 0700 when missing; one that is writable by others, a symbolic
 # link or (checked when run as root) another user's is refused with a warning naming it, and the
 # run compiles into a private folder instead, which is gone when it ends.
 # Usage: run_cache_trust.sh LCJIT MODEL.l (a model whose string holds A(9))

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# An installed lcjit (issue 17): `cmake --install` into a scratch prefix puts bin/lcjit and
+# An installed lcjit: `cmake --install` into a scratch prefix puts bin/lcjit and
 # share/lcjit/{include,examples,prebuilt} there; the installed program says its version, finds its
 # runtime headers and its PCHs beside itself (a first run with an empty cache folder builds no
 # PCH), and gives the build tree's string from another folder. With bubblewrap, it does so with

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A model's preprocessed text is kept in the cache folder and used while the files it was made
-# from are unchanged (issue 16: a run from the cache skips Clang's preprocessor). An edit of the
+# from are unchanged (a run from the cache skips Clang's preprocessor). An edit of the
 # model or of a header it includes is seen at once; the same file name in another folder is its
 # own model.
 # Usage: run_kept_preprocess.sh LCJIT

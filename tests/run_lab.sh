@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# --lab without a display (issue 5, teaching labs): run from another folder, lcjit works in the
-# model's folder only (picture, caches), sandboxed where it can be (issue 15), prints a broken
+# --lab without a display (teaching labs): run from another folder, lcjit works in the
+# model's folder only (picture, caches), sandboxed where it can be, prints a broken
 # model's errors in plain language before the compiler's text, and keeps watching: saving the
 # fix draws the picture.
 # Usage: run_lab.sh LCJIT MODEL.l

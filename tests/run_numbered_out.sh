@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# -out with a numbered name (issue 17, Context Free's style): `-out f%02d.obj` writes the axiom
+# -out with a numbered name (Context Free's style): `-out f%02d.obj` writes the axiom
 # and every step, f00.obj … f03.obj for 3 steps, each what `-out` alone writes for that many
 # steps; a name with no conversion, or two, is one file as before.
 # Usage: run_numbered_out.sh LCJIT MODEL.l (tests/models/numbered.l: step K draws K segments)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The build precompiles the runtime header for each level into build/prebuilt (issue 16): a
+# The build precompiles the runtime header for each level into build/prebuilt: a
 # first run with an empty cache folder uses it and builds no PCH of its own; one that cannot use
 # it (LCJIT_PREBUILT_DIR empty, or a folder others may write to) builds its own, and the string
 # is the same. Usage: run_prebuilt.sh LCJIT PREBUILT_DIR MODEL.l (a model whose string holds A(9))

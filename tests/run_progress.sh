@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The progress line of a long derivation on a terminal (issue 17; batch and the REPL): on a terminal (a pty from
+# The progress line of a long derivation on a terminal (batch and the REPL): on a terminal (a pty from
 # script(1)) lcjit writes "lcjit: step K of N: M modules", rewritten in place, clears it before
 # the model's own output and when the derivation ends; LCJIT_PROGRESS_AFTER_MS=0 shows it from the first step (by default a run
 # must have gone on for half a second). Not on a pipe or a file, not with -q.

@@ -157,7 +157,7 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     expect 0 "lcjit: warning: --lab runs without a sandbox: bubblewrap (bwrap) is not installed"
     grep -q "A(5)" o.str || fail "--lab did not run the model"
     # With a display and no sandbox, --lab is the REPL with the window: the model opens derived
-    # to its end, as lpfg opens it (issue 17's trial: it opened at step 0).
+    # to its end, as lpfg opens it (not at step 0).
     if command -v xvfb-run >/dev/null && [ "${LCJIT_HAVE_WINDOW:-0}" = 1 ]; then
       printf ':quit\n' | timeout 120 xvfb-run -a env PATH=/nonexistent "$lcjit" --lab crash.l > out.txt 2> err.txt
       awk '/^step 5 of 5: /{s=NR} /^window open/{w=NR} END{exit !(s && w && s < w)}' out.txt ||

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# -out movie.mp4 / movie.webm (issue 17): a batch run writes the axiom and every step as one video
+# -out movie.mp4 / movie.webm: a batch run writes the axiom and every step as one video
 # frame each, the same frames `-out frame%04d.png` writes as numbered pictures; --fps sets the
 # rate. An unwritable place or a --record name that is neither a video nor numbered is an error
 # with status 1 that names it.

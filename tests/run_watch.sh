@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --watch in batch mode (issue 5): one process; every save of the model rewrites -out and logs a
+# --watch in batch mode: one process; every save of the model rewrites -out and logs a
 # "reload N" line; a broken save keeps the last good model and its output; -v reports the -O2
 # tier swapped in; saving an earlier version again comes from the object cache; a surface the
 # view file comes to name is watched from then on.
@@ -54,14 +54,14 @@ grep -q 'the run stopped for the change' err.txt || fail "the stuck run was not 
 grep -q 'reload 6 (grow.l): .*its run stopped for a newer change' err.txt || fail "reload 6 not reported as stopped"
 grep -q 'interrupted' err.txt && fail "the stop was reported as an error"
 wait_for 'A(125)' out.str
-# A save nested too deep for the compiler's stack (finding 001: it ended the session): an error
+# A save nested too deep for the compiler's stack (once, it ended the session): an error
 # at its line, and the session goes on with the last good model.
 printf 'static int deep(int x) { return %sx; }\n' "$(printf '!%.0s' $(seq 1 2500))" >> grow.l
 wait_for 'reload 8 (grow.l) failed; the last good model stays' err.txt
 grep -q 'grow.l:[0-9]*:[0-9]*: error: this nests more than 1000' err.txt || fail "no error at the deep line"
 grep -q 'A(125)' out.str || fail "the deep save changed the output"
-# A save whose run crashes: the log says the run failed and that nothing was written (finding 016:
-# it said "wrote out.str").
+# A save whose run crashes: the log says the run failed and that nothing was written (not
+# "wrote out.str").
 sed -i '$d' grow.l
 wait_for 'reload 9 ' err.txt
 sed -i 's/total += x;/total += x; { volatile int* p = nullptr; *p = 1; }/' grow.l

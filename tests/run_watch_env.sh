@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --watch with an environmental program (issue 13): a program that crashes is an error naming the
+# --watch with an environmental program: a program that crashes is an error naming the
 # .e file and the session goes on; saving a fixed .e restarts the program and the model runs with
 # it; when lcjit ends, no program is left running.
 # Usage: run_watch_env.sh LCJIT FIXTURE

@@ -1,5 +1,5 @@
 // Texture images: see Images.h. PNG through libpng, JPEG through libjpeg-turbo (hardened decoders
-// of untrusted files: stb_image wrote out of bounds on a corrupt JPEG, finding 012); SGI .rgb by
+// of untrusted files: stb_image wrote out of bounds on a corrupt JPEG); SGI .rgb by
 // the reader below.
 #include "runtime/files/Images.h"
 #include "runtime/files/TextLines.h"

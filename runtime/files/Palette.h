@@ -37,7 +37,7 @@ class Palette {
 
   // .map: 256 × RGB bytes per page; every page becomes a colormap (page 0 active). lpfg itself
   // reads only the first 768 bytes. Fewer than 768 bytes is an error; bytes after the last whole
-  // page are ignored, with a warning into `warnings` ("FILE: warning: …"; finding 020). Switches
+  // page are ignored, with a warning into `warnings` ("FILE: warning: …"). Switches
   // to colormap mode. On error nothing changes.
   llvm::Error loadColormap(const std::string& path, std::vector<std::string>* warnings = nullptr);
   // .mat: binary materials (vlab tools manual §4.4): 15-byte records {u8 index, u8 transparency,

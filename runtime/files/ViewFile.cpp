@@ -189,7 +189,7 @@ class Parser {
       pos = nl + 1;
     }
     // Not one command in it (a binary file, another program's file given as the view file): one
-    // warning at its first line rather than one per line of garbage (finding 019).
+    // warning at its first line rather than one per line of garbage.
     if (commands_ == 0 && unrecognized_ > 1) {
       ViewFileWarning first = warnings_[firstUnrecognized_];
       warnings_.resize(warningsBefore);

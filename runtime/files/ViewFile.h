@@ -109,7 +109,7 @@ struct MeshDeclaration {
 };
 
 // lpfg draws as many sides as asked (up to 10000) in immediate mode and keeps nothing; lcjit
-// keeps the geometry, and a sphere costs sides² (finding 014: 10000 sides took a small tree past
+// keeps the geometry, and a sphere costs sides² (10000 sides took a small tree past
 // 12 GB). Past these, more sides change no pixel (a 1000-pixel sphere of 128 slices is within
 // 0.3 px of round), so the turtle draws at most these many.
 constexpr int kMaxDrawnRingSides = 1000;

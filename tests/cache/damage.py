@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Damages lcjit's cached object code in a cache folder, as finding 008 did: in place, the way a
+"""Damages lcjit's cached object code in a cache folder: in place, the way a
 disk, a full disk or an interrupted copy does. Usage: damage.py CACHE obj|sup MODE [--keep-checksum]
 obj: objects/*.o; sup: the -O0 PCH's support code (*.pch.o). --keep-checksum rewrites the
 checksum line over the damaged contents (an object that is whole on disk but will not load)."""

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Side-by-side comparison of lcjit with the reference lpfg on real models (strings and pictures).
 
-Not part of the test suite: it needs the reference lpfg (../shared/tools/build_lpfg.sh) and the
+Not part of the test suite: it needs the reference lpfg (tests/compat/build_reference_lpfg.sh) and the
 models, neither of which is in this repository. docs/compatibility.md says how to run it and
 what it found.
 

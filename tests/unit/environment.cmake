@@ -7,7 +7,7 @@ target_compile_definitions(lcjit_environment_test PRIVATE LCJIT_ENV_FIXTURE="$<T
 add_dependencies(lcjit_environment_test lcjit_envfixture)
 add_test(NAME environment_test COMMAND lcjit_environment_test)
 
-# lcjit ended by a signal while the program computes: nothing left behind (issue 13).
+# lcjit ended by a signal while the program computes: nothing left behind.
 foreach(case "files;TERM" "memory;HUP" "pipes;TERM" "files;INT;INT" "memory;INT")
   string(REPLACE ";" "_" label "${case}")
   add_test(NAME environment.terminated_${label}

@@ -540,7 +540,7 @@ TEST_F(ExportTest, StlBinary) {
 }
 
 // A model drawn only with lines has nothing STL can hold: the file has no triangle, and the
-// exporter says so instead of leaving it silently empty (issue 17's trial); a mesh says nothing.
+// exporter says so instead of leaving it silently empty; a mesh says nothing.
 TEST_F(ExportTest, StlOfLinesOnlySaysSo) {
   std::string note;
   in.note = &note;
@@ -650,7 +650,7 @@ TEST_F(ExportTest, Glb) {
   tinygltf::Model model;
   std::string err, warn;
   ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, p.string())) << err;
-  // A .glb is one file: it carries its texture (issue 17's trial: it referred into the checkout).
+  // A .glb is one file: it carries its texture (not a path into the checkout).
   checkGltf(model, geometry, palette, meshBounds(), readAll(dir / "leaf.png"));
 }
 

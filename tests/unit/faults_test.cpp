@@ -265,7 +265,7 @@ TEST_F(Faults, EndlessLoopThatCatchesEverything) {
 }
 
 // A stopped run unwinds to the end however long its destructors take: the grace before the
-// forced jump is the thread's CPU time, and longer while it unwinds from the stop (issue 15: on
+// forced jump is the thread's CPU time, and longer while it unwinds from the stop (on
 // a busy machine the jump came in the middle of the destructors, and what they were to free
 // stayed allocated, gigabytes over a hundred runs). Here a destructor spins for tens of
 // milliseconds, several times the 5 ms grace, before it records that it ran.

@@ -138,7 +138,7 @@ TEST(TurtleGeometry, PolygonLinesFaceTheViewer) {
 }
 
 // lpfg's limit is 10000 sides; lcjit keeps the geometry, so it draws at most 128 sphere slices
-// and 1000 ring sides (finding 014: a 10000-sided sphere per node took a small tree past 12 GB).
+// and 1000 ring sides (a 10000-sided sphere per node took a small tree past 12 GB).
 TEST(TurtleGeometry, SidesPastAPixelAreNotDrawn) {
   // (The view file's `contour sides: 10000` is the same number, with a warning: view_file_test.)
   Geometry g = draw("manysides", "ContourSides(10000) Sphere(1)", "contour sides: 8\n");

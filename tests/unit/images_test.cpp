@@ -1,6 +1,6 @@
 // Texture images: SGI .rgb (verbatim and RLE, 1-4 channels, 8/16 bits) written by the test and
 // read back pixel-exact, PNG (libpng) and JPEG (libjpeg-turbo) written by stb_image_write and
-// libpng, bottom-row-first layout, and error handling (finding 012's corrupt JPEG among it).
+// libpng, bottom-row-first layout, and error handling (a corrupt JPEG Huffman table among it).
 #include <gtest/gtest.h>
 
 #include <cstdint>

@@ -654,7 +654,7 @@ TEST(JitCacheTest, KeptCc1LineGivesTheDriversKeys) {
 }
 
 // Each function in its own section: JITLink (LLVM 19) splits a shared .text at every function's
-// unwind entry, quadratic in the functions (finding 018: 20,000 productions took 5.3 GB).
+// unwind entry, quadratic in the functions (20,000 productions took 5.3 GB).
 TEST(JitCacheTest, EachFunctionHasItsOwnSection) {
   const std::string dir = g_cacheRoot + "/sections";
   auto compiler = makeCompiler(dir);

@@ -97,7 +97,7 @@ TEST(PaletteColormap, TrailingBytesIgnored) {
   std::vector<std::string> warnings;
   const std::string path = writeFile("trailing.map", bytes);
   ASSERT_LOADS(p.loadColormap(path, &warnings));
-  // Said, not silently dropped (finding 020).
+  // Said, not silently dropped.
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0], path + ": warning: a colormap is pages of 768 bytes (256 RGB triplets); the 100 bytes after page 1 are ignored");
   EXPECT_EQ(p.pageCount(), 1);

@@ -119,7 +119,7 @@ std::string ruleNames(const std::string& cpp, int index) {
 TEST(RewriterModules, RecordStructEmitterAndFields) {
   auto r = ok("module A(float, int);\nmodule B;\nderivation length: 1;\naxiom: A(1, 2) B;\n");
   std::string s = squash(r.cpp);
-  // Each parameter type once, as a typedef the generated code names (finding 003).
+  // Each parameter type once, as a typedef the generated code names.
   EXPECT_HAS(s, "typedeffloat__lc_P_A_0;typedefint__lc_P_A_1;");
   EXPECT_HAS(s, "struct__lc_R_A{__lc_ModuleIdid;__lc_P_A_0p0;__lc_P_A_1p1;__lc_ModuleIdid2;};");
   EXPECT_HAS(s, "enum:__lc_ModuleId{__lc_id_A=103};");
@@ -521,7 +521,7 @@ TEST(RewriterLines, IncludedFileAndBackToMain) {
   EXPECT_EQ(ruleEntry(r->cpp, 0), "{0,0,(int16_t)(0),(int16_t)(0),0,0,1,0,0,-1,__lc_pattern_0,__lc_rule_0,5}");
 }
 
-// Finding 006: every argument of a long axiom line started a fresh line padded to its column, so
+// Every argument of a long axiom line once started a fresh line padded to its column, so
 // the C++ grew with the square of the line (a 200,000-character axiom gave gigabytes); and the
 // axiom, run once, is not worth optimising.
 TEST(RewriterLines, LongAxiomLinesStayLinear) {
@@ -751,7 +751,7 @@ TEST(RewriterErrors, ModuleDeclarations) {
 }
 
 TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
-  // Reported just after the last token of the input (finding 020: not on a line past its end).
+  // Reported just after the last token of the input (not on a line past its end).
   EXPECT_EQ(err("module A(float);\nderivation length: 1;\nA(x): { produce A(x); }\n"),
             "m.l:3:24: error: the model has no 'axiom:' statement");
   EXPECT_EQ(err("module A(float);\naxiom: A(1);\n"), "m.l:2:13: error: the model has no 'derivation length:' statement");
@@ -763,7 +763,7 @@ TEST(RewriterErrors, MissingAxiomOrDerivationLength) {
 
 // A statement without its ';' that runs into the next one is reported where the ';' is missing,
 // not at the next statement (which read as more of the first: `derivation length: 2 module
-// A(int)`, `axiom: A(0) production:`), nor at the body's '}' (issue 17's trial: the window's
+// A(int)`, `axiom: A(0) production:`), nor at the body's '}' (the window's
 // hint was about a module).
 TEST(RewriterErrors, MissingSemicolonBeforeTheNextStatement) {
   EXPECT_EQ(err("derivation length: 2\nmodule A(int);\naxiom: A(0);\n"),

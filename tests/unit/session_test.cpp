@@ -270,7 +270,7 @@ TEST(EngineCount, CountedAsDerivedIsTheStringsCount) {
 }
 
 // -dtf's turtle text streamed as the turtle goes is the text interpret() gives whole, across
-// chunk edges (issue 16).
+// chunk edges.
 TEST(EngineText, TurtleTextWrittenAsInterpretedIsTheWholeText) {
   ScratchModel m("dtf", "#include <lpfgall.h>\nderivation length: 1;\nmodule B;\naxiom: B;\n"
                         "B : { for (int i = 0; i < 60000; ++i) nproduce F(i * 0.5f) SB() Left(30) f(0.25) EB() "
@@ -312,7 +312,7 @@ TEST(EngineInsert, AnInsertedRecordEndsWithItsId) {
 
 namespace {
 
-// Two tiers (issue 5): the -O2 build of a running -O0 model is swapped in between steps without
+// Two tiers: the -O2 build of a running -O0 model is swapped in between steps without
 // re-running: the string and the model's globals go on from where the -O0 code left them.
 TEST(SessionTiers, BetterTierContinuesTheRunningDerivation) {
   fs::path dir = fs::temp_directory_path() / ("lcjit-tiers-" + std::to_string(::getpid()));
@@ -378,7 +378,7 @@ TEST(Diagnostics, ErrorsShowTheirSourceLineAndColumn) {
 
 namespace {
 
-// C++ typed at the REPL (issue 5) runs in the model's context: expressions print, statements
+// C++ typed at the REPL runs in the model's context: expressions print, statements
 // change the model's globals, declarations (functions, productions) stay until the next load.
 TEST(SessionRepl, EvaluatesInTheModelsContext) {
   fs::path dir = fs::temp_directory_path() / ("lcjit-repl-" + std::to_string(::getpid()));
@@ -388,7 +388,7 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
                                 "float total = 0;\nstatic std::vector<int> seen;\n"
                                 "A(n) : { total += n; seen.push_back(n); produce A(n + 1); }\n"
                                 // The file ends in another section: rules typed at the prompt
-                                // are productions all the same (issue 17's trial).
+                                // are productions all the same.
                                 "interpretation:\nA(n) : { produce F(1); }\n";
   auto session = Session::create();
   ASSERT_TRUE(bool(session));
@@ -410,8 +410,8 @@ TEST(SessionRepl, EvaluatesInTheModelsContext) {
   EXPECT_EQ(eval("total"), "100");
   EXPECT_EQ(eval("float twice(float v) { return 2 * v; }"), "");  // a declaration stays
   EXPECT_EQ(eval("twice(total) + 1"), "201");
-  // Without its ';' a declaration is one still: a global the next input sees (issue 17's trial:
-  // it became a local variable of a statement, dropped at once).
+  // Without its ';' a declaration is one still: a global the next input sees (not
+  // a local variable of a statement, dropped at once).
   EXPECT_EQ(eval("int count = 5"), "");
   EXPECT_EQ(eval("count + 1"), "6");
   EXPECT_EQ(eval("V3f(1, 2, 3)"), "(1, 2, 3)");
@@ -476,7 +476,7 @@ TEST(Diagnostics, PlainLanguageComesFirstForUserFiles) {
 
 namespace {
 
-// Incremental recompiles (issue 5): an edit inside production bodies compiles only those
+// Incremental recompiles: an edit inside production bodies compiles only those
 // productions and links them with the running code's others; the run then starts as fresh as
 // after a full load (globals reset). An edit elsewhere compiles everything.
 TEST(SessionIncremental, OnlyChangedProductionsCompileAndStateStartsFresh) {
@@ -609,7 +609,7 @@ TEST(SessionIncremental, AModelsOwnUnitStartsOverWithEveryReload) {
 
 namespace {
 
-// Hot swap (issue 5): the next version compiles while the running one derives on another thread
+// Hot swap: the next version compiles while the running one derives on another thread
 // (as the window does), and takes over only when installed.
 TEST(SessionHotSwap, PrepareRunsBesideARunningDerivation) {
   fs::path dir = fs::temp_directory_path() / ("lcjit-swap-" + std::to_string(::getpid()));

@@ -330,7 +330,7 @@ TEST(ViewFileLights, MalformedAndTooMany) {
 TEST(ViewFileRendering, ContourSidesPastWhatIsDrawnWarn) {
   std::vector<ViewFileWarning> w;
   ViewSettings vs = parse("contour sides: 65536\n", w);
-  // lpfg's clamp to 10000, then lcjit's note that it draws fewer (finding 014).
+  // lpfg's clamp to 10000, then lcjit's note that it draws fewer.
   ASSERT_EQ(w.size(), 2u);
   EXPECT_EQ(vs.contourSides, 10000);
   EXPECT_NE(w[0].message.find("using 10000"), std::string::npos) << w[0].message;
@@ -771,7 +771,7 @@ TEST(ViewFileWrite, ViewLineReadsBack) {
   EXPECT_FALSE(s.views[0].fov.has_value());
 }
 
-// A file with no view-file command at all (finding 019: random bytes gave a warning per line,
+// A file with no view-file command at all (random bytes gave a warning per line,
 // raw bytes and all): one warning, at its first line.
 TEST(ViewFileWarnings, AFileWithNoCommandIsOneWarning) {
   std::vector<ViewFileWarning> w;
