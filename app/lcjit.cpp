@@ -17,22 +17,22 @@
 #include <CLI/CLI.hpp>
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
-#include "app/Batch.h"
-#include "app/Frame.h"
-#include "app/FrameSequence.h"
-#include "app/PlainErrors.h"
-#include "app/RunRecord.h"
-#include "app/Sandbox.h"
-#include "app/SandboxWindow.h"
-#include "app/Sweep.h"
+#include "app/batch/Batch.h"
+#include "app/common/Frame.h"
+#include "app/common/FrameSequence.h"
+#include "app/common/PlainErrors.h"
+#include "app/common/RunRecord.h"
+#include "app/sandbox/Sandbox.h"
+#include "app/sandbox/SandboxWindow.h"
+#include "app/sweep/Sweep.h"
 #include "repl/Repl.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
 #if LCJIT_HAVE_WINDOW
-#include "app/Interactive.h"
+#include "app/window/Interactive.h"
 #include "viewer/Window.h"
 #endif
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include <llvm/Config/llvm-config.h>
 
 namespace {

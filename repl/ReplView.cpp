@@ -19,7 +19,7 @@
 #include <mutex>
 #include <thread>
 
-#include "app/Frame.h"
+#include "app/common/Frame.h"
 #include "viewer/Window.h"
 #endif
 

@@ -119,7 +119,7 @@ class Mouse {
   // a window feeds the mouse, pressure 1 while the left button is down.
   TabletStatus tablet();
   // Whether model code asked for either since the process started: a sandboxed window's run,
-  // which no window feeds, says so (app/SandboxWindow.h).
+  // which no window feeds, says so (app/sandbox/SandboxWindow.h).
   bool wasRead();
 
  private:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A model folder's lpfg.mak (app/LpfgMak.h): lcjit builds the helper unit it names, with its
+# A model folder's lpfg.mak (app/session/LpfgMak.h): lcjit builds the helper unit it names, with its
 # -DFACTOR=3, and leaves the folder as it was (its lsys.ii too). The expected string is the one
 # the reference lpfg (vlab 9bf820dc) derives in this folder: sqrt(16)*3 = 12, and FACTOR unseen
 # by the model's #ifdef (lpfg preprocesses the model without lpfg.mak's flags).

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "runtime/Engine.h"
 
 namespace lcjit::fuzz {

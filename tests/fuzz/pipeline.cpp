@@ -4,7 +4,7 @@
 // LCJIT_FUZZ_VERBOSE=1: what became of each input (to check that inputs get as far as the turtle).
 #include <fstream>
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/turtle/Geometry.h"

@@ -5,7 +5,7 @@
 // LCJIT_FUZZ_VERBOSE=1: what became of each input.
 #include <fstream>
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "runtime/Engine.h"
 #include "runtime/turtle/Geometry.h"
 #include "tests/fuzz/FuzzSession.h"

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/Editors.h"
-#include "app/Session.h"
+#include "app/window/Editors.h"
+#include "app/session/Session.h"
 #include "runtime/Engine.h"
 #include "runtime/Functions.h"
 #include "runtime/turtle/Drawing.h"

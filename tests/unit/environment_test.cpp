@@ -17,7 +17,7 @@
 
 #include "runtime/environment/ChildProgram.h"
 #include "runtime/Engine.h"
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "runtime/files/CommSpec.h"
 
 using namespace lcjit;

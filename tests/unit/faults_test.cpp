@@ -20,7 +20,7 @@
 
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
-#include "app/Session.h"
+#include "app/session/Session.h"
 
 using namespace lcjit;
 using namespace lcjit::app;

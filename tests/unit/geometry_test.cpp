@@ -13,7 +13,7 @@
 
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
-#include "app/Session.h"
+#include "app/session/Session.h"
 
 using namespace lcjit;
 using namespace lcjit::app;

@@ -1,4 +1,4 @@
-// The window's Parameters panel (app/Parameters.h): .vset values changed in memory and saved back
+// The window's Parameters panel (app/window/Parameters.h): .vset values changed in memory and saved back
 // with only their values changed (manual §6.7), and vlab panels whose messages edit the model's
 // files as awkped does (vlab tools manual §2.3, §11.2). Expected files are written out by hand.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/Parameters.h"
-#include "app/Session.h"
+#include "app/window/Parameters.h"
+#include "app/session/Session.h"
 #include "runtime/Functions.h"
 
 using namespace lcjit;

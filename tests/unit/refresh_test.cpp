@@ -10,7 +10,7 @@
 #include <fstream>
 #include <thread>
 
-#include "app/FileMonitor.h"
+#include "app/session/FileMonitor.h"
 
 using namespace lcjit;
 using namespace lcjit::app;

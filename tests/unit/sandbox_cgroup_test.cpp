@@ -1,4 +1,4 @@
-// A sandboxed run's cgroup (app/SandboxCgroup.h): the kernel counts memory that is neither the
+// A sandboxed run's cgroup (app/sandbox/SandboxCgroup.h): the kernel counts memory that is neither the
 // process's address space nor its resident size (a file in memory), refuses tasks past the limit,
 // and killAll ends every process in it, one in a session of its own too. Skipped where this
 // machine gives lcjit no cgroup (an ordinary user without a delegated one): the sandbox then
@@ -18,7 +18,7 @@
 #include <memory>
 #include <string>
 
-#include "app/SandboxCgroup.h"
+#include "app/sandbox/SandboxCgroup.h"
 
 using lcjit::app::RunCgroup;
 

@@ -1,6 +1,6 @@
-// The sandboxed window run's reply (app/SandboxReply.h): what the child encodes is what the
+// The sandboxed window run's reply (app/sandbox/SandboxReply.h): what the child encodes is what the
 // window decodes, and a reply that is truncated, garbage or inconsistent is an error.
-#include "app/SandboxReply.h"
+#include "app/sandbox/SandboxReply.h"
 
 #include <gtest/gtest.h>
 

@@ -15,9 +15,9 @@
 
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
-#include "app/PlainErrors.h"
-#include "app/ProgramPages.h"
-#include "app/Session.h"
+#include "app/common/PlainErrors.h"
+#include "app/batch/ProgramPages.h"
+#include "app/session/Session.h"
 #include "runtime/WindowInput.h"
 #include "runtime/include/lcjit/modules.h"
 

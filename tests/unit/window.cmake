@@ -6,9 +6,9 @@ if(TARGET lcjit_window)
   add_test(NAME window_test COMMAND window_test)
   set_tests_properties(window_test PROPERTIES TIMEOUT 300)
 endif()
-# The window's file editors (app/Editors) with a Session: edits re-run or redraw, Save writes.
+# The window's file editors (app/window/Editors) with a Session: edits re-run or redraw, Save writes.
 if(LCJIT_WITH_WINDOW)
   add_executable(editors_test ${CMAKE_CURRENT_LIST_DIR}/editors_test.cpp)
-  target_link_libraries(editors_test PRIVATE lcjit_session GTest::gtest_main)
+  target_link_libraries(editors_test PRIVATE lcjit_interactive GTest::gtest_main)
   add_test(NAME editors_test COMMAND editors_test)
 endif()

@@ -1,7 +1,7 @@
 // The record of one batch run (RunRecord.h).
-#include "app/RunRecord.h"
+#include "app/common/RunRecord.h"
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "frontend/CacheFiles.h"
 #include "runtime/Engine.h"
 #include "runtime/files/InputFile.h"

@@ -1,5 +1,5 @@
 // The program's read-only segments released from this process (ProgramPages.h).
-#include "app/ProgramPages.h"
+#include "app/batch/ProgramPages.h"
 
 #include <elf.h>
 #include <link.h>

@@ -1,7 +1,7 @@
 // The window under --sandbox (see SandboxWindow.h). A re-run is a new child for the whole
 // derivation up to the wanted step: stepping costs a run from the axiom each time, which keeps
 // the parent free of model state (there is none to keep in step with the child).
-#include "app/SandboxWindow.h"
+#include "app/sandbox/SandboxWindow.h"
 
 #include <unistd.h>
 
@@ -15,10 +15,10 @@
 #include <optional>
 #include <utility>
 
-#include "app/FileMonitor.h"
-#include "app/Frame.h"
-#include "app/PlainErrors.h"
-#include "app/SandboxReply.h"
+#include "app/session/FileMonitor.h"
+#include "app/common/Frame.h"
+#include "app/common/PlainErrors.h"
+#include "app/sandbox/SandboxReply.h"
 #include "runtime/Engine.h"
 #include "runtime/WindowInput.h"
 #include "runtime/files/AnimationFile.h"

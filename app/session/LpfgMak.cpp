@@ -1,5 +1,5 @@
 // See LpfgMak.h.
-#include "app/LpfgMak.h"
+#include "app/session/LpfgMak.h"
 
 #include <clang/Basic/LangStandard.h>
 #include <llvm/Support/CommandLine.h>

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "app/FileMonitor.h"
-#include "app/Session.h"
+#include "app/session/FileMonitor.h"
+#include "app/session/Session.h"
 #include "runtime/files/CurveFiles.h"
 #include "runtime/files/Palette.h"
 #include "viewer/Window.h"

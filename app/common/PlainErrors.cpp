@@ -1,5 +1,5 @@
 // Plain-language compile errors (see PlainErrors.h).
-#include "app/PlainErrors.h"
+#include "app/common/PlainErrors.h"
 
 #include <filesystem>
 #include <regex>

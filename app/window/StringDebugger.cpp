@@ -1,7 +1,7 @@
 // The string debugger (StringDebugger.h).
-#include "app/StringDebugger.h"
+#include "app/window/StringDebugger.h"
 
-#include "app/ModuleReport.h"
+#include "app/common/ModuleReport.h"
 
 #include <algorithm>
 #include <climits>

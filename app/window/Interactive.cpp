@@ -2,7 +2,7 @@
 // thread, so the window keeps redrawing (and rotating) while a model derives; the window shows
 // each picture the worker finishes. While the worker runs, the model is the worker's: menu items
 // that would touch it wait (they are greyed out).
-#include "app/Interactive.h"
+#include "app/window/Interactive.h"
 
 #include <algorithm>
 #include <atomic>
@@ -13,17 +13,17 @@
 #include <optional>
 #include <thread>
 
-#include "app/Background.h"
-#include "app/Editors.h"
+#include "app/common/Background.h"
+#include "app/window/Editors.h"
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
-#include "app/Frame.h"
-#include "app/FrameSequence.h"
-#include "app/Parameters.h"
-#include "app/ProfileReport.h"
-#include "app/Progress.h"
-#include "app/StringDebugger.h"
-#include "app/PlainErrors.h"
+#include "app/common/Frame.h"
+#include "app/common/FrameSequence.h"
+#include "app/window/Parameters.h"
+#include "app/common/ProfileReport.h"
+#include "app/common/Progress.h"
+#include "app/window/StringDebugger.h"
+#include "app/common/PlainErrors.h"
 #include "jit/Elapsed.h"
 #include "runtime/WindowInput.h"
 #include "viewer/Window.h"

@@ -1,4 +1,4 @@
-#include "app/Sweep.h"
+#include "app/sweep/Sweep.h"
 
 #include <fcntl.h>
 #include <spawn.h>

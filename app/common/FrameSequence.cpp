@@ -1,5 +1,5 @@
 // Outputs written one frame at a time (see FrameSequence.h).
-#include "app/FrameSequence.h"
+#include "app/common/FrameSequence.h"
 
 #include <cstdio>
 #include <filesystem>

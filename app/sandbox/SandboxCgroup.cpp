@@ -1,6 +1,6 @@
 // A sandboxed run's own control group (SandboxCgroup.h): finding lcjit's place in the cgroup
 // hierarchies, making the run's cgroup there with its limits, killing and removing it.
-#include "app/SandboxCgroup.h"
+#include "app/sandbox/SandboxCgroup.h"
 
 #include <dirent.h>
 #include <fcntl.h>

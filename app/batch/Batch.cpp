@@ -1,7 +1,7 @@
 // Batch runs and --watch (see Batch.h).
-#include "app/Batch.h"
-#include "app/ProfileReport.h"
-#include "app/Progress.h"
+#include "app/batch/Batch.h"
+#include "app/common/ProfileReport.h"
+#include "app/common/Progress.h"
 
 #include "runtime/turtle/Camera.h"
 
@@ -22,15 +22,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/Background.h"
+#include "app/common/Background.h"
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
-#include "app/FileMonitor.h"
-#include "app/Frame.h"
-#include "app/FrameSequence.h"
-#include "app/PlainErrors.h"
-#include "app/ProgramPages.h"
-#include "app/RunRecord.h"
+#include "app/session/FileMonitor.h"
+#include "app/common/Frame.h"
+#include "app/common/FrameSequence.h"
+#include "app/common/PlainErrors.h"
+#include "app/batch/ProgramPages.h"
+#include "app/common/RunRecord.h"
 #include "runtime/WindowInput.h"
 #include "jit/Elapsed.h"
 #include "runtime/files/ReplacingFile.h"

@@ -1,6 +1,6 @@
 // Loading a model (see Session.h).
-#include "app/Session.h"
-#include "app/LpfgMak.h"
+#include "app/session/Session.h"
+#include "app/session/LpfgMak.h"
 
 #include <cctype>
 #include <chrono>

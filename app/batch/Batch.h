@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 
 namespace lcjit::app {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/FileMonitor.h"
+#include "app/session/FileMonitor.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "runtime/environment/Builtin.h"

@@ -1,5 +1,5 @@
 // One module told in words (ModuleReport.h).
-#include "app/ModuleReport.h"
+#include "app/common/ModuleReport.h"
 
 #include <filesystem>
 #include <optional>

@@ -1,5 +1,5 @@
 // Refresh policy (manual §1.2.2, §1.3) and the inotify file watcher. See FileMonitor.h.
-#include "app/FileMonitor.h"
+#include "app/session/FileMonitor.h"
 
 #include <poll.h>
 #include <sys/inotify.h>

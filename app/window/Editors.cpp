@@ -1,5 +1,5 @@
 // The window's editors of vlab's files (Editors.h).
-#include "app/Editors.h"
+#include "app/window/Editors.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Reports of a profile (ProfileReport.h).
-#include "app/ProfileReport.h"
+#include "app/common/ProfileReport.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,9 +7,9 @@
 
 #include <llvm/Support/Error.h>
 
-#include "app/Interactive.h"
-#include "app/Sandbox.h"
-#include "app/Session.h"
+#include "app/window/Interactive.h"
+#include "app/sandbox/Sandbox.h"
+#include "app/session/Session.h"
 
 namespace lcjit::viewer {
 struct WindowOptions;

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "app/FileMonitor.h"
-#include "app/Session.h"
+#include "app/session/FileMonitor.h"
+#include "app/session/Session.h"
 
 namespace lcjit::viewer {
 struct WindowOptions;

@@ -1,5 +1,5 @@
 // The Parameters panel (Parameters.h).
-#include "app/Parameters.h"
+#include "app/window/Parameters.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/Session.h"
+#include "app/session/Session.h"
 #include "runtime/Functions.h"
 #include "runtime/files/ReplacingFile.h"
 #include "runtime/files/TextLines.h"

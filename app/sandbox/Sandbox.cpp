@@ -1,6 +1,6 @@
 // --sandbox (see Sandbox.h, docs/security.md): bubblewrap's command line, the seccomp filter, the
 // rlimits, and the parent's side of a sandboxed run (batch and --watch).
-#include "app/Sandbox.h"
+#include "app/sandbox/Sandbox.h"
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -34,10 +34,10 @@
 #include <fmt/printf.h>
 #include <llvm/Support/Program.h>
 
-#include "app/FileMonitor.h"
-#include "app/FrameSequence.h"
-#include "app/SandboxCgroup.h"
-#include "app/Session.h"
+#include "app/session/FileMonitor.h"
+#include "app/common/FrameSequence.h"
+#include "app/sandbox/SandboxCgroup.h"
+#include "app/session/Session.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
 #include "runtime/files/InputFile.h"

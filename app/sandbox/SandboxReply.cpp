@@ -1,7 +1,7 @@
 // The sandboxed window run's reply (see SandboxReply.h). Parent and child are the same lcjit
 // binary, so arrays of plain structs go as their bytes; the version and the struct sizes in the
 // header catch a reply from another build. Enumerations and indices are checked on reading.
-#include "app/SandboxReply.h"
+#include "app/sandbox/SandboxReply.h"
 
 #include <cstring>
 #include <optional>

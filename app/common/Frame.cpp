@@ -1,5 +1,5 @@
 // Pictures of the model (see Frame.h).
-#include "app/Frame.h"
+#include "app/common/Frame.h"
 
 #include <cstdio>
 
