@@ -60,7 +60,7 @@ void Window::Impl::selectPaneAt(double x, double y) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// lpfg's view tasks
+// lpfg's view tasks (projection.cpp), deltas in lpfg's signs
 
 // RotateBy(0.1·dx, −0.1·dy) on half angles, applied as q⁻¹·v·q: the view turns by −0.2·dx°
 // about the initial up axis and by +0.2·dy° about the current left (= screen right) axis.
