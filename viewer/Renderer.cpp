@@ -34,30 +34,32 @@
 //    baseline 2 px below it, QFont point size = `winfont:` size (96 dpi); Qt's glyphs, pixmap,
 //    colour bytes and lpfg's alpha test as runtime/text/LabelText.h restates them (RasterLabel).
 //
-// Sections, in order (each begins with a `// ----` rule; Impl's parts with `// --- Name`):
-//   Shaders · Shader programs · Renderer::Impl: GL objects and uploads (setGeometry, setTextures,
-//   uploadPalette, lights, discs) · --- Drawing ranges (triangles, segments as lines or quads,
-//   discs, painter's order, labels where the string has them) · --- Shadows · --- Labels (their
-//   quads, a range of them drawn) · --- The frame (draw: passes, clipping, shadow map) · Label
-//   fonts and the Renderer's public face. (The multi-view layout is runtime/turtle/ViewLayout.cpp's.)
+// Where each part lives (each section begins with a `// ----` rule; Impl's parts with `// --- Name`):
+//   Shaders.cpp: Shaders (the GLSL) · Shader programs (compile, link, one per variant).
+//   This file: Renderer::Impl: GL objects and uploads (setGeometry, setTextures, uploadPalette,
+//     the passes' uniforms, discs) · --- Drawing ranges (triangles, segments as lines or quads,
+//     discs, a range of labels, painter's order with labels where the string has them) ·
+//     --- The frame (draw: passes, clipping, the shadow pass) · Label fonts and the Renderer's
+//     public face.
+//   SegmentBuffers.cpp: the segments' buffer textures, width runs and groups, quad indices.
+//   Lights.cpp: Lights in eye space · The shadow map (its framebuffer, the light's camera).
+//   LabelQuads.cpp: The atlas · The frame's quads · Drawing a range of them.
+//   (The multi-view layout is runtime/turtle/ViewLayout.cpp's.)
 #include "viewer/Renderer.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cctype>
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <unordered_map>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include <map>
-#include <optional>
-#include <tuple>
+#include "viewer/LabelQuads.h"
+#include "viewer/Lights.h"
+#include "viewer/SegmentBuffers.h"
+#include "viewer/Shaders.h"
 
 namespace lcjit::viewer {
 
@@ -70,354 +72,6 @@ using runtime::ViewSettings;
 
 static_assert(sizeof(MeshVertex) == 36, "MeshVertex is uploaded as is");
 
-namespace {
-
-constexpr int kMaxLights = 8;
-constexpr uint32_t kGroupMinimum = 2048;  // fewer segments with fragmented widths: quads
-enum Variant { kFlat = 0, kSmooth, kShadow, kDepth, kVariants };
-
-// ---------------------------------------------------------------------------------------------
-// Shaders
-
-const char* kCommon = R"(
-#define MAX_LIGHTS 8
-uniform sampler2D uPalette;  // 256 x 11: row 0 flat colour; material rows at uMatBase..+4
-layout(std140) uniform Colors { vec4 uColors[256]; };  // row 0 again: cheap to index per vertex
-uniform int uMatBase;
-uniform int uLit;
-uniform int uNumLights;
-uniform vec4 uLightPos[MAX_LIGHTS];      // eye space; w = 0: directional
-uniform vec3 uLightSpotDir[MAX_LIGHTS];  // eye space
-uniform vec2 uLightSpot[MAX_LIGHTS];     // exponent, cos(cutoff) (< -1: no spot)
-uniform vec3 uLightAtt[MAX_LIGHTS];
-uniform vec3 uLightAmb[MAX_LIGHTS];
-uniform vec3 uLightDiff[MAX_LIGHTS];
-uniform vec3 uLightSpec[MAX_LIGHTS];
-
-vec4 pal(int row, int ci) { return texelFetch(uPalette, ivec2(clamp(ci, 0, 255), row), 0); }
-// Indices 0..255, or RGB_COLOR | 0xRRGGBB: a colour as it is (runtime::kRgbColor).
-vec4 flatColor(int ci) {
-  if (ci >= RGB_COLOR) return vec4(float((ci >> 16) & 255), float((ci >> 8) & 255), float(ci & 255), 255.0) / 255.0;
-  return uColors[clamp(ci, 0, 255)];
-}
-
-struct Terms { vec3 scene, amb, diff, spec; float alpha; };
-
-// OpenGL's fixed-function lighting equation (infinite viewer, global ambient 0.2).
-Terms lightTerms(int ci, vec3 P, vec3 N) {
-  vec4 ma = pal(uMatBase, ci), md = pal(uMatBase + 1, ci), ms = pal(uMatBase + 2, ci);
-  vec4 me = pal(uMatBase + 3, ci);
-  float sh = pal(uMatBase + 4, ci).r;
-  Terms t;
-  t.scene = me.rgb + 0.2 * ma.rgb;
-  t.amb = vec3(0); t.diff = vec3(0); t.spec = vec3(0);
-  t.alpha = md.a;
-  for (int i = 0; i < uNumLights; ++i) {
-    vec3 L;
-    float att = 1.0;
-    if (uLightPos[i].w == 0.0) {
-      L = normalize(uLightPos[i].xyz);
-    } else {
-      vec3 d = uLightPos[i].xyz - P;
-      float dist = length(d);
-      L = dist > 0.0 ? d / dist : vec3(0, 0, 1);
-      att = 1.0 / max(uLightAtt[i].x + uLightAtt[i].y * dist + uLightAtt[i].z * dist * dist, 1e-20);
-      if (uLightSpot[i].y >= -1.0) {
-        float sd = dot(-L, normalize(uLightSpotDir[i]));
-        att *= sd >= uLightSpot[i].y ? (uLightSpot[i].x == 0.0 ? 1.0 : pow(max(sd, 0.0), uLightSpot[i].x)) : 0.0;
-      }
-    }
-    float nl = max(dot(N, L), 0.0);
-    vec3 H = normalize(L + vec3(0, 0, 1));
-    float nh = max(dot(N, H), 0.0);
-    float pf = nl > 0.0 ? (sh == 0.0 ? 1.0 : pow(nh, sh)) : 0.0;
-    t.amb += att * uLightAmb[i] * ma.rgb;
-    t.diff += att * nl * uLightDiff[i] * md.rgb;
-    t.spec += att * pf * uLightSpec[i] * ms.rgb;
-  }
-  return t;
-}
-
-vec4 litColor(int ci, vec3 P, vec3 N) {
-  Terms t = lightTerms(ci, P, N);
-  return vec4(clamp(t.scene + t.amb + t.diff + t.spec, 0.0, 1.0), t.alpha);
-}
-)";
-
-// Varyings shared by the mesh and segment vertex shaders and the one fragment shader.
-const char* kVaryingsVS = R"(
-#if defined(FLAT)
-flat out vec4 vFront; flat out vec4 vBack;
-#elif defined(SMOOTH)
-out vec4 vFront; out vec4 vBack;
-#elif defined(SHADOW)
-out vec3 vEyePos; out vec3 vEyeNormal; flat out int vColor; flat out int vUnlit; out vec4 vShadowCoord;
-#endif
-out vec2 vUV;
-uniform mat4 uView, uProj, uPV, uShadowMatrix;
-uniform int uOneSided;  // back faces lit as the front (lpfg after a terrain, see Geometry.h)
-
-void shade(vec3 world, vec3 normal, int ci, bool front) {
-  bool unlit = uLit == 0 || dot(normal, normal) == 0.0 || ci >= RGB_COLOR;
-#if defined(FLAT) || defined(SMOOTH)
-  if (unlit) {
-    vFront = flatColor(ci); vBack = vFront;
-  } else {
-    vec3 eye = (uView * vec4(world, 1)).xyz;
-    vec3 N = normalize(mat3(uView) * normal);
-    vFront = litColor(ci, eye, N);
-    vBack = front || uOneSided != 0 ? vFront : litColor(ci, eye, -N);
-  }
-#elif defined(SHADOW)
-  vEyePos = (uView * vec4(world, 1)).xyz; vEyeNormal = mat3(uView) * normal; vColor = ci; vUnlit = unlit ? 1 : 0;
-  vShadowCoord = uShadowMatrix * vec4(world, 1);
-#endif
-}
-)";
-
-const char* kMeshVS = R"(
-layout(location = 0) in vec3 aPos;
-layout(location = 1) in vec3 aNormal;
-layout(location = 2) in vec2 aUV;
-layout(location = 3) in int aColor;
-void main() {
-  gl_Position = uPV * vec4(aPos, 1);
-  vUV = aUV;
-  shade(aPos, aNormal, aColor, false);
-}
-)";
-
-// Segments as quads: four indexed vertices per segment, no attributes; the segment comes from a
-// buffer texture. The quad covers what an aliased wide GL line covers: `w` pixels across the
-// minor axis.
-const char* kSegmentVS = R"(
-uniform samplerBuffer uSegments;  // per segment: (from, width), (to, colour bits)
-uniform vec2 uViewport;
-const vec2 kCorner[4] = vec2[4](vec2(0, -1), vec2(1, -1), vec2(1, 1), vec2(0, 1));
-void main() {
-  int s = gl_VertexID >> 2;
-  vec2 c = kCorner[gl_VertexID & 3];
-  vec4 A = texelFetch(uSegments, 2 * s), B = texelFetch(uSegments, 2 * s + 1);
-  float w = max(1.0, floor(A.w + 0.5));
-  int ci = floatBitsToInt(B.w);
-  vec4 pa = uPV * vec4(A.xyz, 1), pb = uPV * vec4(B.xyz, 1);
-  float da = pa.z + pa.w, db = pb.z + pb.w;  // signed distances to the near plane
-  vUV = vec2(0);
-  if (da < 0.0 && db < 0.0) { gl_Position = vec4(2, 2, 2, 1); shade(A.xyz, vec3(0, 0, 1), ci, true); return; }
-  if (da < 0.0) pa = mix(pa, pb, da / (da - db));
-  else if (db < 0.0) pb = mix(pb, pa, db / (db - da));
-  vec2 sa = pa.xy / pa.w * uViewport, sb = pb.xy / pb.w * uViewport;
-  vec2 d = sb - sa;
-  vec2 off = abs(d.x) >= abs(d.y) ? vec2(0, 1) : vec2(1, 0);
-  vec4 p = c.x == 0.0 ? pa : pb;
-  p.xy += off * (c.y * 0.5 * w) / uViewport * p.w;
-  gl_Position = p;
-  shade(c.x == 0.0 ? A.xyz : B.xyz, vec3(0, 0, 1), ci, true);
-}
-)";
-
-// Segments as GL lines (runs of one width, when the driver has wide lines): vertex i is texel i.
-// With uOrderDepth the depth is the segment's number (later = nearer) so that segments drawn
-// grouped by width still show painter's order; the real depth then only clips.
-const char* kLineVS = R"(
-uniform samplerBuffer uSegments;
-uniform int uOrderDepth;
-uniform float uOrderScale;
-uniform int uChunkFirst;
-void main() {
-  vec4 P = texelFetch(uSegments, gl_VertexID);
-  int ci = floatBitsToInt(texelFetch(uSegments, gl_VertexID | 1).w);
-  gl_Position = uPV * vec4(P.xyz, 1);
-  gl_ClipDistance[0] = gl_Position.z + gl_Position.w;
-  gl_ClipDistance[1] = gl_Position.w - gl_Position.z;
-  if (uOrderDepth != 0)
-    gl_Position.z = (1.0 - 2.0 * float(uChunkFirst + (gl_VertexID >> 1) + 1) * uOrderScale) * gl_Position.w;
-  vUV = vec2(0);
-  shade(P.xyz, vec3(0, 0, 1), ci, true);
-}
-)";
-
-const char* kFS = R"(
-#if defined(FLAT)
-flat in vec4 vFront; flat in vec4 vBack;
-#elif defined(SMOOTH)
-in vec4 vFront; in vec4 vBack;
-#elif defined(SHADOW)
-in vec3 vEyePos; in vec3 vEyeNormal; flat in int vColor; flat in int vUnlit; in vec4 vShadowCoord;
-uniform sampler2DShadow uShadowMap;
-uniform vec3 uShadowColor;
-#endif
-in vec2 vUV;
-uniform sampler2D uTexture;
-uniform int uTextured;
-uniform int uForceFront;
-uniform int uOneSided;
-out vec4 oColor;
-void main() {
-  bool front = gl_FrontFacing || uForceFront != 0;
-#if defined(DEPTH)
-  if (uTextured != 0 && texture(uTexture, vUV).a <= 0.0) discard;
-  oColor = vec4(1);
-  return;
-#elif defined(FLAT) || defined(SMOOTH)
-  vec4 c = front ? vFront : vBack;
-  if (uTextured != 0) c *= texture(uTexture, vUV);
-#elif defined(SHADOW)
-  vec4 c;
-  if (vUnlit != 0) {
-    c = flatColor(vColor);
-    if (uTextured != 0) c *= texture(uTexture, vUV);
-  } else {
-    float vis = 0.0;
-    for (float y = -1.5; y <= 1.5; y += 1.0)
-      for (float x = -1.5; x <= 1.5; x += 1.0)
-        vis += textureProj(uShadowMap, vShadowCoord + vec4(x, y, 0, 0) * 0.0005) < 1.0 ? 0.0 : 1.0;
-    vis *= 0.0625;
-    vec3 N = normalize(vEyeNormal);
-    if (!front && uOneSided == 0) N = -N;
-    Terms t = lightTerms(vColor, vEyePos, N);
-    c = vec4(t.scene + t.amb + t.diff * (vis + (1.0 - vis) * uShadowColor), t.alpha);
-    vec4 tex = uTextured != 0 ? texture(uTexture, vUV) : vec4(1);
-    c *= tex;
-    c.rgb += t.spec * vis;
-    c = clamp(c, 0.0, 1.0);
-  }
-#endif
-#if !defined(DEPTH)
-  if (c.a <= 0.1) discard;
-  oColor = c;
-#endif
-}
-)";
-
-const char* kTextVS = R"(
-layout(location = 0) in vec2 aPos;  // window pixels, y down
-layout(location = 1) in vec2 aUV;
-layout(location = 2) in vec4 aColor;  // the label colour's bytes, 0-255
-uniform vec2 uViewport;
-out vec2 vUV; out vec4 vColor;
-void main() {
-  gl_Position = vec4(aPos.x / uViewport.x * 2.0 - 1.0, 1.0 - aPos.y / uViewport.y * 2.0, 0, 1);
-  vUV = aUV; vColor = aColor;
-}
-)";
-const char* kTextFS = R"(
-in vec2 vUV; in vec4 vColor;
-uniform sampler2D uAtlas;
-out vec4 oColor;
-// Qt's premultiplied pixel (LabelText.h premultiply(): x·a + (x·a >> 8) + 128 >> 8, exact in
-// floats), blended ONE, ONE_MINUS_SRC_ALPHA; lpfg's alpha test drops coverage under 27/255
-// (kMinDrawnCoverage).
-void main() {
-  float a = floor(texture(uAtlas, vUV).r * 255.0 + 0.5);
-  if (a < 27.0) discard;
-  vec3 t = vColor.rgb * a;
-  oColor = vec4(floor((t + floor(t / 256.0) + 128.0) / 256.0) / 255.0, a / 255.0);
-}
-)";
-static_assert(runtime::text::kMinDrawnCoverage == 27, "kTextFS's alpha test");
-
-// ---------------------------------------------------------------------------------------------
-// Shader programs (compile, link, one per variant)
-
-struct Program {
-  GLuint id = 0;
-  int kind = 0, variant = 0;  // kind: 0 mesh, 1 segment quads, 2 segment lines
-  uint64_t serial = 0;        // the pass whose uniforms it holds
-  std::unordered_map<std::string, GLint> locations;
-  GLint loc(const char* name) {
-    auto it = locations.find(name);
-    if (it != locations.end()) return it->second;
-    GLint l = glGetUniformLocation(id, name);
-    locations.emplace(name, l);
-    return l;
-  }
-};
-
-GLuint compile(GLenum type, const std::string& src, std::string& error) {
-  GLuint s = glCreateShader(type);
-  const char* p = src.c_str();
-  glShaderSource(s, 1, &p, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    if (error.empty()) error = std::string("shader compilation failed: ") + log;
-  }
-  return s;
-}
-
-GLuint link(const std::string& vs, const std::string& fs, std::string& error) {
-  GLuint v = compile(GL_VERTEX_SHADER, vs, error), f = compile(GL_FRAGMENT_SHADER, fs, error);
-  GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    if (error.empty()) error = std::string("shader link failed: ") + log;
-  }
-  return p;
-}
-
-const char* variantDefine(int v) {
-  switch (v) {
-    case kFlat: return "#define FLAT\n";
-    case kSmooth: return "#define SMOOTH\n";
-    case kShadow: return "#define SHADOW\n";
-    default: return "#define DEPTH\n";
-  }
-}
-
-struct EyeLight {
-  glm::vec4 pos;
-  glm::vec3 spotDir;
-  glm::vec2 spot;
-  glm::vec3 att, amb, diff, spec;
-};
-
-// A million segments are 2M texels; GL 3.3 only promises 64K texels per buffer texture.
-// Segments of one rounded width, for drawing fragmented widths as a few GL_LINES draws.
-struct WidthGroup {
-  float width = 1;
-  uint32_t offset = 0;        // first index in the chunk's group index buffer
-  std::vector<uint32_t> ids;  // chunk-local segment numbers, increasing
-};
-
-struct SegmentChunk {
-  GLuint buffer = 0, texture = 0;
-  uint32_t first = 0, count = 0;
-  GLuint groupEbo = 0;
-  std::vector<WidthGroup> groups;  // empty unless the widths are fragmented
-};
-
-// Label pictures: each label text's pixmap as lpfg's Qt draws it (Fonts::labelBitmap), in one
-// atlas, packed as the labels first need them.
-struct LabelImage {
-  int x = 0, y = 0, width = 0, height = 0;  // in the atlas
-  int left = 0, top = 0;                    // the pixmap's corner from the anchor's pixel, y up
-};
-struct LabelAtlas {
-  runtime::text::FontSpec spec;  // what the pictures were drawn with
-  int points = 0;
-  GLuint atlas = 0;
-  int atlasSize = 256;
-  bool dirty = false;  // the texture lags the pictures
-  std::unordered_map<std::string, LabelImage> images;
-  std::unordered_map<std::string, std::vector<uint8_t>> bitmaps;  // kept to re-pack into a bigger atlas
-  std::vector<uint8_t> pixels;                                  // atlasSize²
-  int x = 1, y = 1, rowHeight = 0;                              // the shelf packer's pen
-};
-
-}  // namespace
-
 // ---------------------------------------------------------------------------------------------
 // Renderer::Impl: GL objects, uploads of the geometry, palette and textures
 
@@ -425,24 +79,16 @@ struct Renderer::Impl {
   bool initialized = false;
   bool failed = false;
   Program mesh[kVariants], segment[kVariants], lines[kVariants], text;
-  GLuint quadEbo = 0;
-  uint32_t quadEboSegments = 0;
   float maxLineWidth = 1;
-  // Runs of segments of one rounded width: (first segment, width); a sentinel ends the list.
-  std::vector<std::pair<uint32_t, float>> widthRuns;
   GLuint meshVao = 0, meshVbo = 0, meshEbo = 0;
   size_t meshVboSize = 0, meshEboSize = 0;
   GLuint discVao = 0, discVbo = 0;
   size_t discVboSize = 0;
   GLuint emptyVao = 0;
-  GLuint textVao = 0, textVbo = 0;
-  size_t textVboSize = 0;
   GLuint paletteTex = 0, colorsUbo = 0;
-  GLuint shadowFbo = 0, shadowTex = 0;
-  int shadowSize = 0;
   std::vector<GLuint> textures;
-  std::vector<SegmentChunk> chunks;
-  GLint maxTexelsBuffer = 65536;
+  SegmentBuffers segs;  // SegmentBuffers.h
+  ShadowMap shadowMap;  // Lights.h
 
   // CPU-side copies of what is built per frame or needed to order the draws.
   std::vector<runtime::TriangleRun> runs;
@@ -457,11 +103,7 @@ struct Renderer::Impl {
   RenderPalette palette;
   bool paletteDirty = true;
 
-  LabelAtlas labelAtlas;
-  // This frame's label quads in textVbo (prepareLabels): label i's six vertices (none when it is
-  // not drawn) from labelFirstVertex[i]; empty when no label is drawn.
-  std::vector<uint32_t> labelFirstVertex;
-  glm::vec2 labelViewport{1, 1};
+  LabelQuads labelQuads;  // LabelQuads.h: the atlas and this frame's quads
 
   std::string* error = nullptr;
   RenderStats* stats = nullptr;
@@ -477,8 +119,6 @@ struct Renderer::Impl {
       mesh[v].kind = 0, segment[v].kind = 1, lines[v].kind = 2;
       mesh[v].variant = segment[v].variant = lines[v].variant = v;
     }
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexelsBuffer);
-    if (maxTexelsBuffer < 2) maxTexelsBuffer = 65536;
 
     glGenVertexArrays(1, &meshVao);
     glGenBuffers(1, &meshVbo);
@@ -491,10 +131,7 @@ struct Renderer::Impl {
     glGenBuffers(1, &discVbo);
     setupMeshVao(discVao, discVbo);
     glGenVertexArrays(1, &emptyVao);
-    glGenBuffers(1, &quadEbo);
-    glBindVertexArray(emptyVao);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, quadEbo);
-    glBindVertexArray(0);
+    segs.init(emptyVao);
     GLfloat range[2] = {1, 1};
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
     maxLineWidth = range[1];
@@ -502,17 +139,7 @@ struct Renderer::Impl {
     glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
     if (flags & GL_CONTEXT_FLAG_FORWARD_COMPATIBLE_BIT) maxLineWidth = 1;  // wide lines removed (macOS)
 
-    glGenVertexArrays(1, &textVao);
-    glGenBuffers(1, &textVbo);
-    glBindVertexArray(textVao);
-    glBindBuffer(GL_ARRAY_BUFFER, textVbo);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 32, (void*)0);
-    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 32, (void*)8);
-    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, 32, (void*)16);
-    glEnableVertexAttribArray(0);
-    glEnableVertexAttribArray(1);
-    glEnableVertexAttribArray(2);
-    glBindVertexArray(0);
+    labelQuads.init();
 
     glGenBuffers(1, &colorsUbo);
     glBindBuffer(GL_UNIFORM_BUFFER, colorsUbo);
@@ -569,100 +196,9 @@ struct Renderer::Impl {
     discs = g.discs;
     labels = g.labels;
 
-    // Segments: 32 bytes each, in chunks that fit a buffer texture.
     segmentCount = (uint32_t)g.segments.size();
-    uint32_t perChunk = (uint32_t)std::min<int64_t>(maxTexelsBuffer / 2, 1 << 22);
-    size_t nChunks = (segmentCount + perChunk - 1) / perChunk;
-    while (chunks.size() > nChunks) {
-      glDeleteTextures(1, &chunks.back().texture);
-      glDeleteBuffers(1, &chunks.back().buffer);
-      if (chunks.back().groupEbo) glDeleteBuffers(1, &chunks.back().groupEbo);
-      chunks.pop_back();
-    }
-    std::vector<float> data;
-    for (size_t c = 0; c < nChunks; ++c) {
-      if (c >= chunks.size()) {
-        SegmentChunk sc;
-        glGenBuffers(1, &sc.buffer);
-        glGenTextures(1, &sc.texture);
-        chunks.push_back(sc);
-      }
-      SegmentChunk& sc = chunks[c];
-      sc.first = (uint32_t)(c * perChunk);
-      sc.count = std::min(perChunk, segmentCount - sc.first);
-      data.resize(size_t(sc.count) * 8);
-      for (uint32_t i = 0; i < sc.count; ++i) {
-        const runtime::Segment& s = g.segments[sc.first + i];
-        float* d = &data[size_t(i) * 8];
-        d[0] = s.from.x, d[1] = s.from.y, d[2] = s.from.z, d[3] = s.width;
-        d[4] = s.to.x, d[5] = s.to.y, d[6] = s.to.z;
-        int32_t color = s.color;
-        std::memcpy(&d[7], &color, 4);
-      }
-      glBindBuffer(GL_TEXTURE_BUFFER, sc.buffer);
-      glBufferData(GL_TEXTURE_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
-      glBindTexture(GL_TEXTURE_BUFFER, sc.texture);
-      glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, sc.buffer);
-    }
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-
-    widthRuns.clear();
-    for (uint32_t i = 0; i < segmentCount; ++i) {
-      float w = lineWidth(g.segments[i].width);
-      if (widthRuns.empty() || widthRuns.back().second != w) widthRuns.push_back({i, w});
-    }
-    widthRuns.push_back({segmentCount, 0});
-
-    // Fragmented widths: index lists per width, per chunk.
-    const bool fragmented = segmentCount >= kGroupMinimum && (widthRuns.size() - 1) * 16 > segmentCount;
-    for (SegmentChunk& sc : chunks) {
-      sc.groups.clear();
-      if (!fragmented) continue;
-      std::vector<float> widths;
-      for (uint32_t i = 0; i < sc.count; ++i) widths.push_back(lineWidth(g.segments[sc.first + i].width));
-      std::vector<float> distinct = widths;
-      std::sort(distinct.begin(), distinct.end());
-      distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
-      if (distinct.size() > 64) continue;  // too many widths: quads
-      for (float w : distinct) sc.groups.push_back({w, 0, {}});
-      for (uint32_t i = 0; i < sc.count; ++i) {
-        size_t k = std::lower_bound(distinct.begin(), distinct.end(), widths[i]) - distinct.begin();
-        sc.groups[k].ids.push_back(i);
-      }
-      std::vector<uint32_t> idx;
-      idx.reserve(size_t(sc.count) * 2);
-      for (WidthGroup& wg : sc.groups) {
-        wg.offset = (uint32_t)idx.size();
-        for (uint32_t id : wg.ids) {
-          idx.push_back(2 * id);
-          idx.push_back(2 * id + 1);
-        }
-      }
-      if (!sc.groupEbo) glGenBuffers(1, &sc.groupEbo);
-      glBindVertexArray(emptyVao);
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, sc.groupEbo);
-      glBufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(uint32_t), idx.data(), GL_STATIC_DRAW);
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, quadEbo);
-      glBindVertexArray(0);
-    }
-
-    uint32_t needed = std::min(segmentCount, perChunk);
-    if (needed > quadEboSegments) {
-      std::vector<uint32_t> idx(size_t(needed) * 6);
-      for (uint32_t s = 0; s < needed; ++s) {
-        uint32_t* d = &idx[size_t(s) * 6];
-        d[0] = 4 * s, d[1] = 4 * s + 1, d[2] = 4 * s + 2, d[3] = 4 * s, d[4] = 4 * s + 2, d[5] = 4 * s + 3;
-      }
-      glBindVertexArray(emptyVao);
-      glBufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(uint32_t), idx.data(), GL_STATIC_DRAW);
-      glBindVertexArray(0);
-      quadEboSegments = needed;
-    }
+    segs.upload(g.segments, emptyVao);
   }
-
-  // An aliased GL line's width: rounded, at least 1.
-  static float lineWidth(float w) { return std::max(1.0f, std::floor(w + 0.5f)); }
 
   void setTextures(const std::vector<TextureImage>& images) {
     init();
@@ -733,59 +269,12 @@ struct Renderer::Impl {
       translucent = translucent || (palette.materials ? palette.material[i].transparency > 0 : palette.color[i][3] < 1);
   }
 
-  // Lights in eye space (what glLightfv would have stored).
-  static std::vector<EyeLight> eyeLights(const ViewSettings& view, const CameraMatrices& cam) {
-    std::vector<runtime::Light> lights = view.lights;
-    if (lights.empty()) {
-      runtime::Light d;  // lpfg's default light: V: 0 0 1, ambient/diffuse/specular white
-      d.kind = runtime::Light::Kind::Directional;
-      d.position = V3f(0, 0, 1);
-      d.ambient = {1, 1, 1};
-      d.diffuse = {1, 1, 1};
-      d.specular = {1, 1, 1};
-      lights.push_back(d);
-    }
-    if (lights.size() > kMaxLights) lights.resize(kMaxLights);
-    const glm::mat4 m = view.stationaryLights ? cam.stationaryLights : cam.view;
-    std::vector<EyeLight> out;
-    for (const runtime::Light& l : lights) {
-      EyeLight e;
-      glm::vec3 p(l.position.x, l.position.y, l.position.z);
-      if (l.kind == runtime::Light::Kind::Directional) {
-        glm::vec3 d = glm::mat3(m) * p;
-        if (glm::length(d) > 0) d = glm::normalize(d);
-        e.pos = glm::vec4(d, 0);
-      } else {
-        e.pos = m * glm::vec4(p, 1);
-        if (e.pos.w != 0) e.pos /= e.pos.w;
-      }
-      e.spotDir = glm::mat3(m) * glm::vec3(l.spotDirection.x, l.spotDirection.y, l.spotDirection.z);
-      bool spot = l.kind != runtime::Light::Kind::Directional && l.spotCutoff != 180;
-      e.spot = glm::vec2(l.spotExponent, spot ? std::cos(glm::radians(std::clamp(l.spotCutoff, 0.0f, 90.0f))) : -2.0f);
-      e.att = glm::vec3(l.attenuation[0], l.attenuation[1], l.attenuation[2]);
-      e.amb = glm::vec3(l.ambient.r, l.ambient.g, l.ambient.b);
-      e.diff = glm::vec3(l.diffuse.r, l.diffuse.g, l.diffuse.b);
-      e.spec = glm::vec3(l.specular.r, l.specular.g, l.specular.b);
-      out.push_back(e);
-    }
-    return out;
-  }
-
   // Programs are linked on first use (llvmpipe compiles each one it is given).
   bool ensureLinked(Program& p) {
     if (p.id) return true;
     if (failed) return false;
     std::string err;
-    if (&p == &text) {
-      p.id = link(std::string("#version 330 core\n") + kTextVS, std::string("#version 330 core\n") + kTextFS, err);
-    } else {
-      std::string prelude = std::string("#version 330 core\n") + variantDefine(p.variant) +
-                            "#define RGB_COLOR " + std::to_string(runtime::kRgbColor) + "\n" + kCommon;
-      const char* body = p.kind == 0 ? kMeshVS : p.kind == 1 ? kSegmentVS : kLineVS;
-      p.id = link(prelude + kVaryingsVS + body, prelude + kFS, err);
-      GLuint block = glGetUniformBlockIndex(p.id, "Colors");
-      if (block != GL_INVALID_INDEX) glUniformBlockBinding(p.id, block, 0);
-    }
+    p.id = &p == &text ? linkTextProgram(err) : linkProgram(p.kind, p.variant, err);
     if (!err.empty()) {
       failed = true;
       fail(err);
@@ -830,8 +319,8 @@ struct Renderer::Impl {
     glm::mat4 pv = depthPass ? lightProj * lightView : cam.projection * cam.view;
     glUniformMatrix4fv(p.loc("uPV"), 1, GL_FALSE, glm::value_ptr(pv));
     glUniformMatrix4fv(p.loc("uShadowMatrix"), 1, GL_FALSE, glm::value_ptr(shadowMatrix));
-    glUniform2f(p.loc("uViewport"), depthPass ? shadowSize * 0.5f : cam.width * 0.5f,
-                depthPass ? shadowSize * 0.5f : cam.height * 0.5f);
+    glUniform2f(p.loc("uViewport"), depthPass ? shadowMap.shadowSize * 0.5f : cam.width * 0.5f,
+                depthPass ? shadowMap.shadowSize * 0.5f : cam.height * 0.5f);
     glUniform1i(p.loc("uPalette"), 1);
     glUniform1i(p.loc("uTexture"), 0);
     glUniform1i(p.loc("uShadowMap"), 2);
@@ -988,12 +477,12 @@ struct Renderer::Impl {
   }
 
   // Fragmented widths as GL lines grouped by width; painter's order kept through the depth buffer
-  // (cleared first) when the z buffer is off. False when the chunks have no groups.
+  // (cleared first) when the z buffer is off. False when the segs.chunks have no groups.
   bool drawGrouped(const Pass& pass, uint32_t first, uint32_t count) {
     uint32_t end = first + count;
-    for (const SegmentChunk& c : chunks)
+    for (const SegmentChunk& c : segs.chunks)
       if (std::max(first, c.first) < std::min(end, c.first + c.count) && c.groups.empty()) return false;
-    for (const SegmentChunk& c : chunks)
+    for (const SegmentChunk& c : segs.chunks)
       for (const WidthGroup& wg : c.groups)
         if (wg.width > maxLineWidth) return false;
     if (!depthTestOn && !targetHasDepth) return false;
@@ -1010,7 +499,7 @@ struct Renderer::Impl {
       glUniform1i(p->loc("uOrderDepth"), 1);
       glUniform1f(p->loc("uOrderScale"), 1.0f / float(segmentCount + 2));
     }
-    for (const SegmentChunk& c : chunks) {
+    for (const SegmentChunk& c : segs.chunks) {
       uint32_t a = std::max(first, c.first), b = std::min(end, c.first + c.count);
       if (a >= b) continue;
       glActiveTexture(GL_TEXTURE3);
@@ -1027,7 +516,7 @@ struct Renderer::Impl {
         glDrawElements(GL_LINES, GLsizei(hi - lo) * 2, GL_UNSIGNED_INT, (void*)(offset * sizeof(uint32_t)));
         ++stats->drawCalls;
       }
-      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, quadEbo);
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, segs.quadEbo);
     }
     glActiveTexture(GL_TEXTURE0);
     if (order) {
@@ -1042,12 +531,12 @@ struct Renderer::Impl {
   void drawSegments(const Pass& pass, uint32_t first, uint32_t count) {
     if (count == 0) return;
     uint32_t end = first + count;
-    auto run = std::upper_bound(widthRuns.begin(), widthRuns.end(), first,
+    auto run = std::upper_bound(segs.widthRuns.begin(), segs.widthRuns.end(), first,
                                 [](uint32_t v, const std::pair<uint32_t, float>& r) { return v < r.first; });
-    if (run != widthRuns.begin()) --run;
+    if (run != segs.widthRuns.begin()) --run;
     size_t nRuns = 0;
     bool linesOk = true;
-    for (auto r = run; r != widthRuns.end() && r->first < end && r->second > 0; ++r) {
+    for (auto r = run; r != segs.widthRuns.end() && r->first < end && r->second > 0; ++r) {
       ++nRuns;
       linesOk = linesOk && r->second <= maxLineWidth;
     }
@@ -1056,7 +545,7 @@ struct Renderer::Impl {
     useSegments(pass, asLines);
     glBindVertexArray(emptyVao);
     glUniform1i((asLines ? pass.lineProg : pass.segProg)->loc("uForceFront"), 1);
-    for (const SegmentChunk& c : chunks) {
+    for (const SegmentChunk& c : segs.chunks) {
       uint32_t a = std::max(first, c.first), b = std::min(end, c.first + c.count);
       if (a >= b) continue;
       glActiveTexture(GL_TEXTURE3);
@@ -1066,7 +555,7 @@ struct Renderer::Impl {
         ++stats->drawCalls;
         continue;
       }
-      for (auto r = run; r != widthRuns.end() && r->first < b && r->second > 0; ++r) {
+      for (auto r = run; r != segs.widthRuns.end() && r->first < b && r->second > 0; ++r) {
         uint32_t ra = std::max(a, r->first), rb = std::min(b, (r + 1)->first);
         if (ra >= rb) continue;
         glLineWidth(r->second);
@@ -1147,217 +636,17 @@ struct Renderer::Impl {
     glDisable(GL_CULL_FACE);
   }
 
-  // --- Shadows ---------------------------------------------------------------------------------
-
-  bool ensureShadowMap(int size) {
-    size = std::clamp(size, 16, 8192);
-    if (shadowFbo && shadowSize == size) return true;
-    if (!shadowTex) glGenTextures(1, &shadowTex);
-    glBindTexture(GL_TEXTURE_2D, shadowTex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, size, size, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    const float ones[4] = {1, 1, 1, 1};
-    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, ones);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    if (!shadowFbo) glGenFramebuffers(1, &shadowFbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadowTex, 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
-    bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-    shadowSize = size;
-    return ok;
-  }
-
-  // The light's view of the scene (GLWidget::beginShadowMap, made robust): light 0, orthographic
-  // around the framed volume for a directional light, a 90° frustum for a positional one.
-  static void lightCamera(const EyeLight& l, const CameraMatrices& cam, glm::mat4& view, glm::mat4& proj) {
-    glm::mat4 inv = glm::inverse(cam.view);
-    runtime::Bounds b = cam.bounds;
-    glm::vec3 center = b.empty() ? cam.lookAt : glm::vec3(b.center().x, b.center().y, b.center().z);
-    float r = b.empty() ? 1.0f : 0.5f * glm::length(glm::vec3(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z));
-    if (!(r > 1e-6f)) r = 1e-3f;
-    glm::vec3 dir;
-    glm::vec3 eyeOrLight;
-    if (l.pos.w == 0) {
-      dir = -glm::normalize(glm::mat3(inv) * glm::vec3(l.pos));  // from the light into the scene
-      eyeOrLight = center - 2.0f * r * dir;
-    } else {
-      eyeOrLight = glm::vec3(inv * glm::vec4(glm::vec3(l.pos), 1));
-      glm::vec3 sd = glm::mat3(inv) * l.spotDir;
-      dir = glm::length(sd) > 0 ? glm::normalize(sd) : glm::normalize(center - eyeOrLight);
-    }
-    glm::vec3 up(0, 1, 0);
-    if (std::fabs(glm::dot(up, dir)) > 0.99f) up = glm::vec3(0, 0, 1);
-    view = glm::lookAt(eyeOrLight, eyeOrLight + dir, up);
-    if (l.pos.w == 0) {
-      proj = glm::ortho(-r, r, -r, r, r * 0.5f, r * 3.5f);
-    } else {
-      float farClip = glm::length(center - eyeOrLight) + 2 * r;
-      proj = glm::perspective(glm::radians(90.0f), 1.0f, farClip * 1e-3f, farClip);
-    }
-  }
-
-  // --- Labels ----------------------------------------------------------------------------------
-
-  // Pictures are shelf-packed into the atlas as they first appear; a full atlas doubles and
-  // everything is packed again.
-  bool packLabel(const std::string& text, const std::vector<uint8_t>& bits) {
-    LabelAtlas& a = labelAtlas;
-    LabelImage& im = a.images[text];
-    if (im.width == 0) return true;
-    const int size = a.atlasSize;
-    if (im.width + 2 > size) return false;
-    if (a.x + im.width + 1 > size) a.x = 1, a.y += a.rowHeight + 1, a.rowHeight = 0;
-    if (a.y + im.height + 1 > size) return false;
-    im.x = a.x, im.y = a.y;
-    for (int r = 0; r < im.height; ++r)
-      std::memcpy(&a.pixels[size_t(im.y + r) * size + im.x], &bits[size_t(r) * im.width], (size_t)im.width);
-    a.x += im.width + 1;
-    a.rowHeight = std::max(a.rowHeight, im.height);
-    a.dirty = true;
-    return true;
-  }
-
-  // The picture of a label text, drawn and packed the first time.
-  const LabelImage& labelImage(const std::string& text) {
-    LabelAtlas& a = labelAtlas;
-    if (auto it = a.images.find(text); it != a.images.end()) return it->second;
-    runtime::text::Fonts& fonts = runtime::text::Fonts::shared();
-    runtime::text::GlyphBitmap b =
-        fonts.labelBitmap(fonts.shape(text, a.spec, (float)runtime::text::pixelSizeForPoints(a.points)), a.points);
-    LabelImage& im = a.images[text];
-    im.left = b.left, im.top = b.top, im.width = b.width, im.height = b.height;
-    if (a.pixels.empty()) a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
-    bool fits = packLabel(text, b.pixels);
-    while (!fits && a.atlasSize < 4096) {
-      a.atlasSize *= 2;
-      a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
-      a.x = a.y = 1, a.rowHeight = 0;
-      fits = packLabel(text, b.pixels);
-      for (auto& [t, bits] : a.bitmaps) fits = fits && packLabel(t, bits);
-    }
-    if (!fits) {  // the largest atlas is full: start it afresh (labels already placed this frame are skipped)
-      a.images.clear(), a.bitmaps.clear();
-      std::fill(a.pixels.begin(), a.pixels.end(), 0);
-      a.x = a.y = 1, a.rowHeight = 0;
-      LabelImage& fresh = a.images[text];
-      fresh.left = b.left, fresh.top = b.top, fresh.width = b.width, fresh.height = b.height;
-      if (!packLabel(text, b.pixels)) fresh.width = 0;
-      a.bitmaps[text] = std::move(b.pixels);
-      return fresh;
-    }
-    a.bitmaps[text] = std::move(b.pixels);
-    return im;
-  }
-
-  void uploadAtlas() {
-    LabelAtlas& a = labelAtlas;
-    if (!a.atlas) glGenTextures(1, &a.atlas);
-    glBindTexture(GL_TEXTURE_2D, a.atlas);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    if (a.pixels.empty()) a.pixels.assign(size_t(a.atlasSize) * a.atlasSize, 0);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, a.atlasSize, a.atlasSize, 0, GL_RED, GL_UNSIGNED_BYTE, a.pixels.data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glBindTexture(GL_TEXTURE_2D, 0);
-    a.dirty = false;
-  }
-
-  // Each label's picture at its anchor's pixel (runtime/text: lpfg's pixmap, its left end 5 px
-  // before the anchor, the baseline 2 px below it): the quads of the frame's labels, uploaded
-  // before anything is drawn, since drawAll draws them where the string has them.
-  void prepareLabels(const ViewSettings& view, const CameraMatrices& cam, const RenderOptions& options) {
-    labelFirstVertex.clear();
-    if (labels.empty() || !options.drawLabels) return;
-    runtime::text::FontSpec spec = labelFont(view);
-    spec.file = options.fontFile;
-    // A new font, or an atlas grown mostly of texts earlier frames had (an animated counter's):
-    // drawn afresh.
-    if (!(spec == labelAtlas.spec) || labelAtlas.points != view.winFontSize ||
-        labelAtlas.images.size() > 4 * labels.size() + 1024)
-      labelAtlas = LabelAtlas{.spec = spec, .points = view.winFontSize, .atlas = labelAtlas.atlas};
-    // Quads first (they may grow the atlas), the texture coordinates once the atlas is final.
-    struct Quad {
-      int x, y;  // the anchor's pixel
-      const std::string* text;
-      std::array<float, 4> col;
-    };
-    std::vector<std::optional<Quad>> quads(labels.size());
-    bool any = false;
-    for (size_t i = 0; i < labels.size(); ++i) {
-      const runtime::Label& l = labels[i];
-      glm::vec4 c = cam.projection * cam.view * glm::vec4(l.position.x, l.position.y, l.position.z, 1);
-      if (c.w <= 0) continue;
-      glm::vec3 w = runtime::projectToWindow(cam, l.position);
-      if (labelImage(l.text).width == 0) continue;
-      auto col = palette.textColor(l.color);
-      std::array<float, 4> bytes{};
-      for (int k = 0; k < 3; ++k) bytes[k] = (float)runtime::text::colorByte(col[k]);
-      quads[i] = Quad{(int)std::round(w.x), (int)std::round(w.y), &l.text, bytes};
-      any = true;
-    }
-    if (!any) return;
-    if (labelAtlas.dirty || !labelAtlas.atlas) uploadAtlas();
-    std::vector<float> v;
-    v.reserve(labels.size() * 48);
-    labelFirstVertex.reserve(labels.size() + 1);
-    const float n = 1.0f / labelAtlas.atlasSize;
-    for (const std::optional<Quad>& q : quads) {
-      labelFirstVertex.push_back(uint32_t(v.size() / 8));
-      if (!q) continue;
-      auto it = labelAtlas.images.find(*q->text);
-      if (it == labelAtlas.images.end() || it->second.width == 0) continue;
-      const LabelImage& im = it->second;
-      float x0 = float(q->x + im.left), y0 = float(q->y - im.top), x1 = x0 + im.width, y1 = y0 + im.height;
-      float s0 = im.x * n, t0 = im.y * n, s1 = (im.x + im.width) * n, t1 = (im.y + im.height) * n;
-      float quad[6][4] = {{x0, y0, s0, t0}, {x1, y0, s1, t0}, {x1, y1, s1, t1},
-                          {x0, y0, s0, t0}, {x1, y1, s1, t1}, {x0, y1, s0, t1}};
-      for (auto& p : quad) v.insert(v.end(), {p[0], p[1], p[2], p[3], q->col[0], q->col[1], q->col[2], 1.0f});
-    }
-    labelFirstVertex.push_back(uint32_t(v.size() / 8));
-    if (v.empty()) {
-      labelFirstVertex.clear();
-      return;
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, textVbo);
-    if (v.size() * sizeof(float) > textVboSize) {
-      textVboSize = v.size() * sizeof(float);
-      glBufferData(GL_ARRAY_BUFFER, textVboSize, v.data(), GL_STREAM_DRAW);
-    } else {
-      glBufferSubData(GL_ARRAY_BUFFER, 0, v.size() * sizeof(float), v.data());
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    labelViewport = {(float)cam.width, (float)cam.height};
-  }
-
   // Labels [first, first+count) over what is drawn so far, as lpfg's QPainter draws its pixmap (no
   // depth test, no depth written); the state the other draws expect is theirs again afterwards.
   void drawLabelRange(uint32_t first, uint32_t count) {
-    if (labelFirstVertex.empty() || first >= labels.size()) return;
-    const uint32_t end = std::min<uint32_t>(first + count, (uint32_t)labels.size());
-    const uint32_t a = labelFirstVertex[first], b = labelFirstVertex[end];
+    const auto [a, b] = labelQuads.vertexRange(first, count);
     if (a >= b || !ensureLinked(text)) return;
-    glUseProgram(text.id);
-    glUniform2f(text.loc("uViewport"), labelViewport.x, labelViewport.y);
-    glUniform1i(text.loc("uAtlas"), 0);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, labelAtlas.atlas);
-    glBindVertexArray(textVao);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     clipDistances(false);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // Qt's premultiplied pixmap
-    glDrawArrays(GL_TRIANGLES, GLint(a), GLsizei(b - a));
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    labelQuads.drawQuads(text, a, b);
     ++stats->drawCalls;
-    glBindVertexArray(0);
     currentProgram = -1;  // the next draw binds its program and state afresh
     if (depthTestOn) glEnable(GL_DEPTH_TEST);
   }
@@ -1400,13 +689,13 @@ struct Renderer::Impl {
     glm::mat4 shadowMatrix(1), lightView(1), lightProj(1);
     bool shadowOk = false;
     if (shadows) {
-      shadowOk = ensureShadowMap(view.shadowMapSize);
+      shadowOk = shadowMap.ensureShadowMap(view.shadowMapSize);
       lightCamera(lights[0], cam, lightView, lightProj);
       const glm::mat4 bias(0.5f, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0, 0.5f, 0, 0.5f, 0.5f, 0.5f, 1);
       shadowMatrix = bias * lightProj * lightView;
       if (shadowOk) {
-        glBindFramebuffer(GL_FRAMEBUFFER, shadowFbo);
-        glViewport(0, 0, shadowSize, shadowSize);
+        glBindFramebuffer(GL_FRAMEBUFFER, shadowMap.shadowFbo);
+        glViewport(0, 0, shadowMap.shadowSize, shadowMap.shadowSize);
         glClearDepth(1.0);
         glClear(GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
@@ -1461,10 +750,10 @@ struct Renderer::Impl {
     int matBase = palette.materials ? 1 : 6;
     if (shadows) {
       glActiveTexture(GL_TEXTURE2);
-      glBindTexture(GL_TEXTURE_2D, shadowOk ? shadowTex : 0);
+      glBindTexture(GL_TEXTURE_2D, shadowOk ? shadowMap.shadowTex : 0);
       glActiveTexture(GL_TEXTURE0);
     }
-    prepareLabels(view, cam, options);
+    labelQuads.prepareLabels(labels, palette, view, cam, options);
     beginPass({&cam, &lights, &view, lit, false, matBase, shadowMatrix, lightView, lightProj});
     Pass pass{&mesh[v], &segment[v], &lines[v], wireframe, view.backfaceCulling, false};
     drawAll(pass, !depthTest || translucent, true);  // blending needs lpfg's order even with a z buffer
@@ -1490,20 +779,16 @@ struct Renderer::Impl {
       for (int v = 0; v < kVariants; ++v)
         if (ps[v].id) glDeleteProgram(ps[v].id);
     if (text.id) glDeleteProgram(text.id);
-    GLuint vaos[] = {meshVao, discVao, emptyVao, textVao};
-    glDeleteVertexArrays(4, vaos);
-    GLuint bufs[] = {meshVbo, meshEbo, discVbo, textVbo, quadEbo};
-    glDeleteBuffers(5, bufs);
-    for (SegmentChunk& c : chunks) {
-      glDeleteBuffers(1, &c.buffer);
-      glDeleteTextures(1, &c.texture);
-      if (c.groupEbo) glDeleteBuffers(1, &c.groupEbo);
-    }
+    GLuint vaos[] = {meshVao, discVao, emptyVao};
+    glDeleteVertexArrays(3, vaos);
+    GLuint bufs[] = {meshVbo, meshEbo, discVbo};
+    glDeleteBuffers(3, bufs);
+    segs.release();
+    labelQuads.release();
     if (!textures.empty()) glDeleteTextures((GLsizei)textures.size(), textures.data());
     glDeleteBuffers(1, &colorsUbo);
-    GLuint tex[] = {paletteTex, shadowTex, labelAtlas.atlas};
-    glDeleteTextures(3, tex);
-    if (shadowFbo) glDeleteFramebuffers(1, &shadowFbo);
+    glDeleteTextures(1, &paletteTex);
+    shadowMap.release();
   }
 };
 
