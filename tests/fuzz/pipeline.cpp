@@ -1,6 +1,6 @@
 // Fuzz target: the whole pipeline — model text (.l) preprocessed, rewritten, compiled by the JIT,
 // a few steps derived and the string interpreted by the turtle, under the model guard with small
-// limits (app/Session, as a batch run does it). Faults of model code are answers, not findings.
+// limits (app/session/Session, as a batch run does it). Faults of model code are answers, not findings.
 // LCJIT_FUZZ_VERBOSE=1: what became of each input (to check that inputs get as far as the turtle).
 #include <fstream>
 

@@ -1,6 +1,6 @@
 // Fuzz target: binary strings (.strb), Engine::readBinary (it reads a path: the input is a file)
 // on a compiled model with modules of every parameter kind, then a derivation step and the turtle
-// interpreting the string (app/Session, as LoadString and a batch run do it).
+// interpreting the string (app/session/Session, as LoadString and a batch run do it).
 // LCJIT_FUZZ_STRB_SEED=FILE: the model's own string after two steps is written there (a seed).
 // LCJIT_FUZZ_VERBOSE=1: what became of each input.
 #include <fstream>

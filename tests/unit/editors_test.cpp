@@ -1,4 +1,4 @@
-// The window's file editors (app/Editors) with a Session, as the window's mode wires them: a
+// The window's file editors (app/window/Editors) with a Session, as the window's mode wires them: a
 // function point moved in its panel re-runs the model with the new function before anything is
 // saved, Save writes the file, Revert reads it back; a colour changed in the colormap panel is
 // redrawn without a re-run; a model without a colour file gets a colormap panel of the colours it

@@ -912,7 +912,7 @@ TEST_F(WindowTest, AnimationFramesKeepTheFramingUnlessAskedToRefit) {
   EXPECT_NEAR(find(grab(), kRed).width(), first, 2);
 }
 
-// The editors' controls (app/Editors): a function's point dragged (its ends held at x = 0 and 1),
+// The editors' controls (app/window/Editors): a function's point dragged (its ends held at x = 0 and 1),
 // a colour picked from a grid and changed by its sliders; each edit reported after the frame.
 TEST_F(WindowTest, CurveAndColourControlsReportEdits) {
   std::vector<std::tuple<size_t, size_t, std::array<float, 4>>> edits;
