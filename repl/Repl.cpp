@@ -509,17 +509,14 @@ class Repl {
   llvm::Error cmdSave(const Args& args) {
     if (args.size() != 1) return llvm::createStringError("error: usage: :save FILE");
     const std::string& path = args[0];
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return (char)std::tolower(c); });
-    if (isFrameOutput(path)) {
-      if (auto e = frames_.write(path, engine(), session_->drawing())) return e;
-    } else if (ext == ".strb" || ext == ".bin") {
+    std::optional<OutputKind> kind = outputKindOf(path);
+    if (!kind) return llvm::createStringError("error: " + path + ": unknown kind of file (" + kOutputFileTypes + ")");
+    if (*kind == OutputKind::BinaryString) {
       if (auto e = engine().writeBinary(path)) return e;
-    } else if (ext == ".str" || ext == ".txt") {
+    } else if (*kind == OutputKind::TextString) {
       if (auto e = engine().writeTextFile(path)) return e;
-    } else {
-      return llvm::createStringError("error: " + path +
-                   ": unknown kind of file (.str .strb, .png .jpg .bmp, .obj .ply .stl .gltf .glb .svg .ps .eps .pov)");
+    } else if (auto e = frames_.write(path, engine(), session_->drawing())) {
+      return e;
     }
     std::printf("wrote %s\n", path.c_str());
     return llvm::Error::success();

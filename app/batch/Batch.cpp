@@ -63,7 +63,6 @@ std::string report(llvm::Error e) {
 
 llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
                         FrameWriter& frames, PhaseTimes& times) {
-  std::string ext = std::filesystem::path(out).extension().string();
   if (isFrameOutput(out)) {
     FrameTimes ft;
     if (auto e = frames.write(out, engine, drawing, &ft)) return e;
@@ -71,7 +70,8 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
     times.renderMs = ft.renderMs;
     return llvm::Error::success();
   }
-  if (ext == ".strb" || ext == ".bin") return engine.writeBinary(out);
+  // Any other name is lpfg's text string, as lpfg writes it.
+  if (outputKindOf(out) == OutputKind::BinaryString) return engine.writeBinary(out);
   return engine.writeTextFile(out);
 }
 

@@ -18,6 +18,7 @@
 #include "runtime/WindowInput.h"
 #include "runtime/export/Export.h"
 #include "jit/Elapsed.h"
+#include "llvm/Support/Path.h"
 
 namespace lcjit::app {
 
@@ -40,8 +41,21 @@ const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
   return *this;
 }
 
+std::optional<OutputKind> outputKindOf(const std::string& path) {
+  if (viewer::isImageFileName(path)) return OutputKind::Picture;
+  if (viewer::isVideoFileName(path)) return OutputKind::Video;
+  if (runtime::isExportFormat(path)) return OutputKind::Export;
+  std::string ext = llvm::sys::path::extension(path).lower();
+  if (ext == ".strb" || ext == ".bin") return OutputKind::BinaryString;
+  if (ext == ".str" || ext == ".txt") return OutputKind::TextString;
+  return std::nullopt;
+}
+
+const char* const kOutputFileTypes = ".str .strb, .png .jpg .bmp, .obj .ply .stl .gltf .glb .svg .ps .eps .pov";
+
 bool isFrameOutput(const std::string& path) {
-  return viewer::isImageFileName(path) || viewer::isVideoFileName(path) || runtime::isExportFormat(path);
+  std::optional<OutputKind> k = outputKindOf(path);
+  return k == OutputKind::Picture || k == OutputKind::Video || k == OutputKind::Export;
 }
 
 std::string badPictureSize(double width, double height) {

@@ -6,6 +6,7 @@
 // pictures and 2D exports (.svg, .ps, .eps, .pdf) hold every view, laid out alike (interpretViews).
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,14 @@ class HeadlessRenderer;
 
 namespace lcjit::app {
 
+// What an output file's name asks for, by its extension (case aside): a picture, a video or an
+// export is drawn (FrameWriter, FrameSequence); a string is written as lpfg's binary string (.strb
+// .bin) or as text (.str .txt). Nothing for another extension.
+enum class OutputKind { Picture, Video, Export, BinaryString, TextString };
+std::optional<OutputKind> outputKindOf(const std::string& path);
+// The extensions outputKindOf knows, for messages.
+extern const char* const kOutputFileTypes;
+// A picture, a video or an export: what the model's drawing makes.
 bool isFrameOutput(const std::string& path);
 
 // Why WIDTH x HEIGHT (-w, a REPL's -w) is no size of a picture or a window, or "": less than

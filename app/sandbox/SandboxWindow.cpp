@@ -61,7 +61,7 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   // The animation file, read as the in-process window reads it (Interactive.cpp).
   runtime::AnimationSettings animation;
   for (const std::string& f : files.other)
-    if (std::filesystem::path(f).extension() == ".a") {
+    if (fileKindOf(f) == FileKind::Animation) {
       std::vector<std::string> warnings;
       animation = runtime::loadAnimationFile(f, warnings);
       for (const std::string& w : warnings)

@@ -23,47 +23,6 @@ std::optional<RefreshMode> parseRefreshMode(std::string_view s) {
   return std::nullopt;
 }
 
-FileKind fileKindOf(std::string_view path) {
-  size_t slash = path.find_last_of('/');
-  std::string_view name = slash == std::string_view::npos ? path : path.substr(slash + 1);
-  size_t dot = name.find_last_of('.');
-  if (dot == std::string_view::npos || dot == 0) return FileKind::Other;
-  std::string_view ext = name.substr(dot + 1);
-  if (ext == "l") return FileKind::LSystem;
-  if (ext == "v" || ext == "dr") return FileKind::View;
-  if (ext == "a") return FileKind::Animation;
-  if (ext == "map") return FileKind::Colormap;
-  if (ext == "mat") return FileKind::Material;
-  if (ext == "s") return FileKind::Surface;
-  if (ext == "func" || ext == "fset") return FileKind::Function;
-  if (ext == "tset") return FileKind::Timeline;
-  if (ext == "con" || ext == "cset") return FileKind::Contour;
-  if (ext == "vset") return FileKind::Parameters;
-  if (ext == "e") return FileKind::Environment;
-  for (const char* t : {"rgb", "png", "jpg", "jpeg", "bmp", "tga", "tif", "tiff", "gif"})
-    if (ext == t) return FileKind::Texture;
-  return FileKind::Other;
-}
-
-const char* toString(FileKind k) {
-  switch (k) {
-    case FileKind::LSystem: return "L-system";
-    case FileKind::View: return "view";
-    case FileKind::Animation: return "animation";
-    case FileKind::Colormap: return "colormap";
-    case FileKind::Material: return "material";
-    case FileKind::Surface: return "surface";
-    case FileKind::Texture: return "texture";
-    case FileKind::Function: return "function";
-    case FileKind::Timeline: return "timeline";
-    case FileKind::Contour: return "contour";
-    case FileKind::Parameters: return "parameters";
-    case FileKind::Environment: return "environment";
-    case FileKind::Other: return "other";
-  }
-  return "?";
-}
-
 const char* toString(Action a) {
   switch (a) {
     case Action::None: return "none";

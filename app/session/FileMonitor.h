@@ -22,6 +22,8 @@
 #include <set>
 #include <string>
 #include <string_view>
+
+#include "app/session/InputKinds.h"
 #include <vector>
 
 namespace lcjit::app {
@@ -33,25 +35,6 @@ std::optional<RefreshMode> parseRefreshMode(std::string_view s);
 // The main menu's New … commands (§1.2.2) and the animate menu's New animate (§1.2.3).
 enum class Action { None, NewModel, NewLsystem, NewRun, NewView, NewRendering, NewAnimate };
 
-enum class FileKind {
-  LSystem,      // .l
-  View,         // .v (.dr: the old view file)
-  Animation,    // .a
-  Colormap,     // .map
-  Material,     // .mat
-  Surface,      // .s
-  Texture,      // .rgb .png .jpg .jpeg .bmp .tga .tif .tiff .gif
-  Function,     // .func (and .fset: a set of functions)
-  Timeline,     // .tset
-  Contour,      // .con (and .cset: a set of contours)
-  Parameters,   // .vset
-  Environment,  // .e (a change restarts the environmental program: New L-system)
-  Other,
-};
-
-// By extension (case-sensitive, as lpfg's command line is).
-FileKind fileKindOf(std::string_view path);
-const char* toString(FileKind k);
 const char* toString(Action a);
 
 // §1.3 table: the action run when a file of kind `k` changes under `mode` (None in Explicit, and

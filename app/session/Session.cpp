@@ -192,36 +192,37 @@ std::string examplesDir() {
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths) {
   ModelFiles f;
   for (const auto& p : paths) {
-    std::string ext = std::filesystem::path(p).extension().string();
     if (!std::filesystem::exists(p)) return llvm::createStringError(p + ": error: no such file");
-    if (ext == ".l") {
-      if (!f.lsystem.empty()) return llvm::createStringError(p + ": error: more than one L-system file (" + f.lsystem + " and " + p + ")");
-      f.lsystem = p;
-    } else if (ext == ".func") {
-      f.functions.push_back(p);
-    } else if (ext == ".fset") {
-      f.functionSet = p;  // lpfg: the last one on the command line wins
-    } else if (ext == ".tset") {
-      f.timeline = p;
-    } else if (ext == ".vset") {
-      f.parameters = p;
-    } else if (ext == ".v" || ext == ".dr") {
-      f.view = p;
-    } else if (ext == ".map") {
-      f.colormap = p;
-    } else if (ext == ".mat") {
-      f.materials = p;
-    } else if (ext == ".con" || ext == ".cset") {
-      f.contours.push_back(p);
-    } else if (ext == ".e") {
-      f.environment = p;
-    } else if (ext == ".a" || ext == ".s") {
-      f.other.push_back(p);
-    } else if (isCppSource(p)) {
-      f.sources.push_back(p);
-    } else {
-      return llvm::createStringError(p + ": error: unknown input file type '" + ext +
-                   "' (expected .l, .a, .v, .map, .mat, .con, .cset, .e, .func, .fset, .tset, .vset or C++ sources .cpp .cc .cxx .C .c++)");
+    const InputExtension* in = inputExtensionOf(p);
+    switch (in && in->commandLine ? in->kind : FileKind::Other) {
+      case FileKind::LSystem:
+        if (!f.lsystem.empty()) return llvm::createStringError(p + ": error: more than one L-system file (" + f.lsystem + " and " + p + ")");
+        f.lsystem = p;
+        break;
+      case FileKind::Function:
+        if (in->set)
+          f.functionSet = p;  // lpfg: the last one on the command line wins
+        else
+          f.functions.push_back(p);
+        break;
+      case FileKind::Timeline: f.timeline = p; break;
+      case FileKind::Parameters: f.parameters = p; break;
+      case FileKind::View: f.view = p; break;
+      case FileKind::Colormap: f.colormap = p; break;
+      case FileKind::Material: f.materials = p; break;
+      case FileKind::Contour: f.contours.push_back(p); break;
+      case FileKind::Environment: f.environment = p; break;
+      case FileKind::Animation:
+      case FileKind::Surface: f.other.push_back(p); break;
+      case FileKind::Texture:
+      case FileKind::Other:
+        if (isCppSource(p)) {
+          f.sources.push_back(p);
+          break;
+        }
+        return llvm::createStringError(p + ": error: unknown input file type '" +
+                                       std::filesystem::path(p).extension().string() + "' (expected " +
+                                       commandLineExtensions() + ", or C++ sources .cpp .cc .cxx .C .c++)");
     }
   }
   if (f.lsystem.empty()) return llvm::createStringError("error: no L-system file (.l) given");

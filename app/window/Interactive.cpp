@@ -60,7 +60,7 @@ class InteractiveModel {
       std::fflush(stdout);
     };
     for (const std::string& f : files.other)
-      if (std::filesystem::path(f).extension() == ".a") animationFile_ = f;
+      if (fileKindOf(f) == FileKind::Animation) animationFile_ = f;
     parameters_.load(files_, session_.functions());
   }
   ~InteractiveModel() {
@@ -392,7 +392,7 @@ class InteractiveModel {
   }
   void writePendingSaves() {
     for (const std::string& path : std::exchange(pendingSaves_, {})) {
-      if (std::filesystem::path(path).extension() == ".v") report(saveViewParameters(path));
+      if (fileKindOf(path) == FileKind::View) report(saveViewParameters(path));
       else report(frames_.write(path, session_.engine(), session_.drawing()));
     }
   }

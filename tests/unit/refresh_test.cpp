@@ -54,6 +54,21 @@ TEST(FileKinds, ByExtension) {
   EXPECT_EQ(fileKindOf("plant.L"), FK::Other);
 }
 
+// The same table says which files name others (a set) and which the command line takes: lpfg's
+// command line takes a .fset or .cset as a set, and no texture (the view file names those).
+TEST(FileKinds, SetsAndTheCommandLine) {
+  EXPECT_TRUE(inputExtensionOf("f.fset")->set);
+  EXPECT_TRUE(inputExtensionOf("c.cset")->set);
+  EXPECT_FALSE(inputExtensionOf("f.func")->set);
+  EXPECT_TRUE(inputExtensionOf("leaf.s")->commandLine);
+  EXPECT_FALSE(inputExtensionOf("bark.png")->commandLine);
+  EXPECT_EQ(inputExtensionOf("notes.txt"), nullptr);
+  const std::string list = commandLineExtensions();
+  EXPECT_EQ(list.rfind(".l, .a, .v, ", 0), 0u) << list;
+  EXPECT_NE(list.find(", .fset, .tset or .vset"), std::string::npos) << list;
+  EXPECT_EQ(list.find(".png"), std::string::npos) << list;
+}
+
 // ---- §1.3: file changed → action (one assertion per row, for each monitoring mode) --------------
 
 class ChangeTable : public ::testing::TestWithParam<RefreshMode> {};
