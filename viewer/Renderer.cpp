@@ -604,21 +604,9 @@ struct Renderer::Impl {
         }
         const int k = int(b.kind);
         covered[k] = std::max(covered[k], b.first + b.count);
-        if (!painterOrder) {
-          lo[k] = std::min(lo[k], b.first);
-          hi[k] = std::max(hi[k], b.first + b.count);
-          continue;
-        }
-        switch (b.kind) {
-          case DrawBatch::Kind::Triangles:
-            drawTriangles(pass, b.first, std::min(b.count, indexCount > b.first ? indexCount - b.first : 0));
-            break;
-          case DrawBatch::Kind::Segments:
-            drawSegments(pass, b.first, std::min(b.count, segmentCount > b.first ? segmentCount - b.first : 0));
-            break;
-          case DrawBatch::Kind::Discs: drawDiscs(pass, b.first, b.count); break;
-          case DrawBatch::Kind::Labels: break;
-        }
+        lo[k] = std::min(lo[k], b.first);
+        hi[k] = std::max(hi[k], b.first + b.count);
+        if (painterOrder) flush();  // batch by batch
       }
       flush();
       if (covered[0] < indexCount) drawTriangles(pass, covered[0], indexCount - covered[0]);
