@@ -361,7 +361,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     std::string model;
     for (auto& in : inputs) {
       in = std::filesystem::absolute(in).lexically_normal().string();
-      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::LSystem) model = in;
+      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::Model) model = in;
     }
     if (!model.empty()) {
       std::filesystem::current_path(std::filesystem::path(model).parent_path());
@@ -399,7 +399,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     if (winPosRel.size() == 2) w.relX = winPosRel[0], w.relY = winPosRel[1];
     w.borderless = noBorder;
     for (const std::string& in : inputs)
-      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::LSystem) w.title = "lcjit: " + std::filesystem::path(in).filename().string();
+      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::Model) w.title = "lcjit: " + std::filesystem::path(in).filename().string();
     return w;
   };
 #endif
@@ -429,12 +429,12 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     if (!batch && bo.out.empty() && !emitCpp && !compileOnly && !window) {
       bo.out = fs::path(inputs.back()).stem().string() + shownAs;
       for (const std::string& in : inputs)
-        if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::LSystem) bo.out = fs::path(in).stem().string() + shownAs;
+        if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::Model) bo.out = fs::path(in).stem().string() + shownAs;
       if (!bo.quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", bo.out.c_str());
     }
     lcjit::app::SandboxPlan plan;
     for (const std::string& in : inputs)
-      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::LSystem) plan.model = in;
+      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::Model) plan.model = in;
     if (plan.model.empty()) {
       std::fprintf(stderr, "error: no L-system file (.l) given\n");
       return 1;
@@ -540,7 +540,7 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
     // In the sandbox: caches in the model's folder, the only place this process may write and
     // one that no other model's run shares (docs/security.md).
     for (const std::string& in : inputs)
-      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::LSystem)
+      if (lcjit::app::fileKindOf(in) == lcjit::app::FileKind::Model)
         cacheDir = (std::filesystem::path(in).parent_path() / ".lcjit-cache").string();
     lab = lab || plainErrors;
     bo.progress = [reportFd](int step) { lcjit::app::reportProgress(reportFd, step); };

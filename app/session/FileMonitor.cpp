@@ -40,7 +40,7 @@ Action actionForChange(FileKind k, RefreshMode mode) {
   if (mode == RefreshMode::Explicit) return Action::None;
   // §1.3 (Continuous and Triggered alike — lpfg has one "Triggered/Continuous" watcher).
   switch (k) {
-    case FileKind::LSystem: return Action::NewLsystem;
+    case FileKind::Model: return Action::NewLsystem;
     case FileKind::View: return Action::NewView;
     case FileKind::Animation: return Action::NewAnimate;  // "Rereads file only"
     case FileKind::Colormap:
@@ -68,12 +68,12 @@ std::set<FileKind> filesReadBy(Action a) {
   switch (a) {
     case Action::None: break;
     case Action::NewModel:
-      out = {FileKind::LSystem, FileKind::View, FileKind::Animation, FileKind::Environment};
+      out = {FileKind::Model, FileKind::View, FileKind::Animation, FileKind::Environment};
       out.insert(rendering.begin(), rendering.end());
       out.insert(data.begin(), data.end());
       break;
     case Action::NewLsystem:
-      out = {FileKind::LSystem, FileKind::Environment};
+      out = {FileKind::Model, FileKind::Environment};
       out.insert(rendering.begin(), rendering.end());
       out.insert(data.begin(), data.end());
       break;

@@ -1,13 +1,17 @@
 // The input files' table by extension (InputKinds.h).
 #include "app/session/InputKinds.h"
 
+#include "app/session/Languages.h"
+
+#include <vector>
+
 namespace lcjit::app {
 
 namespace {
 
-// In the order messages list them.
-constexpr InputExtension kInputs[] = {
-    {"l", FileKind::LSystem, false, true},       {"a", FileKind::Animation, false, true},
+// The files read beside a model, in the order messages list them (after the models').
+constexpr InputExtension kBeside[] = {
+    {"a", FileKind::Animation, false, true},
     {"v", FileKind::View, false, true},          {"dr", FileKind::View, false, true},
     {"map", FileKind::Colormap, false, true},    {"mat", FileKind::Material, false, true},
     {"s", FileKind::Surface, false, true},       {"con", FileKind::Contour, false, true},
@@ -21,15 +25,34 @@ constexpr InputExtension kInputs[] = {
     {"gif", FileKind::Texture, false, false},
 };
 
+// Every row: the languages' model files, then the files beside them.
+const std::vector<InputExtension>& inputs() {
+  static const std::vector<InputExtension> rows = [] {
+    std::vector<InputExtension> all;
+    for (const Language& language : languages())
+      for (std::string_view ext : language.extensions) all.push_back({ext, FileKind::Model, false, true});
+    all.insert(all.end(), std::begin(kBeside), std::end(kBeside));
+    return all;
+  }();
+  return rows;
+}
+
 }  // namespace
 
-const InputExtension* inputExtensionOf(std::string_view path) {
+std::string_view extensionOf(std::string_view path) {
   size_t slash = path.find_last_of('/');
   std::string_view name = slash == std::string_view::npos ? path : path.substr(slash + 1);
   size_t dot = name.find_last_of('.');
-  if (dot == std::string_view::npos || dot == 0) return nullptr;
-  std::string_view ext = name.substr(dot + 1);
-  for (const InputExtension& in : kInputs)
+  if (dot == std::string_view::npos || dot == 0) return {};
+  return name.substr(dot + 1);
+}
+
+std::span<const InputExtension> inputExtensions() { return inputs(); }
+
+const InputExtension* inputExtensionOf(std::string_view path) {
+  std::string_view ext = extensionOf(path);
+  if (ext.empty()) return nullptr;
+  for (const InputExtension& in : inputs())
     if (in.extension == ext) return &in;
   return nullptr;
 }
@@ -41,7 +64,7 @@ FileKind fileKindOf(std::string_view path) {
 
 const char* toString(FileKind k) {
   switch (k) {
-    case FileKind::LSystem: return "L-system";
+    case FileKind::Model: return "model";
     case FileKind::View: return "view";
     case FileKind::Animation: return "animation";
     case FileKind::Colormap: return "colormap";
@@ -60,7 +83,7 @@ const char* toString(FileKind k) {
 
 std::string commandLineExtensions() {
   std::string list, last;
-  for (const InputExtension& in : kInputs) {
+  for (const InputExtension& in : inputs()) {
     if (!in.commandLine) continue;
     if (!last.empty()) list += (list.empty() ? "" : ", ") + last;
     last = "." + std::string(in.extension);

@@ -1,14 +1,16 @@
 // The kinds of file a model is given, by extension: one table, read by the command line and the
-// REPL (classifyInputs: which file is the L-system, the view, …), the watcher and the window (which
-// action a change runs, FileMonitor.h) and the message naming what is accepted.
+// REPL (classifyInputs: which file is the model, the view, …), the watcher and the window (which
+// action a change runs, FileMonitor.h) and the message naming what is accepted. The model files'
+// rows come from the languages' table (Languages.h); the rest are the files lpfg reads beside them.
 #pragma once
+#include <span>
 #include <string>
 #include <string_view>
 
 namespace lcjit::app {
 
 enum class FileKind {
-  LSystem,      // .l
+  Model,        // a grammar language's model: .l (Languages.h)
   View,         // .v (.dr: the old view file)
   Animation,    // .a
   Colormap,     // .map
@@ -30,11 +32,17 @@ struct InputExtension {
   bool commandLine;  // given on the command line (a texture is named by the view file instead)
 };
 
+// The extension of `path`'s file name, without its dot; "" for none (a hidden file's name is not an
+// extension).
+std::string_view extensionOf(std::string_view path);
+// Every row: the languages' model files first, then the files read beside them.
+std::span<const InputExtension> inputExtensions();
 // The row for `path`'s extension; nullptr for an extension no row has.
 const InputExtension* inputExtensionOf(std::string_view path);
 FileKind fileKindOf(std::string_view path);
 const char* toString(FileKind k);
-// ".l, .a, .v, … or .vset": the extensions the command line takes, for messages.
+// ".l, .a, .v, … or .vset": the extensions the command line takes (the languages' first), for
+// messages.
 std::string commandLineExtensions();
 
 }  // namespace lcjit::app

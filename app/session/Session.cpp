@@ -195,10 +195,16 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
     if (!std::filesystem::exists(p)) return llvm::createStringError(p + ": error: no such file");
     const InputExtension* in = inputExtensionOf(p);
     switch (in && in->commandLine ? in->kind : FileKind::Other) {
-      case FileKind::LSystem:
-        if (!f.lsystem.empty()) return llvm::createStringError(p + ": error: more than one L-system file (" + f.lsystem + " and " + p + ")");
+      case FileKind::Model: {
+        const Language* language = languageOf(p);
+        if (!f.lsystem.empty())
+          return llvm::createStringError(p + ": error: more than one " +
+                                         (language == f.language ? std::string(language->model) : "model") + " file (" +
+                                         f.lsystem + " and " + p + ")");
         f.lsystem = p;
+        f.language = language;
         break;
+      }
       case FileKind::Function:
         if (in->set)
           f.functionSet = p;  // lpfg: the last one on the command line wins
@@ -225,7 +231,7 @@ llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths)
                                        commandLineExtensions() + ", or C++ sources .cpp .cc .cxx .C .c++)");
     }
   }
-  if (f.lsystem.empty()) return llvm::createStringError("error: no L-system file (.l) given");
+  if (f.lsystem.empty()) return llvm::createStringError("error: " + noModelGiven());
   // lpfg builds a model whose folder has an lpfg.mak with it: its sources, flags and -std.
   auto mak = readLpfgMak(std::filesystem::path(f.lsystem).parent_path().string());
   if (!mak) return mak.takeError();

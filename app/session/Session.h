@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/session/FileMonitor.h"
+#include "app/session/Languages.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "runtime/environment/Builtin.h"
@@ -56,7 +57,8 @@ struct BetterTier {
 
 // The files a model run uses, recognised by extension.
 struct ModelFiles {
-  std::string lsystem;
+  std::string lsystem;               // the model (a grammar language's file: Languages.h)
+  const Language* language = nullptr;  // its language
   std::vector<std::string> functions;  // .func, in command-line order
   std::string functionSet, timeline, parameters;
   std::string view;                  // .v (lpfg also reads .dr)

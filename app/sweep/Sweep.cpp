@@ -25,6 +25,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include "app/session/Languages.h"
 #include "runtime/files/InputFile.h"
 #include "runtime/files/ReplacingFile.h"
 
@@ -296,6 +297,8 @@ class SweepReader {
     auto model = scalar(root["model"], "model");
     if (!model) return model.takeError();
     if (auto e = existing(root["model"], *model, s.folder)) return std::move(e);
+    if (!languageOf(*model))
+      return error(root["model"], *model + " is not a model file (" + modelExtensions() + ")");
     s.model = *model;
     if (YAML::Node files = root["files"]) {
       auto list = scalars(files, "files");

@@ -1,6 +1,7 @@
 // Refresh modes (manual §1.1.1 -rmode), the §1.2.2 "New …" table, the §1.3 file-monitoring table,
 // and the inotify watcher on real files.
 #include <gtest/gtest.h>
+
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -8,9 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <thread>
 
 #include "app/session/FileMonitor.h"
+#include "app/session/Languages.h"
 
 using namespace lcjit;
 using namespace lcjit::app;
@@ -31,7 +34,7 @@ TEST(RefreshMode, Parse) {
 }
 
 TEST(FileKinds, ByExtension) {
-  EXPECT_EQ(fileKindOf("dir/plant.l"), FK::LSystem);
+  EXPECT_EQ(fileKindOf("dir/plant.l"), FK::Model);
   EXPECT_EQ(fileKindOf("view.v"), FK::View);
   EXPECT_EQ(fileKindOf("old.dr"), FK::View);
   EXPECT_EQ(fileKindOf("anim.a"), FK::Animation);
@@ -52,6 +55,36 @@ TEST(FileKinds, ByExtension) {
   EXPECT_EQ(fileKindOf("a.dir/noext"), FK::Other);
   EXPECT_EQ(fileKindOf(".l"), FK::Other);  // a hidden file, not an extension
   EXPECT_EQ(fileKindOf("plant.L"), FK::Other);
+}
+
+// The languages' table (Languages.h) says which files are models, in which language, on which
+// engine; the input files' table takes its model rows from it, and no extension is read two ways.
+TEST(Languages, ByExtension) {
+  const Language* lc = languageOf("dir/plant.l");
+  ASSERT_NE(lc, nullptr);
+  EXPECT_EQ(lc->name, "L+C");
+  EXPECT_EQ(lc->model, "L-system");
+  EXPECT_EQ(lc->engine, EngineKind::LSystem);
+  EXPECT_EQ(languageOf("view.v"), nullptr);
+  EXPECT_EQ(languageOf(".l"), nullptr);  // a hidden file
+  EXPECT_EQ(languageOf("plant.L"), nullptr);
+  EXPECT_EQ(modelExtensions(*lc), ".l");
+  EXPECT_EQ(noModelGiven(), "no L-system file (.l) given");  // lpfg's words for its one language
+  size_t modelRows = 0;
+  for (const Language& language : languages())
+    for (std::string_view ext : language.extensions) {
+      const std::string path = "m." + std::string(ext);
+      EXPECT_EQ(languageOf(path), &language) << ext;
+      EXPECT_EQ(fileKindOf(path), FK::Model) << ext;
+      ++modelRows;
+    }
+  std::set<std::string_view> seen;
+  size_t models = 0;
+  for (const auto& row : inputExtensions()) {
+    EXPECT_TRUE(seen.insert(row.extension).second) << "." << row.extension << " is in two rows";
+    models += row.kind == FK::Model;
+  }
+  EXPECT_EQ(models, modelRows);
 }
 
 // The same table says which files name others (a set) and which the command line takes: lpfg's
@@ -75,7 +108,7 @@ class ChangeTable : public ::testing::TestWithParam<RefreshMode> {};
 
 TEST_P(ChangeTable, Rows) {
   RefreshMode m = GetParam();
-  EXPECT_EQ(actionForChange(FK::LSystem, m), Action::NewLsystem);      // L-system → New L-system
+  EXPECT_EQ(actionForChange(FK::Model, m), Action::NewLsystem);      // L-system → New L-system
   EXPECT_EQ(actionForChange(FK::View, m), Action::NewView);            // View → New view
   EXPECT_EQ(actionForChange(FK::Animation, m), Action::NewAnimate);    // Animate → rereads file only
   EXPECT_EQ(actionForChange(FK::Colormap, m), Action::NewRendering);   // Colormap → New rendering
@@ -93,7 +126,7 @@ INSTANTIATE_TEST_SUITE_P(Monitoring, ChangeTable,
                          ::testing::Values(RefreshMode::Continuous, RefreshMode::Triggered));
 
 TEST(ChangeTable, ExplicitRereadsNothing) {
-  for (FK k : {FK::LSystem, FK::View, FK::Animation, FK::Colormap, FK::Material, FK::Surface, FK::Texture,
+  for (FK k : {FK::Model, FK::View, FK::Animation, FK::Colormap, FK::Material, FK::Surface, FK::Texture,
                FK::Function, FK::Contour, FK::Timeline, FK::Parameters, FK::Environment, FK::Other})
     EXPECT_EQ(actionForChange(k, RefreshMode::Explicit), Action::None) << toString(k);
 }
@@ -114,10 +147,10 @@ TEST(MenuTable, FilesReadBy) {
   // New model: L-system, view, colours/surfaces/textures, functions/contours/timeline/parameters
   // (+ the animation and environment files: "re-read all input files").
   EXPECT_EQ(filesReadBy(Action::NewModel),
-            unite({{FK::LSystem, FK::View, FK::Animation, FK::Environment}, kColours, kData}));
+            unite({{FK::Model, FK::View, FK::Animation, FK::Environment}, kColours, kData}));
   // New L-system: all but the view and animation files (and, in lcjit, the .e file: the
   // environmental program restarts with it).
-  EXPECT_EQ(filesReadBy(Action::NewLsystem), unite({{FK::LSystem, FK::Environment}, kColours, kData}));
+  EXPECT_EQ(filesReadBy(Action::NewLsystem), unite({{FK::Model, FK::Environment}, kColours, kData}));
   // New run: colours… and functions…, not the L-system, view or animation files.
   EXPECT_EQ(filesReadBy(Action::NewRun), unite({kColours, kData}));
   // New view: view + colours/surfaces/textures.

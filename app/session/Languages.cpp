@@ -1,0 +1,68 @@
+// The languages' table (Languages.h).
+#include "app/session/Languages.h"
+
+#include "app/session/InputKinds.h"
+
+#include <iterator>
+#include <vector>
+
+namespace lcjit::app {
+
+namespace {
+
+constexpr std::string_view kLplusC[] = {"l"};
+
+constexpr Language kLanguages[] = {
+    // lpfg's L+C: frontend/ (the preprocessor and the rewriter) on the L-system engine.
+    {"L+C", "L-system", kLplusC, EngineKind::LSystem},
+};
+
+}  // namespace
+
+std::span<const Language> languages() { return kLanguages; }
+
+const Language* languageOf(std::string_view path) {
+  std::string_view ext = extensionOf(path);
+  if (ext.empty()) return nullptr;
+  for (const Language& language : kLanguages)
+    for (std::string_view e : language.extensions)
+      if (e == ext) return &language;
+  return nullptr;
+}
+
+namespace {
+
+std::string listed(const std::vector<std::string_view>& extensions) {
+  std::string list;
+  for (size_t i = 0; i < extensions.size(); ++i) {
+    if (i) list += i + 1 == extensions.size() ? " or " : ", ";
+    list += "." + std::string(extensions[i]);
+  }
+  return list;
+}
+
+}  // namespace
+
+std::string modelExtensions(const Language& language) {
+  return listed({language.extensions.begin(), language.extensions.end()});
+}
+
+std::string modelExtensions() {
+  std::vector<std::string_view> all;
+  for (const Language& language : kLanguages) all.insert(all.end(), language.extensions.begin(), language.extensions.end());
+  return listed(all);
+}
+
+std::string noModelGiven() {
+  if (std::size(kLanguages) == 1) {
+    const Language& only = kLanguages[0];
+    return "no " + std::string(only.model) + " file (" + modelExtensions(only) + ") given";
+  }
+  std::string list;
+  for (const Language& language : kLanguages)
+    list += (list.empty() ? "" : "; ") + std::string(language.name) + ": " + std::string(language.model) + " " +
+            modelExtensions(language);
+  return "no model file given (" + list + ")";
+}
+
+}  // namespace lcjit::app

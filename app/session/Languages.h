@@ -1,0 +1,45 @@
+// The grammar languages lcjit runs, keyed by the extension of their model files. This table is the
+// one place where the command line, the watcher, the window, the REPL, sweeps and the sandbox learn
+// which language a file is written in and which engine runs its models (InputKinds.h takes the
+// model files' rows from it; classifyInputs names the language of a run's model).
+//
+// A language is a front end (frontend/<language>/: its text → the C++ the JIT compiles and the
+// tables that describe the model) and the engine its models run on (runtime/). Adding one is its
+// own folder and one row of kLanguages in Languages.cpp; docs/architecture.md draws the seam.
+#pragma once
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace lcjit::app {
+
+// The engines a language's models run on. Each hands runtime::Geometry (runtime/turtle/Geometry.h)
+// to the one renderer and the exporters.
+enum class EngineKind {
+  // runtime::Engine: a string of modules rewritten in parallel, step by step, by productions with
+  // context, then read by the turtle (L+C).
+  LSystem,
+};
+
+struct Language {
+  std::string_view name;   // as its users call it: "L+C"
+  std::string_view model;  // what one of its model files is called in messages: "L-system"
+  std::span<const std::string_view> extensions;  // of its model files, without the dot
+  EngineKind engine;
+};
+
+// Every language, in the order messages list them.
+std::span<const Language> languages();
+// The language whose model files end in `path`'s extension; nullptr for none. Extensions are
+// case-sensitive, as lpfg's command line is.
+const Language* languageOf(std::string_view path);
+// ".l": the model files' extensions, in the form messages give them ("a .l or .cfdg file").
+std::string modelExtensions(const Language& language);
+
+// ".l": every language's model files' extensions.
+std::string modelExtensions();
+// What a run without a model file is told: "no L-system file (.l) given", or with several
+// languages, each language's model file and extensions.
+std::string noModelGiven();
+
+}  // namespace lcjit::app
