@@ -1,4 +1,4 @@
-// The derivation engine: runs a compiled model (its __lc_Model table) the way lpfg does —
+// The L-system engine (a ModelRun, ModelRun.h): runs a compiled model (its __lc_Model table) the way lpfg does —
 // Start, axiom, derivation steps with context matching, groups, Gillespie groups, decomposition,
 // interpretation (turtle queries), End — over contiguous module buffers.
 #pragma once
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "runtime/ModelGuard.h"
+#include "runtime/ModelRun.h"
 #include "runtime/ModuleString.h"
 #include "runtime/Random.h"
 #include "runtime/Environment.h"
@@ -24,28 +25,7 @@ namespace lcjit::runtime {
 
 class FunctionStore;
 
-struct EngineHooks {
-  // Called after each derivation step, before decomposition (lpfg's -ds point).
-  std::function<void(int step)> afterDerivation;
-  // Called after each whole step (decomposition and EndEach done): where lpfg draws the frame.
-  std::function<void(int step)> afterStep;
-  // Model output (Printf).
-  std::function<void(const char*)> print;
-  // OutputFrame("file.ext") from model code: render or export the current string.
-  std::function<void(const char* path)> outputFrame;
-  // Messages about the run that do not stop it ("plant.e: warning: …": an environmental
-  // program's unusable answers). Without it they go to stderr.
-  std::function<void(const std::string&)> warning;
-};
-
-// Runaway growth and runaway code stop the derivation (docs/faults.md).
-struct EngineLimits {
-  size_t maxModules = 100'000'000;              // modules in the string
-  size_t maxMemory = defaultMemoryLimit();      // bytes: the process, and the string's buffers
-  double timeLimit = 0;                         // seconds per step (interpretation, Start, End); 0: none
-};
-
-class Engine {
+class Engine final : public ModelRun {
  public:
   Engine(const __lc_Model& model, const FunctionStore* functions);
   ~Engine();
@@ -81,9 +61,9 @@ class Engine {
   // The same in pieces, for animation: begin() runs Start and the axiom (with decomposition);
   // step() one derivation step, false once the derivation length is reached or Stop() was
   // called (then End has run); finish() runs End if it has not. `hooks` must outlive them.
-  void begin(const EngineHooks& hooks);
-  bool step();
-  void finish();
+  void begin(const EngineHooks& hooks) override;
+  bool step() override;
+  void finish() override;
 
   // Faults. Model code runs behind a ModelGuard, one guarded call per begin(), step(), finish()
   // and interpret(): a crash, an uncaught exception, an interrupt or a limit ends that call.
@@ -91,9 +71,9 @@ class Engine {
   // the string is left as it was before the failed step (stepsDone() too), and takeFault()
   // returns the message — `file:line: error: production A(x) crashed in step 3: …` — until the
   // next begin(), which starts afresh. interpret() returns it.
-  llvm::Error takeFault();
-  bool faulted() const { return faulted_; }
-  void setLimits(const EngineLimits& limits);
+  llvm::Error takeFault() override;
+  bool faulted() const override { return faulted_; }
+  void setLimits(const EngineLimits& limits) override;
   const EngineLimits& limits() const { return limits_; }
   // How a fault finds the statement it happened in (its message then names that file:line:column
   // instead of the rule's first line). Unset: the rule's line.
@@ -101,7 +81,7 @@ class Engine {
   // From any thread (or a signal handler): the model code running now (a step, an
   // interpretation, Start…) stops, with an "interrupted" fault; a model stuck in a loop is made to
   // jump out (ModelGuard.h).
-  void interrupt() { guard_.interrupt(FaultKind::Interrupted); }
+  void interrupt() override { guard_.interrupt(FaultKind::Interrupted); }
   // Other model code of this model (C++ typed at the REPL) behind the same guard and limits, so
   // that interrupt() and cancelStep() stop it too. The engine is the current one meanwhile, so
   // host functions (LoadString, UseGroup...) act on it.
@@ -111,14 +91,14 @@ class Engine {
   // string stays as before it; model code already run, StartEach included, is not undone).
   // step() then returns false. Model code that does not return is interrupted (a fault) after a
   // short grace period.
-  void cancelStep() {
+  void cancelStep() override {
     cancel_ = true;
     guard_.interrupt(FaultKind::Interrupted);
   }
   // A cancel that came after the step had finished must not stop the next one.
-  void clearCancel() { cancel_ = false; }
-  int derivationLength() const { return length_; }
-  bool ended() const { return ended_; }
+  void clearCancel() override { cancel_ = false; }
+  int derivationLength() const override { return length_; }
+  bool ended() const override { return ended_; }
 
   // Profiling (Profile.h): per-rule counts and times from the next begin() (or now, when turned
   // on between steps). Off: nothing is counted. Read profile() only while no step runs.
@@ -155,7 +135,7 @@ class Engine {
   // A fault in an interpretation rule is the error (the string is unchanged).
   llvm::Error interpret(const std::function<void(const char* rec)>& sink, Geometry* geometry = nullptr,
                         std::string* transcript = nullptr, int vgroup = 0);
-  llvm::Error interpret(Geometry& geometry, int vgroup = 0) { return interpret(nullptr, &geometry, nullptr, vgroup); }
+  llvm::Error interpret(Geometry& geometry, int vgroup = 0) override { return interpret(nullptr, &geometry, nullptr, vgroup); }
   // lpfg's `-dtf` text of the current string written to `out` as the turtle goes, a megabyte at
   // a time (interpret's `transcript` holds it all: 23 MB for 2 M turtle commands). An
   // interpretation fault is the error, after the text up to it.
@@ -164,7 +144,7 @@ class Engine {
   void useView(int id);
   void closeView(int id);
   int numOfViews() const;  // the model's view groups (NumOfViews)
-  const std::vector<int>& views() const { return views_; }
+  const std::vector<int>& views() const override { return views_; }
   // Inserts one module record before the module at string offset `offset` (MouseIns, §5.9).
   bool insertBefore(size_t offset, const char* record);
   // The view file and shapes the turtle draws with (also used by the query pass: tropisms move
@@ -187,7 +167,7 @@ class Engine {
   void writeText(const ModuleBuffer& s, std::ostream& out) const;
   // The current string as text (.str), written whole or not at all (runtime/files/ReplacingFile.h).
   llvm::Error writeTextFile(const std::string& path) const;
-  int stepsDone() const { return step_; }
+  int stepsDone() const override { return step_; }
   size_t moduleCount() const;  // counted as the last step derived it when it can be
 
   // Binary strings (.strb): lpfg's in-memory layout, no header.
@@ -200,7 +180,7 @@ class Engine {
   int currentGroup() const { return group_; }
   void setForward(bool f) { forward_ = f; }
   bool forward() const { return forward_; }
-  void stop() { stopRequested_ = true; }
+  void stop() override { stopRequested_ = true; }
   int stepNo() const { return step_; }
   Rand48& random() { return random_; }
   // --seed N: this run is member N of an ensemble (Rand48::setMember); none: lpfg's streams.

@@ -10,7 +10,7 @@
 
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Drawing.h"
-#include "runtime/Engine.h"
+#include "runtime/ModelRun.h"
 #include "viewer/ImageFiles.h"
 #if LCJIT_HAVE_RENDERING
 #include "viewer/Headless.h"
@@ -74,7 +74,7 @@ std::string sizeProblem(int width, int height) {
 }
 }  // namespace
 
-llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view) {
+llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& engine, const runtime::ViewSettings& view) {
   std::vector<viewer::ViewPane> panes;
   const auto& windows = view.windows;
   const std::vector<int>& opened = engine.views();
@@ -96,7 +96,7 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& en
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
 FrameWriter::~FrameWriter() = default;
 
-llvm::Expected<viewer::Image> FrameWriter::picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+llvm::Expected<viewer::Image> FrameWriter::picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
                                                    FrameTimes* times) {
   if (std::string bad = sizeProblem(width_, height_); !bad.empty()) return llvm::createStringError("cannot make " + bad);
   auto t0 = std::chrono::steady_clock::now();
@@ -110,7 +110,7 @@ llvm::Expected<viewer::Image> FrameWriter::picture(runtime::Engine& engine, cons
   return render(geometry, engine, drawing, times);
 }
 
-llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geometry, runtime::Engine& engine,
+llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
                                                   const runtime::DrawingFiles& drawing, FrameTimes* times) {
 #if !LCJIT_HAVE_RENDERING
   (void)geometry, (void)engine, (void)drawing, (void)times;
@@ -136,7 +136,7 @@ llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geome
 #endif
 }
 
-llvm::Error FrameWriter::write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+llvm::Error FrameWriter::write(const std::string& path, runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
                                FrameTimes* times) {
   if (viewer::isVideoFileName(path))
     return llvm::createStringError("cannot write " + path + ": a video is made of many frames: name it with -out (every "
@@ -185,7 +185,7 @@ void NamedFrames::name(const char* path) {
   if (path && std::find(paths_.begin(), paths_.end(), path) == paths_.end()) paths_.push_back(path);
 }
 
-llvm::Error NamedFrames::writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing) {
+llvm::Error NamedFrames::writeAll(FrameWriter& frames, runtime::ModelRun& engine, const runtime::DrawingFiles& drawing) {
   std::vector<std::string> paths = std::move(paths_);
   paths_.clear();
   if (engine.faulted()) return llvm::Error::success();

@@ -15,7 +15,7 @@
 #include <llvm/Support/Error.h>
 
 namespace lcjit::runtime {
-class Engine;
+class ModelRun;
 struct DrawingFiles;
 }  // namespace lcjit::runtime
 namespace lcjit::viewer {
@@ -44,7 +44,7 @@ std::string badPictureSize(double width, double height);
 // interpreted by their view group; a window no view was opened for is its background (in lpfg, an
 // empty widget holds its place), so are all of them when the model opened none. Empty for a
 // view file without `window:` lines (one view). Also records each view's bounding box (vvXmin …).
-llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view);
+llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& engine, const runtime::ViewSettings& view);
 
 // The model's colours and textures as the renderer takes them (textures rows top first),
 // converted once per loaded DrawingFiles rather than for every picture: a reload replaces the
@@ -68,15 +68,15 @@ class FrameWriter {
  public:
   FrameWriter(int width = 800, int height = 800);
   ~FrameWriter();
-  // Interprets the engine's current string and writes it to `path`.
-  llvm::Error write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+  // Draws where the run has got to (an L-system: its current string, interpreted) into `path`.
+  llvm::Error write(const std::string& path, runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
                     FrameTimes* times = nullptr);
   // The same picture as `write` makes of a picture file (a video's frame).
-  llvm::Expected<viewer::Image> picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+  llvm::Expected<viewer::Image> picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
                                         FrameTimes* times = nullptr);
 
  private:
-  llvm::Expected<viewer::Image> render(const runtime::Geometry& geometry, runtime::Engine& engine,
+  llvm::Expected<viewer::Image> render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
                                        const runtime::DrawingFiles& drawing, FrameTimes* times);
   int width_, height_;
 #if LCJIT_HAVE_RENDERING
@@ -96,7 +96,7 @@ class NamedFrames {
   // Writes every file named since the last call (each interprets the current string), then
   // forgets them; the first failure is the error, the others are still tried. After a fault of
   // the run (engine.faulted()) nothing is written: the string is not the step's.
-  llvm::Error writeAll(FrameWriter& frames, runtime::Engine& engine, const runtime::DrawingFiles& drawing);
+  llvm::Error writeAll(FrameWriter& frames, runtime::ModelRun& engine, const runtime::DrawingFiles& drawing);
 
  private:
   std::vector<std::string> paths_;
