@@ -3,9 +3,9 @@
 // but system headers, lcjit's runtime headers among them, stay `#include` lines in the output
 // (clang's -fkeep-system-includes): the C++ compile includes them, mostly from its PCH.
 #include "frontend/Preprocess.h"
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "frontend/ClangDiagnostics.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <clang/Basic/Diagnostic.h>
 #include <clang/Basic/DiagnosticOptions.h>
@@ -144,7 +144,7 @@ public:
   llvm::ErrorOr<std::unique_ptr<llvm::vfs::File>> openFileForRead(const llvm::Twine& path) override {
     std::string name = path.str();
     llvm::sys::fs::file_status onDisk;
-    auto buf = runtime::readInputFile(name, /*nullTerminated=*/false, &onDisk);
+    auto buf = support::readInputFile(name, /*nullTerminated=*/false, &onDisk);
     if (!buf)
       return buf.getError();
     llvm::vfs::Status st = llvm::vfs::Status::copyWithNewName(onDisk, name);
@@ -185,7 +185,7 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = overridden_.find(name);
     if (it == overridden_.end()) {
-      auto buf = runtime::readInputFile(name);
+      auto buf = support::readInputFile(name);
       if (!buf)
         return nullptr;
       it = overridden_.emplace(name, overrideDefines((*buf)->getBuffer().str(), overrides_, defined_, functionLike_)).first;
@@ -446,7 +446,7 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     h.update(a);
     h.update(llvm::StringRef("\0", 1));
   }
-  hashDirectoryTree(h, runtimeIncludeDir);
+  support::hashDirectoryTree(h, runtimeIncludeDir);
   const std::string name = "/preprocessor/" + llvm::toHex(h.final(), /*LowerCase=*/true).substr(0, 24);
   std::string dir = cacheDir + name;
   std::string image = dir + "/lpfgall.h";
@@ -458,11 +458,11 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     return memo->second;
   std::optional<std::string>& result = known[image];
 
-  if (auto existing = runtime::readInputFile(image); existing && stampsHold((*existing)->getBuffer(), kMacroImageFollows))
+  if (auto existing = support::readInputFile(image); existing && support::stampsHold((*existing)->getBuffer(), kMacroImageFollows))
     return result = dir;
   if (!prebuiltDir.empty())
-    if (auto prebuilt = runtime::readInputFile(prebuiltDir + name + "/lpfgall.h");
-        prebuilt && stampsHold((*prebuilt)->getBuffer(), kMacroImageFollows))
+    if (auto prebuilt = support::readInputFile(prebuiltDir + name + "/lpfgall.h");
+        prebuilt && support::stampsHold((*prebuilt)->getBuffer(), kMacroImageFollows))
       return result = prebuiltDir + name;
 
   std::string empty = cacheDir + "/preprocessor/lcjit-empty.cpp";
@@ -482,7 +482,7 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
     builtIn.insert(line);
     rest = r;
   }
-  std::optional<std::string> stamps = stampLines(all->fs->openedFiles());
+  std::optional<std::string> stamps = support::stampLines(all->fs->openedFiles());
   if (!stamps)
     return result;
   std::string text = std::move(*stamps);
@@ -496,7 +496,7 @@ std::optional<std::string> macroImageDir(const std::string& runtimeIncludeDir, c
   }
   text += "#endif\n";
   llvm::sys::fs::create_directories(dir);
-  if (!writeCacheFile(image, text))
+  if (!support::writeCacheFile(image, text))
     return result;
   return result = dir;
 }
@@ -535,9 +535,9 @@ public:
 
   // The kept text, if every file it was made from is as it was.
   std::optional<std::string> find() const {
-    auto kept = runtime::readInputFile(path_, /*nullTerminated=*/false);
+    auto kept = support::readInputFile(path_, /*nullTerminated=*/false);
     llvm::StringRef rest;
-    if (!kept || !stampsHold((*kept)->getBuffer(), kTextFollows, &rest))
+    if (!kept || !support::stampsHold((*kept)->getBuffer(), kTextFollows, &rest))
       return std::nullopt;  // changed files, or damaged
     return rest.str();
   }
@@ -546,13 +546,13 @@ public:
   void begin() { started_ = nowNs(); }
 
   void keep(const std::vector<std::string>& files, const std::string& text) const {
-    std::optional<std::string> out = stampLines(files, started_ - 20'000'000);
+    std::optional<std::string> out = support::stampLines(files, started_ - 20'000'000);
     if (!out)
       return;  // a file gone meanwhile, or just written
     *out += kTextFollows;
     *out += text;
     llvm::sys::fs::create_directories(llvm::sys::path::parent_path(path_));
-    writeCacheFile(path_, *out);  // failing only costs the next run a preprocess
+    support::writeCacheFile(path_, *out);  // failing only costs the next run a preprocess
   }
 
 private:
@@ -596,7 +596,7 @@ llvm::Error checkOverrides(const PreprocessOptions& options, const RecordingFS& 
 
 llvm::Expected<std::string> preprocess(const std::string& lsystemPath, const PreprocessOptions& options) {
   if (!options.mainText) {
-    auto probe = runtime::readInputFile(lsystemPath);
+    auto probe = support::readInputFile(lsystemPath);
     if (!probe)
       return llvm::createStringError(lsystemPath + ": error: cannot open file: " + probe.getError().message());
   }
@@ -658,7 +658,7 @@ void OriginalColumns::build() const {
     auto it = originals.find(file);
     if (it != originals.end()) return it->second;
     std::vector<std::string> lines;
-    if (auto buffer = runtime::readInputFile(file)) {
+    if (auto buffer = support::readInputFile(file)) {
       llvm::StringRef rest = (*buffer)->getBuffer();
       while (!rest.empty()) {
         auto [l, r] = rest.split('\n');

@@ -1,9 +1,9 @@
 // The Clang front end of ClangFrontend.h: each level's invocation from the driver's command line,
 // the two-halved front-end run, and the quick tiers' next front end begun ahead.
 #include "jit/ClangFrontend.h"
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/CompilerImpl.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <clang/Basic/DiagnosticOptions.h>
 #include <clang/Basic/LangStandard.h>
@@ -234,9 +234,9 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
   // The driver's cc1 line from an earlier run: the driver was a tenth of a run whose model came
   // from the object cache, which needs the line for the cache's keys and no invocation at all.
   const std::string kept = keptCc1Path(args);
-  if (auto file = runtime::readInputFile(kept, /*nullTerminated=*/false)) {
+  if (auto file = support::readInputFile(kept, /*nullTerminated=*/false)) {
     llvm::StringRef rest;
-    if (frontend::stampsHold((*file)->getBuffer(), kCc1Follows, &rest) && rest.starts_with("-cc1") &&
+    if (support::stampsHold((*file)->getBuffer(), kCc1Follows, &rest) && rest.starts_with("-cc1") &&
         rest.ends_with(llvm::StringRef("\0", 1))) {
       llvm::SmallVector<llvm::StringRef, 64> parts;
       rest.drop_back().split(parts, '\0', /*MaxSplit=*/-1, /*KeepEmpty=*/true);
@@ -277,13 +277,13 @@ llvm::Error Compiler::Impl::setupLevel(LevelSetup& L, int level) {
           std::find(searched.begin(), searched.end(), dir.str()) == searched.end())
         searched.push_back(dir.str().str());
   }
-  if (auto stamps = frontend::stampLines(searched)) {
+  if (auto stamps = support::stampLines(searched)) {
     std::string text = *stamps + kCc1Follows.str();
     for (const auto& a : L.cc1Args)
       text += a + '\0';
     std::error_code ec = llvm::sys::fs::create_directories(cacheDir + "/levels");
     if (!ec)
-      frontend::writeCacheFile(kept, text);
+      support::writeCacheFile(kept, text);
   }
   return llvm::Error::success();
 }

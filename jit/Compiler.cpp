@@ -2,7 +2,7 @@
 // defined below it. How the JIT works, and the measurements behind its design: docs/jit.md.
 #include "jit/Compiler.h"
 #include "jit/CompilerImpl.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 #include "jit/IRRewrites.h"
 #include "jit/StaticData.h"
 
@@ -149,10 +149,10 @@ llvm::Expected<std::unique_ptr<Compiler>> Compiler::create(CompilerConfig config
   impl->headerDir = llvm::sys::path::parent_path(config.runtimeHeader).str();
   impl->cacheDir = config.cacheDir.empty() ? defaultCacheDir() : config.cacheDir;
   // Objects in the cache are loaded and run: only a folder that is the user's alone is trusted.
-  if (auto err = frontend::useAsCacheFolder(impl->cacheDir)) {
+  if (auto err = support::useAsCacheFolder(impl->cacheDir)) {
     impl->cacheWarning = llvm::toString(std::move(err)) +
                          "; this run keeps its compiled code in a private folder, removed when it ends";
-    auto own = frontend::privateCacheFolder();
+    auto own = support::privateCacheFolder();
     if (!own)
       return own.takeError();
     impl->cacheDir = *own;
@@ -242,7 +242,7 @@ llvm::Expected<std::unique_ptr<ModelCode>> Compiler::compile(llvm::StringRef cpp
       if (auto err = options.checkStaticData(data.data))
         return job.report(std::move(err));
 
-    auto loadStart = Clock::now();
+    auto loadStart = support::Clock::now();
     // supportCode → the JITDylib of the runtime header's code at level 0 (waited for before the
     // JIT's lock: loading it takes that lock).
     auto support = impl_->supportCode(job);
@@ -336,7 +336,7 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
       std::lock_guard<std::mutex> lock(L.mutex);
       ensurePch(L, job.level, true, job.stats);
     }
-    auto t0 = Clock::now();
+    auto t0 = support::Clock::now();
     // Snapshot the PCH decision; another thread may rebuild concurrently.
     {
       std::lock_guard<std::mutex> lock(L.mutex);
@@ -360,7 +360,7 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
       fe->begin();
     }
     Frontend::Result fr = fe->finish(job.source);
-    job.stats.frontendMs += msSince(t0);
+    job.stats.frontendMs += support::msSince(t0);
     job.beginNext = quickTier && options.beginNextAhead && options.lineTables && !config.debugger;
     if (fr.module)
       return fr;
@@ -375,7 +375,7 @@ llvm::Expected<Frontend::Result> Compiler::Impl::parse(Job& job) {
 // The module made ready to share its state and to load as an object (IRRewrites.h), then the
 // level's IR passes. The globals it owns (not the shared ones) go into `fresh`.
 llvm::Error Compiler::Impl::optimize(Job& job, llvm::Module& module, CachedObject& fresh) {
-  auto t1 = Clock::now();
+  auto t1 = support::Clock::now();
   for (std::string& name : exportState(module))
     if (!job.shared.count(name)) {
       const llvm::GlobalVariable* gv = module.getGlobalVariable(name, true);
@@ -389,14 +389,14 @@ llvm::Error Compiler::Impl::optimize(Job& job, llvm::Module& module, CachedObjec
   if (auto err = state->codegen[level >= 2 ? 1 : 0].optimize(
           module, level, jtmb, level >= 2 ? llvm::CodeGenOptLevel::Default : llvm::CodeGenOptLevel::None))
     return err;
-  job.stats.optimizeMs = msSince(t1);
+  job.stats.optimizeMs = support::msSince(t1);
   return llvm::Error::success();
 }
 
 // Instruction selection into an object file, and a symbol to link it by. An error the back end
 // reported (e.g. bad inline asm) fails the compile even when an object came out.
 llvm::Error Compiler::Impl::generateCode(Job& job, Frontend::Result& ir, CachedObject& fresh) {
-  auto t2 = Clock::now();
+  auto t2 = support::Clock::now();
   // Any external definition will do: looking it up links the whole object, so link errors
   // (unresolved symbols) surface in compile() instead of at the first call.
   for (const llvm::GlobalValue& gv : ir.module->global_values())
@@ -405,7 +405,7 @@ llvm::Error Compiler::Impl::generateCode(Job& job, Frontend::Result& ir, CachedO
       break;
     }
   auto bytes = emitObject(*ir.module, job.level);
-  job.stats.codegenMs = msSince(t2);
+  job.stats.codegenMs = support::msSince(t2);
   if (!bytes || !ir.backendErrors->empty()) {
     std::string msg = bytes ? "" : "error: code generation failed: " + llvm::toString(bytes.takeError());
     if (!ir.backendErrors->empty())
@@ -455,7 +455,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::newDylib(const Job& job, orc::JIT
 // Adds the object to JD and links it, records the bytes of the globals it owns, and runs its
 // static constructors; on failure, undoes what ran and removes JD. Called with the JIT's lock.
 llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, orc::JITDylib& JD, const ObjectData& data,
-                                                                    Clock::time_point loadStart) {
+                                                                    support::Clock::time_point loadStart) {
   auto& J = *state->jit;
   auto& ES = J.getExecutionSession();
   const CachedObject& object = *job.object;
@@ -479,7 +479,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
     if (auto e = ES.removeJITDylib(JD))
       llvm::consumeError(std::move(e));
     state->takeSessionErrors();
-    job.stats.loadMs += msSince(loadStart);
+    job.stats.loadMs += support::msSince(loadStart);
     return llvm::createStringError(demangleMentions(msg));
   };
 
@@ -521,7 +521,7 @@ llvm::Expected<std::shared_ptr<detail::Dylib>> Compiler::Impl::load(Job& job, or
                            J.mangleAndIntern("__lljit_run_atexits"));
       !sym)
     return fail(sym.takeError(), "JIT link failed");
-  job.stats.loadMs += msSince(loadStart);
+  job.stats.loadMs += support::msSince(loadStart);
   auto dylib = std::make_shared<detail::Dylib>();
   dylib->state = state;
   dylib->jd = &JD;

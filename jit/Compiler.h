@@ -190,7 +190,7 @@ public:
   // object (CompileStats::objectKey names it).
   std::string objectsDir() const;
   // Why the configured (or default) cache folder is not used, when it is not: it is not the
-  // user's alone (frontend::useAsCacheFolder). Empty when it is used.
+  // user's alone (support::useAsCacheFolder). Empty when it is used.
   const std::string& cacheWarning() const;
 
   struct Impl;

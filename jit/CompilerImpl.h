@@ -2,10 +2,10 @@
 // member says which. compile() and its stages are in Compiler.cpp; the design is in docs/jit.md.
 #pragma once
 
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/ClangFrontend.h"
 #include "jit/Compiler.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 #include "jit/ObjectCache.h"
 #include "jit/OrcState.h"
 #include "jit/StaticData.h"
@@ -70,7 +70,7 @@ struct Compiler::Impl {
   llvm::Expected<orc::JITDylib*> supportCode(Job& job);
   llvm::Expected<orc::JITDylib*> newDylib(const Job& job, orc::JITDylib* support);
   llvm::Expected<std::shared_ptr<detail::Dylib>> load(Job& job, orc::JITDylib& JD, const ObjectData& data,
-                                                      Clock::time_point loadStart);
+                                                      support::Clock::time_point loadStart);
 
   // Instruction selection at `level`, with the level's kept TargetMachine (OrcState.cpp).
   llvm::Expected<std::string> emitObject(llvm::Module& m, int level);
@@ -157,7 +157,7 @@ struct Compiler::Impl {
       if (L.ahead.valid())
         L.ahead.wait();
     if (privateCache)
-      frontend::removeCacheFolder(cacheDir);
+      support::removeCacheFolder(cacheDir);
     privateCache = false;
   }
   ~Impl() { settle(); }

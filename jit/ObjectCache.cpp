@@ -1,7 +1,7 @@
 // The object cache of ObjectCache.h: its key, its file format, and the in-memory and on-disk
 // stores of Compiler::Impl.
 #include "jit/ObjectCache.h"
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 
 #include <llvm/ADT/StringExtras.h>
@@ -106,7 +106,7 @@ std::shared_ptr<const CachedObject> Compiler::Impl::findObject(const std::string
       if (k == key)
         return object;
   }
-  frontend::CheckedRead file = frontend::readCheckedCacheFile(objectPath(key));
+  support::CheckedRead file = support::readCheckedCacheFile(objectPath(key));
   problem = file.problem;
   if (!file.bytes)
     return nullptr;
@@ -141,7 +141,7 @@ void Compiler::Impl::storeObject(const std::string& key, const CachedObject& obj
   const std::string dir = objectsDir();
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (!frontend::writeCheckedCacheFile(objectPath(key), serialize(object)))
+  if (!support::writeCheckedCacheFile(objectPath(key), serialize(object)))
     return;
   if (stores++ % 32 != 0)
     return;

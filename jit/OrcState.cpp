@@ -4,11 +4,11 @@
 #include <llvm/ExecutionEngine/Orc/DebugObjectManagerPlugin.h>
 #include <llvm/ExecutionEngine/Orc/EPCDebugObjectRegistrar.h>
 #include <llvm/ExecutionEngine/Orc/TargetProcess/JITLoaderGDB.h>
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRPipeline.h"
 #include "jit/ModelMemory.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Config/llvm-config.h>
@@ -93,7 +93,7 @@ public:
     const std::string file = path(llvm::toHex(h.final(), /*LowerCase=*/true) + ".dl");
     std::unique_ptr<llvm::MemoryBuffer> kept;
     if (!file.empty())
-      if (auto read = runtime::readInputFile(file))
+      if (auto read = support::readInputFile(file))
         kept = std::move(*read);
     if (kept) {
       auto dl = llvm::DataLayout::parse(kept->getBuffer());
@@ -154,9 +154,9 @@ private:
     std::error_code ec;
     std::filesystem::create_directories(dir_, ec);
     if (checked)
-      frontend::writeCheckedCacheFile(file, bytes);
+      support::writeCheckedCacheFile(file, bytes);
     else
-      frontend::writeCacheFile(file, bytes);
+      support::writeCacheFile(file, bytes);
   }
 
   std::string find(const std::string& key) {
@@ -167,7 +167,7 @@ private:
     }
     if (dir_.empty())
       return {};
-    frontend::CheckedRead read = frontend::readCheckedCacheFile(path(key + ".obj"));
+    support::CheckedRead read = support::readCheckedCacheFile(path(key + ".obj"));
     if (!read.bytes)
       return {};
     std::lock_guard<std::mutex> lock(mutex_);

@@ -1,11 +1,11 @@
 // The precompiled runtime header, one per opt level: its key, building it into the disk cache,
 // pruning old ones, and making sure a compile has one (or falls back to the header as text).
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 
 #include <sys/stat.h>
-#include "jit/Elapsed.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/Elapsed.h"
+#include "support/ReplacingFile.h"
 
 #include <clang/Basic/Version.h>
 #include <clang/Frontend/CompilerInstance.h>
@@ -85,7 +85,7 @@ std::string Compiler::Impl::pchKey(const LevelSetup& L, int level) {
   h.update(llvm::sys::getHostCPUName());
   if (pchCodegen(level))
     h.update(llvm::StringRef("pch-codegen"));
-  frontend::hashDirectoryTree(h, headerDir);
+  support::hashDirectoryTree(h, headerDir);
   auto digest = h.final();
   std::string hex = llvm::toHex(digest, /*LowerCase=*/true).substr(0, 24);
   std::string stem = llvm::sys::path::stem(config.runtimeHeader).str();
@@ -132,7 +132,7 @@ bool Compiler::Impl::buildPch(LevelSetup& L, int level, const std::string& final
     }
     // Through a temporary file and a rename: readers never see a partial file even when several
     // processes (ctest -j) build the same PCH at once. A failed write (a full disk) leaves nothing.
-    if (!frontend::writeCacheFile(finalPath, llvm::StringRef(bytes.data(), bytes.size()))) {
+    if (!support::writeCacheFile(finalPath, llvm::StringRef(bytes.data(), bytes.size()))) {
       dc.text += "cannot write the PCH to '" + finalPath + "' (is the disk full?)\n";
       writeFailed = true;
       ok = false;
@@ -155,7 +155,7 @@ void Compiler::Impl::prunePchs(const std::string& built) {
   std::error_code ec;
   for (fs::directory_iterator it(fs::path(built).parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
     std::string other = it->path().filename().string();
-    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && !runtime::ReplacingFile::isUnfinished(other))
+    if (other.rfind(prefix, 0) == 0 && it->path().extension() == ".pch" && !support::ReplacingFile::isUnfinished(other))
       same.emplace_back(it->last_write_time(ec), it->path());
   }
   if (same.size() <= kPchsKept)
@@ -198,7 +198,7 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
     st.pchCached = true;
     return;
   }
-  auto t0 = Clock::now();
+  auto t0 = support::Clock::now();
   // Recomputed here (not cached) so that a runtime header edited while we run gets a new key.
   const std::string key = pchKey(L, level);
   std::string path = cacheDir + "/" + key;
@@ -211,7 +211,7 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
     // with forceRebuild.
     L.pchReady = true;
     st.pchCached = true;
-    st.pchBuildMs += msSince(t0);
+    st.pchBuildMs += support::msSince(t0);
     return;
   }
   if (L.ahead.valid())
@@ -231,7 +231,7 @@ void Compiler::Impl::ensurePch(LevelSetup& L, int level, bool forceRebuild, Comp
     if (std::getenv("LCJIT_VERBOSE"))
       llvm::errs() << "lcjit: PCH build failed, including the runtime header as text:\n" << diags;
   }
-  st.pchBuildMs += msSince(t0);
+  st.pchBuildMs += support::msSince(t0);
 }
 
 }  // namespace lcjit::jit

@@ -1,6 +1,6 @@
 // The level-0 PCH's support code (-fpch-codegen): compiled once from the PCH, cut into parts that
 // ORC links on first use, cached beside the PCH, and loaded into one JITDylib per PCH.
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "jit/CompilerImpl.h"
 #include "jit/IRRewrites.h"
 
@@ -124,7 +124,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
                                                            std::string& note) {
   std::string cachePath = pchPath + ".o";
   std::optional<std::vector<std::string>> parts;
-  frontend::CheckedRead file = frontend::readCheckedCacheFile(cachePath);
+  support::CheckedRead file = support::readCheckedCacheFile(cachePath);
   if (!file.problem.empty())
     note = cacheNote(cachePath, file.problem);
   if (file.bytes)
@@ -159,7 +159,7 @@ llvm::Expected<orc::JITDylib*> Compiler::Impl::loadSupport(std::shared_ptr<clang
         return object.takeError();
       parts->push_back(std::move(*object));
     }
-    frontend::writeCheckedCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
+    support::writeCheckedCacheFile(cachePath, serializeParts(*parts));  // failing only costs a later build
   }
 
   auto& J = *state->jit;

@@ -35,7 +35,7 @@
 #include <llvm/ADT/ScopeExit.h>
 #include "app/session/Session.h"
 #include "repl/ReplView.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 
 namespace lcjit::repl {
 // The REPL drives the application's Session and reuses its modes' pieces.
@@ -43,7 +43,7 @@ using namespace lcjit::app;
 
 namespace {
 
-using jit::Clock;
+using support::Clock;
 using Args = std::vector<std::string>;
 
 constexpr const char* kPrompt = "lcjit> ";
@@ -293,7 +293,7 @@ class Repl {
     while (!e.ended() && e.stepNo() < target) {
       bool more = e.step();
       if (shown.enabled)
-        shown.update(jit::msSince(t0), [&] { return app::progressText(e.stepNo(), e.derivationLength(), e.moduleCount()); });
+        shown.update(support::msSince(t0), [&] { return app::progressText(e.stepNo(), e.derivationLength(), e.moduleCount()); });
       if (repl::LineReader::takeInterrupt()) {
         // Model code that did not return was made to: that ends the derivation, as a fault does.
         if (e.faulted()) report(e.takeFault());
@@ -477,11 +477,11 @@ class Repl {
     auto t0 = Clock::now();
     begin();
     deriveTo(INT_MAX);
-    double deriveMs = jit::msSince(t0);
+    double deriveMs = support::msSince(t0);
     t0 = Clock::now();
     runtime::Geometry geometry;
     if (auto e = engine().interpret(geometry)) return e;
-    double interpretMs = jit::msSince(t0);
+    double interpretMs = support::msSince(t0);
     std::printf("derived %s in %.2f ms, interpreted in %.2f ms: %s\n", plural(engine().stepNo(), "step").c_str(),
                 deriveMs, interpretMs, plural(engine().moduleCount(), "module").c_str());
     return llvm::Error::success();

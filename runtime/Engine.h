@@ -165,7 +165,7 @@ class Engine final : public ModelRun {
   // The same text written to `out` as it is formatted, a megabyte at a time: `-out x.str` of a
   // 76 MB string no longer holds it all in memory first.
   void writeText(const ModuleBuffer& s, std::ostream& out) const;
-  // The current string as text (.str), written whole or not at all (runtime/files/ReplacingFile.h).
+  // The current string as text (.str), written whole or not at all (support/ReplacingFile.h).
   llvm::Error writeTextFile(const std::string& path) const;
   int stepsDone() const override { return step_; }
   size_t moduleCount() const;  // counted as the last step derived it when it can be

@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "runtime/Engine.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
@@ -54,7 +54,7 @@ void Engine::writeText(const ModuleBuffer& str, std::ostream& out) const {
 }
 
 llvm::Error Engine::writeTextFile(const std::string& path) const {
-  return writeWholeFile(path, [&](std::ostream& out) {
+  return support::writeWholeFile(path, [&](std::ostream& out) {
     writeText(string_, out);
     return llvm::Error::success();
   });
@@ -64,7 +64,7 @@ llvm::Error Engine::writeTextFile(const std::string& path) const {
 // Binary strings
 
 llvm::Error Engine::writeBinary(const std::string& path) const {
-  return writeWholeFile(path, llvm::StringRef(string_.data(), string_.size()));
+  return support::writeWholeFile(path, llvm::StringRef(string_.data(), string_.size()));
 }
 
 llvm::Error Engine::readBinary(const std::string& path) {

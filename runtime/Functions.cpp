@@ -6,7 +6,7 @@
 #include <llvm/Support/MemoryBuffer.h>
 #include <llvm/Support/Path.h>
 
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <algorithm>
 #include <array>
@@ -223,7 +223,7 @@ public:
 
   llvm::Error open() {
     if (buf_) return llvm::Error::success();  // given as text
-    auto buf = readInputFile(path_);
+    auto buf = support::readInputFile(path_);
     if (!buf) return llvm::createStringError(path_ + ": error: cannot open file: " + buf.getError().message());
     buf_ = std::move(*buf);
     return llvm::Error::success();

@@ -5,7 +5,7 @@
 
 #include <llvm/Support/Path.h>
 
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_STATIC
@@ -53,7 +53,7 @@ llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, 
     }
     data = rgb.data();
   }
-  runtime::ReplacingFile file(path);  // a viewer re-reading the picture never gets half of it
+  support::ReplacingFile file(path);  // a viewer re-reading the picture never gets half of it
   const char* to = file.writePath().c_str();
   int ok = 0;
   if (png) ok = stbi_write_png(to, image.width, image.height, comp, data, image.width * comp);

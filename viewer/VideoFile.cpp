@@ -1,7 +1,7 @@
 // Video files through FFmpeg (see VideoFile.h).
 #include "viewer/VideoFile.h"
 
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 #include <dlfcn.h>
 
@@ -100,7 +100,7 @@ struct VideoWriter::Impl {
   int frames = 0;
   bool headerWritten = false, broken = false, finished = false;
   std::vector<uint8_t> padded;
-  runtime::ReplacingFile target;  // put in place by finish(): a player never opens half a video
+  support::ReplacingFile target;  // put in place by finish(): a player never opens half a video
 
   Impl(const FFmpeg& f, std::string p, const VideoOptions& o) : ff(f), path(std::move(p)), options(o), target(path) {}
   ~Impl() {

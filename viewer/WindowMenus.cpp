@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "viewer/WindowImpl.h"
 
 namespace lcjit::viewer {
@@ -89,7 +89,7 @@ void Window::Impl::writeLayout() {
   }
   if (text == layoutWritten) return;
   layoutWritten = text;
-  llvm::consumeError(runtime::writeWholeFile(path, text));  // a test's aid: nothing to say if it fails
+  llvm::consumeError(support::writeWholeFile(path, text));  // a test's aid: nothing to say if it fails
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -32,14 +32,14 @@
 #include "app/batch/ProgramPages.h"
 #include "app/common/RunRecord.h"
 #include "runtime/WindowInput.h"
-#include "jit/Elapsed.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/Elapsed.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {
 
-using jit::Clock;
+using support::Clock;
 
 // -dtf/-dtfes files go to the working folder (lpfg runs in the object's folder, so the same place
 // for its users) rather than beside a model that may live in a read-only tree.
@@ -79,8 +79,8 @@ llvm::Error writeOutput(const std::string& out, runtime::Engine& engine, const r
 // added to `interpretMs`.
 llvm::Error writeInterpretation(runtime::Engine& engine, const std::string& path, double& interpretMs) {
   auto t0 = Clock::now();
-  llvm::Error e = runtime::writeWholeFile(path, [&](std::ostream& out) { return engine.writeTurtleText(out); });
-  interpretMs += jit::msSince(t0);
+  llvm::Error e = support::writeWholeFile(path, [&](std::ostream& out) { return engine.writeTurtleText(out); });
+  interpretMs += support::msSince(t0);
   return e;
 }
 
@@ -216,7 +216,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     };
     hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
       if (step) step(n);
-      shown.update(jit::msSince(t0), [&] {
+      shown.update(support::msSince(t0), [&] {
         return progressText(n, engine.derivationLength(), engine.moduleCount());
       });
     };
@@ -250,7 +250,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   if (sequence) writeFrame(0);
   while (engine.step()) {
     if (betweenSteps)
-      betweenSteps(jit::msSince(t0));
+      betweenSteps(support::msSince(t0));
     else
       releaseProgramPagesOnceAt(engine.string().size());
   }
@@ -265,7 +265,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     fail(std::move(e));
     return 1;
   }
-  times.deriveMs = jit::msSince(t0);
+  times.deriveMs = support::msSince(t0);
   shown.clear();
   if (options.progress) options.progress(-1);
   if (frameFailed) return 1;
@@ -294,7 +294,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     return 1;
   }
   if (!options.profile.empty())
-    if (auto e = runtime::writeWholeFile(options.profile,
+    if (auto e = support::writeWholeFile(options.profile,
                                          profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs))) {
       llvm::consumeError(std::move(e));
       fail(llvm::createStringError(options.profile + ": error: cannot write the profile"));
@@ -460,7 +460,7 @@ int watchBatch(Session& session, const ModelFiles& files, const BatchOptions& op
     BatchOptions quietRun = options;
     quietRun.stats = false;
     int status = run(quietRun, times);
-    double totalMs = jit::msSince(t0);
+    double totalMs = support::msSince(t0);
     std::string compiled = !parts->lsystem     ? "re-read"
                            : times.objectCached ? fmtMs("-O%d code from the cache in %.1f ms", session.optLevel(), times.compileMs)
                                                 : fmtMs("compiled -O%d in %.1f ms", session.optLevel(), times.compileMs) +

@@ -17,7 +17,7 @@
 #endif
 #include "runtime/WindowInput.h"
 #include "runtime/export/Export.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 #include "llvm/Support/Path.h"
 
 namespace lcjit::app {
@@ -103,7 +103,7 @@ llvm::Expected<viewer::Image> FrameWriter::picture(runtime::ModelRun& engine, co
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return std::move(e);
   if (times) {
-    times->interpretMs = jit::msSince(t0);
+    times->interpretMs = support::msSince(t0);
     times->triangles = geometry.triangleCount();
     times->segments = geometry.segments.size();
   }
@@ -131,7 +131,7 @@ llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geome
   if (!panes) return panes.takeError();
   auto image = panes->empty() ? renderer_->render(geometry, drawing.view, look.palette, look.textures, options)
                               : renderer_->renderPanes(*panes, drawing.view, look.palette, look.textures, options);
-  if (times) times->renderMs = jit::msSince(t0);
+  if (times) times->renderMs = support::msSince(t0);
   return image;
 #endif
 }
@@ -147,7 +147,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::ModelRun& engin
   runtime::Geometry geometry;
   if (auto e = engine.interpret(geometry)) return e;
   if (times) {
-    times->interpretMs = jit::msSince(t0);
+    times->interpretMs = support::msSince(t0);
     times->triangles = geometry.triangleCount();
     times->segments = geometry.segments.size();
   }
@@ -177,7 +177,7 @@ llvm::Error FrameWriter::write(const std::string& path, runtime::ModelRun& engin
     if (auto e = runtime::exportGeometry(path, in)) return e;
     if (!note.empty()) std::fprintf(stderr, "lcjit: warning: %s\n", note.c_str());
   }
-  if (times) times->renderMs = jit::msSince(t0);
+  if (times) times->renderMs = support::msSince(t0);
   return llvm::Error::success();
 }
 

@@ -2,9 +2,9 @@
 #include "app/common/RunRecord.h"
 
 #include "app/session/Session.h"
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 #include "runtime/Engine.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 #include "runtime/turtle/Drawing.h"
 
 #include <llvm/ADT/StringExtras.h>
@@ -58,7 +58,7 @@ Json measures(runtime::Engine& engine) {
 }
 
 std::string blake3Of(const std::string& path) {
-  auto file = runtime::readInputFile(path, /*nullTerminated=*/false);
+  auto file = support::readInputFile(path, /*nullTerminated=*/false);
   if (!file) return "";
   auto bytes = llvm::arrayRefFromStringRef((*file)->getBuffer());
   return llvm::toHex(llvm::BLAKE3::hash<32>(bytes), /*LowerCase=*/true);
@@ -92,7 +92,7 @@ llvm::Error writeRunRecord(const std::string& path, const ModelFiles& files, Ses
   r["times_ms"] = {{"preprocess", ms(times.preprocessMs)}, {"rewrite", ms(times.rewriteMs)},
                    {"compile", ms(times.compileMs)},       {"derive", ms(times.deriveMs)},
                    {"interpret", ms(times.interpretMs)},   {"render", ms(times.renderMs)}};
-  if (!frontend::writeCacheFile(path, r.dump(2) + "\n"))
+  if (!support::writeCacheFile(path, r.dump(2) + "\n"))
     return llvm::createStringError(path + ": error: cannot write the run record");
   return llvm::Error::success();
 }

@@ -40,8 +40,8 @@
 #include "app/session/Session.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
-#include "runtime/files/InputFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/InputFile.h"
+#include "support/ReplacingFile.h"
 
 extern char** environ;
 
@@ -422,7 +422,7 @@ llvm::Error checkSandboxInput(const std::string& input, const std::string& model
   struct stat st {};
   if (::stat(target.c_str(), &st) != 0) return llvm::Error::success();  // the run says it is missing
   if (folder && !S_ISDIR(st.st_mode)) return llvm::createStringError(input + ": error: not a folder");
-  if (std::error_code refused = runtime::inputRefusal(st.st_mode); !folder && refused)
+  if (std::error_code refused = support::inputRefusal(st.st_mode); !folder && refused)
     return llvm::createStringError(input + ": error: " + refused.message() +
                                    "; a sandboxed run reads only regular files (docs/security.md)");
   return llvm::Error::success();
@@ -435,7 +435,7 @@ llvm::Error checkSandboxOutput(const std::string& out, const std::string& modelF
   };
   struct stat st {};
   if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    return refuse((S_ISDIR(st.st_mode) ? std::string("is a folder") : runtime::inputRefusal(st.st_mode).message()) +
+    return refuse((S_ISDIR(st.st_mode) ? std::string("is a folder") : support::inputRefusal(st.st_mode).message()) +
                   "; name a file, which is all a sandboxed run may write there");
   if (under(target, canonicalOr(modelFolder))) return llvm::Error::success();
   if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) return refuse("its folder " + folder.string() + " is not there");
@@ -779,7 +779,7 @@ SandboxOutcome SandboxedRun::outcome() {
   SandboxOutcome o = judge();
   if (o.status == 0 && !o.stopped && !moveOutputsOut()) o.status = 1;
   if (o.status != 0 && !plan_.outputFile.empty() && staging_.empty())
-    runtime::ReplacingFile::removeUnfinished(plan_.outputFile);
+    support::ReplacingFile::removeUnfinished(plan_.outputFile);
   o.reply = std::move(reply_);
   return o;
 }

@@ -29,7 +29,7 @@
 #include <unistd.h>
 
 #include "runtime/Termination.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 extern char** environ;
 
@@ -334,7 +334,7 @@ llvm::Expected<std::optional<LpfgMakBuild>> readLpfgMak(const std::string& model
     return llvm::createStringError(where + ": error: " + why);
   };
   // make would wait for ever on a FIFO (and read /dev/zero until its time is up).
-  if (auto readable = runtime::readInputFile(name); !readable)
+  if (auto readable = support::readInputFile(name); !readable)
     return failure(name, "cannot read it: " + readable.getError().message());
   auto make = llvm::sys::findProgramByName("make");
   if (!make) return failure(name, "lcjit reads lpfg.mak with make, which is not installed");

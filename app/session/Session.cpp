@@ -20,7 +20,7 @@
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "jit/Compiler.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 
 namespace lcjit::app {
 namespace {
@@ -261,7 +261,7 @@ std::string withSourceLines(const std::string& diagnostics) {
     if (row <= 0 || column <= 0 || file.empty() || file[0] == '<') continue;  // <lcjit: generated ...>
     auto [it, fresh] = files.try_emplace(file);
     if (fresh)
-      if (auto text = runtime::readInputFile(file, /*nullTerminated=*/false))
+      if (auto text = support::readInputFile(file, /*nullTerminated=*/false))
         for (std::string_view s : runtime::textfile::splitLines((*text)->getBuffer())) it->second.emplace_back(s);
     if (row > (int)it->second.size()) continue;
     std::string source = it->second[row - 1];
@@ -502,7 +502,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
     if (!unit) return llvm::createStringError(namingFile(source, unitColumns->diagnostics(llvm::toString(unit.takeError()))));
     p.sourceCode.push_back(std::move(*unit));
   }
-  const double unitsMs = jit::msSince(unitsStart);
+  const double unitsMs = support::msSince(unitsStart);
   t0 = std::chrono::steady_clock::now();
   // lpfg defines the names of functions, parameters, contours and surfaces as their ids, for the
   // model to use; a name that is not an identifier cannot be one (it would fail as a macro on
@@ -527,7 +527,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   if (!text) return text.takeError();
   p.preprocess = pp;
   p.lsystem = files.lsystem;
-  times.preprocessMs = jit::msSince(t0);
+  times.preprocessMs = support::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
   auto cpp = frontend::rewrite(*text, files.lsystem);
@@ -537,7 +537,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
     return llvm::createStringError(namingFile(files.lsystem, p.columns->diagnostics(llvm::toString(std::move(e)))));
   };
   if (!cpp) return asWritten(cpp.takeError());
-  times.rewriteMs = jit::msSince(t0);
+  times.rewriteMs = support::msSince(t0);
   {
     std::lock_guard<std::mutex> lock(cppMutex_);
     cpp_ = cpp->cpp;
@@ -590,7 +590,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   if (!entry) return entry.takeError();
   auto describe = reinterpret_cast<const __lc_Model* (*)()>(*entry);
   p.model = describe();
-  times.compileMs = jit::msSince(t0) + unitsMs;
+  times.compileMs = support::msSince(t0) + unitsMs;
   times.pchCached = stats.pchCached;
   times.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   times.productionsCompiled = p.incremental ? p.changedRules : -1;
@@ -775,7 +775,7 @@ std::function<BetterTier()> Session::betterTierJob(int optLevel, bool onlyFromCa
     if (t.code && !mark.empty() && !onlyFromCache) std::ofstream{mark};  // for the next run's lookup
     t.generation = generation;
     t.optLevel = optLevel;
-    t.compileMs = jit::msSince(t0);
+    t.compileMs = support::msSince(t0);
     t.objectCached = stats.object != jit::CompileStats::ObjectFrom::Compiled;
     return t;
   };

@@ -26,8 +26,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include "app/session/Languages.h"
-#include "runtime/files/InputFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/InputFile.h"
+#include "support/ReplacingFile.h"
 
 extern char** environ;
 
@@ -65,7 +65,7 @@ std::string blake3Hex(const std::string& text) {
 }
 
 llvm::Expected<std::string> readText(const fs::path& file) {
-  auto in = runtime::readInputFile(file.string(), /*nullTerminated=*/false);
+  auto in = support::readInputFile(file.string(), /*nullTerminated=*/false);
   if (!in) return failure(file.string() + ": error: cannot read it: " + in.getError().message());
   return (*in)->getBuffer().str();
 }
@@ -496,9 +496,9 @@ llvm::Expected<std::pair<Plan, bool>> plan(const Sweep& sweep, const std::string
                 {"runs", runs.size()},
                 {"text", sweep.text}};
   // sweep.json last: its presence says the plan is whole.
-  if (auto e = runtime::writeWholeFile((dir / "tasks.tsv").string(), tasks)) return std::move(e);
-  if (auto e = runtime::writeWholeFile((dir / "ids").string(), ids)) return std::move(e);
-  if (auto e = runtime::writeWholeFile((dir / "sweep.json").string(), p.json.dump(2) + "\n")) return std::move(e);
+  if (auto e = support::writeWholeFile((dir / "tasks.tsv").string(), tasks)) return std::move(e);
+  if (auto e = support::writeWholeFile((dir / "ids").string(), ids)) return std::move(e);
+  if (auto e = support::writeWholeFile((dir / "sweep.json").string(), p.json.dump(2) + "\n")) return std::move(e);
   return std::make_pair(std::move(p), true);
 }
 
@@ -660,7 +660,7 @@ int runTask(const SweepCommand& c) {
             {"seed", task->seed ? Json(*task->seed) : Json()},
             {"status", "error"},
             {"error", why}};
-  if (auto e = runtime::writeWholeFile(record.string(), r.dump(2) + "\n")) return report(std::move(e));
+  if (auto e = support::writeWholeFile(record.string(), r.dump(2) + "\n")) return report(std::move(e));
   return 1;
 }
 
@@ -770,7 +770,7 @@ llvm::Expected<CollectCounts> collect(const Plan& plan) {
     }
     csv += line(cells);
   }
-  if (auto e = runtime::writeWholeFile((plan.dir / "results.csv").string(), csv)) return std::move(e);
+  if (auto e = support::writeWholeFile((plan.dir / "results.csv").string(), csv)) return std::move(e);
   return counts;
 }
 
@@ -874,7 +874,7 @@ int writeSlurm(const SweepCommand& c) {
     << "  parallel --joblog \"$dir/joblog.$SLURM_ARRAY_TASK_ID\" --resume -j \"${SLURM_CPUS_PER_TASK:-1}\" \\\n"
     << "    -q " << shellQuoted(thisProgram()) << " sweep task \"$dir\" {}\n";
   const fs::path script = p->dir / "sweep.sbatch";
-  if (auto e = runtime::writeWholeFile(script.string(), s.str())) return report(std::move(e));
+  if (auto e = support::writeWholeFile(script.string(), s.str())) return report(std::move(e));
   std::printf("%s: %zu array tasks of up to %d runs; submit it with:\n  sbatch %s\nand when it is done:\n  %s sweep "
               "collect %s\n",
               script.c_str(), arrayTasks, c.chunk, shellQuoted(script.string()).c_str(), thisProgram().c_str(),

@@ -9,7 +9,7 @@
 
 #include "runtime/Functions.h"
 #include "runtime/files/Contours.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
@@ -175,7 +175,7 @@ void Editors::edited(const std::string& path, std::string bytes, Action action, 
     fs::create_directories(dir, ec);
     copy = (dir / fs::path(path).filename()).string();
   }
-  if (auto e = runtime::writeWholeFile(copy, bytes)) {
+  if (auto e = support::writeWholeFile(copy, bytes)) {
     status = llvm::toString(std::move(e));
     return;
   }

@@ -24,19 +24,19 @@
 #include "app/common/Progress.h"
 #include "app/window/StringDebugger.h"
 #include "app/common/PlainErrors.h"
-#include "jit/Elapsed.h"
+#include "support/Elapsed.h"
 #include "runtime/WindowInput.h"
 #include "viewer/Window.h"
 #include "runtime/turtle/Camera.h"
 #include "runtime/include/lcjit/modules.h"
 #include "runtime/files/AnimationFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {
 
-using jit::Clock;
+using support::Clock;
 
 class InteractiveModel {
  public:
@@ -49,7 +49,7 @@ class InteractiveModel {
     // the string, so it is taken (with its step) at most twice a second.
     hooks_.afterStep = [this, debug = o.debug](int step) {
       writeNamedFrames();
-      if (debug || jit::msSince(progressCountedAt_) >= 500) {  // the step and its count, together
+      if (debug || support::msSince(progressCountedAt_) >= 500) {  // the step and its count, together
         progressCountedAt_ = Clock::now();
         progressModules_ = session_.engine().moduleCount();
         progressLength_ = session_.engine().derivationLength();
@@ -153,7 +153,7 @@ class InteractiveModel {
       if (statusShown_) window_.setStatus(""), statusShown_ = false;
       return;
     }
-    if (jit::msSince(launchedAt_) < 500) return;
+    if (support::msSince(launchedAt_) < 500) return;
     window_.setStatus(progressStep_ < 0 ? "deriving..." : progressText(progressStep_, progressLength_, progressModules_));
     statusShown_ = true;
   }
@@ -292,7 +292,7 @@ class InteractiveModel {
       auto p = session_.prepare(files, options_.optLevel, r.times, what);
       if (p) r.model = std::move(*p);
       else r.error = llvm::toString(p.takeError());
-      r.ms = jit::msSince(t0);
+      r.ms = support::msSince(t0);
       return r;
     };
     if (what.lsystem) return compile_.start(job);
@@ -472,7 +472,7 @@ class InteractiveModel {
     V3f centre = c.bounds.empty() ? V3f() : c.bounds.center();
     v.pan = V3f(c.lookAt.x, c.lookAt.y, c.lookAt.z) - centre;
     v.scale = session_.drawing().view.scale * window_.adjustment().zoom;
-    return runtime::writeWholeFile(path, runtime::viewLine(v));
+    return support::writeWholeFile(path, runtime::viewLine(v));
   }
 
   // The window's camera for GetCameraPosition() and vvScale() (§6.4), view 0.

@@ -10,7 +10,7 @@
 
 #include "app/session/Session.h"
 #include "runtime/Functions.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 #include "runtime/WindowInput.h"
 
@@ -198,7 +198,7 @@ void ParameterPanel::edit(const Control& c, int shown) {
     return;
   }
   if (*edited == *text) return;
-  if (auto err = runtime::writeWholeFile(c.target, *edited)) {
+  if (auto err = support::writeWholeFile(c.target, *edited)) {
     status_ = llvm::toString(std::move(err));
     return;
   }
@@ -226,7 +226,7 @@ llvm::Error ParameterPanel::saveParameters() {
     std::string out = *text;
     if (auto e = setAll(out)) return e;
     if (out != *text)
-      if (auto e = runtime::writeWholeFile(path, out)) return e;
+      if (auto e = support::writeWholeFile(path, out)) return e;
     written.push_back(path);
     return llvm::Error::success();
   };

@@ -2,7 +2,7 @@
 // specification file, which queries it keeps, the float arithmetic and its order) are the facts
 // of vlab's build, measured against it; docs/environment.md lists them.
 #include "runtime/environment/Builtin.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <climits>
 #include <cstdio>
@@ -115,7 +115,7 @@ llvm::Expected<std::unique_ptr<EnvironmentLink>> startHonda81(const CommSpec& sp
     return spec.error("honda81 needs a specification file (radius, 3d case) after its options (line " +
                           std::to_string(spec.executableLine) + ")");
   const std::string& specFile = argv[a];
-  auto file = readInputFile(specFile);
+  auto file = support::readInputFile(specFile);
   if (!file)
     return spec.error("honda81 cannot open its specification file '" + specFile + "': " + file.getError().message());
   std::istringstream in((*file)->getBuffer().str());

@@ -27,7 +27,7 @@
 #include <unistd.h>
 
 #include "runtime/Termination.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 namespace lcjit::runtime {
 
@@ -350,7 +350,7 @@ llvm::Error ChildLink::waitAnswer(const std::function<void()>& poll, Clock::time
 llvm::Expected<std::string> ChildLink::receive(int& flags) {
   std::string text;
   if (spec_.transport == Transport::Files) {
-    auto file = readInputFile(fromFile_, /*nullTerminated=*/false);
+    auto file = support::readInputFile(fromFile_, /*nullTerminated=*/false);
     if (!file) return spec_.error(name() + " wrote no answer file (" + fromFile_ + ": " + file.getError().message() + ")");
     text = (*file)->getBuffer().str();
   } else {

@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 
 #include "runtime/export/Export.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 namespace lcjit::runtime::exporting {
 
@@ -47,7 +47,7 @@ class FileWriter {
  private:
   static constexpr size_t kFlushSize = 1 << 22;
   void flush();
-  std::optional<ReplacingFile> target_;
+  std::optional<support::ReplacingFile> target_;
   std::FILE* file_ = nullptr;
   fmt::memory_buffer buf_;
   int errno_ = 0;

@@ -257,11 +257,11 @@ llvm::Error writeGltf(const Context& cx, bool binary) {
   tinygltf::TinyGLTF gltf;
   gltf.SetImageWriter(nullptr, nullptr);  // images stay references to the texture files
   if (binary)
-    return writeWholeFile(cx.path, [&](std::ostream& out) {
+    return support::writeWholeFile(cx.path, [&](std::ostream& out) {
       gltf.WriteGltfSceneToStream(&model, out, false, true);
       return llvm::Error::success();
     });
-  ReplacingFile file(cx.path);
+  support::ReplacingFile file(cx.path);
   // A clear error for an unwritable path before tinygltf tries.
   if (std::FILE* probe = std::fopen(file.writePath().c_str(), "w")) std::fclose(probe);
   else return fileError(cx.path, std::strerror(errno));

@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
@@ -202,7 +202,7 @@ AnimationSettings parseAnimationFile(std::string_view preprocessedText, const st
 }
 
 AnimationSettings loadAnimationFile(const std::string& path, std::vector<std::string>& warnings) {
-  auto text = readInputFile(path);
+  auto text = support::readInputFile(path);
   if (!text) {
     warnings.push_back(path + ": warning: cannot open file: " + text.getError().message() +
                        "; lpfg's animation defaults are used");

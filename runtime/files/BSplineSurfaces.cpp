@@ -9,7 +9,7 @@
 
 #include <llvm/Support/MemoryBuffer.h>
 
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 namespace lcjit::runtime {
 namespace {
@@ -403,7 +403,7 @@ BSplineFile parseBSpline(std::string_view text, const std::string& name, std::ve
 }
 
 BSplineFile loadBSpline(const std::string& path, std::vector<std::string>& warnings) {
-  auto buf = readInputFile(path);
+  auto buf = support::readInputFile(path);
   if (!buf) {
     warnings.push_back(path + ": warning: cannot open file: " + buf.getError().message() +
                        "; lpfg's initial flat 10 x 10 net is used instead");

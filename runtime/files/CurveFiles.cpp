@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 namespace lcjit::runtime {
@@ -318,7 +318,7 @@ void removePoint(Curve& curve, size_t index) {
 }
 
 llvm::Error writeCurveFile(const CurveFile& file, const std::string& path) {
-  return writeWholeFile(path, curveFileText(file));
+  return support::writeWholeFile(path, curveFileText(file));
 }
 
 }  // namespace lcjit::runtime

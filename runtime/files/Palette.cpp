@@ -10,8 +10,8 @@
 #include <fstream>
 #include <system_error>
 
-#include "runtime/files/InputFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/InputFile.h"
+#include "support/ReplacingFile.h"
 #include "runtime/files/TextLines.h"
 
 #include <llvm/Support/MemoryBuffer.h>
@@ -30,7 +30,7 @@ llvm::Error fileError(const std::string& path, const std::string& what) {
 }
 
 llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readBinary(const std::string& path) {
-  auto buffer = readInputFile(path, /*nullTerminated=*/false);
+  auto buffer = support::readInputFile(path, /*nullTerminated=*/false);
   if (!buffer)
     return llvm::createStringError(buffer.getError(), "%s: cannot read: %s", path.c_str(),
                                    buffer.getError().message().c_str());
@@ -192,7 +192,7 @@ void ColormapFile::setColor(int index, std::array<uint8_t, 3> rgb) {
   std::copy(rgb.begin(), rgb.end(), bytes_.begin() + at);
 }
 
-llvm::Error ColormapFile::write(const std::string& path) const { return writeWholeFile(path, asString(bytes_)); }
+llvm::Error ColormapFile::write(const std::string& path) const { return support::writeWholeFile(path, asString(bytes_)); }
 
 llvm::Expected<MaterialFile> MaterialFile::read(const std::string& path) {
   auto bytes = fileBytes(path);
@@ -235,6 +235,6 @@ void MaterialFile::setRecord(int index, const MaterialRecord& record) {
   bytes_.insert(bytes_.end(), record.begin(), record.end());
 }
 
-llvm::Error MaterialFile::write(const std::string& path) const { return writeWholeFile(path, asString(bytes_)); }
+llvm::Error MaterialFile::write(const std::string& path) const { return support::writeWholeFile(path, asString(bytes_)); }
 
 }  // namespace lcjit::runtime

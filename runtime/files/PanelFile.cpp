@@ -38,7 +38,7 @@ std::optional<std::pair<size_t, size_t>> wordSpan(std::string_view line, size_t 
 }
 
 std::string readText(const std::filesystem::path& p) {
-  auto buffer = readInputFile(p.string());
+  auto buffer = support::readInputFile(p.string());
   return buffer ? (*buffer)->getBuffer().str() : std::string();
 }
 

@@ -12,7 +12,7 @@
 #include <llvm/Support/Error.h>
 #include <llvm/Support/MemoryBuffer.h>
 
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 namespace lcjit::runtime::textfile {
 
@@ -30,7 +30,7 @@ inline llvm::Error failAt(const std::string& file, size_t line, size_t column, c
 // The whole file, or "PATH: error: cannot open file: why" (why: "not a regular file (a FIFO)"
 // too, InputFile.h).
 inline llvm::Expected<std::unique_ptr<llvm::MemoryBuffer>> readFile(const std::string& path) {
-  auto buf = readInputFile(path);
+  auto buf = support::readInputFile(path);
   if (!buf) return fail(path, 0, "cannot open file: " + buf.getError().message());
   return std::move(*buf);
 }

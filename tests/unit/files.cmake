@@ -1,12 +1,12 @@
-# Unit tests of the input-file readers (runtime/files), of how lcjit opens what it reads (only
-# regular files) and of how it writes files.
+# Unit tests of the input-file readers (runtime/files) and of how lcjit opens what they read
+# (support/InputFile: only regular files).
 add_executable(lcjit_files_test
   ${CMAKE_CURRENT_LIST_DIR}/view_file_test.cpp ${CMAKE_CURRENT_LIST_DIR}/palette_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/contours_test.cpp ${CMAKE_CURRENT_LIST_DIR}/surfaces_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/mesh_files_test.cpp ${CMAKE_CURRENT_LIST_DIR}/images_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/bspline_surfaces_test.cpp
   ${CMAKE_CURRENT_LIST_DIR}/terrain_patches_test.cpp ${CMAKE_CURRENT_LIST_DIR}/panel_file_test.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/replacing_file_test.cpp ${CMAKE_CURRENT_LIST_DIR}/input_file_test.cpp)
+  ${CMAKE_CURRENT_LIST_DIR}/input_file_test.cpp)
 target_link_libraries(lcjit_files_test PRIVATE lcjit_files PNG::PNG GTest::gtest_main)  # libpng: test PNGs
 target_include_directories(lcjit_files_test SYSTEM PRIVATE /usr/include/stb)  # stb_image_write: test images
 target_compile_definitions(lcjit_files_test PRIVATE LCJIT_TEST_DATA="${CMAKE_CURRENT_LIST_DIR}/data")

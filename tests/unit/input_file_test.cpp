@@ -1,4 +1,4 @@
-// runtime/files/InputFile: only a regular file is read. A FIFO, a device (/dev/zero, /dev/urandom)
+// support/InputFile: only a regular file is read. A FIFO, a device (/dev/zero, /dev/urandom)
 // or a socket is refused at once, by what it is, instead of blocking in open() or being read
 // without end; a regular file is read whole, as before.
 #include <gtest/gtest.h>
@@ -18,11 +18,11 @@
 #include <string>
 
 #include "runtime/files/AnimationFile.h"
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 namespace fs = std::filesystem;
-using lcjit::runtime::isNotRegularFile;
-using lcjit::runtime::readInputFile;
+using lcjit::support::isNotRegularFile;
+using lcjit::support::readInputFile;
 
 namespace {
 

@@ -1,7 +1,7 @@
 // Unit tests for lcjit::jit::Compiler: compiling against a PCH'd header, host symbols,
 // diagnostics, hot swapping, reload memory, PCH cache reuse/repair, static ctors/dtors.
 #include "jit/Compiler.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 #include <gtest/gtest.h>
 
@@ -952,7 +952,7 @@ TEST(JitCacheTest, ConcurrentPchBuildsIntoSameCacheDir) {
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
     if (e.path().extension() == ".pch")
       ++pchFiles;
-    else if (lcjit::runtime::ReplacingFile::isUnfinished(e.path().filename().string()) ||
+    else if (lcjit::support::ReplacingFile::isUnfinished(e.path().filename().string()) ||
              !(e.path().extension() == ".o" ||  // the -O0 PCH's support object
                e.path().filename() == "objects" || e.path().parent_path().filename() == "objects" ||
                e.path().filename() == "levels" || e.path().parent_path().filename() == "levels"))

@@ -1,4 +1,4 @@
-// runtime/files/ReplacingFile: files written whole or not at all, beside the target and renamed
+// support/ReplacingFile: files written whole or not at all, beside the target and renamed
 // over it; devices and symbolic links written in place.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -9,11 +9,11 @@
 #include <sstream>
 #include <string>
 
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 namespace fs = std::filesystem;
-using lcjit::runtime::ReplacingFile;
-using lcjit::runtime::writeWholeFile;
+using lcjit::support::ReplacingFile;
+using lcjit::support::writeWholeFile;
 
 namespace {
 

@@ -2,7 +2,7 @@
 // decoders (linked here, opened by lcjit only when a video is made): frame count, size, codec,
 // frame rate and the colours of known solid frames; and the errors, each naming the file.
 #include "viewer/VideoFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -226,7 +226,7 @@ TEST_F(VideoTest, NoFramesNoFile) {
   auto unfinished = [&] {
     int n = 0;
     for (const auto& e : fs::directory_iterator(dir))
-      n += lcjit::runtime::ReplacingFile::isUnfinished(e.path().filename().string());
+      n += lcjit::support::ReplacingFile::isUnfinished(e.path().filename().string());
     return n;
   };
   EXPECT_FALSE(fs::exists(file("empty.mp4")));

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-namespace lcjit::frontend {
+namespace lcjit::support {
 
-// Writes `bytes` as the whole of `path` (runtime/files/ReplacingFile.h): a reader never sees a
+// Writes `bytes` as the whole of `path` (ReplacingFile.h): a reader never sees a
 // partial file; false (and nothing written) on failure.
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes);
 
@@ -56,4 +56,4 @@ std::optional<std::string> stampLines(const std::vector<std::string>& files,
 // file of another format or version does not); `rest`: the text after `follows`.
 bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* rest = nullptr);
 
-}  // namespace lcjit::frontend
+}  // namespace lcjit::support

@@ -1,6 +1,6 @@
 // readInputFile (see the header): open with O_NONBLOCK, fstat the descriptor, refuse all but a
 // regular file, then read as LLVM does.
-#include "runtime/files/InputFile.h"
+#include "support/InputFile.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 
 #include <llvm/ADT/SmallString.h>
 
-namespace lcjit::runtime {
+namespace lcjit::support {
 
 namespace {
 
@@ -87,4 +87,4 @@ llvm::ErrorOr<std::unique_ptr<llvm::MemoryBuffer>> readInputFile(const llvm::Twi
   return llvm::MemoryBuffer::getOpenFile(fd, path, uint64_t(st.st_size), nullTerminated);
 }
 
-}  // namespace lcjit::runtime
+}  // namespace lcjit::support

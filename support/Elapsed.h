@@ -4,7 +4,7 @@
 
 #include <chrono>
 
-namespace lcjit::jit {
+namespace lcjit::support {
 
 using Clock = std::chrono::steady_clock;
 
@@ -12,4 +12,4 @@ inline double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-}  // namespace lcjit::jit
+}  // namespace lcjit::support

@@ -1,5 +1,5 @@
 // ReplacingFile (see the header): a unique hidden name beside the target, renamed over it.
-#include "runtime/files/ReplacingFile.h"
+#include "support/ReplacingFile.h"
 
 #include <cerrno>
 #include <cstring>
@@ -9,7 +9,7 @@
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/Process.h>
 
-namespace lcjit::runtime {
+namespace lcjit::support {
 
 namespace fs = std::filesystem;
 
@@ -89,4 +89,4 @@ llvm::Error writeWholeFile(const std::string& path, llvm::StringRef bytes) {
   });
 }
 
-}  // namespace lcjit::runtime
+}  // namespace lcjit::support

@@ -1,8 +1,8 @@
 // See CacheFiles.h.
-#include "frontend/CacheFiles.h"
+#include "support/CacheFiles.h"
 
-#include "runtime/files/InputFile.h"
-#include "runtime/files/ReplacingFile.h"
+#include "support/InputFile.h"
+#include "support/ReplacingFile.h"
 
 #include <llvm/ADT/StringExtras.h>
 #include <llvm/Support/BLAKE3.h>
@@ -22,10 +22,10 @@
 #include <filesystem>
 #include <vector>
 
-namespace lcjit::frontend {
+namespace lcjit::support {
 
 bool writeCacheFile(const std::string& path, llvm::StringRef bytes) {
-  if (llvm::Error e = runtime::writeWholeFile(path, bytes)) {
+  if (llvm::Error e = writeWholeFile(path, bytes)) {
     llvm::consumeError(std::move(e));
     return false;
   }
@@ -43,7 +43,7 @@ bool writeCheckedCacheFile(const std::string& path, llvm::StringRef bytes) {
 
 CheckedRead readCheckedCacheFile(const std::string& path) {
   CheckedRead r;
-  auto file = runtime::readInputFile(path, /*nullTerminated=*/false);
+  auto file = readInputFile(path, /*nullTerminated=*/false);
   if (!file) return r;
   llvm::StringRef text = (*file)->getBuffer();
   // Another version's file (no checksum line): not loaded, and overwritten by the next store.
@@ -115,7 +115,7 @@ void hashDirectoryTree(llvm::SHA256& out, const std::string& dir) {
     std::error_code ec2;
     auto size = fs::file_size(f, ec2);
     if (!ec2 && size <= budget) {
-      if (auto buf = runtime::readInputFile(p, /*nullTerminated=*/false)) {
+      if (auto buf = readInputFile(p, /*nullTerminated=*/false)) {
         h.update((*buf)->getBuffer());
         budget -= size;
         continue;
@@ -170,4 +170,4 @@ bool stampsHold(llvm::StringRef text, llvm::StringRef follows, llvm::StringRef* 
   return true;
 }
 
-}  // namespace lcjit::frontend
+}  // namespace lcjit::support

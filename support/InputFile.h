@@ -13,7 +13,7 @@
 #include <llvm/Support/FileSystem.h>
 #include <llvm/Support/MemoryBuffer.h>
 
-namespace lcjit::runtime {
+namespace lcjit::support {
 
 // The whole of the regular file `path`, as llvm::MemoryBuffer::getFile gives it (mapped when it
 // is large, so no copy is made), named `path`; its status in `*status` if asked for. Errors: the
@@ -30,4 +30,4 @@ std::error_code inputRefusal(unsigned mode);
 // Whether `ec` is readInputFile's refusal of something that is not a regular file.
 bool isNotRegularFile(std::error_code ec);
 
-}  // namespace lcjit::runtime
+}  // namespace lcjit::support

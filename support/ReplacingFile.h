@@ -10,7 +10,7 @@
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
-namespace lcjit::runtime {
+namespace lcjit::support {
 
 class ReplacingFile {
  public:
@@ -52,4 +52,4 @@ llvm::Error writeWholeFile(const std::string& path, llvm::function_ref<llvm::Err
 // `bytes` as the whole of `path`.
 llvm::Error writeWholeFile(const std::string& path, llvm::StringRef bytes);
 
-}  // namespace lcjit::runtime
+}  // namespace lcjit::support
