@@ -34,7 +34,7 @@ int runSandboxed(Options o, bool labWindow) {
     std::fprintf(stderr, "lcjit: --debugger debugs model code in lcjit's own process: not with --sandbox or --lab\n");
     return 1;
   }
-  [[maybe_unused]] const bool window = opensWindow(o);
+  const bool window = opensWindow(o);
   const std::string model = modelOf(o.inputs);
   if (!o.batch && o.outs.empty() && !o.emitCpp && !o.compileOnly && !window) {
     o.outs = {shownIn(model.empty() ? o.inputs.back() : model)};
