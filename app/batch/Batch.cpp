@@ -1,5 +1,6 @@
 // Batch runs and --watch (see Batch.h).
 #include "app/batch/Batch.h"
+#include "app/cli/Modes.h"
 #include "app/common/ProfileReport.h"
 #include "app/common/Progress.h"
 
@@ -352,6 +353,27 @@ int runWithTiers(Session& session, const ModelFiles& files, const BatchOptions& 
 }
 
 }  // namespace
+
+BatchOptions batchOptions(const Options& o, const CompileTiers& tiers) {
+  BatchOptions bo;
+  if (!o.outs.empty()) {
+    bo.out = o.outs[0];
+    bo.moreOuts.assign(o.outs.begin() + 1, o.outs.end());
+  }
+  if (o.winSize.size() == 2) bo.width = (int)o.winSize[0], bo.height = (int)o.winSize[1];
+  bo.fps = o.fps;
+  bo.optLevel = tiers.optLevel;
+  bo.betterTier = tiers.betterTier;
+  bo.tierAfterMs = o.tierAfterMs;
+  bo.quiet = o.quiet, bo.verbose = o.verbose, bo.debug = o.debug, bo.stats = o.stats;
+  bo.plainErrors = o.lab;
+  bo.dumpSteps = o.dumpSteps, bo.dumpInterpreted = o.dumpInterpreted, bo.dumpInterpretedEach = o.dumpInterpretedEach;
+  bo.outputFrames = o.outputFrames;
+  bo.profile = o.profile;
+  bo.runRecord = o.runRecord;
+  bo.seed = o.seed;
+  return bo;
+}
 
 int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times) {
   std::string error;

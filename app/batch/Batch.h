@@ -51,6 +51,11 @@ struct BatchOptions {
   std::function<void(int step)> progress;
 };
 
+struct Options;
+struct CompileTiers;
+// A batch run's options as the command line (app/cli) says them, at these compile tiers.
+BatchOptions batchOptions(const Options& options, const CompileTiers& tiers);
+
 // One run of the loaded model: derive from the axiom, then write the outputs. `times` carries the
 // load's phase times in and gets the run's added. Returns the process exit status.
 int runBatch(Session& session, const ModelFiles& files, const BatchOptions& options, PhaseTimes& times);

@@ -19,10 +19,11 @@ struct SandboxLimits {
   // All the memory the run holds — resident, files in memory, the kernel's for it — where it has
   // a cgroup of its own (SandboxCgroup.h); bytes, 0: none.
   uint64_t heldMemory = 0;
-  double cpuSeconds = 600;     // CPU time of one run (RLIMIT_CPU)
-  uint64_t fileSize = 1ull << 30;  // the largest file a run may write (RLIMIT_FSIZE)
-  // Tasks (threads) of one run: pids.max of its cgroup, else RLIMIT_NPROC (not for root).
-  uint64_t threads = 512;
+  // --max-cpu, --max-file-size, --max-threads (their defaults are the command line's, Options.h):
+  double cpuSeconds = 0;       // CPU time of one run (RLIMIT_CPU); 0: none
+  uint64_t fileSize = 0;       // the largest file a run may write (RLIMIT_FSIZE); 0: none
+  // Tasks (threads) of one run: pids.max of its cgroup, else RLIMIT_NPROC (not for root); 0: none.
+  uint64_t threads = 0;
   uint64_t files = 1024;       // open files (RLIMIT_NOFILE): each may hold kernel memory (a socket's buffers)
 };
 

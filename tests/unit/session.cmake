@@ -20,3 +20,9 @@ endif()
 add_executable(lcjit_sandbox_cgroup_test ${CMAKE_CURRENT_LIST_DIR}/sandbox_cgroup_test.cpp)
 target_link_libraries(lcjit_sandbox_cgroup_test PRIVATE lcjit_sandbox GTest::gtest_main)
 add_test(NAME sandbox_cgroup_test COMMAND lcjit_sandbox_cgroup_test)
+
+# The command line's options (app/cli/Options.h): a sandboxed run's child parses what its parent
+# parsed, but for the options that stay with the parent.
+add_executable(lcjit_options_test ${CMAKE_CURRENT_LIST_DIR}/options_test.cpp)
+target_link_libraries(lcjit_options_test PRIVATE lcjit_cli CLI11::CLI11 GTest::gtest_main)
+add_test(NAME options_test COMMAND lcjit_options_test)
