@@ -83,7 +83,7 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& en
     if (std::find(opened.begin(), opened.end(), id) != opened.end()) {
       if (auto e = engine.interpret(pane.geometry, id)) return std::move(e);
       runtime::Bounds b = pane.geometry.framingBounds();
-      if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
+      if (runtime::WindowInput* w = engine.windowInput(); w && !b.empty()) w->views.setBox(id, b.min, b.max);
     }
     const auto& w = windows[size_t(id)];
     pane.rect = viewer::ViewPane::Rect::inside(w.left, w.top, w.width, w.height);

@@ -87,7 +87,8 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
     if (o.progress) o.progress(step);
   };
   // The window's camera is the parent's: model code sees the one a new window starts with.
-  runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
+  runtime::WindowInput& window = session.windowInput();
+  window.views.setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
   engine.begin(hooks);
   writeNamed();  // Start's
   bool more = true;
@@ -101,7 +102,7 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
                      animation.hcenterBetweenFrames, animation.scaleBetweenFrames, animation.newViewBetweenFrames};
   reply.derived = !more || engine.stepNo() >= engine.derivationLength();
   if (o.progress && reply.derived) o.progress(-1);
-  if (runtime::Mouse::instance().wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
+  if (window.mouse.wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
   auto fault = [&](llvm::Error e) {
     reply.message = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", reply.message.c_str());
@@ -110,7 +111,7 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
   if (auto e = engine.takeFault()) return fault(std::move(e));
   if (auto e = engine.interpret(reply.main)) return fault(std::move(e));
   runtime::Bounds b = reply.main.framingBounds();
-  if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
+  if (!b.empty()) window.views.setBox(0, b.min, b.max);
   auto panes = interpretViews(engine, drawing.view);
   if (!panes) return fault(panes.takeError());
   reply.panes = std::move(*panes);

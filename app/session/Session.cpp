@@ -651,6 +651,7 @@ llvm::Error Session::install(PreparedModel p) {
   }
   if (p.what.lsystem) environment_ = std::move(p.environment);  // the old program is stopped
   engine_->setEnvironment(environment_.get());
+  engine_->setWindowInput(&windowInput_);
   engine_->setCleanEA20(environmentSettings_.cleanEA20);
   drawing_ = std::move(p.drawing);
   warnings_ = std::move(p.warnings);

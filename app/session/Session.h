@@ -17,6 +17,7 @@
 #include "runtime/environment/Builtin.h"
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
+#include "runtime/WindowInput.h"
 #include <llvm/Support/Error.h>
 
 struct __lc_Model;
@@ -237,6 +238,10 @@ class Session {
   // with lpfg's). From the next load on.
   void setLcjitColours(bool on) { lcjitColours_ = on; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
+  // This session's window state (runtime/WindowInput.h): what its window, REPL or batch run sets
+  // and its model code reads, kept across loads (tunable values are kept by name, as the user
+  // menu's items are until the model clears them). Every engine of the session is given it.
+  runtime::WindowInput& windowInput() { return windowInput_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -275,6 +280,7 @@ class Session {
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::EnvironmentLink> environment_;  // outlives engine_, which calls it
+  runtime::WindowInput windowInput_;                       // so does this
   EnvironmentSettings environmentSettings_;
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;

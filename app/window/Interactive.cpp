@@ -137,7 +137,7 @@ class InteractiveModel {
     if (!busy()) {
       // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
       // made outside a derivation step (Start, End).
-      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
+      runtime::AnimationRequests r = session_.windowInput().animation.take();
       if (r.run) runRequested_ = true;
       if (r.pause) pauseRequested_ = true;
       if (runRequested_.exchange(false) && animating_) startRunning(runtime::AnimationSchedule::Mode::Run);
@@ -167,7 +167,7 @@ class InteractiveModel {
     std::map<std::string, std::pair<float, float>> timelines = parameters_.takeTimelines();
     for (const auto& [name, range] : timelines) report(session_.setTimeline(name, range.first, range.second));
     std::map<std::string, float> tunables = parameters_.takeTunables();
-    for (const auto& [name, value] : tunables) runtime::Tunables::instance().move(name, value);
+    for (const auto& [name, value] : tunables) session_.windowInput().tunables.move(name, value);
     for (const std::string& f : parameters_.takeChangedFiles()) {
       FileKind kind = fileKindOf(f);
       Action a = kind == FileKind::Other ? Action::NewLsystem : actionForChange(kind, RefreshMode::Continuous);
@@ -430,8 +430,8 @@ class InteractiveModel {
       pendingSaves_.push_back(path);
       if (!busy()) writePendingSaves();
     };
-    a.userMenu = runtime::UserMenu::instance().items();
-    a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
+    a.userMenu = session_.windowInput().menu.items();
+    a.userChoice = [this](int code) { session_.windowInput().menu.choose(code); };
     if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
     a.panels.push_back(profilePanel());
     a.panels.push_back(stringPanel());
@@ -480,7 +480,7 @@ class InteractiveModel {
     const runtime::CameraMatrices& c = window_.camera();
     auto v3 = [](glm::vec3 v) { return V3f(v.x, v.y, v.z); };
     const float scale = window_.adjustment().zoom / runtime::projectionScale(session_.drawing().view, 0);
-    runtime::Views::instance().setCamera(0, runtime::cameraPosition(v3(c.eye), v3(c.lookAt), v3(c.viewDirection), v3(c.up), scale));
+    session_.windowInput().views.setCamera(0, runtime::cameraPosition(v3(c.eye), v3(c.lookAt), v3(c.viewDirection), v3(c.up), scale));
   }
 
   // The window's pointer for GetMouseStatus() (§7.4).
@@ -495,7 +495,7 @@ class InteractiveModel {
     s.lbDown = p.down;
     s.lbPushed = p.pushed;
     s.lbReleased = p.released;
-    runtime::Mouse::instance().update(s);
+    session_.windowInput().mouse.update(s);
     // A Shift+Ctrl click while the worker has the string waits for it (a click is not lost).
     if (p.insert) pendingInserts_.push_back({p.insert, p.fbX, p.fbY, s});
     insertPending();
@@ -562,7 +562,7 @@ class InteractiveModel {
       // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
       // its `window:` rectangle.
       runtime::Bounds b = scene.main.framingBounds();
-      if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
+      if (!b.empty()) session_.windowInput().views.setBox(0, b.min, b.max);
       auto panes = interpretViews(session_.engine(), session_.drawing().view);
       if (!panes) {
         scene.error = llvm::toString(panes.takeError());
@@ -576,7 +576,7 @@ class InteractiveModel {
   void deriveTo(int target) {
     runtime::Engine& e = session_.engine();
     while (e.stepNo() < target && e.step()) {
-      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
+      runtime::AnimationRequests r = session_.windowInput().animation.take();
       if (r.run) runRequested_ = true;
       if (r.pause) pauseRequested_ = true;
       if (animation_.displayOnRequest && r.display) break;  // DisplayFrame: show this step
@@ -641,7 +641,7 @@ class InteractiveModel {
   FrameWriter frames_;
   NamedFrames named_;  // OutputFrame's, on the worker thread
   RenderLook look_;
-  ParameterPanel parameters_;
+  ParameterPanel parameters_{session_.windowInput().tunables};
   std::vector<ProfileRow> profileRows_;  // of the run the window shows
   StringDebugger debugger_;
   // Progress of the worker's derivation (set on the worker, shown by the main thread).
