@@ -269,17 +269,6 @@ std::string withSourceLines(const std::string& diagnostics) {
   return out;
 }
 
-std::optional<ReloadParts> reloadPartsFor(Action a) {
-  switch (a) {
-    case Action::NewModel: return ReloadParts::all();
-    case Action::NewLsystem: return ReloadParts::newLsystem();
-    case Action::NewRun: return ReloadParts::newRun();
-    case Action::NewView:
-    case Action::NewRendering: return ReloadParts::newView();
-    default: return std::nullopt;
-  }
-}
-
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing) {
   std::vector<std::string> f{files.lsystem};
   for (const std::string* one :

@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "app/session/FileMonitor.h"
+#include "app/session/InputKinds.h"
+#include "app/session/ReloadParts.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "runtime/environment/Builtin.h"
@@ -91,27 +92,6 @@ std::string withSourceLines(const std::string& diagnostics);
 // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
 // view file names (as the loaded model resolved them).
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing);
-
-// Which input files a load re-reads (manual §1.2.2's table of the New … menu items); the rest is
-// carried over from the loaded model.
-struct ReloadParts {
-  bool lsystem = true;     // re-read and recompile the .l file (and re-run)
-  bool view = true;        // the view file
-  bool rendering = true;   // colormap/materials, surfaces, meshes, textures
-  bool parameters = true;  // functions, contours, timeline, parameters
-  static ReloadParts all() { return {}; }
-  static ReloadParts newLsystem() { return {true, false, true, true}; }
-  static ReloadParts newRun() { return {false, false, true, true}; }
-  static ReloadParts newView() { return {false, true, true, false}; }  // New rendering reads the same
-  ReloadParts& operator|=(const ReloadParts& o) {
-    lsystem |= o.lsystem, view |= o.view, rendering |= o.rendering, parameters |= o.parameters;
-    return *this;
-  }
-};
-
-// What a New … action re-reads (the table of §1.2.2); nothing for New animate, which re-reads
-// the animation file only (not part of a Session).
-std::optional<ReloadParts> reloadPartsFor(Action a);
 
 // A load's result before it replaces the running model (Session::prepare).
 struct PreparedModel {
