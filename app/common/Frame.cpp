@@ -93,6 +93,17 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& en
   return panes;
 }
 
+llvm::Error interpretWindowPicture(runtime::Engine& engine, const runtime::ViewSettings& view, runtime::Geometry& main,
+                                   std::vector<viewer::ViewPane>& panes) {
+  if (auto e = engine.interpret(main)) return e;
+  runtime::Bounds b = main.framingBounds();
+  if (runtime::WindowInput* w = engine.windowInput(); w && !b.empty()) w->views.setBox(0, b.min, b.max);
+  auto opened = interpretViews(engine, view);
+  if (!opened) return opened.takeError();
+  panes = std::move(*opened);
+  return llvm::Error::success();
+}
+
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
 FrameWriter::~FrameWriter() = default;
 
