@@ -442,7 +442,7 @@ class Repl {
 
   llvm::Error cmdSet(const Args& args) {
     const runtime::FunctionStore& f = session_->functions();
-    std::vector<runtime::Tunables::Entry> tunables = runtime::Tunables::instance().entries();
+    std::vector<runtime::Tunables::Entry> tunables = session_->windowInput().tunables.entries();
     if (args.empty()) {
       bool any = false;
       for (int id = 1; id <= f.size(); ++id)
@@ -462,7 +462,7 @@ class Repl {
     if (!value) return llvm::createStringError("error: '" + args[1] + "' is not a number");
     // A .vset parameter, else a value the model marks as tunable (docs/studio.md).
     bool tunable = std::any_of(tunables.begin(), tunables.end(), [&](const auto& t) { return t.name == args[0]; });
-    if (tunable && f.idOf(args[0]) == 0) runtime::Tunables::instance().move(args[0], float(*value));
+    if (tunable && f.idOf(args[0]) == 0) session_->windowInput().tunables.move(args[0], float(*value));
     else if (auto e = session_->setParameter(args[0], *value)) return e;
     std::printf("%s = %g\n", args[0].c_str(), *value);
     int at = engine().stepNo();

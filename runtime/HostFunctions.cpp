@@ -1,4 +1,5 @@
-// Host functions for model code: each forwards to the engine that is running the model.
+// Host functions for model code: each forwards to the engine that is running the model (and to
+// what the engine was given: its functions, its session's window state).
 #include "runtime/HostFunctions.h"
 
 #include <array>
@@ -32,6 +33,12 @@ lcjit::runtime::Contour* curve(int id) {
 const lcjit::runtime::ShapeLibrary* shapes() {
   Engine* e = engine();
   return e ? e->turtleSetup().shapes : nullptr;
+}
+// The running session's window state; null outside a run (or for an engine without a session):
+// then the functions answer as with no window.
+lcjit::runtime::WindowInput* window() {
+  Engine* e = engine();
+  return e ? e->windowInput() : nullptr;
 }
 // What C++ typed at the REPL printed (lcjit/repl.h), on the REPL's thread.
 std::string& replOutput() {
@@ -122,7 +129,8 @@ float lcjit_tfunc_named(const char* name, float x) { return functions() && name 
 float lcjit_val(int id) { return functions() ? functions()->val(id) : 0; }
 float lcjit_val_named(const char* name) { return functions() && name ? functions()->val(name) : 0; }
 float lcjit_tunable(const char* name, float value, float min, float max) {
-  return lcjit::runtime::Tunables::instance().get(name, value, min, max);
+  if (auto* w = window()) return w->tunables.get(name, value, min, max);
+  return name ? lcjit::runtime::Tunables::codeValue(value, min, max) : value;
 }
 void lcjit_func_tangent(int id, float x, float* out2) {
   std::array<float, 2> t{0, 0};
@@ -185,7 +193,7 @@ void lcjit_get_surface_point(int id, int k, float* out) {
 }
 
 void lcjit_user_menu_item(const char* label, int code) {
-  lcjit::runtime::UserMenu::instance().add(label ? label : "", code);
+  if (auto* w = window()) w->menu.add(label ? label : "", code);
 }
 void lcjit_use_view(int id, int open) {
   if (Engine* e = engine()) open ? e->useView(id) : e->closeView(id);
@@ -194,18 +202,37 @@ int lcjit_num_of_views() {
   Engine* e = engine();
   return e ? e->numOfViews() : 1;
 }
-float lcjit_view_box(int id, int axis, int max) { return lcjit::runtime::Views::instance().box(id, axis, max != 0); }
-float lcjit_view_scale(int id) { return lcjit::runtime::Views::instance().scale(id); }
-void lcjit_camera_position(int id, CameraPosition* out) { *out = lcjit::runtime::Views::instance().camera(id); }
-void lcjit_animation_request(int what) {
-  auto& c = lcjit::runtime::AnimationControl::instance();
-  if (what == 0) c.requestDisplay();
-  else if (what == 1) c.requestRun();
-  else c.requestPause();
+// Without a window state: a zero box, scale 1, no camera (as Views says of an unknown view).
+float lcjit_view_box(int id, int axis, int max) {
+  auto* w = window();
+  return w ? w->views.box(id, axis, max != 0) : 0;
 }
-void lcjit_mouse_status(MouseStatus* out) { *out = lcjit::runtime::Mouse::instance().take(); }
-int lcjit_user_menu_choice() { return lcjit::runtime::UserMenu::instance().choice(); }
-void lcjit_user_menu_clear() { lcjit::runtime::UserMenu::instance().clear(); }
+float lcjit_view_scale(int id) {
+  auto* w = window();
+  return w ? w->views.scale(id) : 1;
+}
+void lcjit_camera_position(int id, CameraPosition* out) {
+  auto* w = window();
+  *out = w ? w->views.camera(id) : CameraPosition{};
+}
+void lcjit_animation_request(int what) {
+  auto* w = window();
+  if (!w) return;
+  if (what == 0) w->animation.requestDisplay();
+  else if (what == 1) w->animation.requestRun();
+  else w->animation.requestPause();
+}
+void lcjit_mouse_status(MouseStatus* out) {
+  auto* w = window();
+  *out = w ? w->mouse.take() : MouseStatus{};
+}
+int lcjit_user_menu_choice() {
+  auto* w = window();
+  return w ? w->menu.choice() : -1;
+}
+void lcjit_user_menu_clear() {
+  if (auto* w = window()) w->menu.clear();
+}
 
 int lcjit_model_value(int what) {
   Engine* e = engine();
@@ -259,7 +286,10 @@ void lcjit_bsurface_op(int op, int maxRows, int maxColumns, const float* l, int 
                        : "Interpolate: lpfg cannot resize the result to fit (it would not return)\n");
 }
 
-void lcjit_tablet_status(TabletStatus* out) { *out = lcjit::runtime::Mouse::instance().tablet(); }
+void lcjit_tablet_status(TabletStatus* out) {
+  auto* w = window();
+  *out = w ? w->mouse.tablet() : TabletStatus{};
+}
 
 namespace {
 // The view file's terrain, or null after lpfg's message.

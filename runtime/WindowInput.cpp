@@ -5,11 +5,6 @@
 
 namespace lcjit::runtime {
 
-UserMenu& UserMenu::instance() {
-  static UserMenu menu;
-  return menu;
-}
-
 void UserMenu::add(const std::string& label, int code) {
   std::lock_guard<std::mutex> lock(mutex_);
   items_.emplace_back(label, code);
@@ -37,11 +32,6 @@ int UserMenu::choice() {
   return c;
 }
 
-AnimationControl& AnimationControl::instance() {
-  static AnimationControl control;
-  return control;
-}
-
 void AnimationControl::set(bool AnimationRequests::*flag) {
   std::lock_guard<std::mutex> lock(mutex_);
   requests_.*flag = true;
@@ -52,11 +42,6 @@ AnimationRequests AnimationControl::take() {
   AnimationRequests r = requests_;
   requests_ = AnimationRequests();
   return r;
-}
-
-Views& Views::instance() {
-  static Views views;
-  return views;
 }
 
 void Views::setBox(int id, V3f min, V3f max) {
@@ -106,11 +91,6 @@ CameraPosition initialWindowCamera(float viewScale) {
   return cameraPosition(V3f(0, 0, 1), V3f(0, 0, 0), V3f(0, 0, -1), V3f(0, 1, 0), viewScale);
 }
 
-Mouse& Mouse::instance() {
-  static Mouse mouse;
-  return mouse;
-}
-
 void Mouse::update(const MouseStatus& s) {
   std::lock_guard<std::mutex> lock(mutex_);
   bool pushed = status_.lbPushed || s.lbPushed, released = status_.lbReleased || s.lbReleased;
@@ -148,9 +128,9 @@ TabletStatus Mouse::tablet() {
   return t;
 }
 
-Tunables& Tunables::instance() {
-  static Tunables t;
-  return t;
+float Tunables::codeValue(float value, float min, float max) {
+  if (min > max) std::swap(min, max);
+  return std::clamp(value, min, max);
 }
 
 float Tunables::get(const char* name, float value, float min, float max) {
@@ -160,10 +140,10 @@ float Tunables::get(const char* name, float value, float min, float max) {
   for (Entry& e : entries_)
     if (e.name == name) {
       e.value = value, e.min = min, e.max = max;  // the code may have changed since
-      return e.moved ? e.movedTo : std::clamp(value, min, max);
+      return e.moved ? e.movedTo : codeValue(value, min, max);
     }
   entries_.push_back({name, value, min, max, false, 0});
-  return std::clamp(value, min, max);
+  return codeValue(value, min, max);
 }
 
 std::vector<Tunables::Entry> Tunables::entries() const {

@@ -2,6 +2,10 @@
 // UserMenuItem, shown on two of Ctrl/Shift/Alt + right click, read back by UserMenuChoice) and the
 // mouse status (GetMouseStatus). Model code runs on the derivation thread and the window on the
 // main thread, hence the locks. In batch mode nothing feeds them: neutral values.
+//
+// All of it is one session's (WindowInput, below): a Session owns one and hands it to each engine
+// it makes, and the host functions reach it through the engine that is running, as they reach its
+// environmental program. Two sessions in one process (the unit tests, a sweep) share nothing of it.
 #pragma once
 #include "runtime/include/lcjit/types.h"
 #include <map>
@@ -14,8 +18,6 @@ namespace lcjit::runtime {
 
 class UserMenu {
  public:
-  static UserMenu& instance();
-
   void add(const std::string& label, int code);
   void clear();
   std::vector<std::pair<std::string, int>> items() const;
@@ -36,7 +38,6 @@ class UserMenu {
 // name, and its default and range follow the code as it is edited.
 class Tunables {
  public:
-  static Tunables& instance();
   struct Entry {
     std::string name;
     float value = 0;  // what the code says
@@ -46,6 +47,8 @@ class Tunables {
   };
   // What model code's call returns: the moved value, if any, else `value` (clamped to [min, max]).
   float get(const char* name, float value, float min, float max);
+  // What the call returns where no panel can have moved it (no session's engine is running).
+  static float codeValue(float value, float min, float max);
   std::vector<Entry> entries() const;  // in the order first met
   void move(const std::string& name, float to);
   void reset();  // the panel's moves forgotten (the code's values again)
@@ -62,7 +65,6 @@ struct AnimationRequests {
 };
 class AnimationControl {
  public:
-  static AnimationControl& instance();
   void requestDisplay() { set(&AnimationRequests::display); }
   void requestRun() { set(&AnimationRequests::run); }
   void requestPause() { set(&AnimationRequests::pause); }
@@ -79,7 +81,6 @@ class AnimationControl {
 // Unknown views: a zero box, scale 1.
 class Views {
  public:
-  static Views& instance();
   void setBox(int id, V3f min, V3f max);
   void setCamera(int id, const CameraPosition& camera);
   // axis 0..2 = x, y, z; max selects the upper corner.
@@ -110,7 +111,6 @@ CameraPosition initialWindowCamera(float viewScale);
 
 class Mouse {
  public:
-  static Mouse& instance();
   // The window's latest pointer; pushed/released accumulate until the model reads them.
   void update(const MouseStatus& s);
   // GetMouseStatus(): the latest status; pushed/released since the previous call.
@@ -118,7 +118,7 @@ class Mouse {
   // GetTabletStatus(): the pointer as a tablet pen (lcjit has no tablet driver): connected once
   // a window feeds the mouse, pressure 1 while the left button is down.
   TabletStatus tablet();
-  // Whether model code asked for either since the process started: a sandboxed window's run,
+  // Whether model code asked for either since the session started: a sandboxed window's run,
   // which no window feeds, says so (app/sandbox/SandboxWindow.h).
   bool wasRead();
 
@@ -126,6 +126,17 @@ class Mouse {
   std::mutex mutex_;
   MouseStatus status_;
   bool fed_ = false, read_ = false;
+};
+
+// One session's window state. The window (app/window), the REPL (its :set of tunables), batch
+// runs (the camera a picture is derived with) and a sandboxed window's child are handed their
+// session's; model code reaches it through Engine::windowInput() (runtime/HostFunctions.cpp).
+struct WindowInput {
+  UserMenu menu;
+  Tunables tunables;
+  AnimationControl animation;
+  Views views;
+  Mouse mouse;
 };
 
 }  // namespace lcjit::runtime

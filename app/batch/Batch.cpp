@@ -187,7 +187,8 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
                  times.pchCached ? "cached PCH" : "PCH built");
   // A picture or a geometry file is what lpfg's window would save: derived with its camera.
   if (!options.out.empty() && isFrameOutput(options.out))
-    runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(session.drawing().view, 0)));
+    session.windowInput().views.setCamera(
+        0, runtime::initialWindowCamera(1 / runtime::projectionScale(session.drawing().view, 0)));
   if (options.progress)
     hooks.afterStep = [&, step = std::move(hooks.afterStep)](int n) {
       options.progress(n);

@@ -83,7 +83,7 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& 
     if (std::find(opened.begin(), opened.end(), id) != opened.end()) {
       if (auto e = engine.interpret(pane.geometry, id)) return std::move(e);
       runtime::Bounds b = pane.geometry.framingBounds();
-      if (!b.empty()) runtime::Views::instance().setBox(id, b.min, b.max);
+      if (runtime::WindowInput* w = engine.windowInput(); w && !b.empty()) w->views.setBox(id, b.min, b.max);
     }
     const auto& w = windows[size_t(id)];
     pane.rect = viewer::ViewPane::Rect::inside(w.left, w.top, w.width, w.height);
@@ -91,6 +91,17 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& 
     panes.push_back(std::move(pane));
   }
   return panes;
+}
+
+llvm::Error interpretWindowPicture(runtime::ModelRun& engine, const runtime::ViewSettings& view, runtime::Geometry& main,
+                                   std::vector<viewer::ViewPane>& panes) {
+  if (auto e = engine.interpret(main)) return e;
+  runtime::Bounds b = main.framingBounds();
+  if (runtime::WindowInput* w = engine.windowInput(); w && !b.empty()) w->views.setBox(0, b.min, b.max);
+  auto opened = interpretViews(engine, view);
+  if (!opened) return opened.takeError();
+  panes = std::move(*opened);
+  return llvm::Error::success();
 }
 
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}

@@ -45,6 +45,11 @@ std::string badPictureSize(double width, double height);
 // empty widget holds its place), so are all of them when the model opened none. Empty for a
 // view file without `window:` lines (one view). Also records each view's bounding box (vvXmin …).
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& engine, const runtime::ViewSettings& view);
+// The window's picture of the current string, as the window and a sandboxed window's child make
+// it: the main view into `main` (its bounding box is view 0's, for vvXmin …) and the views the
+// model opened (interpretViews) into `panes`. A fault in an interpretation rule is the error.
+llvm::Error interpretWindowPicture(runtime::ModelRun& engine, const runtime::ViewSettings& view, runtime::Geometry& main,
+                                   std::vector<viewer::ViewPane>& panes);
 
 // The model's colours and textures as the renderer takes them (textures rows top first),
 // converted once per loaded DrawingFiles rather than for every picture: a reload replaces the

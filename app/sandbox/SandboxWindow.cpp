@@ -1,6 +1,7 @@
-// The window under --sandbox (see SandboxWindow.h). A re-run is a new child for the whole
-// derivation up to the wanted step: stepping costs a run from the axiom each time, which keeps
-// the parent free of model state (there is none to keep in step with the child).
+// The window under --sandbox (see SandboxWindow.h): the child's answer, and the model host the
+// window's controller drives in the parent (app/window/ModelHost.h). A re-run is a new child for
+// the whole derivation up to the wanted step: stepping costs a run from the axiom each time, which
+// keeps the parent free of model state (there is none to keep in step with the child).
 #include "app/sandbox/SandboxWindow.h"
 
 #include <unistd.h>
@@ -25,6 +26,8 @@
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Drawing.h"
 #if LCJIT_HAVE_WINDOW
+#include "app/window/ModelHost.h"
+#include "app/window/WindowController.h"
 #include "viewer/Window.h"
 #endif
 
@@ -87,7 +90,8 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
     if (o.progress) o.progress(step);
   };
   // The window's camera is the parent's: model code sees the one a new window starts with.
-  runtime::Views::instance().setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
+  runtime::WindowInput& window = session.windowInput();
+  window.views.setCamera(0, runtime::initialWindowCamera(1 / runtime::projectionScale(drawing.view, 0)));
   engine.begin(hooks);
   writeNamed();  // Start's
   bool more = true;
@@ -101,19 +105,14 @@ int answerWindow(Session& session, const ModelFiles& files, llvm::Error loaded, 
                      animation.hcenterBetweenFrames, animation.scaleBetweenFrames, animation.newViewBetweenFrames};
   reply.derived = !more || engine.stepNo() >= engine.derivationLength();
   if (o.progress && reply.derived) o.progress(-1);
-  if (runtime::Mouse::instance().wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
+  if (window.mouse.wasRead()) reply.unanswered = "GetMouseStatus/GetTabletStatus";
   auto fault = [&](llvm::Error e) {
     reply.message = llvm::toString(std::move(e));
     std::fprintf(stderr, "%s\n", reply.message.c_str());
     return answer(1);
   };
   if (auto e = engine.takeFault()) return fault(std::move(e));
-  if (auto e = engine.interpret(reply.main)) return fault(std::move(e));
-  runtime::Bounds b = reply.main.framingBounds();
-  if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
-  auto panes = interpretViews(engine, drawing.view);
-  if (!panes) return fault(panes.takeError());
-  reply.panes = std::move(*panes);
+  if (auto e = interpretWindowPicture(engine, drawing.view, reply.main, reply.panes)) return fault(std::move(e));
   RenderLook look;
   look.of(drawing);
   reply.palette = look.palette;
@@ -129,141 +128,114 @@ namespace {
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 
-class SandboxedWindow {
+// The window's model host under the sandbox (app/window/ModelHost.h): every run is a new child
+// for the whole derivation up to the wanted step.
+class SandboxHost final : public ModelHost {
  public:
-  SandboxedWindow(const SandboxPlan& plan, viewer::Window& window, const InteractiveOptions& options)
+  SandboxHost(const SandboxPlan& plan, viewer::Window& window, const InteractiveOptions& options)
       : plan_(plan), window_(window), options_(options) {}
-  ~SandboxedWindow() { stopRun(); }
+  ~SandboxHost() override { stopRun(); }
 
-  bool busy() const { return run_ != nullptr; }
-  bool exitRequested() const { return exit_; }
-  const std::vector<std::string>& inputs() const { return inputs_; }
+  // ---- runs
 
-  // A new child for the picture at `toStep` (-1: the whole derivation; kFirstFrame); one running
-  // is stopped.
-  void start(int toStep, bool refit) {
-    stopRun();
-    SandboxPlan p = plan_;
-    if (toStep != -1) p.args.push_back("--to-step=" + std::to_string(toStep));  // "=": -2 is no option
-    auto run = SandboxedRun::start(p);
-    if (!run) return say(llvm::toString(run.takeError()));
-    run_ = std::move(*run);
-    startedAt_ = Clock::now();
-    refit_ = refit_ || refit;
+  void derive(RunTarget target) override {
+    start(target.kind == RunTarget::Kind::Whole        ? -1
+          : target.kind == RunTarget::Kind::FirstFrame ? kFirstFrame
+                                                       : target.step);
   }
-  void rerun(bool refit) { start(animating_ ? kFirstFrame : -1, refit); }
+  void redraw() override { start(toStep_ == -1 ? -1 : step_); }  // the same picture, drawn anew
+  bool busy() const override { return run_ != nullptr; }
+  bool itemsWaitWhileBusy() const override { return false; }  // a new run replaces the one running
+  void stop() override {
+    if (!busy()) return;
+    stopRun();
+    say(plan_.model + ": the sandboxed run was stopped");
+  }
+  void interrupt() override { stop(); }
 
-  // Waits up to `ms` for the running child (reading its reply meanwhile); shows what it sent.
-  void poll(int ms) {
-    if (!run_ || !run_->wait(ms)) return;
+  // Waits up to `waitMs` for the running child (reading its reply meanwhile); hands over what it
+  // sent.
+  HostNews poll(int waitMs) override {
+    HostNews news = std::exchange(news_, {});
+    if (!run_ || !run_->wait(waitMs)) return news;
     SandboxOutcome o = run_->outcome();  // a death the child could not report is on stderr now
     run_.reset();
     if (!o.inputs.empty()) inputs_ = o.inputs;
-    if (o.stopped) return;
+    if (o.stopped) return news;
+    RunEnd& r = news.run.emplace();
+    r.failed = true;  // until there is a picture
     if (o.reply.empty()) {
-      running_ = false;
       std::string why = !o.fault.empty() ? o.fault
                                          : plan_.model + ": error: the sandboxed run ended without a picture (its "
                                                          "messages are above)";
       if (o.fault.empty()) std::fprintf(stderr, "%s\n", why.c_str());
       window_.setMessage(why + "\n(the last good picture is shown)");
-      return;
+      return news;
     }
     auto reply = decodeSandboxReply(o.reply);
     if (!reply) {
-      running_ = false;
-      return say(plan_.model + ": error: " + llvm::toString(reply.takeError()));
+      say(plan_.model + ": error: " + llvm::toString(reply.takeError()));
+      return news;
     }
-    step_ = reply->steps;
-    derived_ = reply->derived;
-    animation_ = reply->animation;
+    reply_ = std::move(*reply);
+    step_ = reply_.steps;
     std::string note;  // once: every run would say it again
-    if (!reply->unanswered.empty() && !std::exchange(toldUnanswered_, true))
-      note = "lcjit: --sandbox: " + plan_.model + ": the model reads the window's input (" + reply->unanswered +
+    if (!reply_.unanswered.empty() && !std::exchange(toldUnanswered_, true))
+      note = "lcjit: --sandbox: " + plan_.model + ": the model reads the window's input (" + reply_.unanswered +
              "), which a sandboxed run does not get: no button, no pointer (docs/security.md)";
-    shownAt_ = Clock::now();
-    if (!reply->message.empty()) {
-      running_ = false;  // the child printed it on stderr
-      window_.setMessage(reply->message);
-      return;
+    if (!reply_.message.empty()) {
+      window_.setMessage(reply_.message);  // the child printed it on stderr
+      return news;
     }
+    r.failed = false;
     window_.setMessage("");
     if (!note.empty()) say(note);
-    if (!reply->hasPicture) return;
+    if (!reply_.hasPicture) return news;
     if (options_.verbose)
-      std::fprintf(stderr, "lcjit: sandboxed run shown: step %d of %d, %.1f ms\n", reply->steps,
-                   reply->derivationLength,
+      std::fprintf(stderr, "lcjit: sandboxed run shown: step %d of %d, %.1f ms\n", reply_.steps,
+                   reply_.derivationLength,
                    std::chrono::duration<double, std::milli>(Clock::now() - startedAt_).count());
-    // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
-    using Framing = viewer::Window::Framing;
-    Framing framing = !animating_ || refit_ || animation_.scale ? Framing::Refit
-                      : animation_.hcenter                      ? Framing::HCenter
-                                                                : Framing::Keep;
-    refit_ = false;
-    if (animating_ && animation_.newView) window_.resetView();
-    if (reply->panes.empty())
-      window_.setScene(reply->main, reply->view, reply->palette, reply->textures, framing);
-    else
-      window_.setViews(reply->panes, reply->view, reply->palette, reply->textures);
+    r.picture = HostPicture{&reply_.main, &reply_.panes, &reply_.view, &reply_.palette, &reply_.textures};
+    r.step = reply_.steps;
+    r.derivationLength = reply_.derivationLength;
+    r.ended = reply_.derived;
+    // The child's animation file (it reads the file anew for every run); DisplayFrame() is the
+    // child's, which derives to the step asked for.
+    const SandboxReply::Animation& a = reply_.animation;
+    r.animation.firstFrame = a.firstFrame;
+    r.animation.lastFrame = a.lastFrame;
+    r.animation.step = a.step;
+    r.animation.swapInterval = a.swapIntervalMs / 10;
+    r.animation.hcenterBetweenFrames = a.hcenter;
+    r.animation.scaleBetweenFrames = a.scale;
+    r.animation.newViewBetweenFrames = a.newView;
+    return news;
   }
 
-  // The animation file's next frame after the one shown (AnimationSchedule's rule: every
-  // `step:` steps from the first frame, and the last frame); none past the last frame or the
-  // derivation's end.
-  std::optional<int> nextFrame() const {
-    const SandboxReply::Animation& a = animation_;
-    if (derived_ || step_ >= a.lastFrame) return std::nullopt;
-    long long next = step_ < a.firstFrame ? a.firstFrame
-                                          : a.firstFrame + ((step_ - a.firstFrame) / a.step + 1) * 1ll * a.step;
-    return int(std::min<long long>(next, a.lastFrame));
+  // ---- files
+
+  // File changes or a New … item: one new run of the files as they are now (New animate: each
+  // run reads the animation file anyway).
+  void apply(Action a) override {
+    if (a == Action::NewAnimate || !reloadPartsFor(a)) return;
+    news_.rerun = true;
+    news_.resetView = news_.resetView || resetsView(a);
+  }
+  std::vector<std::string> watchedFiles() const override {
+    if (inputs_.empty()) return {fs::absolute(plan_.model).string()};  // nothing reported: the model at least
+    return inputs_;
   }
 
-  // Animation: Run/Forever take the next frame once the last one has been shown for the swap
-  // interval.
-  void advance() {
-    if (!running_ || busy() || Clock::now() - shownAt_ < std::chrono::milliseconds(animation_.swapIntervalMs)) return;
-    if (std::optional<int> next = nextFrame()) return start(*next, false);
-    if (forever_) return start(kFirstFrame, false);
-    running_ = false;
-  }
-
-  // File changes or a New … item: one new run of the files as they are now.
-  void apply(const std::vector<Action>& actions) {
-    bool again = false;
-    for (Action a : actions) {
-      if (a == Action::NewAnimate || !reloadPartsFor(a)) continue;
-      if (resetsView(a)) window_.resetView();
-      again = true;
-    }
-    if (again) rerun(true);
-  }
+  // ---- the window's input and menu
 
   // Pointer clicks that would insert MouseIns into the string: the string is the child's.
-  void refuseInsertion() {
+  void takeInput() override {
     if (window_.takePointer().insert)
       say("lcjit: --sandbox: mouse insertion (MouseIns) changes the model's string, which lives in the sandboxed "
           "run; it is off under the sandbox (docs/security.md)");
   }
 
-  viewer::MenuActions actions() {
-    viewer::MenuActions a;
-    a.saveName = fs::path(plan_.model).stem().string() + ".png";
-    a.exit = [this] { exit_ = true; };
-    a.animating = animating_;
-    auto stop = [this] {
-      running_ = false;
-      if (!busy()) return;
-      stopRun();
-      say(plan_.model + ": the sandboxed run was stopped");
-    };
-    a.stop = stop;
-    a.interrupt = stop;
-    a.clear = [this] { start(animating_ ? step_ : -1, false); };  // the same picture, drawn anew
-    a.newModel = [this] { apply({Action::NewModel}); };
-    a.newLsystem = [this] { apply({Action::NewLsystem}); };
-    a.newRun = [this] { apply({Action::NewRun}); };
-    a.newView = [this] { apply({Action::NewView}); };
-    a.newRendering = [this] { apply({Action::NewRendering}); };
+  void addToMenu(viewer::MenuActions& a) override {
     const char* stringIsTheChilds = "the model's string lives in the sandboxed run; only pictures are saved from the "
                                     "window under the sandbox (docs/security.md)";
     a.saveAs = [this, stringIsTheChilds](const std::string& path) {
@@ -272,31 +244,24 @@ class SandboxedWindow {
     a.stringInput = a.stringOutput = [this, stringIsTheChilds] {
       say(std::string("lcjit: --sandbox: String input/output is off: ") + stringIsTheChilds);
     };
-    a.animate = [this] {
-      animating_ = true;
-      start(kFirstFrame, true);
-    };
-    a.step = [this] {
-      running_ = false;
-      if (busy()) return;
-      if (std::optional<int> next = nextFrame()) start(*next, false);
-    };
-    a.run = [this] { running_ = true, forever_ = false; };
-    a.forever = [this] { running_ = forever_ = true; };
-    a.rewind = [this] {
-      running_ = false;
-      start(kFirstFrame, true);
-    };
-    a.dontAnimate = [this] {
-      animating_ = running_ = false;
-      start(-1, true);
-    };
-    return a;
   }
-
-  void startAnimating() { animating_ = true; }
+  // The animation file's frame dump folder is the model's to name: the window's process does not
+  // write there.
+  bool records() const override { return false; }
 
  private:
+  // A new child for the picture at `toStep` (-1: the whole derivation; kFirstFrame); one running
+  // is stopped.
+  void start(int toStep) {
+    stopRun();
+    SandboxPlan p = plan_;
+    if (toStep != -1) p.args.push_back("--to-step=" + std::to_string(toStep));  // "=": -2 is no option
+    auto run = SandboxedRun::start(p);
+    if (!run) return say(llvm::toString(run.takeError()));
+    run_ = std::move(*run);
+    toStep_ = toStep;
+    startedAt_ = Clock::now();
+  }
   void stopRun() {
     if (!run_) return;
     run_->stop();
@@ -312,50 +277,22 @@ class SandboxedWindow {
   viewer::Window& window_;
   InteractiveOptions options_;
   std::unique_ptr<SandboxedRun> run_;
+  int toStep_ = -1;  // what the last run was started for
+  SandboxReply reply_;  // the last one, with the picture shown
+  HostNews news_;
   std::vector<std::string> inputs_;
   int step_ = 0;
-  SandboxReply::Animation animation_;  // the last run's animation file
-  bool derived_ = false, animating_ = false, running_ = false, forever_ = false, refit_ = true, exit_ = false;
   bool toldUnanswered_ = false;
-  Clock::time_point shownAt_, startedAt_;
+  Clock::time_point startedAt_;
 };
 
 }  // namespace
 
 int runSandboxedWindow(const SandboxPlan& plan, const viewer::WindowOptions& windowOptions,
                        const InteractiveOptions& options) {
-  auto window = viewer::Window::create(windowOptions);
-  if (!window) {
-    std::fprintf(stderr, "lcjit: cannot open a window: %s\n", llvm::toString(window.takeError()).c_str());
-    return 1;
-  }
-  SandboxedWindow model(plan, **window, options);
-  if (options.animate) model.startAnimating();
-  model.rerun(true);
-  FileMonitor monitor;
-  const bool watching = options.refresh != RefreshMode::Explicit;
-  std::vector<std::string> watched;
-  auto watchInputs = [&] {
-    std::vector<std::string> now = model.inputs();
-    if (now.empty()) now = {fs::absolute(plan.model).string()};  // nothing reported: the model at least
-    if (!watching || now == watched) return;
-    watched = std::move(now);
-    if (!monitor.watch(watched) && !options.quiet)
-      std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
-  };
-  watchInputs();
-  for (;;) {
-    // While a child runs, wait on it (its reply comes through a pipe) rather than on the window.
-    model.poll(model.busy() ? 10 : 0);
-    watchInputs();
-    model.refuseInsertion();
-    viewer::MenuActions actions = model.actions();
-    if (model.exitRequested() || !(*window)->frame(actions)) break;
-    (*window)->waitEvents(model.busy() ? 0 : 0.05);
-    if (watching) model.apply(actionsForChanges(monitor.poll(0), options.refresh));
-    model.advance();
-  }
-  return 0;
+  return runWindow(windowOptions, options, plan.model, [&](viewer::Window& window) -> std::unique_ptr<ModelHost> {
+    return std::make_unique<SandboxHost>(plan, window, options);
+  });
 }
 #endif
 

@@ -1,7 +1,8 @@
 // The window under --sandbox (and --lab with a display): every run of the model — compile,
 // derivation to the step the window wants, interpretation — is a sandboxed child lcjit
 // (Sandbox.h) that sends the picture back (SandboxReply.h); the window, in this process, only
-// draws what it receives. Both sides are here: the child's answer and the parent's window.
+// draws what it receives. Both sides are here: the child's answer and the parent's window, the
+// window's controller (app/window/WindowController.h) over a host that starts the children.
 #pragma once
 #include <functional>
 

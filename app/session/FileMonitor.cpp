@@ -99,6 +99,17 @@ bool rerunsSimulation(Action a) {
   return a == Action::NewModel || a == Action::NewLsystem || a == Action::NewRun;
 }
 
+std::optional<ReloadParts> reloadPartsFor(Action a) {
+  switch (a) {
+    case Action::NewModel: return ReloadParts::all();
+    case Action::NewLsystem: return ReloadParts::newLsystem();
+    case Action::NewRun: return ReloadParts::newRun();
+    case Action::NewView:
+    case Action::NewRendering: return ReloadParts::newView();
+    default: return std::nullopt;
+  }
+}
+
 std::vector<Action> actionsForChanges(const std::vector<std::string>& paths, RefreshMode mode) {
   std::set<Action> acts;
   for (const auto& p : paths) {

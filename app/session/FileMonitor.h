@@ -24,6 +24,7 @@
 #include <string_view>
 
 #include "app/session/InputKinds.h"
+#include "app/session/ReloadParts.h"
 #include <vector>
 
 namespace lcjit::app {
@@ -52,6 +53,9 @@ std::set<FileKind> filesReadBy(Action a);
 bool resetsView(Action a);
 bool resetsRendering(Action a);
 bool rerunsSimulation(Action a);
+// The same table as the parts of a load (Session::load): what a New … action re-reads; nothing
+// for New animate, which re-reads the animation file only (not part of a Session).
+std::optional<ReloadParts> reloadPartsFor(Action a);
 
 // The actions for a batch of changed files, in the order to run them, without those another one
 // in the batch covers: NewModel alone covers all; NewAnimate first (its settings apply to the

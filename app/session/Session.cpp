@@ -275,17 +275,6 @@ std::string withSourceLines(const std::string& diagnostics) {
   return out;
 }
 
-std::optional<ReloadParts> reloadPartsFor(Action a) {
-  switch (a) {
-    case Action::NewModel: return ReloadParts::all();
-    case Action::NewLsystem: return ReloadParts::newLsystem();
-    case Action::NewRun: return ReloadParts::newRun();
-    case Action::NewView:
-    case Action::NewRendering: return ReloadParts::newView();
-    default: return std::nullopt;
-  }
-}
-
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing) {
   std::vector<std::string> f{files.lsystem};
   for (const std::string* one :
@@ -657,6 +646,7 @@ llvm::Error Session::install(PreparedModel p) {
   }
   if (p.what.lsystem) environment_ = std::move(p.environment);  // the old program is stopped
   engine_->setEnvironment(environment_.get());
+  engine_->setWindowInput(&windowInput_);
   engine_->setCleanEA20(environmentSettings_.cleanEA20);
   drawing_ = std::move(p.drawing);
   warnings_ = std::move(p.warnings);

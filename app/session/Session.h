@@ -11,13 +11,15 @@
 #include <string>
 #include <vector>
 
-#include "app/session/FileMonitor.h"
+#include "app/session/InputKinds.h"
 #include "app/session/Languages.h"
+#include "app/session/ReloadParts.h"
 #include "frontend/Preprocess.h"
 #include "frontend/Rewriter.h"
 #include "runtime/environment/Builtin.h"
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
+#include "runtime/WindowInput.h"
 #include <llvm/Support/Error.h>
 
 struct __lc_Model;
@@ -92,27 +94,6 @@ std::string withSourceLines(const std::string& diagnostics);
 // The files lpfg monitors (§1.3): every input file, and the surfaces, meshes and textures the
 // view file names (as the loaded model resolved them).
 std::vector<std::string> watchedFiles(const ModelFiles& files, const runtime::DrawingFiles& drawing);
-
-// Which input files a load re-reads (manual §1.2.2's table of the New … menu items); the rest is
-// carried over from the loaded model.
-struct ReloadParts {
-  bool lsystem = true;     // re-read and recompile the .l file (and re-run)
-  bool view = true;        // the view file
-  bool rendering = true;   // colormap/materials, surfaces, meshes, textures
-  bool parameters = true;  // functions, contours, timeline, parameters
-  static ReloadParts all() { return {}; }
-  static ReloadParts newLsystem() { return {true, false, true, true}; }
-  static ReloadParts newRun() { return {false, false, true, true}; }
-  static ReloadParts newView() { return {false, true, true, false}; }  // New rendering reads the same
-  ReloadParts& operator|=(const ReloadParts& o) {
-    lsystem |= o.lsystem, view |= o.view, rendering |= o.rendering, parameters |= o.parameters;
-    return *this;
-  }
-};
-
-// What a New … action re-reads (the table of §1.2.2); nothing for New animate, which re-reads
-// the animation file only (not part of a Session).
-std::optional<ReloadParts> reloadPartsFor(Action a);
 
 // A load's result before it replaces the running model (Session::prepare).
 struct PreparedModel {
@@ -239,6 +220,10 @@ class Session {
   // with lpfg's). From the next load on.
   void setLcjitColours(bool on) { lcjitColours_ = on; }
   const runtime::DrawingFiles& drawing() const { return *drawing_; }
+  // This session's window state (runtime/WindowInput.h): what its window, REPL or batch run sets
+  // and its model code reads, kept across loads (tunable values are kept by name, as the user
+  // menu's items are until the model clears them). Every engine of the session is given it.
+  runtime::WindowInput& windowInput() { return windowInput_; }
   // Problems in the graphics files (view file lines, unreadable colormap...): reported, not
   // fatal, as in lpfg. Refilled by every load().
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -277,6 +262,7 @@ class Session {
   uint64_t generation_ = 0;  // counts loads that compiled
   const __lc_Model* model_ = nullptr;  // owned by code_
   std::unique_ptr<runtime::EnvironmentLink> environment_;  // outlives engine_, which calls it
+  runtime::WindowInput windowInput_;                       // so does this
   EnvironmentSettings environmentSettings_;
   std::unique_ptr<runtime::Engine> engine_;
   std::unique_ptr<runtime::DrawingFiles> drawing_;

@@ -1,13 +1,15 @@
-// The interactive mode (see Interactive.h). The derivation and interpretation run on a worker
-// thread, so the window keeps redrawing (and rotating) while a model derives; the window shows
-// each picture the worker finishes. While the worker runs, the model is the worker's: menu items
-// that would touch it wait (they are greyed out).
+// The interactive mode (see Interactive.h): the model host (ModelHost.h) of the session in this
+// process, which the window's controller (WindowController.h) drives. The derivation and
+// interpretation run on a worker thread, so the window keeps redrawing (and rotating) while a
+// model derives; the window shows each picture the worker finishes. While the worker runs, the
+// model is the worker's: menu items that would touch it wait (they are greyed out).
 #include "app/window/Interactive.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <future>
 #include <optional>
@@ -18,11 +20,12 @@
 #include "runtime/turtle/Drawing.h"
 #include "runtime/Engine.h"
 #include "app/common/Frame.h"
-#include "app/common/FrameSequence.h"
+#include "app/window/ModelHost.h"
 #include "app/window/Parameters.h"
 #include "app/common/ProfileReport.h"
 #include "app/common/Progress.h"
 #include "app/window/StringDebugger.h"
+#include "app/window/WindowController.h"
 #include "app/common/PlainErrors.h"
 #include "support/Elapsed.h"
 #include "runtime/WindowInput.h"
@@ -38,15 +41,15 @@ namespace {
 
 using support::Clock;
 
-class InteractiveModel {
+class SessionHost final : public ModelHost {
  public:
-  InteractiveModel(Session& session, const ModelFiles& files, viewer::Window& window, const InteractiveOptions& o)
+  SessionHost(Session& session, const ModelFiles& files, viewer::Window& window, const InteractiveOptions& o)
       : session_(session), files_(files), window_(window), options_(o) {
     // OutputFrame's files are written once their step is over (NamedFrames), on the worker.
     hooks_.outputFrame = [this](const char* path) { named_.name(path); };
     if (o.quiet) hooks_.print = [](const char*) {};
-    // How far the worker has come, for the window's status line (poll); the module count may walk
-    // the string, so it is taken (with its step) at most twice a second.
+    // How far the worker has come, for the window's status line (progress); the module count may
+    // walk the string, so it is taken (with its step) at most twice a second.
     hooks_.afterStep = [this, debug = o.debug](int step) {
       writeNamedFrames();
       if (debug || support::msSince(progressCountedAt_) >= 500) {  // the step and its count, together
@@ -62,15 +65,146 @@ class InteractiveModel {
     for (const std::string& f : files.other)
       if (fileKindOf(f) == FileKind::Animation) animationFile_ = f;
     parameters_.load(files_, session_.functions());
+    startBetterTier();
   }
-  ~InteractiveModel() {
+  ~SessionHost() override {
     if (work_.valid()) work_.wait();
-    stopRecording();
   }
 
-  bool busy() const { return work_.valid(); }
+  // ---- runs
 
-  // Derives the whole model (not animating) and shows it.
+  void derive(RunTarget target) override {
+    switch (target.kind) {
+      case RunTarget::Kind::Whole: return run();
+      case RunTarget::Kind::FirstFrame:
+        return launch([this] {
+          runtime::Engine& e = session_.engine();
+          e.begin(hooks_);
+          deriveTo(runtime::AnimationSchedule(animation_, e.derivationLength()).firstFrame());
+        });
+      case RunTarget::Kind::Step:
+        return launch([this, target] {
+          runtime::Engine& e = session_.engine();
+          if (target.fromAxiom || target.step < e.stepNo() || e.ended()) e.begin(hooks_);
+          deriveTo(target.step);
+        });
+    }
+  }
+  void redraw() override { launch([] {}); }  // the same string, interpreted again
+  bool busy() const override { return work_.valid(); }
+  bool itemsWaitWhileBusy() const override { return true; }
+  void stop() override {
+    if (busy()) session_.engine().cancelStep();
+  }
+  void interrupt() override {
+    if (busy()) session_.engine().interrupt();
+  }
+
+  // Shows the worker's picture once it is ready (waiting up to `waitMs` for it), installs a
+  // finished recompile, applies the panels' edits.
+  HostNews poll(int waitMs) override {
+    applyDeferred();
+    if (Action edit = editors_.takeAction(); edit != Action::None) apply(edit);  // waits while busy
+    if (work_.valid() && work_.wait_for(std::chrono::milliseconds(waitMs)) == std::future_status::ready) {
+      Scene scene = work_.get();
+      session_.engine().clearCancel();
+      bool replaced = std::exchange(replacing_, false);
+      if (!scene.error.empty() && replaced) {
+        if (options_.verbose) std::fprintf(stderr, "lcjit: the running derivation stopped for the new version\n");
+      } else if (!scene.error.empty()) {
+        // A fault in model code (docs/faults.md): said on stderr; the last picture stays.
+        std::fprintf(stderr, "%s\n", scene.error.c_str());
+        news_.run.emplace().failed = true;
+      } else {
+        shownPicture(std::move(scene));
+      }
+    }
+    swapInWhenReady();
+    if (!busy()) applyPanelEdits();
+    if (!busy()) {
+      // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
+      // made outside a derivation step (Start, End).
+      runtime::AnimationRequests r = session_.windowInput().animation.take();
+      if (runRequested_.exchange(false) || r.run) news_.runAnimation = true;
+      if (pauseRequested_.exchange(false) || r.pause) news_.pauseAnimation = true;
+    }
+    return std::exchange(news_, {});
+  }
+
+  // What waited for the worker's picture, now that the window shows it.
+  void shown() override {
+    writePendingSaves();
+    insertPending();  // against the picture just shown
+  }
+
+  // A derivation that has run half a second says how far it is.
+  std::string progress() const override {
+    if (support::msSince(launchedAt_) < 500) return "";
+    return progressStep_ < 0 ? "deriving..." : progressText(progressStep_, progressLength_, progressModules_);
+  }
+
+  // ---- files
+
+  // A change under -rmode continuous/triggered runs the §1.3 table's action.
+  // The menu's New … items are the same actions.
+  // While the worker has the model, a change that recompiles starts compiling at once (and
+  // replaces the running version when ready, swapInWhenReady); the others wait for it.
+  void apply(Action a) override {
+    if (a == Action::NewAnimate) return readAnimationFile();
+    std::optional<ReloadParts> parts = reloadPartsFor(a);
+    if (!parts) return;
+    if (busy() && !parts->lsystem) {
+      if (std::find(deferred_.begin(), deferred_.end(), a) == deferred_.end()) deferred_.push_back(a);
+      return;
+    }
+    reload(*parts, rerunsSimulation(a), resetsView(a));
+  }
+  // The .vset changed on disk: its values win over those moved in the panel and not saved.
+  void filesChanged(const std::vector<std::string>& changed) override {
+    for (const std::string& f : changed)
+      if (fileKindOf(f) == FileKind::Parameters || fileKindOf(f) == FileKind::Timeline) parameters_.forgetUnsaved();
+  }
+  std::vector<std::string> watchedFiles() const override { return app::watchedFiles(files_, session_.drawing()); }
+
+  // ---- the window's input and menu
+
+  void takeInput() override {
+    feedMouse();
+    feedCamera();
+  }
+
+  void addToMenu(viewer::MenuActions& a) override {
+    a.newAnimate = [this] { readAnimationFile(); };
+    // Save as… a model format while the worker has the model: written from the picture it
+    // brings (the name typed is not lost to a greyed-out action).
+    a.saveAs = [this](const std::string& path) {
+      pendingSaves_.push_back(path);
+      if (!busy()) writePendingSaves();
+    };
+    a.userMenu = session_.windowInput().menu.items();
+    a.userChoice = [this](int code) { session_.windowInput().menu.choose(code); };
+    if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
+    a.panels.push_back(profilePanel());
+    a.panels.push_back(stringPanel());
+    for (viewer::Panel& p : editors_.panels()) a.panels.push_back(std::move(p));
+    if (busy()) return;
+    a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
+    a.stringInput = [this] {
+      if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));
+      launch([] {});
+    };
+  }
+  bool records() const override { return true; }
+
+ private:
+  // What the worker hands the window: the main view's geometry and, with UseView, the panes.
+  struct Scene {
+    runtime::Geometry main;
+    std::vector<viewer::ViewPane> panes;
+    std::string error;  // a fault: nothing to show
+  };
+
+  // Derives the whole model (not animating).
   void run() {
     for (const std::string& w : session_.warnings())
       if (!options_.quiet) std::fprintf(stderr, "%s\n", w.c_str());
@@ -95,67 +229,20 @@ class InteractiveModel {
     });
   }
 
-  // Called every frame: shows the worker's picture once it is ready, and keeps an animation going.
-  void poll() {
-    if (Action edit = editors_.takeAction(); edit != Action::None) apply(edit);  // waits while busy
-    if (work_.valid() && work_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-      Scene scene = work_.get();
-      session_.engine().clearCancel();
-      bool replaced = std::exchange(replacing_, false);
-      if (!scene.error.empty() && replaced) {
-        if (options_.verbose) std::fprintf(stderr, "lcjit: the running derivation stopped for the new version\n");
-        return swapInWhenReady();
-      }
-      if (!scene.error.empty()) {
-        // A fault in model code (docs/faults.md): said on stderr; the last picture stays.
-        std::fprintf(stderr, "%s\n", scene.error.c_str());
-        running_ = false;
-        return;
-      }
-      shown_ = std::move(scene.main);
-      if (const runtime::Profile* p = session_.engine().profile())
-        profileRows_ = profileRows(*p, session_.engine().model());
-      const runtime::DrawingFiles& d = session_.drawing();
-      const RenderLook& look = look_.of(d);
-      // Animation frames keep the first frame's framing unless the .a file says otherwise (§8.1).
-      using Framing = viewer::Window::Framing;
-      Framing framing = !animating_ || refit_ || animation_.scaleBetweenFrames ? Framing::Refit
-                        : animation_.hcenterBetweenFrames                       ? Framing::HCenter
-                                                                                : Framing::Keep;
-      refit_ = false;
-      if (animating_ && animation_.newViewBetweenFrames) window_.resetView();
-      if (scene.panes.empty()) window_.setScene(shown_, d.view, look.palette, look.textures, framing);
-      else window_.setViews(scene.panes, d.view, look.palette, look.textures);
-      if (recordingWanted_) record();
-      writePendingSaves();
-      insertPending();  // against the picture just shown
-      shownAt_ = Clock::now();
-    }
-    swapInWhenReady();
-    showProgress();
-    if (!busy()) applyPanelEdits();
-    if (!busy()) {
-      // RunSimulation/PauseSimulation from model code (§6.5; in animate mode only), also those
-      // made outside a derivation step (Start, End).
-      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
-      if (r.run) runRequested_ = true;
-      if (r.pause) pauseRequested_ = true;
-      if (runRequested_.exchange(false) && animating_) startRunning(runtime::AnimationSchedule::Mode::Run);
-      if (pauseRequested_.exchange(false)) running_ = false;
-    }
-    if (running_ && !busy() && Clock::now() - shownAt_ >= std::chrono::milliseconds(animation_.swapIntervalMs()))
-      advance(mode_);
-  }
-
-  // A derivation that has run half a second says how far it is in the window's status line.
-  void showProgress() {
-    if (!busy()) {
-      if (statusShown_) window_.setStatus(""), statusShown_ = false;
-      return;
-    }
-    if (support::msSince(launchedAt_) < 500) return;
-    window_.setStatus(progressStep_ < 0 ? "deriving..." : progressText(progressStep_, progressLength_, progressModules_));
-    statusShown_ = true;
+  // The worker's picture, for the controller to show; what waited for the worker meanwhile.
+  void shownPicture(Scene scene) {
+    shown_ = std::move(scene.main);
+    shownPanes_ = std::move(scene.panes);
+    runtime::Engine& e = session_.engine();
+    if (const runtime::Profile* p = e.profile()) profileRows_ = profileRows(*p, e.model());
+    const runtime::DrawingFiles& d = session_.drawing();
+    const RenderLook& look = look_.of(d);
+    RunEnd& r = news_.run.emplace();
+    r.picture = HostPicture{&shown_, &shownPanes_, &d.view, &look.palette, &look.textures};
+    r.step = e.stepNo();
+    r.derivationLength = e.derivationLength();
+    r.ended = e.ended() || e.stepNo() >= e.derivationLength();
+    r.animation = animation_;
   }
 
   // The Parameters panel's edits, once the worker has let go of the model: .vset values are set
@@ -167,21 +254,15 @@ class InteractiveModel {
     std::map<std::string, std::pair<float, float>> timelines = parameters_.takeTimelines();
     for (const auto& [name, range] : timelines) report(session_.setTimeline(name, range.first, range.second));
     std::map<std::string, float> tunables = parameters_.takeTunables();
-    for (const auto& [name, value] : tunables) runtime::Tunables::instance().move(name, value);
+    for (const auto& [name, value] : tunables) session_.windowInput().tunables.move(name, value);
     for (const std::string& f : parameters_.takeChangedFiles()) {
       FileKind kind = fileKindOf(f);
       Action a = kind == FileKind::Other ? Action::NewLsystem : actionForChange(kind, RefreshMode::Continuous);
       if (a != Action::None) apply(a);
     }
     if ((values.empty() && timelines.empty() && tunables.empty()) || busy()) return;
-    if (!animating_) return run();
-    int at = session_.engine().stepNo();
-    launch([this, at] {
-      session_.engine().begin(hooks_);
-      deriveTo(at);
-    });
+    news_.rerunShown = true;
   }
-  void forgetUnsavedParameters() { parameters_.forgetUnsaved(); }
 
   void syncProfiling() {
     const bool wanted = window_.panelOpen(kProfileTitle);
@@ -224,60 +305,9 @@ class InteractiveModel {
     if (profileRows_.size() > kShown) p.status += " (the " + std::to_string(kShown) + " hottest shown)";
     p.buttons = {"Run again"};
     p.pressed = [this](size_t) {
-      if (busy()) return;
-      if (animating_) return rewind();
-      run();
+      if (!busy()) news_.rerun = true;  // the whole derivation, or the animation from its first frame
     };
     return p;
-  }
-
-  // ---- animate mode (§1.2.3)
-
-  void enterAnimate() {
-    readAnimationFile();
-    animating_ = true;
-    rewind();
-  }
-  void rewind() {
-    running_ = false;
-    refit_ = true;  // the first frame sets the animation's framing
-    launch([this] {
-      session_.engine().begin(hooks_);
-      schedule_.emplace(animation_, session_.engine().derivationLength());
-      deriveTo(schedule_->rewind());
-    });
-  }
-  void advance(runtime::AnimationSchedule::Mode mode) {
-    if (!schedule_) return;
-    std::optional<int> next;
-    if (animation_.displayOnRequest) {
-      // The model says which frames to show (DisplayFrame): derive towards the last frame and
-      // stop at the next request (deriveTo); Forever starts over after the last.
-      int at = session_.engine().stepNo();
-      if (at < schedule_->lastFrame()) next = schedule_->lastFrame();
-      else if (mode == runtime::AnimationSchedule::Mode::Forever) next = schedule_->rewind();
-    } else {
-      next = schedule_->next(mode);
-    }
-    if (!next) {
-      running_ = false;
-      return;
-    }
-    int target = *next;
-    launch([this, target] {
-      if (target < session_.engine().stepNo()) session_.engine().begin(hooks_);  // Forever wrapped
-      deriveTo(target);
-    });
-  }
-  void startRunning(runtime::AnimationSchedule::Mode mode) {
-    running_ = true;
-    mode_ = mode;
-  }
-  void leaveAnimate() {
-    running_ = false;
-    stopRecording();
-    animating_ = false;
-    schedule_.reset();
   }
 
   // ---- the New … items (§1.2.2): re-read `what`, then re-run or only redraw.
@@ -315,7 +345,7 @@ class InteractiveModel {
           if (!p->model) return installPrepared(std::move(*p));
           waiting_ = std::move(*p);
           replacing_ = true;
-          running_ = false;
+          news_.pauseAnimation = true;  // an animation stops, as with Esc
         }
       }
       // Again at every poll: it stops model code only while some is running.
@@ -358,7 +388,6 @@ class InteractiveModel {
     }
     bool recompiled = p.model->what.lsystem;
     if (auto e = session_.install(std::move(*p.model))) report(std::move(e));  // the model's constructors threw
-    ++installs_;
     parameters_.load(files_, session_.functions());
     window_.setMessage("");
     if (options_.verbose && recompiled)
@@ -366,27 +395,11 @@ class InteractiveModel {
                    files_.lsystem.c_str(), p.ms, p.times.preprocessMs, p.times.rewriteMs,
                    p.times.objectCached ? "code from the cache" : "compiled", p.times.compileMs);
     if (recompiled) startBetterTier();
-    if (p.resetView) window_.resetView();
-    refit_ = true;
-    if (!p.rerun) return launch([] {});  // New view / New rendering: the same string, drawn anew
-    if (animating_) return rewind();
-    run();
+    news_.resetView = news_.resetView || p.resetView;
+    // Re-run, or (New view / New rendering) the same string drawn anew.
+    (p.rerun ? news_.rerun : news_.redraw) = true;
   }
 
-  // A change under -rmode continuous/triggered runs the §1.3 table's action.
-  // The menu's New … items are the same actions.
-  // While the worker has the model, a change that recompiles starts compiling at once (and
-  // replaces the running version when ready, swapInWhenReady); the others wait for it.
-  void apply(Action a) {
-    if (a == Action::NewAnimate) return readAnimationFile();
-    std::optional<ReloadParts> parts = reloadPartsFor(a);
-    if (!parts) return;
-    if (busy() && !parts->lsystem) {
-      if (std::find(deferred_.begin(), deferred_.end(), a) == deferred_.end()) deferred_.push_back(a);
-      return;
-    }
-    reload(*parts, rerunsSimulation(a), resetsView(a));
-  }
   void writeNamedFrames() {
     if (!named_.empty()) report(named_.writeAll(frames_, session_.engine(), session_.drawing()));
   }
@@ -403,64 +416,6 @@ class InteractiveModel {
     deferred_.clear();
     for (Action a : now) apply(a);
   }
-
-  // The menu as it stands: items that need the model are greyed out while the worker has it.
-  viewer::MenuActions actions() {
-    using Mode = runtime::AnimationSchedule::Mode;
-    viewer::MenuActions a;
-    a.saveName = stem() + ".png";
-    a.exit = [this] { exit_ = true; };
-    a.animating = animating_;
-    a.stop = [this] {
-      running_ = false;
-      if (busy()) session_.engine().cancelStep();  // a long step in progress stops too
-    };
-    a.interrupt = [this] {
-      running_ = false;
-      if (busy()) session_.engine().interrupt();  // Esc: model code stuck in a loop too
-    };
-    a.clear = [this] {
-      if (!busy()) launch([] {});
-    };
-    a.newAnimate = [this] { readAnimationFile(); };
-    a.startRecording = [this] { recordingWanted_ = true; };
-    // Save as… a model format while the worker has the model: written from the picture it
-    // brings (the name typed is not lost to a greyed-out action).
-    a.saveAs = [this](const std::string& path) {
-      pendingSaves_.push_back(path);
-      if (!busy()) writePendingSaves();
-    };
-    a.userMenu = runtime::UserMenu::instance().items();
-    a.userChoice = [](int code) { runtime::UserMenu::instance().choose(code); };
-    if (!parameters_.empty()) a.panels.push_back(parameters_.panel());
-    a.panels.push_back(profilePanel());
-    a.panels.push_back(stringPanel());
-    for (viewer::Panel& p : editors_.panels()) a.panels.push_back(std::move(p));
-    if (busy()) return a;
-    a.newModel = [this] { apply(Action::NewModel); };
-    a.newLsystem = [this] { apply(Action::NewLsystem); };
-    a.newRun = [this] { apply(Action::NewRun); };
-    a.newView = [this] { apply(Action::NewView); };
-    a.newRendering = [this] { apply(Action::NewRendering); };
-    a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
-    a.stringInput = [this] {
-      if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));
-      launch([] {});
-    };
-    a.animate = [this] { enterAnimate(); };
-    a.step = [this] { advance(Mode::Step); };
-    a.run = [this] { startRunning(Mode::Run); };
-    a.forever = [this] { startRunning(Mode::Forever); };
-    a.rewind = [this] { rewind(); };
-    a.dontAnimate = [this] {
-      leaveAnimate();
-      run();
-    };
-    return a;
-  }
-  bool exitRequested() const { return exit_; }
-  // How many loads were installed: what the file monitor must look at may have changed.
-  int installs() const { return installs_; }
 
   // Save as… "view parameters" (a .v name): the window's current view as a `view:` line that a
   // view file reads back (direction, up, pan from the box centre, scale with the zoom).
@@ -480,7 +435,7 @@ class InteractiveModel {
     const runtime::CameraMatrices& c = window_.camera();
     auto v3 = [](glm::vec3 v) { return V3f(v.x, v.y, v.z); };
     const float scale = window_.adjustment().zoom / runtime::projectionScale(session_.drawing().view, 0);
-    runtime::Views::instance().setCamera(0, runtime::cameraPosition(v3(c.eye), v3(c.lookAt), v3(c.viewDirection), v3(c.up), scale));
+    session_.windowInput().views.setCamera(0, runtime::cameraPosition(v3(c.eye), v3(c.lookAt), v3(c.viewDirection), v3(c.up), scale));
   }
 
   // The window's pointer for GetMouseStatus() (§7.4).
@@ -495,7 +450,7 @@ class InteractiveModel {
     s.lbDown = p.down;
     s.lbPushed = p.pushed;
     s.lbReleased = p.released;
-    runtime::Mouse::instance().update(s);
+    session_.windowInput().mouse.update(s);
     // A Shift+Ctrl click while the worker has the string waits for it (a click is not lost).
     if (p.insert) pendingInserts_.push_back({p.insert, p.fbX, p.fbY, s});
     insertPending();
@@ -538,8 +493,7 @@ class InteractiveModel {
     launch([] {});  // redraw: the geometry's sources now point behind the insertion
   }
 
- private:
-  // Runs `work` on the worker thread, then interprets the string there; poll() shows it.
+  // Runs `work` on the worker thread, then interprets the string there; poll() hands it over.
   void launch(std::function<void()> work) {
     if (busy()) return;
     syncProfiling();
@@ -555,28 +509,17 @@ class InteractiveModel {
         return scene;
       }
       scene.main.trackSources = true;  // for MouseIns picking
-      if (auto e = session_.engine().interpret(scene.main)) {
+      if (auto e = interpretWindowPicture(session_.engine(), session_.drawing().view, scene.main, scene.panes))
         scene.error = llvm::toString(std::move(e));
-        return scene;
-      }
-      // Multi-view (§7.3): every view the model opened with UseView, drawn by its view group in
-      // its `window:` rectangle.
-      runtime::Bounds b = scene.main.framingBounds();
-      if (!b.empty()) runtime::Views::instance().setBox(0, b.min, b.max);
-      auto panes = interpretViews(session_.engine(), session_.drawing().view);
-      if (!panes) {
-        scene.error = llvm::toString(panes.takeError());
-        return scene;
-      }
-      scene.panes = std::move(*panes);
       return scene;
     });
   }
 
+  // To step `target`, stopping early at a DisplayFrame() with `display on request: on`.
   void deriveTo(int target) {
     runtime::Engine& e = session_.engine();
     while (e.stepNo() < target && e.step()) {
-      runtime::AnimationRequests r = runtime::AnimationControl::instance().take();
+      runtime::AnimationRequests r = session_.windowInput().animation.take();
       if (r.run) runRequested_ = true;
       if (r.pause) pauseRequested_ = true;
       if (animation_.displayOnRequest && r.display) break;  // DisplayFrame: show this step
@@ -590,40 +533,6 @@ class InteractiveModel {
     animation_ = runtime::loadAnimationFile(animationFile_, warnings);
     for (const std::string& w : warnings)
       if (!options_.quiet) std::fprintf(stderr, "%s\n", w.c_str());
-  }
-
-  // Start recording: every frame shown from then on, to --record's video or numbered files, by
-  // default lpfg's numbered pictures (MODELNNNN.png, lpfg's Save format) in the .a file's frame
-  // dump folder. The numbers are the .a file's (frame count or step), from 0.
-  void record() {
-    if (!recording_) {
-      std::string out = options_.record;
-      if (out.empty()) out = (std::filesystem::path(animation_.frameDumpPath) / (stem() + "%04d.png")).string();
-      auto opened = FrameSequence::open(out, options_.fps);
-      if (!opened) {
-        report(opened.takeError());
-        recordingWanted_ = false;
-        return;
-      }
-      recording_ = std::move(*opened);
-    }
-    int number = animation_.frameNumbers == runtime::AnimationSettings::FrameNumbers::StepNo ? session_.engine().stepNo()
-                                                                                            : recorded_;
-    FrameSource source;
-    source.writeFile = [this](const std::string& path) { return window_.saveImage(path); };
-    source.picture = [this] { return window_.grabImage(); };
-    if (auto e = recording_->add(number, source)) {
-      report(std::move(e));
-      stopRecording();  // a video keeps the frames it got
-      return;
-    }
-    ++recorded_;
-  }
-  // Leaving animate mode or closing the window ends a recording: a video is finished then.
-  void stopRecording() {
-    recordingWanted_ = false;
-    if (recording_) report(recording_->finish());
-    recording_.reset();
   }
 
   std::string stem() const { return std::filesystem::path(files_.lsystem).stem().string(); }
@@ -641,36 +550,21 @@ class InteractiveModel {
   FrameWriter frames_;
   NamedFrames named_;  // OutputFrame's, on the worker thread
   RenderLook look_;
-  ParameterPanel parameters_;
+  ParameterPanel parameters_{session_.windowInput().tunables};
   std::vector<ProfileRow> profileRows_;  // of the run the window shows
   StringDebugger debugger_;
   // Progress of the worker's derivation (set on the worker, shown by the main thread).
   std::atomic<int> progressStep_{0}, progressLength_{0};
   std::atomic<size_t> progressModules_{0};
   Clock::time_point progressCountedAt_{}, launchedAt_{};  // the first: the worker's own
-  bool statusShown_ = false;
-  // What the worker hands the window: the main view's geometry and, with UseView, the panes.
-  struct Scene {
-    runtime::Geometry main;
-    std::vector<viewer::ViewPane> panes;
-    std::string error;  // a fault: nothing to show
-  };
   std::future<Scene> work_;
   runtime::Geometry shown_;  // what the window shows, with its source modules
-  bool exit_ = false;
+  std::vector<viewer::ViewPane> shownPanes_;
+  HostNews news_;  // for the next poll
 
   std::string animationFile_;
   runtime::AnimationSettings animation_;
-  std::optional<runtime::AnimationSchedule> schedule_;
-  bool animating_ = false, running_ = false;
-  bool recordingWanted_ = false;                // Start recording was chosen (and not ended)
-  std::unique_ptr<FrameSequence> recording_;    // where they go, opened at the first frame
-  bool refit_ = false;  // the next picture frames itself (first frame, reloads)
   std::atomic<bool> runRequested_{false}, pauseRequested_{false};  // set on the worker thread
-  runtime::AnimationSchedule::Mode mode_ = runtime::AnimationSchedule::Mode::Run;
-  Clock::time_point shownAt_;
-  int recorded_ = 0;
-  int installs_ = 0;
   std::optional<Prepared> waiting_;  // compiled while the worker ran the old version
   bool replacing_ = false;           // the worker was interrupted for waiting_
   std::vector<Action> deferred_;     // changes that wait for the worker
@@ -684,65 +578,11 @@ class InteractiveModel {
 
 }  // namespace
 
-int runInteractive(Session& session, const ModelFiles& files, const viewer::WindowOptions& windowOptions,
+int runInteractive(Session& session, const ModelFiles& files, const viewer::WindowOptions& window,
                    const InteractiveOptions& options) {
-  auto window = viewer::Window::create(windowOptions);
-  if (!window) {
-    std::fprintf(stderr, "lcjit: cannot open a window: %s\n", llvm::toString(window.takeError()).c_str());
-    return 1;
-  }
-  for (const std::string& title : options.panels) (*window)->showPanel(title, true);
-  InteractiveModel model(session, files, **window, options);
-  if (options.animate) model.enterAnimate();
-  else model.run();
-  model.startBetterTier();
-  FileMonitor monitor;
-  // Refresh mode > Triggered/Continuous turns monitoring on as the command line's mode would
-  // (continuous when it said explicit); Explicit turns it off (lpfg's View::SetContinuousMode).
-  RefreshMode refresh = options.refresh;
-  bool watching = refresh != RefreshMode::Explicit;
-  std::vector<std::string> watched = watchedFiles(files, session.drawing());
-  int watchedAfter = model.installs();
-  if (watching && !monitor.watch(watched) && !options.quiet)
-    std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
-  for (;;) {
-    model.poll();
-    model.feedMouse();
-    model.feedCamera();
-    viewer::MenuActions actions = model.actions();
-    actions.monitoring = watching;
-    actions.setRefreshMode = [&](bool on) {
-      if (on == watching) return;
-      watching = on;
-      if (!on) return monitor.clear();
-      if (refresh == RefreshMode::Explicit) refresh = RefreshMode::Continuous;
-      watched = watchedFiles(files, session.drawing());
-      if (!monitor.watch(watched) && !options.quiet)
-        std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
-    };
-    if (model.exitRequested() || !(*window)->frame(actions)) break;
-    // Redraw on input; while the worker runs, look for its picture often; files a few times a second.
-    (*window)->waitEvents(model.busy() ? 0.01 : 0.1);
-    if (watching) {
-      std::vector<std::string> changed = monitor.poll(0);
-      for (const std::string& f : changed)
-        if (fileKindOf(f) == FileKind::Parameters || fileKindOf(f) == FileKind::Timeline) model.forgetUnsavedParameters();
-      for (Action a : actionsForChanges(changed, refresh)) model.apply(a);
-    }
-    model.applyDeferred();
-    if (watching && !model.busy()) {
-      // A reload may have named other files (the view file's surfaces, meshes, textures).
-      if (model.installs() != watchedAfter) {
-        watchedAfter = model.installs();
-        if (std::vector<std::string> now = watchedFiles(files, session.drawing()); now != watched) {
-          watched = std::move(now);
-          if (!monitor.watch(watched) && !options.quiet)
-            std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
-        }
-      }
-    }
-  }
-  return 0;
+  return runWindow(window, options, files.lsystem, [&](viewer::Window& w) -> std::unique_ptr<ModelHost> {
+    return std::make_unique<SessionHost>(session, files, w, options);
+  });
 }
 
 }  // namespace lcjit::app

@@ -1,6 +1,7 @@
-// The interactive mode (manual §1.2): the model's picture in the lcjit window; the main menu's
-// New … items reload through the Session (exactly the files of §1.2.2's table) and a broken edit
-// keeps the last good model on screen.
+// The interactive mode (manual §1.2): the model's picture in the lcjit window, the window's
+// controller (WindowController.h) over the session in this process. The main menu's New … items
+// reload through the Session (exactly the files of §1.2.2's table) and a broken edit keeps the
+// last good model on screen. InteractiveOptions are the window's under --sandbox too.
 #pragma once
 #include <string>
 #include <vector>
@@ -32,7 +33,7 @@ struct InteractiveOptions {
   int fps = 25;  // --fps, of a recorded video
 };
 
-// Runs until the window closes; returns the process exit status.
+// Runs the window over `session` until it closes; returns the process exit status.
 int runInteractive(Session& session, const ModelFiles& files, const viewer::WindowOptions& window,
                    const InteractiveOptions& options);
 

@@ -122,7 +122,7 @@ void ParameterPanel::load(const ModelFiles& files, const runtime::FunctionStore&
     if (int n = seen[c.shown.label]++; n > 0) c.shown.label += "##" + std::to_string(n);
 }
 
-bool ParameterPanel::empty() const { return controls_.empty() && runtime::Tunables::instance().entries().empty(); }
+bool ParameterPanel::empty() const { return controls_.empty() && tunables_.entries().empty(); }
 
 viewer::Panel ParameterPanel::panel() {
   viewer::Panel p;
@@ -130,7 +130,7 @@ viewer::Panel ParameterPanel::panel() {
   for (const Control& c : controls_) p.controls.push_back(c.shown);
   // The model's tunable values, as its last run met them.
   tunablesShown_.clear();
-  for (const runtime::Tunables::Entry& t : runtime::Tunables::instance().entries()) {
+  for (const runtime::Tunables::Entry& t : tunables_.entries()) {
     viewer::PanelControl c;
     c.label = t.name + "##tunable";
     c.value = t.moved ? t.movedTo : std::clamp(t.value, t.min, t.max);

@@ -17,6 +17,7 @@
 
 namespace lcjit::runtime {
 class FunctionStore;
+class Tunables;
 }
 
 namespace lcjit::app {
@@ -26,6 +27,8 @@ struct ModelFiles;
 class ParameterPanel {
  public:
   static constexpr const char* kTitle = "Parameters";
+  // `tunables`: the session's (its window state), shown after the files' values.
+  explicit ParameterPanel(const runtime::Tunables& tunables) : tunables_(tunables) {}
 
   // Reads the .vset values and the model folder's panels (runtime::findPanels); again after each
   // load, keeping values not yet applied. Panels that cannot be read are reported in status().
@@ -65,6 +68,7 @@ class ParameterPanel {
   void changed(size_t index, float value);
   void edit(const Control& c, int shown);
 
+  const runtime::Tunables& tunables_;
   std::vector<Control> controls_;
   std::string vsetPath_;
   std::map<std::string, float> pendingParameters_;

@@ -77,6 +77,9 @@ class AnimationSchedule {
 
   // Back to the first frame; returns it.
   int rewind();
+  // The window shows step `stepNo` (a run may stop off the step grid: at a DisplayFrame(), a
+  // fault, a Stop()): next() goes on from there.
+  void setCurrent(int stepNo) { current_ = stepNo; }
   // Advances to the next displayed frame and returns its step number; nullopt at the end in Step
   // and Run modes (the current frame stays). Forever wraps to the first frame instead (which,
   // when first >= last, is the only frame: it is shown again).

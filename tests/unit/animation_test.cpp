@@ -189,6 +189,19 @@ TEST(AnimationSchedule, StepGridEndsOnLastFrame) {
   EXPECT_EQ(AnimationSchedule(frames(0, std::nullopt, 2), 5).frames(), (std::vector<int>{0, 2, 4, 5}));
 }
 
+// The window's next frame goes on from the step it shows, which a run may leave off the grid (a
+// DisplayFrame(), a fault): first 1, step 3, last 9 is 1 4 7 9; after step 5 comes 7.
+TEST(AnimationSchedule, GoesOnFromTheStepShown) {
+  AnimationSchedule s(frames(1, 9, 3), 20);
+  s.setCurrent(5);
+  EXPECT_EQ(s.next(AnimationSchedule::Mode::Run), 7);
+  s.setCurrent(9);
+  EXPECT_EQ(s.next(AnimationSchedule::Mode::Run), std::nullopt);
+  EXPECT_EQ(s.next(AnimationSchedule::Mode::Forever), 1);
+  s.setCurrent(0);  // before the first frame: the first frame
+  EXPECT_EQ(s.next(AnimationSchedule::Mode::Step), 1);
+}
+
 TEST(AnimationSchedule, StepRunStopAtEndForeverWraps) {
   AnimationSchedule s(frames(1, 5, 2), 99);
   EXPECT_EQ(s.current(), 1);

@@ -10,6 +10,7 @@
 #include "app/window/Parameters.h"
 #include "app/session/Session.h"
 #include "runtime/Functions.h"
+#include "runtime/WindowInput.h"
 
 using namespace lcjit;
 using namespace lcjit::app;
@@ -21,6 +22,7 @@ struct Folder {
   fs::path dir;
   ModelFiles files;
   runtime::FunctionStore functions;
+  runtime::Tunables tunables;
   Folder() {
     dir = fs::temp_directory_path() / ("lcjit-parameters-" + std::to_string(::getpid()));
     fs::remove_all(dir);
@@ -41,7 +43,7 @@ struct Folder {
   ParameterPanel load() {
     functions.clear();
     if (auto e = functions.loadParameters(files.parameters)) ADD_FAILURE() << llvm::toString(std::move(e));
-    ParameterPanel p;
+    ParameterPanel p(tunables);
     p.load(files, functions);
     return p;
   }
@@ -153,7 +155,7 @@ TEST(ParameterPanel, TimelinesRangesMoveTfuncAndSaveToTheTset) {
   f.functions.clear();
   ASSERT_FALSE(bool(f.functions.loadTimeline(f.files.timeline)));
   ASSERT_FALSE(bool(f.functions.loadParameters(f.files.parameters)));
-  ParameterPanel params;
+  ParameterPanel params(f.tunables);
   params.load(f.files, f.functions);
   viewer::Panel p = params.panel();
   size_t start = indexOf(p, "GROWTH start"), end = indexOf(p, "GROWTH end");

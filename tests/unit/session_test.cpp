@@ -663,7 +663,7 @@ TEST(SessionTablet, TheTabletFollowsTheMouse) {
   pointer.viewX = 120;
   pointer.viewY = 30;
   pointer.lbDown = true;
-  runtime::Mouse::instance().update(pointer);
+  m.session->windowInput().mouse.update(pointer);
   ASSERT_FALSE(bool(m.session->engine().run()));
   EXPECT_EQ(m.session->engine().text(m.session->engine().string()), "T(1,120,1)\n");
 }
@@ -807,10 +807,10 @@ TEST(EngineProvenance, BackwardStepsKeepTheOriginsToo) { checkOrigins("backorigi
 // tunable(NAME, value, min, max): the code's value (clamped) until the panel moves it; then the
 // moved value from the next run on, with no recompile; the code's range and default follow edits.
 TEST(Tunables, TheCodesValueUntilMovedThenTheMovedOne) {
-  runtime::Tunables& t = runtime::Tunables::instance();
   ScratchModel m("tunable", "#include <lpfgall.h>\nderivation length: 1;\nmodule A(float);\naxiom: A(0);\n"
                             "A(x) : { produce A(tunable(\"height\", 2, 0, 5)) A(tunable(\"wide\", 9, 0, 5)); }\n");
   ASSERT_TRUE(m.session);
+  runtime::Tunables& t = m.session->windowInput().tunables;
   runtime::Engine& e = m.session->engine();
   ASSERT_FALSE(bool(e.run()));
   EXPECT_EQ(e.text(e.string()), "A(2)\nA(5)\n");  // 9 clamped to the range
@@ -826,4 +826,40 @@ TEST(Tunables, TheCodesValueUntilMovedThenTheMovedOne) {
   t.reset();
   ASSERT_FALSE(bool(e.run()));
   EXPECT_EQ(e.text(e.string()), "A(2)\nA(5)\n");
+}
+
+// The window state model code reads (runtime/WindowInput.h) is its session's: in one process, a
+// tunable moved, a menu item added and chosen, a pointer fed for one session are not another's.
+// Each model adds "Grow" to its menu only when its .l file says so (the second's does not).
+TEST(SessionWindowInput, TwoSessionsDoNotShareMenuTunablesOrMouse) {
+  auto source = [](bool menu) {
+    return std::string("#include <lpfgall.h>\nderivation length: 1;\nmodule A(float, int, int);\naxiom: A(0, 0, 0);\n") +
+           (menu ? "Start: { UserMenuItem(\"Grow\", 7); }\n" : "") +
+           "A(x, p, c) : { MouseStatus m = GetMouseStatus();\n"
+           "  produce A(tunable(\"height\", 2, 0, 5), m.viewX, UserMenuChoice()); }\n";
+  };
+  ScratchModel one("windowone", source(true)), two("windowtwo", source(false));
+  ASSERT_TRUE(one.session && two.session);
+  runtime::Engine &a = one.session->engine(), &b = two.session->engine();
+  ASSERT_FALSE(bool(a.run()));
+  ASSERT_FALSE(bool(b.run()));
+  EXPECT_EQ(a.text(a.string()), "A(2,0,-1)\n");
+  EXPECT_EQ(b.text(b.string()), "A(2,0,-1)\n");
+  // The first session's window moves the tunable, feeds the pointer and picks the menu item.
+  runtime::WindowInput& first = one.session->windowInput();
+  first.tunables.move("height", 3.5f);
+  MouseStatus pointer;
+  pointer.viewX = 120;
+  first.mouse.update(pointer);
+  ASSERT_EQ(first.menu.items(), (std::vector<std::pair<std::string, int>>{{"Grow", 7}}));
+  first.menu.choose(7);
+  ASSERT_FALSE(bool(a.run()));
+  ASSERT_FALSE(bool(b.run()));
+  EXPECT_EQ(a.text(a.string()), "A(3.5,120,7)\n");
+  EXPECT_EQ(b.text(b.string()), "A(2,0,-1)\n");  // the second session saw none of it
+  runtime::WindowInput& second = two.session->windowInput();
+  EXPECT_TRUE(second.menu.items().empty());
+  std::vector<runtime::Tunables::Entry> entries = second.tunables.entries();
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_FALSE(entries[0].moved);
 }
