@@ -49,11 +49,6 @@ class Engine final : public ModelRun {
   // and EA20 the turtle meets is sent with its turtle lines; the answers overwrite the modules'
   // parameters before the step's productions read them.
   void setEnvironment(EnvironmentLink* link) { environment_ = link; }
-  // The window state model code reads and sets (WindowInput.h: the user menu, tunable values,
-  // the views' boxes and camera, the mouse, DisplayFrame & co.), or null: the neutral values of
-  // a window that is not there. Its session's; it must outlive the runs.
-  void setWindowInput(WindowInput* window) { windowInput_ = window; }
-  WindowInput* windowInput() const { return windowInput_; }
   // -cleanEA20: the elements of an answered EA20 past the answer's values are zeroed.
   void setCleanEA20(bool clean) { cleanEA20_ = clean; }
   // The context of the rule body running, or null (lcjit_current_ctx).
@@ -350,7 +345,6 @@ class Engine final : public ModelRun {
   __lc_Ctx* activeCtx_ = nullptr;  // the rule body running (produce in functions it calls)
   bool ignoreEnvironment_ = false;
   EnvironmentLink* environment_ = nullptr;
-  WindowInput* windowInput_ = nullptr;
   bool cleanEA20_ = false;
   // During environmentPass(): the request being written and the modules it names (by the id
   // sent, which is the module's byte offset in the string).

@@ -16,6 +16,7 @@
 namespace lcjit::runtime {
 
 struct Geometry;
+struct WindowInput;
 
 // What the modes hear of a run while it goes.
 struct EngineHooks {
@@ -71,6 +72,15 @@ class ModelRun {
   virtual llvm::Error interpret(Geometry& geometry, int view = 0) = 0;
   // The views the model has opened, in order (multi-view); empty: the one view.
   virtual const std::vector<int>& views() const = 0;
+
+  // The window state model code reads and sets (WindowInput.h: the user menu, tunable values,
+  // the views' boxes and camera, the mouse, DisplayFrame & co.), or null: the neutral values of
+  // a window that is not there. Its session's; it must outlive the runs.
+  void setWindowInput(WindowInput* window) { windowInput_ = window; }
+  WindowInput* windowInput() const { return windowInput_; }
+
+ private:
+  WindowInput* windowInput_ = nullptr;
 };
 
 }  // namespace lcjit::runtime
