@@ -1,7 +1,7 @@
 // Clang diagnostics as lcjit's error lines (see ClangDiagnostics.h).
 #include "frontend/ClangDiagnostics.h"
 
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Rewriter.h"
 
 #include <clang/Basic/DiagnosticFrontend.h>
 #include <clang/Basic/DiagnosticIDs.h>

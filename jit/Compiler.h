@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "frontend/Preprocess.h"  // kDefaultLanguageStandard
+#include "frontend/ModelCpp.h"
 #include "jit/CodeMap.h"          // SourcePlace
 
 namespace lcjit::jit {

@@ -13,7 +13,7 @@ namespace {
 constexpr std::string_view kLplusC[] = {"l"};
 
 constexpr Language kLanguages[] = {
-    // lpfg's L+C: frontend/ (the preprocessor and the rewriter) on the L-system engine.
+    // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
     {"L+C", "L-system", kLplusC, EngineKind::LSystem},
 };
 

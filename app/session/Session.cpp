@@ -17,8 +17,8 @@
 #include "runtime/Functions.h"
 #include "runtime/HostFunctions.h"
 #include "runtime/files/TextLines.h"
-#include "frontend/Preprocess.h"
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Preprocess.h"
+#include "frontend/lc/Rewriter.h"
 #include "jit/Compiler.h"
 #include "support/Elapsed.h"
 

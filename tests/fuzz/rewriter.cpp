@@ -1,7 +1,7 @@
 // Fuzz target: the front end up to Clang's parse — the in-process preprocessor, then the L+C to
 // C++ rewriter: model text in, C++ or an error out.
-#include "frontend/Preprocess.h"
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Preprocess.h"
+#include "frontend/lc/Rewriter.h"
 #include "tests/fuzz/FuzzSupport.h"
 
 namespace {

@@ -1,4 +1,4 @@
-# Unit tests for jit/ (lcjit_jit) and frontend/Preprocess (lcjit_preprocess); include()d from
+# Unit tests for jit/ (lcjit_jit) and frontend/lc/Preprocess (lcjit_preprocess); include()d from
 # tests/CMakeLists.txt. One ctest entry per binary: the jit tests share one freshly built PCH.
 add_executable(lcjit_jit_test "${CMAKE_CURRENT_LIST_DIR}/jit_test.cpp")
 target_link_libraries(lcjit_jit_test PRIVATE lcjit_jit lcjit_support GTest::gtest_main)

@@ -1,6 +1,6 @@
 // Unit tests for lcjit::frontend::preprocess: macros/conditionals, quoted vs angled includes,
 // line markers and indentation, error messages.
-#include "frontend/Preprocess.h"
+#include "frontend/lc/Preprocess.h"
 
 #include <gtest/gtest.h>
 

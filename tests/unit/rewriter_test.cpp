@@ -1,7 +1,7 @@
 // Unit tests for lcjit::frontend::rewrite (L+C -> C++): generated records, rules and tables,
 // produce/nproduce, contexts, groups and filters, #line mapping back to the .l file, and the
 // rewriter's own error messages (FILE:LINE:COL: error: ...).
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Rewriter.h"
 #include "runtime/include/lcjit/abi.h"
 
 #include <gtest/gtest.h>

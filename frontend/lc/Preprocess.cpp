@@ -2,7 +2,7 @@
 // so the model sees the macros of the headers it includes (lpfgall.h's guard, M_PI, INT_MAX ...),
 // but system headers, lcjit's runtime headers among them, stay `#include` lines in the output
 // (clang's -fkeep-system-includes): the C++ compile includes them, mostly from its PCH.
-#include "frontend/Preprocess.h"
+#include "frontend/lc/Preprocess.h"
 #include "support/CacheFiles.h"
 #include "frontend/ClangDiagnostics.h"
 #include "support/InputFile.h"

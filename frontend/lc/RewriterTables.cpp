@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <map>
 
-#include "frontend/Rewriter.h"
-#include "frontend/RewriterImpl.h"
+#include "frontend/lc/Rewriter.h"
+#include "frontend/lc/RewriterImpl.h"
 
 namespace lcjit::frontend::detail {
 

@@ -12,11 +12,11 @@
 //   RewriterRules.cpp: Predecessors · Bodies (produce, propensity, InXContext) · Module lists.
 //   RewriterTables.cpp: Modules (structs, emitting functions) · Large axioms · The model
 //     description (the tables).
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Rewriter.h"
 
 #include <optional>
 
-#include "frontend/RewriterImpl.h"
+#include "frontend/lc/RewriterImpl.h"
 
 namespace lcjit::frontend::detail {
 

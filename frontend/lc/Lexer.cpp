@@ -1,5 +1,5 @@
 // Tokenizer for preprocessed L+C text (see Lexer.h).
-#include "frontend/Lexer.h"
+#include "frontend/lc/Lexer.h"
 
 #include <cctype>
 #include <cstring>

@@ -3,6 +3,8 @@
 // library's, lcjit's runtime headers) are kept as `#include` lines for the later C++ compile.
 #pragma once
 
+#include "frontend/ModelCpp.h"
+
 #include <llvm/ADT/StringRef.h>
 #include <llvm/Support/Error.h>
 
@@ -14,11 +16,6 @@
 #include <vector>
 
 namespace lcjit::frontend {
-
-// The C++ model code is compiled as (-std=). lpfg compiles models as gnu++11: gnu++14 adds
-// nothing that breaks them, and C++17/20 would (std::byte, std::lerp ... clash with models' own
-// names under `using namespace std`). A model's lpfg.mak may ask for a newer one.
-inline constexpr const char* kDefaultLanguageStandard = "gnu++14";
 
 struct PreprocessOptions {
   // Searched for `#include "x"` after the including file's own directory, and for `#include <x>`

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <map>
 
-#include "frontend/RewriterImpl.h"
+#include "frontend/lc/RewriterImpl.h"
 
 namespace lcjit::frontend::detail {
 

@@ -10,7 +10,7 @@
 #include <map>
 #include <set>
 
-#include "frontend/RewriterImpl.h"
+#include "frontend/lc/RewriterImpl.h"
 
 namespace lcjit::frontend::detail {
 

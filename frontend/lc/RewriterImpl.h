@@ -15,8 +15,8 @@
 #include <utility>
 #include <vector>
 
-#include "frontend/Lexer.h"
-#include "frontend/Rewriter.h"
+#include "frontend/lc/Lexer.h"
+#include "frontend/lc/Rewriter.h"
 #include "runtime/include/lcjit/abi.h"
 
 namespace lcjit::frontend::detail {

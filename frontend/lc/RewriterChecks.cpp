@@ -7,7 +7,7 @@
 #include <cctype>
 #include <set>
 
-#include "frontend/RewriterImpl.h"
+#include "frontend/lc/RewriterImpl.h"
 
 namespace lcjit::frontend::detail {
 
