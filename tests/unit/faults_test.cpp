@@ -147,6 +147,33 @@ class Faults : public ::testing::Test {
     return {path("f.l") + ":" + std::to_string(line) + ":", ": error: production A(n) " + rest};
   }
 
+  // Does `act` on another thread soon after each Printf of the model's (hooks() notices them):
+  // the model says when it is where the stop is to find it, so that none is spent on Start or
+  // the axiom.
+  class OnEachPrint {
+   public:
+    explicit OnEachPrint(std::function<void()> act)
+        : thread_([this, act = std::move(act)] {
+            while (!finished_) {
+              if (printed_.exchange(false)) act();
+              std::this_thread::sleep_for(std::chrono::microseconds(200));
+            }
+          }) {}
+    ~OnEachPrint() {
+      finished_ = true;
+      thread_.join();
+    }
+    runtime::EngineHooks hooks() {
+      runtime::EngineHooks h;
+      h.print = [this](const char*) { printed_ = true; };
+      return h;
+    }
+
+   private:
+    std::atomic<bool> printed_{false}, finished_{false};
+    std::thread thread_;  // last: it starts once the flags exist
+  };
+
   static Session* session_;
   static fs::path* dir_;
 };
@@ -209,21 +236,13 @@ TEST_F(Faults, EndlessLoopStoppedByTheTimeLimit) {
 }
 
 // Esc, Stop, Ctrl-C: another thread interrupts a model stuck in a loop. The model says when it
-// is in the loop (Printf), so the interrupt is not spent on Start or the axiom.
+// is in the loop (Printf).
 TEST_F(Faults, EndlessLoopInterruptedFromAnotherThread) {
   load("f", faulty("", "Printf(\"looping\\n\"); for (volatile int k = 0; k == 0;) {}"));
-  std::atomic<bool> looping{false}, done{false};
-  runtime::EngineHooks hooks;
-  hooks.print = [&](const char*) { looping = true; };
-  std::thread interrupter([&] {
-    while (!done) {
-      if (looping.exchange(false)) engine().interrupt();
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-  });
-  runsFail(onLine(kLine, "was interrupted in step 2"), hooks);
-  done = true;
-  interrupter.join();
+  {
+    OnEachPrint interrupter([] { engine().interrupt(); });
+    runsFail(onLine(kLine, "was interrupted in step 2"), interrupter.hooks());
+  }
   goodModelRuns();
 }
 
@@ -238,19 +257,11 @@ TEST_F(Faults, EndlessLoopCancelledFromASignalHandler) {
   sa.sa_handler = [](int) { signalled->cancelStep(); };
   sigemptyset(&sa.sa_mask);
   sigaction(SIGUSR1, &sa, &previous);
-  std::atomic<bool> looping{false}, done{false};
-  runtime::EngineHooks hooks;
-  hooks.print = [&](const char*) { looping = true; };
-  pthread_t runner = pthread_self();
-  std::thread sender([&] {
-    while (!done) {
-      if (looping.exchange(false)) pthread_kill(runner, SIGUSR1);
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-  });
-  runsFail(onLine(kLine, "was interrupted in step 2"), hooks);
-  done = true;
-  sender.join();
+  {
+    pthread_t runner = pthread_self();
+    OnEachPrint sender([runner] { pthread_kill(runner, SIGUSR1); });
+    runsFail(onLine(kLine, "was interrupted in step 2"), sender.hooks());
+  }
   sigaction(SIGUSR1, &previous, nullptr);
   goodModelRuns();
 }
@@ -305,25 +316,17 @@ TEST_F(Faults, AStopForcedBeforeTheFirstCheckpointStillUnwinds) {
                    "struct Mark { ~Mark() { FILE* f = fopen(\"" + done + "\", \"a\"); if (f) { fputs(\"x\", f); fclose(f); } } } mark; "
                    "Printf(\"sleeping\\n\"); pause(); for (;;) { int* volatile p = new int[4]; delete[] p; }"));
   // The stop is asked once the model says it is about to sleep; it sleeps through its grace.
-  std::atomic<bool> sleeping{false}, finished{false};
-  runtime::EngineHooks hooks;
-  hooks.print = [&](const char*) { sleeping = true; };
-  std::thread interrupter([&] {
-    while (!finished) {
-      if (sleeping.exchange(false)) engine().interrupt();
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-  });
   constexpr int kSleepRuns = 10;  // each sleeps through the 0.1 s grace of a thread asleep
-  for (int i = 0; i < kSleepRuns; ++i) {
-    llvm::Error e = engine().run(hooks);
-    ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
-    std::string message = llvm::toString(std::move(e));
-    for (const std::string& part : onLine(kLine, "was interrupted in step 2"))
-      EXPECT_NE(message.find(part), std::string::npos) << "run " << i << ": " << message;
+  {
+    OnEachPrint interrupter([] { engine().interrupt(); });
+    for (int i = 0; i < kSleepRuns; ++i) {
+      llvm::Error e = engine().run(interrupter.hooks());
+      ASSERT_TRUE(bool(e)) << "run " << i << " did not fail";
+      std::string message = llvm::toString(std::move(e));
+      for (const std::string& part : onLine(kLine, "was interrupted in step 2"))
+        EXPECT_NE(message.find(part), std::string::npos) << "run " << i << ": " << message;
+    }
   }
-  finished = true;
-  interrupter.join();
   std::string marks;
   std::ifstream(done) >> marks;
   EXPECT_EQ(marks, std::string(kSleepRuns, 'x')) << "a destructor was jumped out of";
