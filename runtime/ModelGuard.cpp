@@ -51,6 +51,7 @@ struct GuardInternals {
   static int64_t& deadline(ModelGuard& g) { return g.deadlineNs_; }
   static std::atomic<int64_t>& stopSince(ModelGuard& g) { return g.stopSinceNs_; }
   static std::atomic<int64_t>& stopCpu(ModelGuard& g) { return g.stopCpuNs_; }
+  static std::atomic<bool>& stopThrown(ModelGuard& g) { return g.stopThrown_; }
   static int& tid(ModelGuard& g) { return g.tid_; }
   static clockid_t& cpuClock(ModelGuard& g) { return g.cpuClock_; }
   static const StopCounts*& stops(ModelGuard& g) { return g.stops_; }
@@ -73,7 +74,11 @@ constexpr int kInterruptSignal = SIGUSR2;
 // time once asked; kUnwindGraceNs while the first ModelStop thrown since is alive (unwinding, or
 // a handler of the model's own that has caught it and not let go; a second one means the model
 // caught the first and went on); and a thread that sleeps (in a system call: it uses no CPU time)
-// is made to jump after kBlockedGraceNs on the clock.
+// is made to jump after kBlockedGraceNs on the clock. A grace is only ever the time to get to the
+// next checkpoint: one that runs out first (the thread slept, or was held up in a long call of
+// the host's, or by a busy machine whose stolen time counts as its own) takes nothing from the
+// thread's first ModelStop, which is thrown there all the same, the force taken back and the
+// unwinding grace counted from then (Watchdog::unwindingBegins).
 constexpr int64_t kGraceNs = 5'000'000;
 constexpr int64_t kUnwindGraceNs = 2'000'000'000;
 constexpr int64_t kBlockedGraceNs = 100'000'000;
@@ -443,6 +448,7 @@ class Watchdog {
       if (GI::stop(g).exchange(0)) gStopsAsked.fetch_sub(1);  // one that came after the last run
       GI::force(g).store(false);
       GI::forceAsleep(g).store(false);
+      GI::stopThrown(g).store(false);
       GI::stopSince(g) = 0;
       GI::observed(g) = 0;
       GI::running(g).store(true);
@@ -471,6 +477,7 @@ class Watchdog {
     GI::running(g).store(false);
     GI::force(g).store(false);
     GI::forceAsleep(g).store(false);
+    GI::stopThrown(g).store(false);
     const int asked = GI::stop(g).exchange(0);
     if (asked) gStopsAsked.fetch_sub(1);
     return asked;
@@ -482,6 +489,21 @@ class Watchdog {
     if (!GI::running(g).load()) return;
     requestStop(g, why, nowNs());
     wake();
+  }
+
+  // On the stopped thread, as it throws its first ModelStop since the stop was asked (its
+  // constructor): from now on it unwinds. Its grace starts now, as though the stop had come here,
+  // and a force decided before (it was held up on its way to this checkpoint) is taken back, under
+  // the lock, so that no forcing signal jumps out of the destructors that free what the model
+  // holds; the watchdog forces it again only when the unwinding grace runs out.
+  void unwindingBegins(ModelGuard& g) {
+    std::lock_guard<std::mutex> lock(m_);
+    GI::stopThrown(g).store(true);
+    GI::force(g).store(false);
+    GI::forceAsleep(g).store(false);
+    GI::stopCpu(g).store(nsOf(GI::cpuClock(g)));
+    GI::stopSince(g).store(nowNs());
+    GI::stopsThrownAtStop(g).store(GI::stops(g)->thrown.load(std::memory_order_relaxed) - 1);  // this one
   }
 
   // Async-signal-safe.
@@ -774,6 +796,9 @@ void onSigint(int) {
 ModelStop::ModelStop() {
   tlStops.alive.fetch_add(1, std::memory_order_relaxed);
   tlStops.thrown.fetch_add(1, std::memory_order_relaxed);
+  for (Region* r = tlRegion; r; r = r->outer)
+    if (r->guard->stopRequested() && !GI::stopThrown(*r->guard).load(std::memory_order_relaxed))
+      if (Watchdog* w = Watchdog::existing()) w->unwindingBegins(*r->guard);
   // Where the run was stopped: a host function that model code called, or the engine's loop.
   if (Region* r = tlRegion) {
     takeFrames(*r);
@@ -825,11 +850,37 @@ void ModelGuard::interrupt(FaultKind why) {
 }
 
 void ModelGuard::checkpoint() {
-  // Once the watchdog forces the jump, model code has had its chance to unwind (it may catch
-  // everything and go on): throwing again would only keep the thread in the unwinder, inside
-  // libgcc with its locks, where the jump must not land.
+  // The first checkpoint after a stop always throws, even when the watchdog already forces the
+  // jump: a thread that got here late (asleep, in a long call of the host's, kept waiting by a
+  // busy machine) unwinds all the same, and frees what the model holds. Once it has had that
+  // chance and the jump is forced, model code has caught the ModelStop and gone on (it may catch
+  // everything): throwing again would only keep the thread in the unwinder, inside libgcc with
+  // its locks, where the jump must not land.
   for (Region* r = tlRegion; r; r = r->outer)
-    if (r->guard->stopRequested() && !r->guard->force_.load(std::memory_order_relaxed)) throw ModelStop{};
+    if (r->guard->stopRequested() &&
+        (!r->guard->force_.load(std::memory_order_relaxed) || !r->guard->stopThrown_.load(std::memory_order_relaxed)))
+      throw ModelStop{};
+}
+
+void ModelGuard::modelCheckpoint() {
+  checkpoint();
+  // The jump is forced and the model had its ModelStop: it is made here and now rather than when
+  // a forcing signal finds the thread in model code (a model that allocates spends most of its time
+  // in malloc and memset, where no signal may jump). The thread has come from model code into this
+  // stand-in and holds nothing of lcjit's or libc's: the jump skips what a signal's would.
+  Region* in = tlRegion;
+  for (Region* r = in; r; r = r->outer) {
+    ModelGuard& g = *r->guard;
+    if (!g.stopRequested() || !g.force_.load(std::memory_order_acquire) || !g.stopThrown_.load(std::memory_order_relaxed))
+      continue;
+    in->signo = kInterruptSignal;
+    in->stopKind = g.stop_.load();
+    in->pc = 0;
+    takeFrames(*in);  // the calls it was inside: the statement that called
+    in->thrown = nullptr;
+    tlRegion = in->outer;
+    siglongjmp(in->env, 1);
+  }
 }
 
 void ModelGuard::allocating(size_t bytes) {
@@ -850,7 +901,7 @@ void ModelGuard::allocating(size_t bytes) {
       }
     }
   }
-  checkpoint();
+  modelCheckpoint();
 }
 
 bool ModelGuard::inside() { return tlRegion != nullptr; }
@@ -909,7 +960,7 @@ void interruptModelCodeOnSigint() {
 
 void addModelCodeHooks(std::vector<std::pair<std::string, void*>>& symbols) {
   symbols.push_back({"lcjit_stops_asked", reinterpret_cast<void*>(&gStopsAsked)});
-  symbols.push_back({"lcjit_checkpoint", reinterpret_cast<void*>(&ModelGuard::checkpoint)});
+  symbols.push_back({"lcjit_checkpoint", reinterpret_cast<void*>(&ModelGuard::modelCheckpoint)});
   symbols.push_back({"__cxa_throw", reinterpret_cast<void*>(&modelThrow)});
   symbols.push_back({"__assert_fail", reinterpret_cast<void*>(&modelAssertFail)});
   using Thrower = void (*)(const char*);

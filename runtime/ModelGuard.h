@@ -12,8 +12,9 @@
 // functions model code calls check stopRequested() and throw ModelStop, which unwinds cleanly —
 // and forced after a short grace period: a watchdog thread sends the thread SIGUSR2, whose
 // handler jumps out when the thread is executing JIT'd code (not inside libc or the host, where
-// it could hold a lock). The same watchdog enforces the time limit and polls the process's
-// resident memory against the memory limit.
+// it could hold a lock), and model code's next call into lcjit jumps at once. A thread forced
+// before it got to a checkpoint still throws its ModelStop there, and unwinds. The same watchdog
+// enforces the time limit and polls the process's resident memory against the memory limit.
 #pragma once
 #include <atomic>
 #include <ctime>
@@ -114,11 +115,15 @@ class ModelGuard {
   // Whether the run in progress has been asked to stop (relaxed load: for per-module checks).
   bool stopRequested() const { return stop_.load(std::memory_order_relaxed) != 0; }
   // Host functions model code calls: throws ModelStop when the calling thread's guarded run has
-  // been asked to stop (and the jump is not being forced yet). Does nothing outside a run.
+  // been asked to stop, unless the thread has had its ModelStop for that stop already and the
+  // jump is being forced (the model caught it and went on). Does nothing outside a run.
   static void checkpoint();
-  // The stand-ins for model code's allocations: checkpoint(), and every few megabytes asked for,
-  // the memory limit checked on the calling thread itself, so that a model allocating in a loop
-  // stops near its limit however late the watchdog gets the processor (a busy machine).
+  // Model code's own calls into lcjit (lcjit_checkpoint, the allocation stand-ins): checkpoint(),
+  // and when the jump is forced after the thread had its ModelStop, the jump, made there at once.
+  static void modelCheckpoint();
+  // The stand-ins for model code's allocations: modelCheckpoint(), and every few megabytes asked
+  // for, the memory limit checked on the calling thread itself, so that a model allocating in a
+  // loop stops near its limit however late the watchdog gets the processor (a busy machine).
   static void allocating(size_t bytes);
   // Whether the calling thread is inside a guarded run.
   static bool inside();
@@ -132,6 +137,9 @@ class ModelGuard {
   std::atomic<bool> running_{false};       // inside run() (the outermost)
   std::atomic<int64_t> stopSinceNs_{0};   // when stop_ was set
   std::atomic<int64_t> stopCpuNs_{0};     // the running thread's CPU time then
+  // The running thread has thrown its first ModelStop since stop_ was set: its chance to unwind.
+  // Written on that thread only (the ModelStop, run()), so checkpoint() reads it without a lock.
+  std::atomic<bool> stopThrown_{false};
   // Set under the watchdog's lock.
   int depth_ = 0;  // nesting of run() on its thread
   uint64_t thread_ = 0;  // pthread_t of the running thread
