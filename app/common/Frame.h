@@ -46,14 +46,14 @@ std::string badPictureSize(double width, double height);
 // view file without `window:` lines (one view). Also records each view's bounding box (vvXmin …).
 llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::Engine& engine, const runtime::ViewSettings& view);
 
-// The model's colours and textures as the renderer takes them (textures rows top first),
-// converted once per loaded DrawingFiles rather than for every picture: a reload replaces the
-// DrawingFiles object, which is what `of` notices.
+// The model's colours as the renderer takes them, and its textures, made once per loaded
+// DrawingFiles rather than for every picture: a reload replaces the DrawingFiles object, which is
+// what `of` notices.
 class RenderLook {
  public:
   const RenderLook& of(const runtime::DrawingFiles& drawing);
   viewer::RenderPalette palette;
-  std::vector<viewer::TextureImage> textures;
+  std::vector<runtime::Image> textures;
 
  private:
   const runtime::DrawingFiles* source_ = nullptr;
@@ -72,12 +72,12 @@ class FrameWriter {
   llvm::Error write(const std::string& path, runtime::Engine& engine, const runtime::DrawingFiles& drawing,
                     FrameTimes* times = nullptr);
   // The same picture as `write` makes of a picture file (a video's frame).
-  llvm::Expected<viewer::Image> picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
-                                        FrameTimes* times = nullptr);
+  llvm::Expected<runtime::Image> picture(runtime::Engine& engine, const runtime::DrawingFiles& drawing,
+                                         FrameTimes* times = nullptr);
 
  private:
-  llvm::Expected<viewer::Image> render(const runtime::Geometry& geometry, runtime::Engine& engine,
-                                       const runtime::DrawingFiles& drawing, FrameTimes* times);
+  llvm::Expected<runtime::Image> render(const runtime::Geometry& geometry, runtime::Engine& engine,
+                                        const runtime::DrawingFiles& drawing, FrameTimes* times);
   int width_, height_;
 #if LCJIT_HAVE_RENDERING
   std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused
