@@ -414,7 +414,7 @@ class Terrain::Writer {
         int i = (int)std::floor(f * (float)size);
         return i < 0 ? 0 : i >= size ? size - 1 : i;
       };
-      const uint8_t* px = image_->pixel(texel(lastUV_.x, image_->width), texel(lastUV_.y, image_->height));
+      const uint8_t* px = image_->pixelFromBottom(texel(lastUV_.x, image_->width), texel(lastUV_.y, image_->height));
       r = px[0];
       g = px[1];
     }

@@ -56,8 +56,8 @@ const Display& display() {
 
 }  // namespace
 
-llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h) {
-  Image img;
+llvm::Expected<runtime::Image> readFramebuffer(unsigned fbo, int w, int h) {
+  runtime::Image img;
   img.width = w;
   img.height = h;
   img.rgba.resize(size_t(w) * h * 4);
@@ -89,7 +89,7 @@ struct HeadlessRenderer::Impl {
 
   bool makeCurrent() { return eglMakeCurrent(dpy, surface, surface, ctx); }
 
-  llvm::Expected<Image> readImage(int w, int h) { return readFramebuffer(fbo, w, h); }
+  llvm::Expected<runtime::Image> readImage(int w, int h) { return readFramebuffer(fbo, w, h); }
 
   llvm::Error ensureFramebuffer(int w, int h) {
     if (fbo && w == width && h == height) {
@@ -188,8 +188,8 @@ std::string HeadlessRenderer::glRenderer() const {
   return s ? s : "";
 }
 
-llvm::Expected<Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings& view,
-                                                   const runtime::CameraMatrices& camera, const RenderOptions& options) {
+llvm::Expected<runtime::Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings& view,
+                                                            const runtime::CameraMatrices& camera, const RenderOptions& options) {
   if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   if (llvm::Error e = impl_->ensureFramebuffer(camera.width, camera.height)) return e;
   Renderer& r = *impl_->renderer;
@@ -198,10 +198,10 @@ llvm::Expected<Image> HeadlessRenderer::renderFrame(const runtime::ViewSettings&
   return impl_->readImage(camera.width, camera.height);
 }
 
-llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
-                                                   const RenderPalette& palette,
-                                                   const std::vector<TextureImage>& textures,
-                                                   const HeadlessOptions& options) {
+llvm::Expected<runtime::Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
+                                                            const RenderPalette& palette,
+                                                            const std::vector<runtime::Image>& textures,
+                                                            const HeadlessOptions& options) {
   if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   if (llvm::Error e = impl_->ensureFramebuffer(options.width, options.height)) return e;
   glViewport(0, 0, options.width, options.height);
@@ -228,9 +228,9 @@ llvm::Expected<Image> HeadlessRenderer::renderPanes(const std::vector<ViewPane>&
   return impl_->readImage(options.width, options.height);
 }
 
-llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
-                                              const RenderPalette& palette, const std::vector<TextureImage>& textures,
-                                              const HeadlessOptions& options) {
+llvm::Expected<runtime::Image> HeadlessRenderer::render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
+                                                       const RenderPalette& palette, const std::vector<runtime::Image>& textures,
+                                                       const HeadlessOptions& options) {
   if (!impl_->makeCurrent()) return llvm::createStringError(eglErrorText("headless rendering: cannot make the context current"));
   Renderer& r = *impl_->renderer;
   r.setPalette(palette);
@@ -242,7 +242,7 @@ llvm::Expected<Image> HeadlessRenderer::render(const runtime::Geometry& geometry
 }
 
 llvm::Error renderToFile(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
-                         const RenderPalette& palette, const std::vector<TextureImage>& textures,
+                         const RenderPalette& palette, const std::vector<runtime::Image>& textures,
                          const std::string& path, const HeadlessOptions& options) {
   auto r = HeadlessRenderer::create();
   if (!r) return r.takeError();

@@ -31,18 +31,18 @@ class HeadlessRenderer {
   HeadlessRenderer& operator=(const HeadlessRenderer&) = delete;
 
   // Frames the geometry with lpfg's rule (runtime::frameView), uploads everything and renders.
-  llvm::Expected<Image> render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
-                               const RenderPalette& palette, const std::vector<TextureImage>& textures,
-                               const HeadlessOptions& options = {});
+  llvm::Expected<runtime::Image> render(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
+                                        const RenderPalette& palette, const std::vector<runtime::Image>& textures,
+                                        const HeadlessOptions& options = {});
   // Several views in one picture (a multi-view model, §7.3): each view framed in its rectangle
   // (paneRects), the view file's window border colour between them. options.width/height are
   // the whole picture's.
-  llvm::Expected<Image> renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
-                                    const RenderPalette& palette, const std::vector<TextureImage>& textures,
-                                    const HeadlessOptions& options = {});
+  llvm::Expected<runtime::Image> renderPanes(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
+                                             const RenderPalette& palette, const std::vector<runtime::Image>& textures,
+                                             const HeadlessOptions& options = {});
   // Renders what was uploaded through renderer() with a given camera (animations, tests).
-  llvm::Expected<Image> renderFrame(const runtime::ViewSettings& view, const runtime::CameraMatrices& camera,
-                                    const RenderOptions& options = {});
+  llvm::Expected<runtime::Image> renderFrame(const runtime::ViewSettings& view, const runtime::CameraMatrices& camera,
+                                             const RenderOptions& options = {});
 
   // Makes the context current and gives the renderer (for uploads between frames).
   Renderer& renderer();
@@ -55,13 +55,13 @@ class HeadlessRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// The current context's framebuffer `fbo` (colour attachment 0), w×h, read into an Image with its
-// rows turned top first (GL's go bottom to top). Leaves the default framebuffer bound.
-llvm::Expected<Image> readFramebuffer(unsigned fbo, int w, int h);
+// The current context's framebuffer `fbo` (colour attachment 0), w×h, read into an Image with
+// its rows turned top first (GL's go bottom to top). Leaves the default framebuffer bound.
+llvm::Expected<runtime::Image> readFramebuffer(unsigned fbo, int w, int h);
 
 // One picture to a file: create a context, render, write.
 llvm::Error renderToFile(const runtime::Geometry& geometry, const runtime::ViewSettings& view,
-                         const RenderPalette& palette, const std::vector<TextureImage>& textures,
+                         const RenderPalette& palette, const std::vector<runtime::Image>& textures,
                          const std::string& path, const HeadlessOptions& options = {});
 
 }  // namespace lcjit::viewer

@@ -34,7 +34,7 @@ bool isVideoFileName(const std::string& path) {
   return ext == "mp4" || ext == "webm";
 }
 
-llvm::Error writeImage(const Image& image, const std::string& path, bool alpha, int jpegQuality) {
+llvm::Error writeImage(const runtime::Image& image, const std::string& path, bool alpha, int jpegQuality) {
   if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
     return llvm::createStringError("cannot write " + path + ": empty image");
   const std::string ext = imageExtension(path);

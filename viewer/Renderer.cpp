@@ -200,7 +200,7 @@ struct Renderer::Impl {
     segs.upload(g.segments, emptyVao);
   }
 
-  void setTextures(const std::vector<TextureImage>& images) {
+  void setTextures(const std::vector<runtime::Image>& images) {
     init();
     if (!textures.empty()) glDeleteTextures((GLsizei)textures.size(), textures.data());
     textures.assign(images.size(), 0);
@@ -209,7 +209,7 @@ struct Renderer::Impl {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     std::vector<uint8_t> flipped;
     for (size_t i = 0; i < images.size(); ++i) {
-      const TextureImage& im = images[i];
+      const runtime::Image& im = images[i];
       glBindTexture(GL_TEXTURE_2D, textures[i]);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -796,7 +796,7 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
 Renderer::~Renderer() { impl_->release(); }
 
 void Renderer::setGeometry(const Geometry& geometry) { impl_->setGeometry(geometry); }
-void Renderer::setTextures(const std::vector<TextureImage>& textures) { impl_->setTextures(textures); }
+void Renderer::setTextures(const std::vector<runtime::Image>& textures) { impl_->setTextures(textures); }
 void Renderer::setPalette(const RenderPalette& palette) {
   impl_->palette = palette;
   impl_->paletteDirty = true;

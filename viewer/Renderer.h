@@ -28,17 +28,11 @@
 #include "runtime/turtle/Geometry.h"
 #include "runtime/turtle/ViewLayout.h"
 #include "runtime/files/Palette.h"
+#include "runtime/files/Images.h"
 #include "runtime/files/ViewFile.h"
 #include "runtime/text/LabelText.h"
 
 namespace lcjit::viewer {
-
-// An RGBA8 texture image, rows top to bottom as in the image file (lpfg flips images so that
-// v = 0 is the image's bottom row; the renderer does the same on upload).
-struct TextureImage {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgba;  // width*height*4
-};
 
 // Colours as the renderer consumes them: resolved from a runtime::Palette (fromPalette) or built
 // directly. Default: lpfg's colormap without a .map file (0 black, 1..255 white).
@@ -106,8 +100,9 @@ class Renderer {
   // Uploads the geometry (buffers are reused when large enough). Discs and labels are kept on the
   // CPU: they face the camera, so they are built per frame.
   void setGeometry(const runtime::Geometry& geometry);
-  // Texture i is the `texture:` entry i of the view file; TriangleRun::texture indexes it.
-  void setTextures(const std::vector<TextureImage>& textures);
+  // Texture i is the `texture:` entry i of the view file; TriangleRun::texture indexes it. Each
+  // is uploaded bottom row first, as lpfg hands them to glTexImage2D (v = 0: the image's bottom).
+  void setTextures(const std::vector<runtime::Image>& textures);
   void setPalette(const RenderPalette& palette);
 
   // Draws into the bound framebuffer, viewport (0,0,camera.width,camera.height). Leaves the GL

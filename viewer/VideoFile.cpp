@@ -193,7 +193,7 @@ struct VideoWriter::Impl {
     return llvm::Error::success();
   }
 
-  llvm::Error add(const Image& image) {
+  llvm::Error add(const runtime::Image& image) {
     if (finished) return fail("the video is finished");
     if (broken) return fail("an earlier frame failed");
     if (image.width <= 0 || image.height <= 0 || image.rgba.size() < size_t(image.width) * image.height * 4)
@@ -279,7 +279,7 @@ llvm::Expected<std::unique_ptr<VideoWriter>> VideoWriter::create(const std::stri
   return std::unique_ptr<VideoWriter>(new VideoWriter(std::move(impl)));
 }
 
-llvm::Error VideoWriter::add(const Image& image) { return impl_->add(image); }
+llvm::Error VideoWriter::add(const runtime::Image& image) { return impl_->add(image); }
 llvm::Error VideoWriter::finish() { return impl_->finish(); }
 const std::string& VideoWriter::path() const { return impl_->path; }
 std::string VideoWriter::codecName() const { return impl_->codec->name; }

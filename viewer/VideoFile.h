@@ -27,7 +27,7 @@ class VideoWriter {
 
   // One frame. The first sets the video's size; every later one must have it. yuv420p needs
   // even sizes: an odd width or height is padded by one column or row repeating the last.
-  llvm::Error add(const Image& image);
+  llvm::Error add(const runtime::Image& image);
   // Flushes the encoder and writes the container's trailer. A video that got no frame is removed.
   llvm::Error finish();
 

@@ -236,7 +236,7 @@ llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
 // The scene (setScene, setViews, resetView, the messages' texts)
 
 void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
-                      const std::vector<TextureImage>& textures, Framing framing) {
+                      const std::vector<runtime::Image>& textures, Framing framing) {
   Impl& m = *impl_;
   m.makeCurrent();
   m.view = view;
@@ -266,7 +266,7 @@ void Window::setScene(const runtime::Geometry& geometry, const runtime::ViewSett
 }
 
 void Window::setViews(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view,
-                      const RenderPalette& palette, const std::vector<TextureImage>& textures) {
+                      const RenderPalette& palette, const std::vector<runtime::Image>& textures) {
   Impl& m = *impl_;
   m.makeCurrent();
   m.view = view;
@@ -352,7 +352,7 @@ bool Window::frame(const MenuActions& actions) {
 // ---------------------------------------------------------------------------------------------
 // Pictures and the window's state
 
-llvm::Expected<Image> Window::grabImage() {
+llvm::Expected<runtime::Image> Window::grabImage() {
   Impl& m = *impl_;
   m.makeCurrent();
   m.updateCamera();
@@ -388,7 +388,7 @@ llvm::Expected<Image> Window::grabImage() {
 
 llvm::Error Window::saveImage(const std::string& path) {
   if (!isImageFileName(path)) return llvm::createStringError("cannot save the picture as " + path + ": use " + kImageFileTypes);
-  llvm::Expected<Image> img = grabImage();
+  llvm::Expected<runtime::Image> img = grabImage();
   if (!img) return img.takeError();
   return writeImage(*img, path);
 }

@@ -29,7 +29,7 @@
 
 #include "runtime/turtle/Camera.h"
 #include "runtime/turtle/Geometry.h"
-#include "viewer/Headless.h"  // Image, writeImage
+#include "viewer/Headless.h"  // writeImage
 #include "viewer/Renderer.h"
 #include "runtime/files/ViewFile.h"
 
@@ -145,10 +145,10 @@ class Window {
   enum class Framing { Refit, Keep, HCenter };
   // Uploads a new picture. The user's rotation/zoom/pan are kept unless resetView() is called.
   void setScene(const runtime::Geometry& geometry, const runtime::ViewSettings& view, const RenderPalette& palette,
-                const std::vector<TextureImage>& textures, Framing framing = Framing::Refit);
+                const std::vector<runtime::Image>& textures, Framing framing = Framing::Refit);
   // Several views in one window, separated by the view file's `window border:`.
   void setViews(const std::vector<ViewPane>& panes, const runtime::ViewSettings& view, const RenderPalette& palette,
-                const std::vector<TextureImage>& textures);
+                const std::vector<runtime::Image>& textures);
   // Back to the view file's framing (New model, New view).
   void resetView();
   // Text shown over the picture until replaced; "" removes it. For problems the user must see
@@ -169,7 +169,7 @@ class Window {
   static void wake();
 
   // The picture the window shows (without the menu), at the framebuffer's size.
-  llvm::Expected<Image> grabImage();
+  llvm::Expected<runtime::Image> grabImage();
   // grabImage() to .png / .jpg / .jpeg / .bmp.
   llvm::Error saveImage(const std::string& path);
 

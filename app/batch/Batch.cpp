@@ -225,7 +225,7 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
   }
   FrameSource source;
   source.writeFile = [&](const std::string& path) { return writeOutput(path, engine, session.drawing(), frames, times); };
-  source.picture = [&]() -> llvm::Expected<viewer::Image> {
+  source.picture = [&]() -> llvm::Expected<runtime::Image> {
     FrameTimes ft;
     auto image = frames.picture(engine, session.drawing(), &ft);
     times.interpretMs = ft.interpretMs;

@@ -26,18 +26,7 @@ const RenderLook& RenderLook::of(const runtime::DrawingFiles& d) {
   if (source_ == &d) return *this;
   source_ = &d;
   palette = viewer::RenderPalette::fromPalette(d.palette);
-  textures.clear();
-  // Runtime images are stored bottom row first; the renderer takes them as the file shows them.
-  for (const runtime::Image& im : d.textures) {
-    viewer::TextureImage t;
-    t.width = im.width;
-    t.height = im.height;
-    t.rgba.resize(im.rgba.size());
-    size_t row = (size_t)im.width * 4;
-    for (int y = 0; y < im.height; ++y)
-      std::copy_n(&im.rgba[(size_t)y * row], row, &t.rgba[(size_t)(im.height - 1 - y) * row]);
-    textures.push_back(std::move(t));
-  }
+  textures = d.textures;
   return *this;
 }
 
@@ -107,8 +96,8 @@ llvm::Error interpretWindowPicture(runtime::ModelRun& engine, const runtime::Vie
 FrameWriter::FrameWriter(int width, int height) : width_(width), height_(height) {}
 FrameWriter::~FrameWriter() = default;
 
-llvm::Expected<viewer::Image> FrameWriter::picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
-                                                   FrameTimes* times) {
+llvm::Expected<runtime::Image> FrameWriter::picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
+                                                    FrameTimes* times) {
   if (std::string bad = sizeProblem(width_, height_); !bad.empty()) return llvm::createStringError("cannot make " + bad);
   auto t0 = std::chrono::steady_clock::now();
   runtime::Geometry geometry;
@@ -121,8 +110,8 @@ llvm::Expected<viewer::Image> FrameWriter::picture(runtime::ModelRun& engine, co
   return render(geometry, engine, drawing, times);
 }
 
-llvm::Expected<viewer::Image> FrameWriter::render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
-                                                  const runtime::DrawingFiles& drawing, FrameTimes* times) {
+llvm::Expected<runtime::Image> FrameWriter::render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
+                                                   const runtime::DrawingFiles& drawing, FrameTimes* times) {
 #if !LCJIT_HAVE_RENDERING
   (void)geometry, (void)engine, (void)drawing, (void)times;
   return llvm::createStringError("this lcjit was built without pictures (LCJIT_WITH_RENDERING=OFF); strings, -dtf "

@@ -51,14 +51,14 @@ llvm::Expected<std::vector<viewer::ViewPane>> interpretViews(runtime::ModelRun& 
 llvm::Error interpretWindowPicture(runtime::ModelRun& engine, const runtime::ViewSettings& view, runtime::Geometry& main,
                                    std::vector<viewer::ViewPane>& panes);
 
-// The model's colours and textures as the renderer takes them (textures rows top first),
-// converted once per loaded DrawingFiles rather than for every picture: a reload replaces the
-// DrawingFiles object, which is what `of` notices.
+// The model's colours as the renderer takes them, and its textures, made once per loaded
+// DrawingFiles rather than for every picture: a reload replaces the DrawingFiles object, which is
+// what `of` notices.
 class RenderLook {
  public:
   const RenderLook& of(const runtime::DrawingFiles& drawing);
   viewer::RenderPalette palette;
-  std::vector<viewer::TextureImage> textures;
+  std::vector<runtime::Image> textures;
 
  private:
   const runtime::DrawingFiles* source_ = nullptr;
@@ -77,12 +77,12 @@ class FrameWriter {
   llvm::Error write(const std::string& path, runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
                     FrameTimes* times = nullptr);
   // The same picture as `write` makes of a picture file (a video's frame).
-  llvm::Expected<viewer::Image> picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
-                                        FrameTimes* times = nullptr);
+  llvm::Expected<runtime::Image> picture(runtime::ModelRun& engine, const runtime::DrawingFiles& drawing,
+                                         FrameTimes* times = nullptr);
 
  private:
-  llvm::Expected<viewer::Image> render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
-                                       const runtime::DrawingFiles& drawing, FrameTimes* times);
+  llvm::Expected<runtime::Image> render(const runtime::Geometry& geometry, runtime::ModelRun& engine,
+                                        const runtime::DrawingFiles& drawing, FrameTimes* times);
   int width_, height_;
 #if LCJIT_HAVE_RENDERING
   std::unique_ptr<viewer::HeadlessRenderer> renderer_;  // created on the first picture, reused

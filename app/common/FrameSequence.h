@@ -29,7 +29,7 @@ bool isFrameSequence(const std::string& out);
 // or the picture (a video's frame).
 struct FrameSource {
   std::function<llvm::Error(const std::string& path)> writeFile;
-  std::function<llvm::Expected<viewer::Image>()> picture;
+  std::function<llvm::Expected<runtime::Image>()> picture;
 };
 
 class FrameSequence {

@@ -262,7 +262,7 @@ std::string encodeSandboxReply(const SandboxReply& reply) {
   w.flag(reply.hasPicture);
   if (!reply.hasPicture) return w.out;
   w.pod<uint64_t>(reply.textures.size());
-  for (const viewer::TextureImage& t : reply.textures) {
+  for (const runtime::Image& t : reply.textures) {
     w.pod(t.width), w.pod(t.height);
     w.pods(t.rgba);
   }
@@ -303,7 +303,7 @@ llvm::Expected<SandboxReply> decodeSandboxReply(std::string_view bytes) {
     uint64_t textures = 0, panes = 0;
     if (!r.count(textures, 16)) return damaged();
     reply.textures.resize(textures);
-    for (viewer::TextureImage& t : reply.textures) {
+    for (runtime::Image& t : reply.textures) {
       if (!r.pod(t.width) || !r.pod(t.height) || !r.pods(t.rgba)) return damaged();
       if (t.width < 0 || t.height < 0 || t.rgba.size() != uint64_t(t.width) * uint64_t(t.height) * 4)
         return fail("a texture's size is not its pixels'");

@@ -40,7 +40,7 @@ struct SandboxReply {
   // are already in the geometry and are not sent.
   runtime::ViewSettings view;
   viewer::RenderPalette palette;
-  std::vector<viewer::TextureImage> textures;
+  std::vector<runtime::Image> textures;
 };
 
 std::string encodeSandboxReply(const SandboxReply& reply);

@@ -118,8 +118,8 @@ llvm::Expected<Image> decodePng(const uint8_t* data, size_t size, const std::str
   img.fileChannels = r.channels;
   img.rgba.resize(size_t(r.width) * r.height * 4);
   std::vector<png_bytep> rows(r.height);
-  for (size_t y = 0; y < r.height; ++y)  // PNG stores the top row first
-    rows[y] = &img.rgba[(r.height - 1 - y) * size_t(r.width) * 4];
+  for (size_t y = 0; y < r.height; ++y)  // PNG stores the top row first, as Image does
+    rows[y] = &img.rgba[y * size_t(r.width) * 4];
   if (!pngPixels(&r, rows.data())) return textfile::fail(name, 0, std::string("cannot decode PNG image: ") + r.error);
   return img;
 }
@@ -183,9 +183,9 @@ bool jpegStart(JpegRead* r) {
 
 bool jpegPixels(JpegRead* r, uint8_t* rgba) {
   if (setjmp(r->jmp)) return false;
-  const size_t row = size_t(r->cinfo.output_width) * 4, h = r->cinfo.output_height;
-  while (r->cinfo.output_scanline < h) {
-    JSAMPROW dst = rgba + (h - 1 - r->cinfo.output_scanline) * row;  // JPEG stores the top row first
+  const size_t row = size_t(r->cinfo.output_width) * 4;
+  while (r->cinfo.output_scanline < r->cinfo.output_height) {
+    JSAMPROW dst = rgba + size_t(r->cinfo.output_scanline) * row;  // JPEG stores the top row first, as Image does
     jpeg_read_scanlines(&r->cinfo, &dst, 1);
   }
   return true;
@@ -298,9 +298,9 @@ llvm::Expected<Image> decodeSgi(const uint8_t* d, size_t size, const std::string
   }
 
   img.rgba.resize(xs * ys * 4);
-  for (size_t y = 0; y < ys; ++y)
+  for (size_t y = 0; y < ys; ++y)  // the file's row y, from the bottom
     for (size_t x = 0; x < xs; ++x) {
-      uint8_t* o = &img.rgba[(y * xs + x) * 4];
+      uint8_t* o = &img.rgba[((ys - 1 - y) * xs + x) * 4];
       auto ch = [&](size_t z) { return planes[(z * ys + y) * xs + x]; };
       switch (zs) {
         case 1: o[0] = o[1] = o[2] = ch(0); o[3] = 255; break;

@@ -1,6 +1,6 @@
 // Texture images: SGI .rgb (verbatim and RLE, 1-4 channels, 8/16 bits) written by the test and
 // read back pixel-exact, PNG (libpng) and JPEG (libjpeg-turbo) written by stb_image_write and
-// libpng, bottom-row-first layout, and error handling (a corrupt JPEG Huffman table among it).
+// libpng, the top row first (SGI's rows, stored bottom up, turned over), and error handling (a corrupt JPEG Huffman table among it).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -137,7 +137,7 @@ void expectPixels(const Image& img, const Planes& p) {
   EXPECT_EQ(img.fileChannels, int(zs));
   for (size_t y = 0; y < ys; ++y)
     for (size_t x = 0; x < xs; ++x) {
-      const uint8_t* px = img.pixel(int(x), int(y));
+      const uint8_t* px = img.pixelFromBottom(int(x), int(y));  // the file's row y, from the bottom
       auto c = [&](size_t z) { return uint8_t(p[z][y][x]); };
       uint8_t e[4];
       switch (zs) {
@@ -166,13 +166,13 @@ std::string errorOf(const std::vector<uint8_t>& d, const std::string& name = "ba
 
 }  // namespace
 
-TEST(ImageSgi, VerbatimRgbBottomRowFirst) {
+TEST(ImageSgi, VerbatimRgbTurnedTopRowFirst) {
   Planes p = {{{10, 20, 30}, {40, 50, 60}}, {{1, 2, 3}, {4, 5, 6}}, {{7, 8, 9}, {100, 110, 120}}};
   Image img = mustDecode(writeSgiVerbatim(p));
   expectPixels(img, p);
-  // Row 0 of the image is the file's first (bottom) row.
-  EXPECT_EQ(img.pixel(0, 0)[0], 10);
-  EXPECT_EQ(img.pixel(2, 1)[2], 120);
+  // The file's first row is the picture's bottom: the image's last row (row 0 is the top).
+  EXPECT_EQ(img.pixel(0, 1)[0], 10);
+  EXPECT_EQ(img.pixel(2, 0)[2], 120);
 }
 
 TEST(ImageSgi, RleAllChannelCounts) {
@@ -188,11 +188,11 @@ TEST(ImageSgi, SixteenBitsAndDimensions) {
   Planes p = {{{0xABCD, 0x1234}, {0xFF00, 0x00FF}}, {{0x0100, 0x0200}, {0x0300, 0x0400}},
               {{0, 0xFFFF}, {0x8000, 0x7FFF}}};
   Image img = mustDecode(writeSgiVerbatim(p, 2));
-  EXPECT_EQ(img.pixel(0, 0)[0], 0xAB);  // high byte
-  EXPECT_EQ(img.pixel(1, 0)[0], 0x12);
-  EXPECT_EQ(img.pixel(1, 1)[1], 0x04);
-  EXPECT_EQ(img.pixel(1, 0)[2], 0xFF);
-  EXPECT_EQ(img.pixel(0, 1)[3], 255);
+  EXPECT_EQ(img.pixelFromBottom(0, 0)[0], 0xAB);  // high byte
+  EXPECT_EQ(img.pixelFromBottom(1, 0)[0], 0x12);
+  EXPECT_EQ(img.pixelFromBottom(1, 1)[1], 0x04);
+  EXPECT_EQ(img.pixelFromBottom(1, 0)[2], 0xFF);
+  EXPECT_EQ(img.pixelFromBottom(0, 1)[3], 255);
 
   // dimension 2: one grey channel whatever zsize says.
   Planes g = {{{5, 6, 7}, {8, 9, 10}}};
@@ -212,10 +212,10 @@ TEST(ImageSgi, CheckedInFile) {
   const uint8_t expect[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}};
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 2; ++x)
-      for (int k = 0; k < 4; ++k) EXPECT_EQ(img->pixel(x, y)[k], expect[2 * y + x][k]) << x << "," << y;
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(img->pixelFromBottom(x, y)[k], expect[2 * y + x][k]) << x << "," << y;
 }
 
-TEST(ImagePng, FlippedToBottomRowFirst) {
+TEST(ImagePng, TopRowFirst) {
   // 3×2 RGBA, top row first as PNG stores it.
   const uint8_t src[2][3][4] = {{{255, 0, 0, 255}, {0, 255, 0, 128}, {0, 0, 255, 0}},
                                 {{1, 2, 3, 4}, {50, 60, 70, 80}, {9, 9, 9, 9}}};
@@ -227,7 +227,7 @@ TEST(ImagePng, FlippedToBottomRowFirst) {
   EXPECT_EQ(img.fileChannels, 4);
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 3; ++x)
-      for (int k = 0; k < 4; ++k) EXPECT_EQ(img.pixel(x, y)[k], src[1 - y][x][k]) << x << "," << y;
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(img.pixel(x, y)[k], src[y][x][k]) << x << "," << y;
 
   // Grey PNG, through a file.
   const uint8_t grey[2][2] = {{10, 20}, {30, 40}};
@@ -237,10 +237,10 @@ TEST(ImagePng, FlippedToBottomRowFirst) {
   std::remove(path.c_str());
   ASSERT_TRUE(bool(g)) << llvm::toString(g.takeError());
   EXPECT_EQ(g->fileChannels, 1);
-  EXPECT_EQ(g->pixel(0, 0)[0], 30);
-  EXPECT_EQ(g->pixel(0, 0)[1], 30);
-  EXPECT_EQ(g->pixel(1, 1)[2], 20);
-  EXPECT_EQ(g->pixel(1, 1)[3], 255);
+  EXPECT_EQ(g->pixel(0, 1)[0], 30);  // bottom left
+  EXPECT_EQ(g->pixel(0, 1)[1], 30);
+  EXPECT_EQ(g->pixel(1, 0)[2], 20);  // top right
+  EXPECT_EQ(g->pixel(1, 0)[3], 255);
 }
 
 TEST(ImageJpeg, BlocksOfColour) {
@@ -258,8 +258,8 @@ TEST(ImageJpeg, BlocksOfColour) {
   Image img = mustDecode(jpg, "test.jpg");
   ASSERT_EQ(img.width, 16);
   ASSERT_EQ(img.height, 16);
-  const uint8_t* bottom = img.pixel(4, 2);
-  const uint8_t* top = img.pixel(4, 13);
+  const uint8_t* bottom = img.pixel(4, 13);
+  const uint8_t* top = img.pixel(4, 2);
   EXPECT_LT(bottom[0], 20);
   EXPECT_GT(bottom[2], 235);
   EXPECT_GT(top[0], 235);
@@ -339,11 +339,11 @@ TEST(ImagePng, SixteenBitsPaletteAndTransparency) {
   png.resize(n);
   Image img = mustDecode(png, "grey16.png");
   EXPECT_EQ(img.fileChannels, 1);
-  EXPECT_EQ(img.pixel(0, 1)[0], 0xAB);  // top row of the file = row 1
-  EXPECT_EQ(img.pixel(1, 1)[1], 0x12);
-  EXPECT_EQ(img.pixel(0, 0)[2], 0xFF);
-  EXPECT_EQ(img.pixel(1, 0)[0], 0x00);
-  EXPECT_EQ(img.pixel(1, 0)[3], 255);
+  EXPECT_EQ(img.pixel(0, 0)[0], 0xAB);  // top row of the file = row 0
+  EXPECT_EQ(img.pixel(1, 0)[1], 0x12);
+  EXPECT_EQ(img.pixel(0, 1)[2], 0xFF);
+  EXPECT_EQ(img.pixel(1, 1)[0], 0x00);
+  EXPECT_EQ(img.pixel(1, 1)[3], 255);
 
   // A palette with a transparent entry: RGBA, fileChannels 4.
   const uint8_t colormap[2][4] = {{255, 0, 0, 255}, {0, 0, 255, 0}};

@@ -156,7 +156,7 @@ RenderPalette colors() {
 }
 
 Image render(const Geometry& g, const ViewSettings& v, const RenderPalette& p, int w = 200, int h = 200,
-             const std::vector<TextureImage>& textures = {}) {
+             const std::vector<Image>& textures = {}) {
   HeadlessOptions o;
   o.width = w;
   o.height = h;
@@ -413,7 +413,7 @@ TEST(Render, FlatVersusSmoothShading) {
 }
 
 TEST(Render, Texture) {
-  TextureImage t;
+  Image t;
   t.width = 2;
   t.height = 2;
   t.rgba = {255, 0, 0, 255, 0, 255, 0, 255,      // top row: red, green

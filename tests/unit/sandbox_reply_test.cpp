@@ -44,7 +44,7 @@ app::SandboxReply sample() {
   r.palette.materials = true;
   r.palette.color[3] = {0.1f, 0.2f, 0.3f, 1};
   r.palette.material[4].shininess = 17;
-  r.textures.push_back({2, 1, {1, 2, 3, 4, 5, 6, 7, 8}});
+  r.textures.push_back({2, 1, 0, {1, 2, 3, 4, 5, 6, 7, 8}});
   return r;
 }
 

@@ -21,7 +21,7 @@ extern "C" {
 }
 
 namespace fs = std::filesystem;
-using lcjit::viewer::Image;
+using lcjit::runtime::Image;
 using lcjit::viewer::VideoOptions;
 using lcjit::viewer::VideoWriter;
 
