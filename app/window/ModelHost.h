@@ -13,6 +13,7 @@
 
 #include "app/session/FileMonitor.h"
 #include "runtime/files/AnimationFile.h"
+#include "runtime/files/Images.h"
 #include "runtime/turtle/Geometry.h"
 #include "viewer/Window.h"
 
@@ -38,7 +39,7 @@ struct HostPicture {
   const std::vector<viewer::ViewPane>* panes = nullptr;  // UseView's views (§7.3); empty: main alone
   const runtime::ViewSettings* view = nullptr;
   const viewer::RenderPalette* palette = nullptr;
-  const std::vector<viewer::TextureImage>* textures = nullptr;
+  const std::vector<runtime::Image>* textures = nullptr;
 };
 
 // A run that ended.
