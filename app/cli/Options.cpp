@@ -203,10 +203,9 @@ void declare(Table& t) {
            "optimisation level of model code: 0, 1 or 2; without it, -O1 code first (-O0 live) and -O2 "
            "compiled in the background and swapped in when the run is long enough to gain (docs/performance.md)", takes)
       ->check(CLI::Range(0, 2));
-  // A sandboxed run's child runs with the default.
   t.option("--tier-after", &O::tierAfterMs,
            "batch runs without -O: compile -O2 in the background once the derivation has run this many "
-           "milliseconds (default 250)", no)
+           "milliseconds (default 250)", takes)
       ->check(CLI::NonNegativeNumber);
   t.option("--panel", &O::panels,
            "open this panel of the window at start (Parameters, Profile); the main menu's Panels "

@@ -78,7 +78,6 @@ TEST(Options, ChildParsesWhatTheParentParsed) {
   expected.dll = defaults.dll;
   expected.libPath = defaults.libPath;
   expected.profile = defaults.profile;
-  expected.tierAfterMs = defaults.tierAfterMs;
   expected.lab = defaults.lab;
   expected.sandbox = defaults.sandbox;
   expected.watch = defaults.watch;
