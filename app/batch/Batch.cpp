@@ -35,7 +35,6 @@
 #include "runtime/WindowInput.h"
 #include "support/Elapsed.h"
 #include "support/ReplacingFile.h"
-#include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {

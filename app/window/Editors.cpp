@@ -10,7 +10,6 @@
 #include "runtime/Functions.h"
 #include "runtime/files/Contours.h"
 #include "support/ReplacingFile.h"
-#include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace fs = std::filesystem;

@@ -34,7 +34,6 @@
 #include "runtime/include/lcjit/modules.h"
 #include "runtime/files/AnimationFile.h"
 #include "support/ReplacingFile.h"
-#include "runtime/files/TextLines.h"
 
 namespace lcjit::app {
 namespace {
