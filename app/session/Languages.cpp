@@ -3,7 +3,6 @@
 
 #include "app/session/InputKinds.h"
 
-#include <iterator>
 #include <vector>
 
 namespace lcjit::app {
@@ -54,15 +53,10 @@ std::string modelExtensions() {
 }
 
 std::string noModelGiven() {
-  if (std::size(kLanguages) == 1) {
-    const Language& only = kLanguages[0];
-    return "no " + std::string(only.model) + " file (" + modelExtensions(only) + ") given";
-  }
-  std::string list;
+  std::string files;
   for (const Language& language : kLanguages)
-    list += (list.empty() ? "" : "; ") + std::string(language.name) + ": " + std::string(language.model) + " " +
-            modelExtensions(language);
-  return "no model file given (" + list + ")";
+    files += (files.empty() ? "" : " or ") + std::string(language.model) + " file (" + modelExtensions(language) + ")";
+  return "no " + files + " given";
 }
 
 }  // namespace lcjit::app

@@ -38,8 +38,8 @@ std::string modelExtensions(const Language& language);
 
 // ".l": every language's model files' extensions.
 std::string modelExtensions();
-// What a run without a model file is told: "no L-system file (.l) given", or with several
-// languages, each language's model file and extensions.
+// What a run without a model file is told: "no L-system file (.l) given", each language's model
+// file and extensions joined by "or".
 std::string noModelGiven();
 
 }  // namespace lcjit::app
