@@ -12,6 +12,8 @@
 
 #include <CLI/CLI.hpp>
 #include "app/batch/Batch.h"
+#include "app/cfdg/DesignRun.h"
+#include "app/session/Languages.h"
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
 #include "app/sandbox/Sandbox.h"
@@ -136,6 +138,11 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   sweepCommand.version = LCJIT_VERSION;
   declareSweep(*sweep, sweepCommand);
 
+  CLI::App* cfdg = cli.add_subcommand("cfdg", "Context Free's own command line (cfdg 3.4's options): a script "
+                                               "written for cfdg works with lcjit cfdg (docs/cfdg.md)");
+  app::DesignRunOptions cfdgOptions;
+  app::declareCfdgOptions(*cfdg, cfdgOptions);
+
   try {
     cli.parse(app::argumentsForParse(argc, argv));
   } catch (const CLI::ParseError& e) {
@@ -150,12 +157,16 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   if (auto e = app::checkOptions(options)) return failed(std::move(e));
 
   if (*sweep) return app::runSweep(sweepCommand);
+  if (*cfdg) return app::runDesign(cfdgOptions);
   if (*repl) {
     if (replSize.size() == 2) replOptions.width = replSize[0], replOptions.height = replSize[1];
     return lcjit::repl::runRepl(replInputs, replOptions);
   }
 
   const std::string cacheDir = app::settleOptions(options);
+  if (const app::Language* language = app::languageOf(app::modelOf(options.inputs));
+      language && language->engine == app::EngineKind::ShapeExpansion)
+    return app::runDesign(app::designRunOptions(options, cacheDir));
   const bool labWindow = app::labWindow(options);
   // --lab with a display where bubblewrap does not work: the window and the REPL in this process.
   if (labWindow && !options.sandbox && !app::sandboxUnavailable().empty()) {

@@ -266,6 +266,9 @@ void declare(Table& t) {
             return std::string();
           },
           ""));
+  t.option("--variation", &O::variation,
+           "a Context Free design's variation: letters (A, ZZT) or a number, as Context Free's -v takes "
+           "them (default: a random one, printed)", takes);
   // Refused with --sandbox (the run writes its -out alone).
   t.option("--run-record", &O::runRecord,
            "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "

@@ -58,6 +58,7 @@ struct Options {
   std::vector<std::string> includeDirs;  // -I
   std::vector<std::string> overrides;    // -D NAME=VALUE, as given
   std::optional<uint64_t> seed;          // --seed
+  std::string variation;                 // --variation: a Context Free design's variation code
   bool cleanEA20 = false;                // -cleanEA20
   double environmentTimeout = 60;        // --environment-timeout
   // The limits of every derivation (runtime::EngineLimits, whose defaults they start from).

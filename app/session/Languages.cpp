@@ -10,10 +10,13 @@ namespace lcjit::app {
 namespace {
 
 constexpr std::string_view kLplusC[] = {"l"};
+constexpr std::string_view kCfdg[] = {"cfdg"};
 
 constexpr Language kLanguages[] = {
     // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
     {"L+C", "L-system", kLplusC, EngineKind::LSystem},
+    // Context Free's CFDG: frontend/cfdg/ on the shape-expansion engine.
+    {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion},
 };
 
 }  // namespace

@@ -19,6 +19,9 @@ enum class EngineKind {
   // runtime::Engine: a string of modules rewritten in parallel, step by step, by productions with
   // context, then read by the turtle (L+C).
   LSystem,
+  // runtime/cfdg/Expander: shapes replaced by rules chosen at random by weight, the largest
+  // unfinished shape first, until they are too small to see (Context Free's CFDG).
+  ShapeExpansion,
 };
 
 struct Language {

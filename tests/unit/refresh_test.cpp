@@ -69,7 +69,7 @@ TEST(Languages, ByExtension) {
   EXPECT_EQ(languageOf(".l"), nullptr);  // a hidden file
   EXPECT_EQ(languageOf("plant.L"), nullptr);
   EXPECT_EQ(modelExtensions(*lc), ".l");
-  EXPECT_EQ(noModelGiven(), "no L-system file (.l) given");  // lpfg's words for its one language
+  EXPECT_EQ(noModelGiven(), "no L-system file (.l) or Context Free design file (.cfdg) given");
   size_t modelRows = 0;
   for (const Language& language : languages())
     for (std::string_view ext : language.extensions) {

@@ -1,0 +1,41 @@
+// A Context Free design run from the command line: read, translated to C++ (frontend/cfdg),
+// compiled by the JIT, expanded (runtime/cfdg/Expander) and written as the pictures asked for.
+// Both `lcjit design.cfdg …` (lcjit's options) and `lcjit cfdg …` (Context Free's own command
+// line) end here.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace lcjit::app {
+
+struct Options;
+
+struct DesignRunOptions {
+  std::string design;
+  std::vector<std::string> outs;  // .svg (Context Free's -V picture) or .png
+  int width = 500, height = 500;
+  std::string variation;          // a code as Context Free takes one ("A", "ABC", "17"); "" = random
+  double minimumSize = 0.3;
+  double border = 2;
+  uint64_t maxShapes = 500'000'000;
+  int optLevel = 1;
+  bool emitCpp = false;
+  bool quiet = false;
+  std::string cacheDir;
+};
+
+// `lcjit design.cfdg …`: what lcjit's own options ask of a design (-out, -w, -q, -O, --emit-cpp,
+// --variation).
+DesignRunOptions designRunOptions(const Options& options, const std::string& cacheDir);
+// `lcjit cfdg …`: Context Free's command line, `cfdg [options] design.cfdg [output]`.
+void declareCfdgOptions(CLI::App& command, DesignRunOptions& into);
+
+// 0 when every picture was written; errors are printed (file:line:col: error: …) and give 1.
+int runDesign(const DesignRunOptions& options);
+
+}  // namespace lcjit::app

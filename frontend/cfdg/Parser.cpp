@@ -1,0 +1,558 @@
+// Parses a Context Free design (Parser.h). A recursive-descent reading of CFDG 3's grammar:
+// statements at file level, elements in rule bodies, expressions at three levels (a comma list,
+// a full expression, and the narrower argument of an adjustment term, where `x 1 -2` is two
+// arguments).
+#include "frontend/cfdg/Parser.h"
+
+#include <cstdlib>
+#include <map>
+
+namespace lcjit::frontend::cfdg {
+
+std::string adjustmentWord(std::string_view w) {
+  static const std::map<std::string_view, std::string_view> kWords = {
+      {"x", "x"}, {"y", "y"}, {"z", "z"}, {"size", "s"}, {"s", "s"}, {"rotate", "r"}, {"r", "r"},
+      {"flip", "f"}, {"f", "f"}, {"skew", "skew"}, {"transform", "trans"}, {"trans", "trans"},
+      {"hue", "h"}, {"h", "h"}, {"saturation", "sat"}, {"sat", "sat"}, {"brightness", "b"},
+      {"b", "b"}, {"alpha", "a"}, {"a", "a"}, {"blend", "blend"}, {"time", "time"},
+      {"timescale", "timescale"}};
+  auto it = kWords.find(w);
+  return it == kWords.end() ? std::string() : std::string(it->second);
+}
+
+namespace {
+
+struct ParseError {
+  Place at;
+  std::string message;
+};
+
+class Parser {
+ public:
+  Parser(std::vector<Token> tokens, const std::string& file) : t_(std::move(tokens)), file_(file) {}
+
+  Design parse() {
+    Design d;
+    d.file = file_;
+    while (peek().kind != Tok::End) statement(d);
+    return d;
+  }
+
+ private:
+  std::vector<Token> t_;
+  size_t i_ = 0;
+  std::string file_;
+
+  const Token& peek(size_t k = 0) const { return t_[std::min(i_ + k, t_.size() - 1)]; }
+  Token next() { return t_[i_ < t_.size() - 1 ? i_++ : i_]; }
+  bool is(std::string_view text, size_t k = 0) const {
+    const Token& t = peek(k);
+    return (t.kind == Tok::Punct || t.kind == Tok::Name) && t.text == text;
+  }
+  bool accept(std::string_view text) {
+    if (!is(text)) return false;
+    ++i_;
+    return true;
+  }
+  [[noreturn]] void fail(const Place& at, const std::string& message) { throw ParseError{at, message}; }
+  [[noreturn]] void unexpected(const std::string& wanted) {
+    const Token& t = peek();
+    fail(t.at, t.kind == Tok::End ? "unexpected end of file, expected " + wanted
+                                  : "unexpected '" + t.text + "', expected " + wanted);
+  }
+  void expect(std::string_view text) {
+    if (!accept(text)) unexpected("'" + std::string(text) + "'");
+  }
+  Token expectName(const std::string& what) {
+    if (peek().kind != Tok::Name && peek().kind != Tok::ArrayName) unexpected(what);
+    return next();
+  }
+
+  static bool isType(std::string_view w) {
+    return w == "number" || w == "natural" || w == "adjustment" || w == "shape" ||
+           (w.substr(0, 6) == "vector" && w.size() > 6);
+  }
+
+  // ---- file level ----
+  void statement(Design& d) {
+    const Token& t = peek();
+    if (t.kind != Tok::Name) unexpected("a statement");
+    if (t.text == "startshape") {
+      next();
+      Token name = expectName("a shape name after startshape");
+      d.startShape = name.text;
+      d.startAt = name.at;
+      if (is("(")) d.startArgs = argList(nullptr);
+      if (is("[")) {
+        d.startHasAdjustment = true;
+        d.startAdjustment = modification();
+      }
+      return;
+    }
+    if (t.text == "import" || t.text == "include") {
+      next();
+      if (accept("@")) expectName("a namespace");
+      const Token& f = peek();
+      if (f.kind != Tok::FileName && f.kind != Tok::String) unexpected("a file name");
+      d.imports.push_back(next().text);
+      return;
+    }
+    if (t.text == "shape") {
+      next();
+      ShapeDecl s;
+      Token name = expectName("a shape name");
+      s.name = name.text;
+      s.at = name.at;
+      if (is("(")) s.params = params();
+      d.shapes.push_back(std::move(s));
+      if (is("{")) {
+        Rule r;
+        r.shape = d.shapes.back().name;
+        r.at = peek().at;
+        r.body = block();
+        d.rules.push_back(std::move(r));
+      } else {
+        while (is("rule")) {
+          Rule r;
+          r.shape = d.shapes.back().name;
+          r.at = next().at;
+          if (peek().kind == Tok::Number) weight(next(), r);
+          r.body = block();
+          d.rules.push_back(std::move(r));
+        }
+      }
+      return;
+    }
+    if (t.text == "rule") {
+      if (d.shapes.empty()) fail(t.at, "a rule must follow a shape declaration");
+      next();
+      Rule r;
+      r.shape = d.shapes.back().name;
+      r.at = t.at;
+      if (peek().kind == Tok::Number) weight(next(), r);
+      r.body = block();
+      d.rules.push_back(std::move(r));
+      return;
+    }
+    if (t.text == "path") {
+      next();
+      ShapeDecl s;
+      Token name = expectName("a path name");
+      s.name = name.text;
+      s.at = name.at;
+      s.isPath = true;
+      if (is("(")) s.params = params();
+      d.shapes.push_back(std::move(s));
+      Rule r;
+      r.shape = name.text;
+      r.at = name.at;
+      r.isPath = true;
+      r.body = block();
+      d.rules.push_back(std::move(r));
+      return;
+    }
+    // Definitions: NAME = e, CF::Name = e, [TYPE] NAME(params) = e.
+    Definition def;
+    if (isType(t.text) && peek(1).kind == Tok::Name) def.type = next().text;
+    Token name = expectName("a definition");
+    def.name = name.text;
+    def.at = name.at;
+    def.config = def.name.rfind("CF::", 0) == 0;
+    if (is("(")) {
+      def.isFunction = true;
+      def.params = params();
+    }
+    expect("=");
+    def.value = exp2();
+    d.definitions.push_back(std::move(def));
+  }
+
+  void weight(const Token& w, Rule& r) {
+    std::string text = w.text;
+    if (!text.empty() && text.back() == '%') {
+      r.percent = true;
+      text.pop_back();
+      r.weight = std::strtod(text.c_str(), nullptr) / 100.0;
+    } else {
+      r.weight = std::strtod(text.c_str(), nullptr);
+    }
+  }
+
+  std::vector<Param> params() {
+    std::vector<Param> out;
+    expect("(");
+    if (accept(")")) return out;
+    do {
+      Param p;
+      p.at = peek().at;
+      Token first = expectName("a parameter");
+      if (isType(first.text) && peek().kind == Tok::Name) {
+        p.type = first.text;
+        p.name = next().text;
+      } else {
+        p.type = "number";
+        p.name = first.text;
+      }
+      if (p.type.rfind("vector", 0) == 0) p.width = std::atoi(p.type.c_str() + 6);
+      if (p.type == "adjustment") p.width = 0;  // not yet supported: refused by the translator
+      out.push_back(std::move(p));
+    } while (accept(","));
+    expect(")");
+    return out;
+  }
+
+  // ---- bodies ----
+  Body block() {
+    Body b;
+    expect("{");
+    while (!accept("}")) {
+      if (peek().kind == Tok::End) unexpected("'}'");
+      b.push_back(element());
+    }
+    return b;
+  }
+  Body bodyOrElement() {
+    if (is("{")) return block();
+    Body b;
+    b.push_back(element());
+    return b;
+  }
+
+  std::unique_ptr<Element> element() {
+    auto e = std::make_unique<Element>();
+    const Token& t = peek();
+    e->at = t.at;
+    if (t.kind == Tok::PathOp) {
+      e->kind = Element::PathOp;
+      e->name = next().text;
+      expect("(");
+      if (!is(")")) e->value = exp2();
+      expect(")");
+      return e;
+    }
+    if (t.kind != Tok::Name && t.kind != Tok::ArrayName) unexpected("a shape, loop, if or definition");
+    if (t.text == "loop") {
+      next();
+      e->kind = Element::Loop;
+      if (peek().kind == Tok::Name && is("=", 1)) {
+        e->name = next().text;
+        next();
+      }
+      e->value = exp2();
+      e->adjustment = modification();
+      e->body = bodyOrElement();
+      if (accept("finally")) e->otherwise = bodyOrElement();
+      return e;
+    }
+    if (t.text == "if" && !isShapeIf()) {
+      next();
+      e->kind = Element::If;
+      expect("(");
+      e->value = exp2();
+      expect(")");
+      e->body = bodyOrElement();
+      if (accept("else")) e->otherwise = bodyOrElement();
+      return e;
+    }
+    if (t.text == "switch") {
+      next();
+      e->kind = Element::Switch;
+      expect("(");
+      e->value = exp2();
+      expect(")");
+      expect("{");
+      while (!accept("}")) {
+        Element::Case c;
+        if (accept("else")) {
+          expect(":");
+        } else {
+          expect("case");
+          c.values.push_back(exp2());
+          expect(":");
+        }
+        c.body = bodyOrElement();
+        e->cases.push_back(std::move(c));
+      }
+      return e;
+    }
+    if (t.text == "transform" || t.text == "trans" || t.text == "clone") {
+      e->kind = t.text == "clone" ? Element::Clone : Element::Transform;
+      next();
+      e->value = exp2();
+      e->body = bodyOrElement();
+      return e;
+    }
+    if (t.kind == Tok::Name && is("=", 1)) {
+      e->kind = Element::Define;
+      e->name = next().text;
+      next();
+      e->value = exp2();
+      return e;
+    }
+    if (t.text == "if" || t.text == "select" || t.text == "let") {
+      e->kind = Element::Replace;
+      e->shapeAt = t.at;
+      e->shapeExpr = primary();
+      e->adjustment = modification();
+      return e;
+    }
+    if ((t.text == "STROKE" || t.text == "FILL") && is("(", 1)) {
+      e->kind = Element::PathCommand;
+      e->name = next().text;
+      e->args = argList(nullptr);
+      e->adjustment = modification();
+      return e;
+    }
+    bool sub = false;
+    if (t.text == "path") {
+      next();
+      sub = true;
+    }
+    e->kind = Element::Replace;
+    Token name = expectName("a shape name");
+    e->shape = name.text;
+    e->shapeAt = name.at;
+    if (is("(")) {
+      e->hasArgs = true;
+      e->args = argList(&e->reuseParams);
+    }
+    (void)sub;
+    e->adjustment = modification();
+    return e;
+  }
+
+  // `if (…)` that chooses a shape (`if (c, A, B) [adj]`) rather than an if statement: the
+  // parenthesis is followed by an adjustment.
+  bool isShapeIf() const {
+    int depth = 0;
+    for (size_t k = 1; i_ + k < t_.size(); ++k) {
+      const Token& t = peek(k);
+      if (t.kind == Tok::Punct && t.text == "(") ++depth;
+      if (t.kind == Tok::Punct && t.text == ")" && --depth == 0) return peek(k + 1).kind == Tok::Punct && peek(k + 1).text == "[";
+      if (t.kind == Tok::End) return false;
+    }
+    return false;
+  }
+
+  // ( args ), (=), ()
+  std::vector<ExprP> argList(bool* reuse) {
+    std::vector<ExprP> out;
+    expect("(");
+    if (is("=") && is(")", 1)) {
+      next();
+      next();
+      if (reuse) *reuse = true;
+      return out;
+    }
+    if (accept(")")) return out;
+    do out.push_back(exp3()); while (accept(","));
+    expect(")");
+    return out;
+  }
+
+  Adjustment modification() {
+    Adjustment a;
+    a.at = peek().at;
+    expect("[");
+    if (is("[")) {
+      next();
+      a.ordered = true;
+      terms(a, "]");
+      expect("]");
+      expect("]");
+      return a;
+    }
+    terms(a, "]");
+    expect("]");
+    return a;
+  }
+
+  void terms(Adjustment& a, std::string_view close) {
+    while (!is(close)) {
+      Term term;
+      term.at = peek().at;
+      bool targetWord = false;
+      if (is("|")) {
+        next();
+        targetWord = true;
+      }
+      Token w = next();
+      std::string word = w.kind == Tok::Name ? adjustmentWord(w.text) : "";
+      if (word.empty()) fail(w.at, "'" + w.text + "' is not an adjustment (x, y, z, s, r, f, skew, trans, h, sat, b, a, blend, time)");
+      term.word = targetWord ? "|" + word : word;
+      term.args.push_back(adjArg());
+      while (!is(close) && !startsTerm()) {
+        if (is("|")) {
+          next();
+          term.targetForm = true;
+          break;
+        }
+        term.args.push_back(adjArg());
+      }
+      a.terms.push_back(std::move(term));
+    }
+  }
+  bool startsTerm() const {
+    const Token& t = peek();
+    if (t.kind == Tok::Punct && t.text == "|") return peek(1).kind == Tok::Name && !adjustmentWord(peek(1).text).empty();
+    return t.kind == Tok::Name && !adjustmentWord(t.text).empty() && !(peek(1).kind == Tok::Punct && peek(1).text == "(");
+  }
+
+  // ---- expressions ----
+  ExprP make(Expr::Kind k, Place at, std::string text = {}) {
+    auto e = std::make_unique<Expr>();
+    e->kind = k;
+    e->at = at;
+    e->text = std::move(text);
+    return e;
+  }
+  ExprP binary(std::string op, ExprP l, ExprP r) {
+    auto e = make(Expr::Binary, l->at, std::move(op));
+    e->args.push_back(std::move(l));
+    e->args.push_back(std::move(r));
+    return e;
+  }
+
+  // a, b, c
+  ExprP exp2() {
+    ExprP first = exp3();
+    if (!is(",")) return first;
+    auto list = make(Expr::List, first->at);
+    list->args.push_back(std::move(first));
+    while (accept(",")) list->args.push_back(exp3());
+    return list;
+  }
+
+  static int precedence(const std::string& op) {
+    if (op == "^^") return 1;
+    if (op == "||") return 2;
+    if (op == "&&") return 3;
+    if (op == "==" || op == "<>") return 4;
+    if (op == "<" || op == "<=" || op == ">" || op == ">=") return 5;
+    if (op == ".." || op == "+/-") return 6;
+    if (op == "+" || op == "-" || op == "--") return 7;
+    if (op == "*" || op == "/") return 8;
+    return 0;
+  }
+  ExprP exp3(int minPrec = 1) {
+    ExprP left = unary();
+    for (;;) {
+      const Token& t = peek();
+      if (t.kind != Tok::Punct) break;
+      int p = precedence(t.text);
+      if (p == 0 || p < minPrec) break;
+      std::string op = next().text;
+      ExprP right = exp3(p + 1);
+      left = binary(op, std::move(left), std::move(right));
+    }
+    return left;
+  }
+  ExprP unary() {
+    const Token& t = peek();
+    if (t.kind == Tok::Punct && (t.text == "-" || t.text == "+" || t.text == "!")) {
+      Place at = t.at;
+      std::string op = next().text;
+      auto e = make(Expr::Unary, at, op);
+      e->args.push_back(unary());
+      return e;
+    }
+    return power();
+  }
+  ExprP power() {
+    ExprP base = primary();
+    if (is("^")) {
+      next();
+      ExprP exponent = unary();  // right-associative, binds tighter than unary on its left
+      return binary("^", std::move(base), std::move(exponent));
+    }
+    return base;
+  }
+  // The argument of an adjustment term: no bare binary operators.
+  ExprP adjArg() {
+    ExprP e;
+    if (peek().kind == Tok::Punct && (is("-") || is("+"))) {
+      Place at = peek().at;
+      std::string op = next().text;
+      e = make(Expr::Unary, at, op);
+      e->args.push_back(adjArg());
+      return e;
+    }
+    e = primary();
+    if (is("..") || is("+/-")) {
+      std::string op = next().text;
+      e = binary(op, std::move(e), adjArg());
+    }
+    return e;
+  }
+
+  ExprP primary() {
+    const Token& t = peek();
+    if (t.kind == Tok::Number) {
+      Token n = next();
+      return make(Expr::Number, n.at, n.text);
+    }
+    if (t.kind == Tok::Punct && t.text == "(") {
+      Place at = next().at;
+      auto e = make(Expr::Paren, at);
+      e->args.push_back(exp2());
+      expect(")");
+      return e;
+    }
+    if (t.kind == Tok::Punct && t.text == "[") {
+      auto e = make(Expr::Modification, t.at);
+      e->adjustment = std::make_shared<Adjustment>(modification());
+      return e;
+    }
+    if (t.kind == Tok::ArrayName) {
+      Token n = next();
+      expect("[");
+      auto e = make(Expr::Index, n.at, n.text);
+      e->args.push_back(exp2());
+      expect("]");
+      return e;
+    }
+    if (t.kind == Tok::Name) {
+      Token n = next();
+      if (n.text == "let") {
+        auto e = make(Expr::Let, n.at, "let");
+        expect("(");
+        for (;;) {
+          if (peek().kind == Tok::Name && is("=", 1)) {
+            e->names.push_back(next().text);
+            next();
+            e->args.push_back(exp2());
+            expect(";");
+            continue;
+          }
+          e->args.push_back(exp2());
+          break;
+        }
+        expect(")");
+        return e;
+      }
+      if (is("(")) {
+        auto e = make(Expr::Call, n.at, n.text);
+        e->args = argList(&e->reuseParams);
+        return e;
+      }
+      return make(Expr::Name, n.at, n.text);
+    }
+    unexpected("an expression");
+  }
+};
+
+}  // namespace
+
+llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file) {
+  auto tokens = tokenize(source, file);
+  if (!tokens) return tokens.takeError();
+  try {
+    Parser p(std::move(*tokens), file);
+    return p.parse();
+  } catch (ParseError& e) {
+    return llvm::createStringError(file + ":" + std::to_string(e.at.line) + ":" + std::to_string(e.at.column) +
+                                   ": error: " + e.message);
+  }
+}
+
+}  // namespace lcjit::frontend::cfdg

@@ -1,0 +1,951 @@
+// A parsed Context Free design → C++ (Translate.h). Sections:
+//   1. Names in scope and values
+//   2. Seed bytes of expressions and adjustments
+//   3. Expressions → C++
+//   4. Adjustments: Context Free's term order, folding of constant terms, run-time terms
+//   5. Elements of a body → C++
+//   6. The unit: globals, functions, rules, the start shape, the design's table
+#include "frontend/cfdg/Translate.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "frontend/cfdg/Entropy.h"
+#include "frontend/cfdg/Parser.h"
+#include "runtime/cfdg/Expander.h"  // kSeedBase
+
+namespace lcjit::frontend::cfdg {
+namespace {
+
+using runtime::cfdg::kSeedBase;
+
+struct TranslateError {
+  Place at;
+  std::string message;
+};
+[[noreturn]] void fail(const Place& at, const std::string& message) { throw TranslateError{at, message}; }
+
+// ---------------------------------------------------------------------------------------------
+// 1. Names in scope and values
+// ---------------------------------------------------------------------------------------------
+
+struct Binding {
+  enum Kind { Param, Local, Global, Function } kind;
+  std::string cpp;  // what C++ calls it (Param: the block's first index)
+  int width = 1;    // numbers
+  bool constant = false;
+  bool shape = false;  // a shape-typed parameter
+  const Definition* function = nullptr;
+};
+
+struct Value {
+  std::vector<std::string> parts;  // C++ expressions, one per number
+  bool constant = true;            // Context Free folds it at parse time: no seed effect
+  bool pure = true;                // draws no random numbers
+};
+
+const std::map<std::string, std::string> kFunctions1 = {
+    {"cos", "__cf_Cos"}, {"sin", "__cf_Sin"}, {"tan", "__cf_Tan"}, {"cot", "__cf_Cot"},
+    {"acos", "__cf_Acos"}, {"asin", "__cf_Asin"}, {"atan", "__cf_Atan"}, {"acot", "__cf_Acot"},
+    {"cosh", "__cf_Cosh"}, {"sinh", "__cf_Sinh"}, {"tanh", "__cf_Tanh"}, {"acosh", "__cf_Acosh"},
+    {"asinh", "__cf_Asinh"}, {"atanh", "__cf_Atanh"}, {"log", "__cf_Log"}, {"log10", "__cf_Log10"},
+    {"sqrt", "__cf_Sqrt"}, {"exp", "__cf_Exp"}, {"abs", "__cf_Abs"}, {"floor", "__cf_Floor"},
+    {"ceiling", "__cf_Ceiling"}, {"infinity", "__cf_Infinity"}, {"factorial", "__cf_Factorial"},
+    {"sg", "__cf_Sg"}, {"isNatural", "__cf_IsNatural"}, {"bitnot", "__cf_BitNot"}};
+const std::map<std::string, std::string> kFunctions2 = {
+    {"atan2", "__cf_Atan2"}, {"mod", "__cf_Mod"}, {"divides", "__cf_Divides"}, {"div", "__cf_Div"},
+    {"bitor", "__cf_BitOr"}, {"bitand", "__cf_BitAnd"}, {"bitxor", "__cf_BitXor"},
+    {"bitleft", "__cf_BitLeft"}, {"bitright", "__cf_BitRight"}};
+
+std::string hex64(uint64_t v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "0x%016llXull", static_cast<unsigned long long>(v));
+  return b;
+}
+
+class Translator {
+ public:
+  explicit Translator(const Design& d) : d_(d) {}
+
+  Translation run();
+
+ private:
+  const Design& d_;
+  Translation out_;
+  std::map<std::string, int> shapeIds_;
+  std::vector<std::map<std::string, Binding>> scopes_;
+  std::map<std::string, Binding> globals_;
+  int temp_ = 0;
+  int statics_ = 0;
+  bool usesSat_ = false;  // a sat term: the picture is in colour
+  std::string code_;  // the body being written
+  int indent_ = 1;
+
+  void line(const std::string& s) {
+    code_.append(size_t(indent_) * 2, ' ');
+    code_ += s;
+    code_ += '\n';
+  }
+  std::string temp() { return "_t" + std::to_string(temp_++); }
+
+  const Binding* lookup(const std::string& name) const {
+    for (auto it = scopes_.rbegin(); it != scopes_.rend(); ++it) {
+      auto f = it->find(name);
+      if (f != it->end()) return &f->second;
+    }
+    auto g = globals_.find(name);
+    return g == globals_.end() ? nullptr : &g->second;
+  }
+  int shapeId(const std::string& name, const Place& at) const {
+    auto it = shapeIds_.find(name);
+    if (it == shapeIds_.end()) fail(at, "shape '" + name + "' is not declared");
+    return it->second;
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // 2. Seed bytes
+  // -------------------------------------------------------------------------------------------
+
+  // The bytes an argument list contributes: each argument in a parenthesis, then the list.
+  std::string argBytes(const std::vector<ExprP>& args) {
+    std::string b;
+    for (const auto& a : args) b += bytes(*a) + hotbits("paren");
+    return b + hotbits("cons");
+  }
+
+  std::string bytes(const Expr& e) {
+    switch (e.kind) {
+      case Expr::Number: return e.text;
+      case Expr::Name:
+        if (e.text.rfind("CF::", 0) == 0) return {};  // flags and ∞ are textless numbers
+        return e.text;
+      case Expr::Unary:
+        return bytes(*e.args[0]) + hotbits(e.text == "-" ? "N" : e.text == "+" ? "P" : "!");
+      case Expr::Binary:
+        if (e.text == "..") return bytes(*e.args[0]) + bytes(*e.args[1]) + hotbits("cons") + hotbits("rand");
+        if (e.text == "+/-") return bytes(*e.args[0]) + bytes(*e.args[1]) + hotbits("cons") + hotbits("rand2");
+        return bytes(*e.args[0]) + bytes(*e.args[1]) + hotbits(e.text);
+      case Expr::Paren: return bytes(*e.args[0]) + hotbits("paren");
+      case Expr::List: {
+        std::string b;
+        for (const auto& a : e.args) b += bytes(*a);
+        return b + hotbits("cons");
+      }
+      case Expr::Index: return e.text + bytes(*e.args[0]);
+      case Expr::Call: {
+        const std::string& f = e.text;
+        if (f == "if" || f == "select") {
+          std::string b;
+          for (const auto& a : e.args) b += bytes(*a);
+          return b + hotbits("cons") + hotbits("select");
+        }
+        const Binding* bnd = lookup(f);
+        if (bnd && bnd->kind == Binding::Function) return argBytes(e.args) + f;
+        if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? f : f + argBytes(e.args);
+        std::string h = hotbits(f);
+        if (h.empty()) return argBytes(e.args) + f;
+        // Functions with default arguments get them before their bytes are taken; the inserted
+        // numbers have no text.
+        if ((f == "rand" || f == "rand_static" || f == "randint") && e.args.size() < 2) {
+          std::string b;
+          for (const auto& a : e.args) b += bytes(*a) + hotbits("paren");
+          return b + hotbits("cons") + h;
+        }
+        if ((f == "ftime" || f == "frame") && e.args.empty()) return hotbits("cons") + h;
+        if (e.args.size() == 1) return bytes(*e.args[0]) + hotbits("paren") + hotbits("cons") + h;
+        return argBytes(e.args) + h;
+      }
+      case Expr::Let: {
+        std::string b;
+        for (size_t k = 0; k + 1 < e.args.size(); ++k) b += bytes(*e.args[k]);
+        return b + bytes(*e.args.back()) + "let";
+      }
+      case Expr::Modification: return {};
+    }
+    return {};
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // 3. Expressions → C++
+  // -------------------------------------------------------------------------------------------
+
+  static std::string number(const std::string& text) {
+    std::string t = text;
+    bool percent = !t.empty() && t.back() == '%';
+    if (percent) t.pop_back();
+    double v = std::strtod(t.c_str(), nullptr);
+    if (percent) v /= 100.0;
+    char b[64];
+    std::snprintf(b, sizeof b, "%a", v);
+    return std::string("(") + b + ")";
+  }
+
+  // Sequences the parts of impure operands: C++ leaves the order of operands open, Context Free
+  // draws left to right.
+  std::string ordered(const std::vector<std::string>& operands, const std::string& combine,
+                      bool pure) {
+    if (pure) {
+      std::string r = combine;
+      for (size_t k = 0; k < operands.size(); ++k) {
+        std::string key = "$" + std::to_string(k);
+        for (size_t p; (p = r.find(key)) != std::string::npos;) r.replace(p, key.size(), operands[k]);
+      }
+      return r;
+    }
+    std::string r = "({ ";
+    std::vector<std::string> names;
+    for (const auto& o : operands) {
+      names.push_back(temp());
+      r += "double " + names.back() + " = " + o + "; ";
+    }
+    std::string c = combine;
+    for (size_t k = 0; k < names.size(); ++k) {
+      std::string key = "$" + std::to_string(k);
+      for (size_t p; (p = c.find(key)) != std::string::npos;) c.replace(p, key.size(), names[k]);
+    }
+    return r + c + "; })";
+  }
+
+  Value scalar(const Expr& e) {
+    Value v = expr(e);
+    if (v.parts.size() != 1) fail(e.at, "a number is expected here, this has " + std::to_string(v.parts.size()) + " values");
+    return v;
+  }
+
+  Value expr(const Expr& e) {
+    Value v;
+    switch (e.kind) {
+      case Expr::Number: v.parts = {number(e.text)}; return v;
+      case Expr::Name: {
+        if (e.text == "CF::Infinity") return {{"(__builtin_inf())"}, true, true};
+        if (e.text.rfind("CF::", 0) == 0) return {{flag(e)}, true, true};
+        const Binding* b = lookup(e.text);
+        if (!b) {
+          if (shapeIds_.count(e.text)) return {{std::to_string(shapeIds_.at(e.text)) + ".0"}, true, true};
+          fail(e.at, "'" + e.text + "' is not defined");
+        }
+        if (b->kind == Binding::Function) fail(e.at, "function '" + e.text + "' needs arguments");
+        v.constant = b->constant;
+        for (int k = 0; k < b->width; ++k) {
+          if (b->kind == Binding::Param) v.parts.push_back("p[" + std::to_string(std::stoi(b->cpp) + k) + "]");
+          else v.parts.push_back(b->width == 1 ? b->cpp : b->cpp + "[" + std::to_string(k) + "]");
+        }
+        return v;
+      }
+      case Expr::Paren: return expr(*e.args[0]);
+      case Expr::List: {
+        for (const auto& a : e.args) {
+          Value p = expr(*a);
+          v.parts.insert(v.parts.end(), p.parts.begin(), p.parts.end());
+          v.constant &= p.constant;
+          v.pure &= p.pure;
+        }
+        if (!v.pure) {  // sequence the parts
+          for (auto& p : v.parts) {
+            std::string t = temp();
+            line("double " + t + " = " + p + ";");
+            p = t;
+          }
+        }
+        return v;
+      }
+      case Expr::Unary: {
+        Value a = scalar(*e.args[0]);
+        std::string op = e.text == "!" ? "(double)!(" + a.parts[0] + ")" : "(" + e.text + a.parts[0] + ")";
+        return {{op}, a.constant, a.pure};
+      }
+      case Expr::Binary: {
+        Value l = scalar(*e.args[0]), r = scalar(*e.args[1]);
+        bool pure = l.pure && r.pure;
+        std::string c;
+        const std::string& op = e.text;
+        if (op == "..") {
+          return {{ordered({l.parts[0], r.parts[0]}, "__cf_rand(c, $0, $1)", pure)}, false, false};
+        }
+        if (op == "+/-") {
+          return {{ordered({l.parts[0], r.parts[0]}, "__cf_randpm(c, $0, $1)", pure)}, false, false};
+        }
+        if (op == "^") c = "__cf_pow($0, $1)";
+        else if (op == "--") c = "((($0) - ($1)) > 0 ? (($0) - ($1)) : 0.0)";
+        else if (op == "==") c = "(double)(($0) == ($1))";
+        else if (op == "<>") c = "(double)(($0) != ($1))";
+        else if (op == "&&") c = "(($0) == 0.0 ? 0.0 : ($1))";
+        else if (op == "||") c = "(($0) != 0.0 ? ($0) : ($1))";
+        else if (op == "^^") c = "(double)((($0) != 0.0) != (($1) != 0.0))";
+        else if (op == "<" || op == ">" || op == "<=" || op == ">=") c = "(double)(($0) " + op + " ($1))";
+        else c = "(($0) " + op + " ($1))";
+        if (op == "&&" || op == "||") {
+          // Short-circuit: the right side is evaluated only when needed.
+          std::string t = "({ double " + temp() + "; })";
+          (void)t;
+          std::string lt = temp();
+          std::string body = op == "&&" ? "(" + lt + " == 0.0 ? 0.0 : (" + r.parts[0] + "))"
+                                        : "(" + lt + " != 0.0 ? " + lt + " : (" + r.parts[0] + "))";
+          return {{"({ double " + lt + " = " + l.parts[0] + "; " + body + "; })"}, l.constant && r.constant, pure};
+        }
+        return {{ordered({l.parts[0], r.parts[0]}, c, pure)}, l.constant && r.constant, pure};
+      }
+      case Expr::Index: {
+        const Binding* b = lookup(e.text);
+        if (!b || b->kind == Binding::Function) fail(e.at, "'" + e.text + "' is not a vector");
+        Value i = scalar(*e.args[0]);
+        std::string base = b->kind == Binding::Param ? "p + " + b->cpp : b->cpp;
+        std::string idx = "(int)(" + i.parts[0] + ")";
+        return {{"(" + (b->kind == Binding::Param ? "p[" + b->cpp + " + " + idx + "]" : b->cpp + "[" + idx + "]") + ")"},
+                b->constant && i.constant, i.pure};
+      }
+      case Expr::Call: return call(e);
+      case Expr::Let: {
+        // let(a = …; b = …; value): a block with its own names.
+        scopes_.emplace_back();
+        std::string body = "({ ";
+        bool constant = true, pure = true;
+        for (size_t k = 0; k + 1 < e.args.size(); ++k) {
+          Value val = expr(*e.args[k]);
+          std::string name = "v_" + e.names[k] + "_" + std::to_string(temp_++);
+          if (val.parts.size() == 1) body += "double " + name + " = " + val.parts[0] + "; ";
+          else {
+            body += "double " + name + "[" + std::to_string(val.parts.size()) + "] = {";
+            for (auto& p : val.parts) body += p + ", ";
+            body += "}; ";
+          }
+          scopes_.back()[e.names[k]] = {Binding::Local, name, int(val.parts.size()), val.constant};
+          constant &= val.constant;
+          pure &= val.pure;
+        }
+        Value r = scalar(*e.args.back());
+        scopes_.pop_back();
+        return {{body + r.parts[0] + "; })"}, constant && r.constant, pure && r.pure};
+      }
+      case Expr::Modification: fail(e.at, "an adjustment is not a number");
+    }
+    return v;
+  }
+
+  std::string flag(const Expr& e) {
+    static const std::map<std::string, double> kFlags = {
+        {"CF::None", 0}, {"CF::MiterJoin", 8}, {"CF::RoundJoin", 10}, {"CF::BevelJoin", 11},
+        {"CF::ButtCap", 128}, {"CF::SquareCap", 144}, {"CF::RoundCap", 160}, {"CF::ArcCW", 256},
+        {"CF::ArcLarge", 512}, {"CF::Continuous", 1024}, {"CF::Align", 2048}, {"CF::EvenOdd", 4096},
+        {"CF::IsoWidth", 8192}};
+    auto it = kFlags.find(e.text);
+    if (it == kFlags.end()) fail(e.at, "'" + e.text + "' is not a Context Free flag lcjit knows");
+    return number(std::to_string(int(it->second)));
+  }
+
+  Value call(const Expr& e) {
+    const std::string& f = e.text;
+    std::vector<Value> args;
+    bool constant = true, pure = true;
+    for (const auto& a : e.args) {
+      args.push_back(expr(*a));
+      constant &= args.back().constant;
+      pure &= args.back().pure;
+    }
+    auto one = [&](size_t k) -> std::string {
+      if (k >= args.size() || args[k].parts.size() != 1) fail(e.at, f + "() takes numbers");
+      return args[k].parts[0];
+    };
+    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) {
+      const Definition& fn = *b->function;
+      std::vector<std::string> parts;
+      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
+      std::string combine = b->cpp + "(c";
+      for (size_t k = 0; k < parts.size(); ++k) combine += ", $" + std::to_string(k);
+      combine += ")";
+      (void)fn;
+      return {{ordered(parts, combine, pure)}, false, pure && b->constant};
+    }
+    if (f == "if" || f == "select") {
+      if (f == "if" && args.size() != 3) fail(e.at, "if() takes a condition and two values");
+      std::string r = one(0);
+      if (f == "if") return {{"((" + r + ") != 0.0 ? (" + one(1) + ") : (" + one(2) + "))"}, constant, pure};
+      std::string t = temp();
+      std::string s = "({ double " + t + " = " + r + "; ";
+      size_t n = args.size() - 1;
+      for (size_t k = 1; k <= n; ++k) s += (k == n ? "" : t + " < " + std::to_string(k) + " ? (" + one(k) + ") : ");
+      s += "(" + one(n) + "); })";
+      return {{s}, constant, pure};
+    }
+    if (f == "rand" || f == "randint" || f == "rand_static") {
+      std::string lo = "0.0", hi = f == "randint" ? "2.0" : "1.0";
+      if (args.size() == 1) hi = one(0);
+      if (args.size() == 2) lo = one(0), hi = one(1);
+      if (f == "rand_static") {
+        std::string r = "(c->statics[" + std::to_string(statics_++) + "] * __builtin_fabs((" + hi + ") - (" + lo +
+                        ")) + __builtin_fmin(" + lo + ", " + hi + "))";
+        return {{r}, constant, pure};
+      }
+      return {{ordered({lo, hi}, std::string(f == "rand" ? "__cf_rand" : "__cf_randint") + "(c, $0, $1)", pure)},
+              false, false};
+    }
+    if (f == "abs" && args.size() == 2)
+      return {{ordered({one(0), one(1)}, "__cf_fn2(c, __cf_Abs2, $0, $1)", pure)}, constant, pure};
+    if (f == "min" || f == "max") {
+      if (args.size() < 2) fail(e.at, f + "() takes two or more numbers");
+      std::vector<std::string> parts;
+      std::string combine = "$0";
+      for (size_t k = 0; k < args.size(); ++k) parts.push_back(one(k));
+      for (size_t k = 1; k < args.size(); ++k)
+        combine = "__cf_fn2(c, " + std::string(f == "min" ? "__cf_Min" : "__cf_Max") + ", " + combine + ", $" +
+                  std::to_string(k) + ")";
+      return {{ordered(parts, combine, pure)}, constant, pure};
+    }
+    if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
+      if (args.size() != 1 && f != "infinity") fail(e.at, f + "() takes one number");
+      std::string a = args.empty() ? "1.0" : one(0);
+      return {{"__cf_fn1(c, " + it->second + ", " + a + ")"}, constant, pure};
+    }
+    if (auto it = kFunctions2.find(f); it != kFunctions2.end()) {
+      if (args.size() != 2) fail(e.at, f + "() takes two numbers");
+      return {{ordered({one(0), one(1)}, "__cf_fn2(c, " + it->second + ", $0, $1)", pure)}, constant, pure};
+    }
+    if (shapeIds_.count(f)) fail(e.at, "shape '" + f + "' used where a number is expected");
+    fail(e.at, "'" + f + "' is not a function lcjit knows");
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // 4. Adjustments
+  // -------------------------------------------------------------------------------------------
+
+  struct PreparedTerm {
+    std::string kind;  // x, y, z, xyz, s, sizexyz, zsize, r, skew, f, trans, h, sat, b, a, blend, time, timescale, |h …
+    std::vector<const Expr*> args;
+    Place at;
+    bool targetForm = false;
+  };
+
+  static void flattenArgs(const Term& t, std::vector<const Expr*>& out) {
+    for (const auto& a : t.args) {
+      if (a->kind == Expr::List)
+        for (const auto& x : a->args) out.push_back(x.get());
+      else
+        out.push_back(a.get());
+    }
+  }
+
+  // Context Free's preparation before seeds: `x A y B` become one x term; three-valued x and s
+  // split into a z (or zsize) term, then the two-valued one.
+  std::vector<PreparedTerm> prepare(const Adjustment& a) {
+    std::vector<PreparedTerm> out;
+    for (size_t k = 0; k < a.terms.size(); ++k) {
+      const Term& t = a.terms[k];
+      PreparedTerm p;
+      p.kind = t.word;
+      p.at = t.at;
+      p.targetForm = t.targetForm;
+      flattenArgs(t, p.args);
+      if (p.kind == "x" && p.args.size() == 1 && k + 1 < a.terms.size() && a.terms[k + 1].word == "y") {
+        std::vector<const Expr*> yArgs;
+        flattenArgs(a.terms[k + 1], yArgs);
+        if (yArgs.size() == 1) {
+          p.args.push_back(yArgs[0]);
+          ++k;
+        }
+      }
+      if ((p.kind == "x" || p.kind == "s") && p.args.size() == 3) {
+        PreparedTerm z;
+        z.kind = p.kind == "x" ? "z" : "zsize";
+        z.at = p.at;
+        z.args = {p.args[2]};
+        out.push_back(z);
+        p.args.pop_back();
+      }
+      out.push_back(std::move(p));
+    }
+    return out;
+  }
+
+  std::string termBytes(const PreparedTerm& t) {
+    std::string b;
+    for (const Expr* e : t.args) b += bytes(*e);
+    if (t.args.size() > 1 || (t.args.size() == 1 && t.args[0]->kind == Expr::List)) b += hotbits("cons");
+    std::string word = t.kind;
+    if (t.targetForm) word += "|";
+    return b + hotbits(word);
+  }
+
+  std::string adjustmentBytes(const std::vector<PreparedTerm>& terms) {
+    std::string b;
+    for (const auto& t : terms) b += termBytes(t);
+    return b;
+  }
+
+  static int canonicalRank(const std::string& k) {
+    static const std::map<std::string, int> kRank = {{"x", 0}, {"y", 1}, {"z", 2}, {"r", 3}, {"s", 4},
+                                                     {"zsize", 5}, {"skew", 6}, {"f", 7}, {"trans", 8}};
+    auto it = kRank.find(k);
+    return it == kRank.end() ? -1 : it->second;
+  }
+  static int termClass(const std::string& k) {
+    enum { Geom = 1, Z = 2, PathOp = 4, Hue = 8, Sat = 16, Bright = 32, Alpha = 64, Time = 128 };
+    if (k == "x" || k == "y" || k == "r") return Geom | PathOp;
+    if (k == "z" || k == "zsize") return Z;
+    if (k == "xyz" || k == "sizexyz") return Geom | Z;
+    if (k == "trans" || k == "s" || k == "skew" || k == "f") return Geom;
+    if (k == "h" || k == "|h") return Hue;
+    if (k == "sat" || k == "|sat") return Sat;
+    if (k == "b" || k == "|b") return Bright;
+    if (k == "a" || k == "|a") return Alpha;
+    if (k == "time" || k == "timescale") return Time;
+    return 0;
+  }
+  static std::string termEnum(const PreparedTerm& t) {
+    const std::string& k = t.kind;
+    if (t.targetForm) {
+      if (k == "h") return "__cf_HueTarg";
+      if (k == "sat") return "__cf_SatTarg";
+      if (k == "b") return "__cf_BrightTarg";
+      if (k == "a") return "__cf_AlphaTarg";
+    }
+    static const std::map<std::string, std::string> kEnum = {
+        {"x", "__cf_X"}, {"y", "__cf_Y"}, {"z", "__cf_Z"}, {"xyz", "__cf_XYZ"}, {"trans", "__cf_Transform"},
+        {"s", "__cf_Size"}, {"sizexyz", "__cf_SizeXYZ"}, {"r", "__cf_Rotate"}, {"skew", "__cf_Skew"},
+        {"f", "__cf_Flip"}, {"zsize", "__cf_ZSize"}, {"blend", "__cf_Blend"}, {"h", "__cf_Hue"},
+        {"sat", "__cf_Sat"}, {"b", "__cf_Bright"}, {"a", "__cf_Alpha"}, {"|h", "__cf_TargHue"},
+        {"|sat", "__cf_TargSat"}, {"|b", "__cf_TargBright"}, {"|a", "__cf_TargAlpha"},
+        {"time", "__cf_Time"}, {"timescale", "__cf_TimeScale"}};
+    return kEnum.at(k);
+  }
+
+  // Writes code that applies adjustment `a` (already prepared) to the state named `state`:
+  // the terms Context Free folds at parse time are merged into one constant adjustment applied
+  // first, the others applied one by one, in order, as it does at run time.
+  void applyAdjustment(const Adjustment& a, std::vector<PreparedTerm> terms, const std::string& state) {
+    if (!a.ordered) {
+      // Canonical order: colour, time and blend terms first as written, then x y z r s zsize
+      // skew f trans; of two terms of one of these kinds the last one counts.
+      std::vector<PreparedTerm> front, geometric;
+      for (auto& t : terms) (canonicalRank(t.kind) < 0 ? front : geometric).push_back(std::move(t));
+      std::stable_sort(geometric.begin(), geometric.end(),
+                       [](const PreparedTerm& x, const PreparedTerm& y) { return canonicalRank(x.kind) < canonicalRank(y.kind); });
+      std::vector<PreparedTerm> unique;
+      for (size_t k = 0; k < geometric.size(); ++k)
+        if (k + 1 == geometric.size() || geometric[k + 1].kind != geometric[k].kind) unique.push_back(std::move(geometric[k]));
+      terms = std::move(front);
+      for (auto& t : unique) terms.push_back(std::move(t));
+    }
+    int nonConstant = 0;
+    std::string folded = temp();
+    bool anyFolded = false;
+    unsigned colourSet = 0;  // channels the folded part sets (a second one waits for run time)
+    std::vector<std::pair<const PreparedTerm*, Value>> runtime;
+    std::string foldCode;
+    for (const auto& t : terms) {
+      if (t.kind == "trans" && t.args.size() == 1 && t.args[0]->kind == Expr::Modification)
+        fail(t.at, "adjustment arguments to trans are not supported by lcjit yet");
+      Value v;
+      for (const Expr* e : t.args) {
+        Value p = expr(*e);
+        v.parts.insert(v.parts.end(), p.parts.begin(), p.parts.end());
+        v.constant &= p.constant;
+        v.pure &= p.pure;
+      }
+      if (t.kind == "sat") usesSat_ = true;
+      int mc = termClass(t.kind);
+      if (t.kind == "s" && v.constant && v.parts.size() == 2 && v.parts[0] == "(0x1p+0)" && v.parts[1] == "(0x1p+0)")
+        continue;  // `s 1 1` changes nothing and is dropped
+      if (!v.constant) nonConstant |= mc;
+      bool keep = (mc & nonConstant) != 0 || !v.constant;
+      int channel = mc == 8 ? 0 : mc == 16 ? 1 : mc == 32 ? 2 : mc == 64 ? 3 : -1;
+      if (!keep && channel > 0 && (colourSet & (1u << channel))) keep = true;
+      if (!keep && t.kind == "h" && v.parts.size() != 2 && v.parts.size() > 1)
+        for (size_t k = 1; k < v.parts.size(); ++k)
+          if (colourSet & (1u << k)) keep = true;
+      if (keep) {
+        runtime.emplace_back(&t, std::move(v));
+        continue;
+      }
+      if (channel >= 0) colourSet |= 1u << channel;
+      if (t.kind == "h" && v.parts.size() > 2)
+        for (size_t k = 1; k < v.parts.size(); ++k) colourSet |= 1u << k;
+      std::string args = "{";
+      for (auto& p : v.parts) args += p + ", ";
+      args += "0}";
+      foldCode += "{ const double _a[] = " + args + "; __cf_fold(&m, " + termEnum(t) + ", " +
+                  std::to_string(v.parts.size()) + ", _a); } ";
+      anyFolded = true;
+    }
+    if (anyFolded) {
+      line("static const __cf_State " + folded + " = []{ __cf_State m; __cf_identity(&m); " + foldCode + "return m; }();");
+      line("__cf_apply(&" + state + ", &" + folded + ");");
+    }
+    for (auto& [t, v] : runtime) {
+      std::string args = temp();
+      std::string list;
+      for (auto& p : v.parts) list += p + ", ";
+      line("{ const double " + args + "[] = {" + list + "0}; __cf_term(c, &" + state + ", " + termEnum(*t) + ", " +
+           std::to_string(v.parts.size()) + ", " + args + "); }");
+    }
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // 5. Elements
+  // -------------------------------------------------------------------------------------------
+
+  void body(const Body& b) {
+    for (const auto& e : b) element(*e);
+  }
+
+  void element(const Element& e) {
+    switch (e.kind) {
+      case Element::Replace: replacement(e); return;
+      case Element::Define: define(e); return;
+      case Element::Loop: loop(e); return;
+      case Element::If: {
+        Value cond = scalar(*e.value);
+        line("if ((" + cond.parts[0] + ") != 0.0) {");
+        ++indent_;
+        scopes_.emplace_back();
+        body(e.body);
+        scopes_.pop_back();
+        --indent_;
+        line("} else {");
+        ++indent_;
+        scopes_.emplace_back();
+        body(e.otherwise);
+        scopes_.pop_back();
+        --indent_;
+        line("}");
+        return;
+      }
+      case Element::Switch: {
+        Value sel = scalar(*e.value);
+        std::string s = temp();
+        line("{ double " + s + " = __builtin_floor(" + sel.parts[0] + ");");
+        ++indent_;
+        bool first = true;
+        const Element::Case* otherwise = nullptr;
+        for (const auto& c : e.cases) {
+          if (c.values.empty()) {
+            otherwise = &c;
+            continue;
+          }
+          std::string test;
+          for (const auto& val : c.values) {
+            const Expr& x = *val;
+            std::vector<const Expr*> items;
+            if (x.kind == Expr::List) for (const auto& i : x.args) items.push_back(i.get());
+            else items.push_back(&x);
+            for (const Expr* i : items) {
+              if (!test.empty()) test += " || ";
+              if (i->kind == Expr::Binary && i->text == "..") {
+                Value lo = scalar(*i->args[0]), hi = scalar(*i->args[1]);
+                test += "(" + s + " >= (" + lo.parts[0] + ") && " + s + " <= (" + hi.parts[0] + "))";
+              } else {
+                test += s + " == (" + scalar(*i).parts[0] + ")";
+              }
+            }
+          }
+          line(std::string(first ? "if (" : "} else if (") + test + ") {");
+          first = false;
+          ++indent_;
+          scopes_.emplace_back();
+          body(c.body);
+          scopes_.pop_back();
+          --indent_;
+        }
+        if (otherwise) {
+          line(first ? "{" : "} else {");
+          first = false;
+          ++indent_;
+          scopes_.emplace_back();
+          body(otherwise->body);
+          scopes_.pop_back();
+          --indent_;
+        }
+        if (!first) line("}");
+        --indent_;
+        line("}");
+        return;
+      }
+      case Element::Transform:
+      case Element::Clone:
+        fail(e.at, std::string(e.kind == Element::Clone ? "clone" : "transform") + " is not supported by lcjit yet");
+      case Element::PathOp:
+      case Element::PathCommand: fail(e.at, "paths are not supported by lcjit yet");
+    }
+  }
+
+  void define(const Element& e) {
+    Value v = expr(*e.value);
+    std::string name = "v_" + e.name + "_" + std::to_string(temp_++);
+    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
+    if (v.parts.size() == 1) {
+      line("double " + name + " = " + v.parts[0] + ";");
+    } else {
+      std::string list;
+      for (auto& p : v.parts) list += p + ", ";
+      line("double " + name + "[" + std::to_string(v.parts.size()) + "] = {" + list + "};");
+    }
+    scopes_.back()[e.name] = {Binding::Local, name, int(v.parts.size()), v.constant};
+  }
+
+  void replacement(const Element& e) {
+    line("{");
+    ++indent_;
+    std::string shapeCode;
+    std::string spec;
+    std::string params = "nullptr";
+    int paramCount = 0;
+    if (e.shapeExpr) {
+      Value s = scalar(*e.shapeExpr);
+      std::string t = temp();
+      line("int " + t + " = (int)(" + s.parts[0] + ");");
+      shapeCode = t;
+      spec = bytes(*e.shapeExpr);
+    } else {
+      int id = shapeId(e.shape, e.shapeAt);
+      shapeCode = std::to_string(id);
+      const ShapeDecl* decl = id >= 4 ? &d_.shapes[size_t(id - 4)] : nullptr;
+      for (const auto& p : decl ? decl->params : std::vector<Param>{}) paramCount += p.width;
+      spec = e.shape;
+      if (e.reuseParams) {
+        params = "p";
+      } else if (e.hasArgs && !e.args.empty()) {
+        spec += argBytes(e.args);
+        std::vector<std::string> parts;
+        for (const auto& a : e.args) {
+          Value v = expr(*a);
+          for (auto& p : v.parts) {
+            std::string t = temp();
+            line("double " + t + " = " + p + ";");
+            parts.push_back(t);
+          }
+        }
+        if (int(parts.size()) != paramCount)
+          fail(e.shapeAt, "shape '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
+                              std::to_string(parts.size()) + " given");
+        std::string arr = temp();
+        std::string list;
+        for (auto& p : parts) list += p + ", ";
+        line("const double " + arr + "[] = {" + list + "};");
+        params = arr;
+      } else if (paramCount > 0) {
+        fail(e.shapeAt, "shape '" + e.shape + "' needs parameters");
+      }
+    }
+    auto terms = prepare(e.adjustment);
+    uint64_t seed = seedOf(0, adjustmentBytes(terms) + spec);
+    line("c->cur ^= " + hex64(seed) + ";");
+    line("c->cur = __cf_step(c->cur);");
+    line("__cf_State s = *c->frame;");
+    applyAdjustment(e.adjustment, std::move(terms), "s");
+    line("__cf_replace(c, " + shapeCode + ", &s, " + params + ");");
+    --indent_;
+    line("}");
+  }
+
+  void loop(const Element& e) {
+    std::vector<const Expr*> args;
+    if (e.value->kind == Expr::List) for (const auto& a : e.value->args) args.push_back(a.get());
+    else args.push_back(e.value.get());
+    if (args.size() > 3) fail(e.at, "loop takes a count, or a start and an end, and a step");
+    auto terms = prepare(e.adjustment);
+    std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : e.name;
+    uint64_t seed = seedOf(kSeedBase, indexName + bytes(*e.value)) ^ seedOf(kSeedBase, adjustmentBytes(terms));
+    line("{");
+    ++indent_;
+    line("c->cur ^= " + hex64(seed) + ";");
+    std::vector<std::string> bounds;
+    for (const Expr* a : args) {
+      std::string t = temp();
+      line("double " + t + " = " + scalar(*a).parts[0] + ";");
+      bounds.push_back(t);
+    }
+    std::string start = "0.0", end, step = "1.0";
+    if (bounds.size() == 1) end = bounds[0];
+    else start = bounds[0], end = bounds[1];
+    if (bounds.size() == 3) step = bounds[2];
+    std::string frame = temp(), outer = temp(), index = "v_" + (e.name.empty() ? std::string("loop") : e.name) + "_" + std::to_string(temp_++);
+    line("__cf_State " + frame + " = *c->frame;");
+    line("const __cf_State* " + outer + " = c->frame;");
+    line("double " + index + " = " + start + ";");
+    line("for (;;) {");
+    ++indent_;
+    line("if ((" + step + ") > 0.0 ? " + index + " >= " + end + " : " + index + " <= " + end + ") break;");
+    line("c->frame = &" + frame + ";");
+    scopes_.emplace_back();
+    if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+    body(e.body);
+    scopes_.pop_back();
+    applyAdjustment(e.adjustment, terms, frame);
+    line(index + " += " + step + ";");
+    --indent_;
+    line("}");
+    line("c->frame = &" + frame + ";");
+    scopes_.emplace_back();
+    if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+    body(e.otherwise);
+    scopes_.pop_back();
+    line("c->frame = " + outer + ";");
+    --indent_;
+    line("}");
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// 6. The unit
+// ---------------------------------------------------------------------------------------------
+
+Translation Translator::run() {
+  out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
+  for (int k = 0; k < 4; ++k) shapeIds_[out_.shapes[size_t(k)]] = k;
+  for (const auto& s : d_.shapes) {
+    if (shapeIds_.count(s.name)) fail(s.at, "shape '" + s.name + "' is declared twice");
+    shapeIds_[s.name] = int(out_.shapes.size());
+    out_.shapes.push_back(s.name);
+  }
+  std::string unit = "// Generated by lcjit from " + d_.file + "\n#include \"lcjit/cfdg.h\"\nnamespace {\n";
+  std::string start;
+
+  // Globals and functions, in file order.
+  for (const auto& def : d_.definitions) {
+    if (def.config) {
+      // Settings are constants read at translation time.
+      if (def.value->kind != Expr::Number && !(def.value->kind == Expr::Unary && def.value->args[0]->kind == Expr::Number))
+        fail(def.at, def.name + " must be a number lcjit can read here");
+      double v = std::strtod((def.value->kind == Expr::Number ? def.value->text : def.value->args[0]->text).c_str(), nullptr);
+      if (def.value->kind == Expr::Unary && def.value->text == "-") v = -v;
+      if (def.name == "CF::MinimumSize") out_.settings.minimumSize = v;
+      else if (def.name == "CF::MaxShapes") out_.settings.maxShapes = v;
+      else if (def.name == "CF::AllowOverlap" || def.name == "CF::Impure" || def.name == "CF::MaxNatural") {
+      } else fail(def.at, def.name + " is not supported by lcjit yet");
+      continue;
+    }
+    if (def.isFunction) {
+      std::string name = "f_" + def.name;
+      Binding b{Binding::Function, name, 1, false};
+      b.function = &def;
+      globals_[def.name] = b;
+      code_.clear();
+      indent_ = 1;
+      scopes_.emplace_back();
+      int index = 0;
+      std::string signature = "double " + name + "(__cf_Ctx* c";
+      for (const auto& p : def.params) {
+        if (p.width != 1) fail(p.at, "vector and adjustment parameters of functions are not supported by lcjit yet");
+        std::string pn = "a_" + p.name;
+        signature += ", double " + pn;
+        scopes_.back()[p.name] = {Binding::Local, pn, 1, false};
+        ++index;
+      }
+      Value v = scalar(*def.value);
+      scopes_.pop_back();
+      unit += signature + ") {\n  (void)c;\n" + code_ + "  return " + v.parts[0] + ";\n}\n";
+      continue;
+    }
+    code_.clear();
+    indent_ = 1;
+    Value v = expr(*def.value);
+    std::string name = "g_" + def.name;
+    Binding b{Binding::Global, name, int(v.parts.size()), v.constant};
+    unit += "double " + name + (v.parts.size() > 1 ? "[" + std::to_string(v.parts.size()) + "]" : "") + ";\n";
+    start += code_;
+    if (!v.constant) start += "  c->cur ^= " + hex64(seedOf(kSeedBase, def.name)) + ";\n";
+    for (size_t k = 0; k < v.parts.size(); ++k)
+      start += "  " + name + (v.parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + v.parts[k] + ";\n";
+    globals_[def.name] = b;
+  }
+
+  // Rules.
+  std::string rules;
+  for (size_t r = 0; r < d_.rules.size(); ++r) {
+    const Rule& rule = d_.rules[r];
+    if (rule.isPath) fail(rule.at, "paths are not supported by lcjit yet");
+    int id = shapeId(rule.shape, rule.at);
+    const ShapeDecl& decl = d_.shapes[size_t(id - 4)];
+    code_.clear();
+    indent_ = 1;
+    scopes_.clear();
+    scopes_.emplace_back();
+    int offset = 0;
+    for (const auto& p : decl.params) {
+      if (p.width == 0) fail(p.at, "adjustment parameters are not supported by lcjit yet");
+      Binding b{Binding::Param, std::to_string(offset), p.width, false};
+      b.shape = p.type == "shape";
+      scopes_.back()[p.name] = b;
+      offset += p.width;
+    }
+    body(rule.body);
+    scopes_.clear();
+    unit += "void rule_" + std::to_string(r) + "(__cf_Ctx* c, const double* p) {\n  (void)p;\n" + code_ + "}\n";
+    char w[64];
+    std::snprintf(w, sizeof w, "%a", rule.weight);
+    rules += "  {" + std::to_string(id) + ", " + w + ", " + (rule.percent ? "1" : "0") + ", rule_" + std::to_string(r) + "},\n";
+  }
+
+  // The start shape: named, or the first shape declared without parameters.
+  std::string startName = d_.startShape;
+  Place startAt = d_.startAt;
+  if (startName.empty()) {
+    for (const auto& s : d_.shapes)
+      if (s.params.empty()) {
+        startName = s.name;
+        startAt = s.at;
+        break;
+      }
+    if (startName.empty()) fail({1, 1}, "no start shape: write `startshape NAME`");
+  }
+  code_.clear();
+  indent_ = 1;
+  scopes_.clear();
+  scopes_.emplace_back();
+  int startId = shapeId(startName, startAt);
+  std::string params = "nullptr";
+  if (!d_.startArgs.empty()) {
+    std::string list;
+    for (const auto& a : d_.startArgs)
+      for (auto& p : expr(*a).parts) list += p + ", ";
+    line("const double _start[] = {" + list + "};");
+    params = "_start";
+  }
+  auto terms = prepare(d_.startAdjustment);
+  uint64_t seed = d_.startHasAdjustment ? seedOf(0, adjustmentBytes(terms) + startName) : seedOf(kSeedBase, startName);
+  line("c->cur ^= " + hex64(seed) + ";");
+  line("c->cur = __cf_step(c->cur);");
+  line("__cf_State s;");
+  line("__cf_identity(&s);");
+  line("s.colour[3] = 1; s.target[3] = 1;");
+  line("s.tbegin = 0; s.tend = 1;");
+  line("c->frame = &s;");
+  if (d_.startHasAdjustment) applyAdjustment(d_.startAdjustment, std::move(terms), "s");
+  line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
+  unit += "void start(__cf_Ctx* c) {\n" + start + code_ + "}\n";
+
+  // The table.
+  unit += "const __cf_Shape shapes[] = {\n";
+  for (size_t k = 0; k < out_.shapes.size(); ++k) {
+    int count = 0;
+    bool path = false;
+    if (k >= 4) {
+      for (const auto& p : d_.shapes[k - 4].params) count += p.width;
+      path = d_.shapes[k - 4].isPath;
+    }
+    unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + "},\n";
+  }
+  unit += "};\nconst __cf_Rule rules[] = {\n" + rules + "  {0, 0, 0, nullptr}\n};\n}  // namespace\n";
+  bool colour = usesSat_;
+  unit += "extern \"C\" const __cf_Design __cf_design = {__cf_AbiVersion, " + std::to_string(out_.shapes.size()) +
+          ", shapes, " + std::to_string(d_.rules.size()) + ", rules, start, " + std::to_string(statics_) + ", " +
+          (colour ? "1" : "0") + ", 0};\n";
+  out_.cpp = std::move(unit);
+  out_.randStaticCount = statics_;
+  return std::move(out_);
+}
+
+}  // namespace
+
+llvm::Expected<Translation> translateDesign(const Design& design) {
+  try {
+    Translator t(design);
+    return t.run();
+  } catch (TranslateError& e) {
+    return llvm::createStringError(design.file + ":" + std::to_string(e.at.line) + ":" + std::to_string(e.at.column) +
+                                   ": error: " + e.message);
+  }
+}
+
+}  // namespace lcjit::frontend::cfdg

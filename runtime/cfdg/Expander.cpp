@@ -1,0 +1,726 @@
+// The shape-expansion engine (Expander.h), and the functions compiled designs call
+// (lcjit/cfdg.h). Sections:
+//   1. Adjustments: terms, folding, colour
+//   2. The run: queue, rule choice, finishing primitives, bounds
+//   3. Functions and distributions called by design code
+//   4. Framing and the -V picture
+#include "runtime/cfdg/Expander.h"
+
+#include <agg_conv_stroke.h>
+#include <agg_conv_transform.h>
+#include <agg_bounding_rect.h>
+#include <agg_path_storage.h>
+#include <agg_trans_affine.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace lcjit::runtime::cfdg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------------------------------------
+// 1. Adjustments
+// ---------------------------------------------------------------------------------------------
+
+Affine affineOf(const __cf_State& s) { return {s.sx, s.shy, s.shx, s.sy, s.tx, s.ty}; }
+void setAffine(__cf_State& s, const Affine& a) {
+  s.sx = a.sx, s.shy = a.shy, s.shx = a.shx, s.sy = a.sy, s.tx = a.tx, s.ty = a.ty;
+}
+void premultiplyState(__cf_State& s, const Affine& m) {
+  Affine a = affineOf(s);
+  a.premultiply(m);
+  setAffine(s, a);
+}
+
+// Moves `base` toward 0 or 1 (or, with a target, toward or away from it) by `adjustment`.
+double adjustValue(double base, double adjustment, bool useTarget = false, double target = 0) {
+  if (adjustment == 0.0)
+    return base;
+  if (useTarget) {
+    if (adjustment > 0 && std::fabs(base - target) < 0.00001)
+      return base;
+    double edge = base < target ? 0 : 1;
+    return adjustment < 0 ? base + (base - edge) * adjustment : base + (target - base) * adjustment;
+  }
+  return adjustment < 0 ? base + base * adjustment : base + (1 - base) * adjustment;
+}
+double adjustHue(double base, double adjustment, bool useTarget = false, double target = 0) {
+  if (adjustment == 0.0)
+    return base;
+  double h;
+  if (useTarget) {
+    double t = target;
+    if (adjustment < 0) {
+      if (t > base) t -= 360;
+      h = base + (base - t) * adjustment;
+    } else {
+      if (t < base) t += 360;
+      h = base + (t - base) * adjustment;
+    }
+  } else {
+    h = base + adjustment;
+  }
+  return h < 0.0 ? std::fmod(h + 360.0, 360.0) : std::fmod(h, 360.0);
+}
+
+// Which colour values an adjustment assigns: per channel (h, s, b, a) two bits, 1 = move toward
+// the shape's target, 3 = move toward the adjustment's own target (a two-valued term).
+constexpr unsigned kTargetBits = 1, kTwoValueBits = 3;
+
+void applyColour(__cf_State& dest, const __cf_State& m) {
+  for (int k = 0; k < 4; ++k) {
+    unsigned current = (m.assign >> (2 * k)) & 3;
+    bool twoValue = current == kTwoValueBits;
+    double target = twoValue ? m.target[k] : dest.target[k];
+    if (k == 0) {
+      dest.colour[0] = adjustHue(dest.colour[0], m.colour[0], current != 0, target);
+      if (!twoValue) dest.target[0] = adjustHue(dest.target[0], m.target[0]);
+    } else {
+      dest.colour[k] = adjustValue(dest.colour[k], m.colour[k], current != 0, target);
+      if (!twoValue) dest.target[k] = adjustValue(dest.target[k], m.target[k]);
+    }
+  }
+}
+
+double clampUnit(double v) { return std::fmax(-1.0, std::fmin(1.0, v)); }
+
+struct Engine;
+[[noreturn]] void fail(__cf_Ctx* c, const std::string& message);
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// 2. The run
+// ---------------------------------------------------------------------------------------------
+
+void Bounds::merge(const Bounds& b) {
+  if (!b.valid())
+    return;
+  if (!valid()) {
+    *this = b;
+    return;
+  }
+  minX = std::min(minX, b.minX);
+  minY = std::min(minY, b.minY);
+  maxX = std::max(maxX, b.maxX);
+  maxY = std::max(maxY, b.maxY);
+}
+
+Bounds Bounds::dilated(double d) const {
+  double cx = (minX + maxX) * 0.5, cy = (minY + maxY) * 0.5;
+  return {d * (minX - cx) + cx, d * (minY - cy) + cy, d * (maxX - cx) + cx, d * (maxY - cy) + cy};
+}
+
+Fit fitBounds(const Bounds& b, int width, int height, double border, bool exact) {
+  double vw = b.maxX - b.minX, vh = b.maxY - b.minY;
+  if (!b.valid())
+    vw = vh = 1.0;
+  double tw = width - 2.0 * border, th = height - 2.0 * border;
+  Fit f;
+  f.width = width;
+  f.height = height;
+  if (vw / tw > vh / th) {
+    f.scale = tw / vw;
+    f.height = int(std::floor(f.scale * vh + 2.0 * border + 0.5));
+    if (!exact) f.height += (f.height ^ height) & 1;
+  } else {
+    f.scale = th / vh;
+    f.width = int(std::floor(f.scale * vw + 2.0 * border + 0.5));
+    if (!exact) f.width += (f.width ^ width) & 1;
+  }
+  double ox = f.scale * (b.maxX + b.minX) / 2.0 - f.width / 2.0;
+  double oy = f.scale * (b.maxY + b.minY) / 2.0 - f.height / 2.0;
+  f.toBlock = Affine::scaling(f.scale, f.scale);
+  f.toBlock.multiply(Affine::translation(-ox, -oy));
+  return f;
+}
+
+namespace {
+
+struct Unfinished {
+  double area;
+  int shape;
+  uint64_t seed;
+  __cf_State state;
+  std::vector<double> params;
+};
+
+// The unit primitives' outlines, as paths (CIRCLE by eight points: its bounds are an octagon's).
+agg::path_storage primitivePath(int shape) {
+  agg::path_storage p;
+  const double h = 0.5 / std::cos(kPi / 6.0), t = std::sqrt(2.0) / 4.0;
+  std::vector<std::pair<double, double>> v;
+  if (shape == 0) v = {{0.5, 0}, {t, t}, {0, 0.5}, {-t, t}, {-0.5, 0}, {-t, -t}, {0, -0.5}, {t, -t}};
+  if (shape == 1) v = {{0.5, 0.5}, {-0.5, 0.5}, {-0.5, -0.5}, {0.5, -0.5}};
+  if (shape == 2) v = {{0, h}, {-0.5, -h / 2.0}, {0.5, -h / 2.0}};
+  p.move_to(v[0].first, v[0].second);
+  for (size_t i = 1; i < v.size(); ++i) p.line_to(v[i].first, v[i].second);
+  p.end_poly(agg::path_flags_close);
+  return p;
+}
+
+struct Engine {
+  const __cf_Design& design;
+  const ExpandOptions& options;
+  std::vector<double> cumulative;  // per rule: its shape's cumulative weight
+  std::vector<std::vector<int>> rulesOf;
+  std::vector<Unfinished> heap;
+  Expansion result;
+  double scale = 0, scaleArea = 0, minArea = 0.09, totalArea = 0;
+  double fixedBorder = 8, shapeBorder = 2;
+  uint64_t finishedCount = 0;
+  agg::path_storage paths[3] = {primitivePath(0), primitivePath(1), primitivePath(2)};
+  const std::vector<double>& statics;
+
+  Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
+      : design(d), options(o), statics(s) {
+    rulesOf.resize(size_t(d.shapeCount));
+    cumulative.resize(size_t(d.ruleCount));
+    for (int i = 0; i < d.ruleCount; ++i) rulesOf[size_t(d.rules[i].shape)].push_back(i);
+    // Weights: ordinary ones share what the % ones leave; the last rule takes exactly 1.
+    for (auto& rules : rulesOf) {
+      double plain = 0, percent = 0;
+      for (int r : rules) (d.rules[r].percent ? percent : plain) += d.rules[r].weight;
+      double acc = 0;
+      for (size_t k = 0; k < rules.size(); ++k) {
+        const __cf_Rule& rule = d.rules[rules[k]];
+        acc += rule.percent ? rule.weight : rule.weight / plain * (1.0 - percent);
+        cumulative[size_t(rules[k])] = k + 1 == rules.size() ? 1.0 : acc;
+      }
+    }
+    double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
+    minArea = minSize * minSize;
+    fixedBorder = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
+    shapeBorder = 1.0 * (o.border <= 1.0 ? 1.0 : o.border);
+    if (2 * int(std::fabs(fixedBorder)) >= std::min(o.width, o.height)) fixedBorder = 0;
+    if (shapeBorder <= 0) shapeBorder = 1;
+  }
+
+  bool hasRules(int shape) const { return shape >= 4 && !rulesOf[size_t(shape)].empty(); }
+
+  // libstdc++'s push_heap and pop_heap on the area, ties and all: the order shapes are expanded
+  // in decides the picture.
+  void pushHeap(Unfinished&& u) {
+    heap.push_back(std::move(u));
+    size_t hole = heap.size() - 1;
+    Unfinished value = std::move(heap[hole]);
+    while (hole > 0) {
+      size_t parent = (hole - 1) / 2;
+      if (!(heap[parent].area < value.area)) break;
+      heap[hole] = std::move(heap[parent]);
+      hole = parent;
+    }
+    heap[hole] = std::move(value);
+  }
+  Unfinished popHeap() {
+    size_t n = heap.size();
+    if (n > 1) {
+      Unfinished value = std::move(heap[n - 1]);
+      heap[n - 1] = std::move(heap[0]);
+      size_t len = n - 1, hole = 0, child = 0;
+      while (len > 1 && child < (len - 1) / 2) {
+        child = 2 * (child + 1);
+        if (heap[child].area < heap[child - 1].area) --child;
+        heap[hole] = std::move(heap[child]);
+        hole = child;
+      }
+      if ((len & 1) == 0 && child == (len - 2) / 2) {
+        child = 2 * (child + 1);
+        heap[hole] = std::move(heap[child - 1]);
+        hole = child - 1;
+      }
+      while (hole > 0) {
+        size_t parent = (hole - 1) / 2;
+        if (!(heap[parent].area < value.area)) break;
+        heap[hole] = std::move(heap[parent]);
+        hole = parent;
+      }
+      heap[hole] = std::move(value);
+    }
+    Unfinished top = std::move(heap.back());
+    heap.pop_back();
+    return top;
+  }
+
+  void process(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    double area = std::fabs(s.sx * s.sy - s.shy * s.shx);
+    for (double v : {s.sx, s.shy, s.shx, s.sy, s.tx, s.ty})
+      if (!std::isfinite(v))
+        fail(c, std::string("a shape has undefined or infinite state: ") + design.shapes[shape].name);
+    if (s.tbegin > s.tend)
+      return;
+    if (hasRules(shape)) {
+      if (!result.bounds.valid() || area * scaleArea >= minArea) {
+        int n = design.shapes[shape].paramCount;
+        pushHeap({area, shape, seed, s, std::vector<double>(params, params + n)});
+      }
+      return;
+    }
+    if (shape >= 4)
+      fail(c, std::string("shape with no rules encountered: ") + design.shapes[shape].name);
+    finish(shape, s);
+  }
+
+  void finish(int shape, const __cf_State& s) {
+    if (scale == 0.0)
+      scale = (options.width + options.height) / std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx));
+    FinishedShape f;
+    f.shape = shape;
+    f.state = s;
+    if (shape != 3) {
+      // The box of the outline stroked 0.1 wide (miter joins, butt caps), as Context Free
+      // measures every shape, filled or not.
+      agg::conv_stroke<agg::path_storage> stroke(paths[shape]);
+      stroke.width(0.1);
+      stroke.line_join(agg::miter_join);
+      stroke.line_cap(agg::butt_cap);
+      stroke.miter_limit(4.0);
+      stroke.inner_join(agg::inner_round);
+      stroke.approximation_scale(0.1 * scale * std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx)));
+      agg::trans_affine tr(s.sx, s.shy, s.shx, s.sy, s.tx, s.ty);
+      agg::conv_transform<decltype(stroke)> path(stroke, tr);
+      Bounds b;
+      if (!agg::bounding_rect_single(path, 0, &b.minX, &b.minY, &b.maxX, &b.maxY) || !b.valid())
+        return;
+      f.boxArea = std::fabs((b.maxX - b.minX) * (b.maxY - b.minY));
+      totalArea += f.boxArea;
+      result.bounds.merge(b.dilated(shapeBorder));
+      scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, false).scale;
+      scaleArea = scale * scale;
+    } else {
+      f.boxArea = 1.0;
+    }
+    f.order = ++finishedCount;
+    if (!design.usesTime) {
+      f.state.tbegin = totalArea;
+      f.state.tend = std::numeric_limits<double>::infinity();
+    }
+    result.shapes.push_back(f);
+  }
+
+  void run() {
+    __cf_Ctx ctx{};
+    ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
+    ctx.engine = this;
+    ctx.statics = statics.data();
+    design.start(&ctx);
+    while (!heap.empty()) {
+      if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)
+        break;
+      Unfinished u = popHeap();
+      double d = drawDouble(u.seed);
+      const auto& rules = rulesOf[size_t(u.shape)];
+      int chosen = rules.back();
+      for (int r : rules)
+        if (cumulative[size_t(r)] >= d) {
+          chosen = r;
+          break;
+        }
+      ctx.cur = u.seed;
+      ctx.frame = &u.state;
+      ++result.expanded;
+      design.rules[chosen].body(&ctx, u.params.data());
+    }
+    std::sort(result.shapes.begin(), result.shapes.end(), [](const FinishedShape& a, const FinishedShape& b) {
+      return a.state.ztz == b.state.ztz ? a.order < b.order : a.state.ztz < b.state.ztz;
+    });
+  }
+};
+
+Engine& engineOf(__cf_Ctx* c) { return *static_cast<Engine*>(c->engine); }
+
+struct Stop {
+  std::string message;
+};
+[[noreturn]] void fail(__cf_Ctx*, const std::string& message) { throw Stop{message}; }
+
+}  // namespace
+
+Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
+  Engine engine(design, options, statics);
+  try {
+    engine.run();
+  } catch (Stop& stop) {
+    engine.result.error = stop.message;
+  }
+  return std::move(engine.result);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Framing and the -V picture
+// ---------------------------------------------------------------------------------------------
+
+Framing frame(const Expansion& e, const ExpandOptions& o) {
+  Framing f;
+  f.width = o.width;
+  f.height = o.height;
+  double fixed = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
+  if (2 * int(std::fabs(fixed)) >= std::min(o.width, o.height)) fixed = 0;
+  f.fit = fitBounds(e.bounds, o.width, o.height, fixed, false);
+  f.offsetX = double((o.width - f.fit.width) / 2);
+  f.offsetY = double((o.height - f.fit.height) / 2);
+  f.toPixels = f.fit.toBlock;
+  f.toPixels.multiply(Affine::translation(f.offsetX, f.offsetY));
+  return f;
+}
+
+bool drawn(const FinishedShape& s, const Framing& f, const ExpandOptions& o) {
+  if (s.shape == 3)
+    return true;
+  double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
+  double a = s.boxArea * (f.fit.scale * f.fit.scale);
+  return std::isfinite(a) && a >= minSize * minSize;
+}
+
+void rgbOf(const double hsba[4], double rgba[4]) {
+  double h = hsba[0], s = hsba[1], v = hsba[2];
+  double q = h / 60.0, whole, frac = std::modf(q, &whole);
+  for (int tries = 0; tries < 2 && (whole <= -0.1 || whole >= 5.1 || frac < 0.0); ++tries) {
+    q = std::fmod(q, 6.0);
+    if (q < 0.0) q += 6.0;
+    frac = std::modf(q, &whole);
+  }
+  int hextant = int(whole + 0.5);
+  double p = v * (1 - s), qq = v * (1 - s * frac), t = v * (1 - s * (1 - frac));
+  double r = 0, g = 0, b = 0;
+  switch (hextant) {
+    case 0: r = v, g = t, b = p; break;
+    case 1: r = qq, g = v, b = p; break;
+    case 2: r = p, g = v, b = t; break;
+    case 3: r = p, g = qq, b = v; break;
+    case 4: r = t, g = p, b = v; break;
+    default: r = v, g = p, b = qq; break;
+  }
+  rgba[0] = r, rgba[1] = g, rgba[2] = b, rgba[3] = hsba[3];
+}
+
+std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "<?xml version=\"1.0\" standalone=\"no\"?>\n<svg width=\"%dpx\" height=\"%dpx\" version=\"1.1\"\n"
+                "     xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n"
+                "  <defs>\n    <polygon id=\"TRIANGLE\" points=\"0,0.57735 -0.5,-0.288675 0.5,-0.288675\"/>\n  </defs>\n",
+                o.width, o.height);
+  out += line;
+  // SVG's y axis points down: the picture is flipped about its height.
+  Affine toSvg = f.fit.toBlock;
+  toSvg.multiply({1, 0, 0, -1, 0, double(o.height)});
+  toSvg.multiply(Affine::translation((o.width - f.fit.width) / 2.0, (o.height - f.fit.height) / 2.0));
+  for (const FinishedShape& s : e.shapes) {
+    if (s.shape == 3 || !drawn(s, f, o))
+      continue;
+    Affine m = affineOf(s.state);
+    m.multiply(toSvg);
+    double rgba[4];
+    rgbOf(s.state.colour, rgba);
+    auto byte = [](double v) { return unsigned(v * 255.0 + 0.5); };
+    char fill[64];
+    std::snprintf(fill, sizeof fill, "#%02x%02x%02x", byte(rgba[0]), byte(rgba[1]), byte(rgba[2]));
+    std::string opacity;
+    if (byte(rgba[3]) != 255) {
+      char a[64];
+      std::snprintf(a, sizeof a, " fill-opacity=\"%.8g\"", byte(rgba[3]) / 255.0);
+      opacity = a;
+    }
+    const char* element = s.shape == 0   ? "<circle r=\"0.5\""
+                          : s.shape == 1 ? "<rect x=\"-0.5\" y=\"-0.5\" width=\"1\" height=\"1\""
+                                         : "<use xlink:href=\"#TRIANGLE\"";
+    std::snprintf(line, sizeof line,
+                  "  %s\n        stroke=\"none\" fill=\"%s\"%s fill-rule=\"nonzero\"\n"
+                  "        transform=\"matrix(%.8g %.8g %.8g %.8g %.8g %.8g)\"/>\n",
+                  element, fill, opacity.c_str(), m.sx, m.shy, m.shx, m.sy, m.tx, m.ty);
+    out += line;
+  }
+  out += "</svg>\n";
+  return out;
+}
+
+uint64_t variationOf(const std::string& code) {
+  size_t i = 0;
+  while (i < code.size() && code[i] == ' ') ++i;
+  if (i == code.size() || !std::isalnum(static_cast<unsigned char>(code[i])))
+    return 0;
+  if (std::isdigit(static_cast<unsigned char>(code[i])))
+    return std::strtoull(code.c_str() + i, nullptr, 0);
+  uint64_t value = 0, base = 0, power = 1;
+  size_t length = 0;
+  for (; i < code.size() && std::isalpha(static_cast<unsigned char>(code[i])); ++i, ++length)
+    value = value * 26 + uint64_t(std::toupper(static_cast<unsigned char>(code[i])) - 'A');
+  for (size_t k = 1; k < length; ++k) base += (power *= 26);
+  return value + base + 1;
+}
+
+std::string variationName(uint64_t v) {
+  std::string name;
+  // Bijective base 26: A = 1 … Z = 26, AA = 27.
+  while (v > 0) {
+    --v;
+    name.insert(name.begin(), char('A' + v % 26));
+    v /= 26;
+  }
+  return name;
+}
+
+}  // namespace lcjit::runtime::cfdg
+
+// ---------------------------------------------------------------------------------------------
+// The functions compiled designs call (lcjit/cfdg.h)
+// ---------------------------------------------------------------------------------------------
+using namespace lcjit::runtime::cfdg;
+
+extern "C" {
+
+uint64_t __cf_step(uint64_t s) { return stepSeed(s); }
+double __cf_draw(__cf_Ctx* c) { return drawDouble(c->cur); }
+
+void __cf_identity(__cf_State* m) {
+  *m = __cf_State{};
+  m->sx = m->sy = 1;
+  m->zsz = 1;
+  m->tsc = 1;
+}
+
+void __cf_apply(__cf_State* s, const __cf_State* m) {
+  premultiplyState(*s, affineOf(*m));
+  // z and time: m first, then the shape's.
+  s->ztz = m->ztz * s->zsz + s->ztz;
+  s->zsz = m->zsz * s->zsz;
+  s->tbegin = m->tbegin * s->tsc + s->tbegin;
+  s->tend = m->tend * s->tsc + s->tend;
+  s->tsc = m->tsc * s->tsc;
+  applyColour(*s, *m);
+  if (m->blend) s->blend = m->blend;
+}
+
+void __cf_term(__cf_Ctx* c, __cf_State* m, int kind, int count, const double* v) {
+  double args[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < count && i < 6; ++i) args[i] = v[i];
+  auto z = [&](double sz, double tz) {
+    m->ztz = tz * m->zsz + m->ztz;
+    m->zsz = sz * m->zsz;
+  };
+  switch (kind) {
+    case __cf_X: premultiplyState(*m, Affine::translation(args[0], count > 1 ? args[1] : 0.0)); break;
+    case __cf_Y: premultiplyState(*m, Affine::translation(0.0, args[0])); break;
+    case __cf_Z: z(1, args[0]); break;
+    case __cf_XYZ:
+      premultiplyState(*m, Affine::translation(args[0], args[1]));
+      z(1, args[2]);
+      break;
+    case __cf_Size: premultiplyState(*m, Affine::scaling(args[0], count > 1 ? args[1] : args[0])); break;
+    case __cf_SizeXYZ:
+      premultiplyState(*m, Affine::scaling(args[0], args[1]));
+      z(args[2], 0);
+      break;
+    case __cf_ZSize: z(args[0], 0); break;
+    case __cf_Rotate: {
+      agg::trans_affine_rotation r(args[0] * kPi / 180.0);
+      premultiplyState(*m, {r.sx, r.shy, r.shx, r.sy, r.tx, r.ty});
+      break;
+    }
+    case __cf_Skew: {
+      agg::trans_affine_skewing k(args[0] * kPi / 180.0, args[1] * kPi / 180.0);
+      premultiplyState(*m, {k.sx, k.shy, k.shx, k.sy, k.tx, k.ty});
+      break;
+    }
+    case __cf_Flip: {
+      agg::trans_affine_reflection f(args[0] * kPi / 180.0);
+      premultiplyState(*m, {f.sx, f.shy, f.shx, f.sy, f.tx, f.ty});
+      break;
+    }
+    case __cf_Transform: {
+      agg::trans_affine t;
+      if (count <= 2) {
+        t = agg::trans_affine_translation(args[0], count > 1 ? args[1] : 0.0);
+      } else if (count == 4) {
+        double dx = args[2] - args[0], dy = args[3] - args[1];
+        t.scale(std::sqrt(dx * dx + dy * dy));
+        t.rotate(std::atan2(dy, dx));
+        t.translate(args[0], args[1]);
+      } else if (count == 6) {
+        t.rect_to_parl(0.0, 0.0, 1.0, 1.0, args);
+      }
+      premultiplyState(*m, {t.sx, t.shy, t.shx, t.sy, t.tx, t.ty});
+      break;
+    }
+    case __cf_Time:
+      m->tbegin = args[0] * m->tsc + m->tbegin;
+      m->tend = args[1] * m->tsc + m->tend;
+      break;
+    case __cf_TimeScale: m->tsc = args[0] * m->tsc; break;
+    case __cf_Blend: m->blend = int(args[0]); break;
+    case __cf_Hue:
+    case __cf_Sat:
+    case __cf_Bright:
+    case __cf_Alpha: {
+      int k = kind - __cf_Hue;
+      if (count != 2) {
+        for (int i = 0; i < count && k < 4; ++i, ++k)
+          m->colour[k] = k == 0 ? adjustHue(m->colour[k], args[i]) : adjustValue(m->colour[k], clampUnit(args[i]));
+      } else {
+        m->colour[k] = k == 0 ? adjustHue(m->colour[k], clampUnit(args[0]), true, args[1])
+                              : adjustValue(m->colour[k], clampUnit(args[0]), true, clampUnit(args[1]));
+      }
+      break;
+    }
+    case __cf_HueTarg:
+    case __cf_SatTarg:
+    case __cf_BrightTarg:
+    case __cf_AlphaTarg: {
+      int k = kind - __cf_HueTarg;
+      m->colour[k] = k == 0 ? adjustHue(m->colour[k], clampUnit(args[0]), true, m->target[k])
+                            : adjustValue(m->colour[k], clampUnit(args[0]), true, m->target[k]);
+      break;
+    }
+    case __cf_TargHue: m->target[0] += args[0]; break;
+    case __cf_TargSat:
+    case __cf_TargBright:
+    case __cf_TargAlpha: {
+      int k = kind - __cf_TargHue;
+      m->target[k] = adjustValue(m->target[k], clampUnit(args[0]));
+      break;
+    }
+    default: fail(c, "unknown adjustment term");
+  }
+}
+
+void __cf_replace(__cf_Ctx* c, int shape, const __cf_State* s, const double* params) {
+  engineOf(c).process(c, shape, *s, params, stepSeed(c->cur));
+}
+
+void __cf_start(__cf_Ctx* c, int shape, const __cf_State* s, const double* params) {
+  engineOf(c).process(c, shape, *s, params, c->cur);
+}
+
+void __cf_fail(__cf_Ctx* c, const char* message) { fail(c, message); }
+
+// ---------------------------------------------------------------------------------------------
+// 3. Functions and distributions
+// ---------------------------------------------------------------------------------------------
+
+double __cf_rand(__cf_Ctx* c, double a, double b) { return drawDouble(c->cur) * std::fabs(b - a) + std::fmin(a, b); }
+double __cf_randpm(__cf_Ctx* c, double a, double b) { return (2.0 * drawDouble(c->cur) - 1.0) * b + a; }
+double __cf_randint(__cf_Ctx* c, double a, double b) {
+  return std::floor(drawDouble(c->cur) * std::fabs(b - a) + std::fmin(a, b));
+}
+double __cf_pow(double a, double b) { return std::pow(a, b); }
+
+void __cf_fold(__cf_State* m, int kind, int count, const double* v) {
+  // Geometry folds as it applies; colour terms are merged: hue values add, the others are set.
+  double args[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < count && i < 6; ++i) args[i] = v[i];
+  switch (kind) {
+    case __cf_Hue:
+    case __cf_Sat:
+    case __cf_Bright:
+    case __cf_Alpha: {
+      int k = kind - __cf_Hue;
+      if (count != 2) {
+        for (int i = 0; i < count && k < 4; ++i, ++k) m->colour[k] = k == 0 ? m->colour[k] + args[i] : clampUnit(args[i]);
+      } else {
+        m->colour[k] = clampUnit(args[0]);
+        m->target[k] = k == 0 ? args[1] : clampUnit(args[1]);
+        m->assign |= kTwoValueBits << (2 * k);
+      }
+      return;
+    }
+    case __cf_HueTarg:
+    case __cf_SatTarg:
+    case __cf_BrightTarg:
+    case __cf_AlphaTarg: {
+      int k = kind - __cf_HueTarg;
+      m->colour[k] = clampUnit(args[0]);
+      m->assign |= kTargetBits << (2 * k);
+      return;
+    }
+    case __cf_TargSat:
+    case __cf_TargBright:
+    case __cf_TargAlpha: m->target[kind - __cf_TargHue] = clampUnit(args[0]); return;
+    default: __cf_term(nullptr, m, kind, count, v);
+  }
+}
+
+double __cf_fn1(__cf_Ctx*, int fn, double a) {
+  switch (fn) {
+    case __cf_Cos: return std::cos(a * 0.0174532925199);
+    case __cf_Sin: return std::sin(a * 0.0174532925199);
+    case __cf_Tan: return std::tan(a * 0.0174532925199);
+    case __cf_Cot: return 1.0 / std::tan(a * 0.0174532925199);
+    case __cf_Acos: return std::acos(a) * 57.29577951308;
+    case __cf_Asin: return std::asin(a) * 57.29577951308;
+    case __cf_Atan: return std::atan(a) * 57.29577951308;
+    case __cf_Acot: return std::atan(1.0 / a) * 57.29577951308;
+    case __cf_Cosh: return std::cosh(a);
+    case __cf_Sinh: return std::sinh(a);
+    case __cf_Tanh: return std::tanh(a);
+    case __cf_Acosh: return std::acosh(a);
+    case __cf_Asinh: return std::asinh(a);
+    case __cf_Atanh: return std::atanh(a);
+    case __cf_Log: return std::log(a);
+    case __cf_Log10: return std::log10(a);
+    case __cf_Sqrt: return std::sqrt(a);
+    case __cf_Exp: return std::exp(a);
+    case __cf_Abs: return std::fabs(a);
+    case __cf_Floor: return std::floor(a);
+    case __cf_Ceiling: return std::ceil(a);
+    case __cf_Infinity: return a < 0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+    case __cf_Factorial: {
+      double r = 1;
+      for (int i = 2; i <= int(a); ++i) r *= i;
+      return r;
+    }
+    case __cf_Sg: return a == 0.0 ? 0.0 : 1.0;
+    case __cf_IsNatural: return a >= 0 && a == std::floor(a) ? 1.0 : 0.0;
+    case __cf_BitNot: return double(~uint64_t(a) & 0xFFFFFFFFFFFFFull);
+  }
+  return 0;
+}
+
+double __cf_fn2(__cf_Ctx*, int fn, double a, double b) {
+  switch (fn) {
+    case __cf_Atan2: return std::atan2(a, b) * 57.29577951308;
+    case __cf_Mod: return std::fmod(a, b);
+    case __cf_Divides: return uint64_t(b) != 0 && uint64_t(a) % uint64_t(b) == 0 ? 1.0 : 0.0;
+    case __cf_Div: return uint64_t(b) != 0 ? double(uint64_t(a) / uint64_t(b)) : 0.0;
+    case __cf_Abs2: return std::fabs(a - b);
+    case __cf_BitOr: return double((uint64_t(a) | uint64_t(b)) & 0xFFFFFFFFFFFFFull);
+    case __cf_BitAnd: return double((uint64_t(a) & uint64_t(b)) & 0xFFFFFFFFFFFFFull);
+    case __cf_BitXor: return double((uint64_t(a) ^ uint64_t(b)) & 0xFFFFFFFFFFFFFull);
+    case __cf_BitLeft: return double((uint64_t(a) << uint64_t(b)) & 0xFFFFFFFFFFFFFull);
+    case __cf_BitRight: return double((uint64_t(a) >> uint64_t(b)) & 0xFFFFFFFFFFFFFull);
+    case __cf_Min: return b < a ? b : a;
+    case __cf_Max: return b > a ? b : a;
+  }
+  return 0;
+}
+
+}  // extern "C"
+
+namespace lcjit::runtime::cfdg {
+std::vector<std::pair<std::string, void*>> hostSymbols() {
+  return {
+      {"__cf_step", reinterpret_cast<void*>(&__cf_step)},
+      {"__cf_draw", reinterpret_cast<void*>(&__cf_draw)},
+      {"__cf_identity", reinterpret_cast<void*>(&__cf_identity)},
+      {"__cf_apply", reinterpret_cast<void*>(&__cf_apply)},
+      {"__cf_fold", reinterpret_cast<void*>(&__cf_fold)},
+      {"__cf_term", reinterpret_cast<void*>(&__cf_term)},
+      {"__cf_replace", reinterpret_cast<void*>(&__cf_replace)},
+      {"__cf_start", reinterpret_cast<void*>(&__cf_start)},
+      {"__cf_fn1", reinterpret_cast<void*>(&__cf_fn1)},
+      {"__cf_fn2", reinterpret_cast<void*>(&__cf_fn2)},
+      {"__cf_rand", reinterpret_cast<void*>(&__cf_rand)},
+      {"__cf_randpm", reinterpret_cast<void*>(&__cf_randpm)},
+      {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
+      {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
+      {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
+  };
+}
+}  // namespace lcjit::runtime::cfdg

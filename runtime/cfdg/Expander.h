@@ -1,0 +1,97 @@
+// The shape-expansion engine of Context Free designs (CFDG): the largest unfinished shape is
+// expanded next, by a rule of its shape chosen at random by weight; a primitive is finished as
+// soon as it is made, and the picture's bounds (and so the size below which shapes are no longer
+// expanded) grow with each. The design's rule bodies are compiled code (lcjit/cfdg.h); this
+// engine runs them, with Context Free 3.4's random numbers, queue order and size cut-off, so that
+// a variation gives the shapes Context Free gives, in its order, to the last bit.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runtime/cfdg/Affine.h"
+#include "runtime/include/lcjit/cfdg.h"
+
+namespace lcjit::runtime::cfdg {
+
+// An axis-aligned box; invalid until something is merged into it.
+struct Bounds {
+  double minX = 0, minY = 0, maxX = -1, maxY = -1;
+  bool valid() const { return minX <= maxX && minY <= maxY; }
+  void merge(const Bounds& b);
+  Bounds dilated(double factor) const;  // about its own centre
+};
+
+// How a picture is fitted to its pixels (Context Free's computeScale).
+struct Fit {
+  double scale = 0;
+  int width = 0, height = 0;  // the fitted block, at most the picture's size
+  Affine toBlock;             // world → the fitted block's pixels (y up)
+};
+Fit fitBounds(const Bounds& bounds, int width, int height, double border, bool exact);
+
+struct ExpandOptions {
+  int width = 500, height = 500;
+  double minimumSize = 0.3;  // pixels; `-x`
+  double border = 2;          // `-b`: -1 … 2
+  uint64_t variation = 1;
+  uint64_t maxShapes = 500'000'000;
+};
+
+struct FinishedShape {
+  int shape = 0;  // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL
+  __cf_State state{};
+  uint64_t order = 0;
+  double boxArea = 0;  // of the stroked outline's box, world units
+};
+
+struct Expansion {
+  std::vector<FinishedShape> shapes;  // in drawing order: z, then the order they were made
+  Bounds bounds;
+  uint64_t expanded = 0;               // rule shapes expanded
+  std::string error;                   // a runtime error that stopped the run ("" if none)
+};
+
+// Expands `design` with `options`. `statics` are its rand_static() values.
+Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics);
+
+// The picture: each shape's transform to pixels (y up, as AGG draws), and which shapes are drawn
+// (those not under the minimum size once the final scale is known).
+struct Framing {
+  int width = 0, height = 0;
+  Fit fit;
+  double offsetX = 0, offsetY = 0;  // the fitted block's place in the picture
+  Affine toPixels;                  // world → picture pixels, y up
+};
+Framing frame(const Expansion& expansion, const ExpandOptions& options);
+bool drawn(const FinishedShape& shape, const Framing& framing, const ExpandOptions& options);
+
+// Context Free's `-V` picture: SVG with each shape's matrix (8 significant digits) and colour.
+std::string svgOf(const Expansion& expansion, const Framing& framing, const ExpandOptions& options);
+
+// Device colour of an HSBA colour (Context Free's HSB → RGB), doubles in [0, 1].
+void rgbOf(const double hsba[4], double rgba[4]);
+
+// The functions compiled designs call, by name, for the JIT to link them.
+std::vector<std::pair<std::string, void*>> hostSymbols();
+
+// The random generator: xorshift64*, its step and a 52-bit double.
+inline uint64_t stepSeed(uint64_t s) {
+  s ^= s >> 12;
+  s ^= s << 25;
+  s ^= s >> 27;
+  return s;
+}
+inline double drawDouble(uint64_t& s) {
+  uint64_t out = s * 2685821657736338717ull;
+  s = stepSeed(s);
+  return double(out & 0xFFFFFFFFFFFFFull) * (1.0 / 4503599627370496.0);
+}
+constexpr uint64_t kSeedBase = 0x3DF41234ABCD330Eull;
+// A variation code as Context Free reads one: a number, or letters in bijective base 26
+// (A = 1, Z = 26, AA = 27 …). 0 when it is neither.
+uint64_t variationOf(const std::string& code);
+std::string variationName(uint64_t variation);
+
+}  // namespace lcjit::runtime::cfdg

@@ -1,0 +1,127 @@
+// The contract between a compiled Context Free design (JIT'd C++ generated from a .cfdg file by
+// frontend/cfdg) and the shape-expansion engine (runtime/cfdg/Expander). The design describes
+// itself with a __cf_Design table; each rule body is a C++ function that replaces its shape by
+// others through __cf_replace; the engine owns the queue of unfinished shapes, the random state
+// and the finished shapes. The generated unit includes only this header (no PCH), so it stays
+// small and quick to parse.
+//
+// Everything a picture depends on to the last bit (the order of products in a transform, the
+// order random numbers are drawn in) is decided by the engine's functions below, so the
+// generated code only says which terms, in which order, with which values.
+#pragma once
+
+#ifdef __cplusplus
+#include <cstdint>
+#else
+#include <stdint.h>
+#endif
+
+enum { __cf_AbiVersion = 1 };
+
+// A shape's state, and what an adjustment changes of it (Context Free's "modification"): the
+// 2-D transform (x' = sx·x + shx·y + tx, y' = shy·x + sy·y + ty), the 1-D z transform, the time
+// interval, the colour (hue, saturation, brightness, alpha) and the colour target, which terms set
+// which colour values (assign), and the blend mode.
+struct __cf_State {
+  double sx, shy, shx, sy, tx, ty;
+  double zsz, ztz;
+  double tsc, tbegin, tend;
+  double colour[4];
+  double target[4];
+  unsigned assign;
+  int blend;
+};
+
+struct __cf_Ctx;
+typedef void (*__cf_Body)(struct __cf_Ctx*, const double* params);
+
+struct __cf_Rule {
+  int shape;
+  double weight;
+  int percent;  // the weight was written with % (a share of the whole, not of the rest)
+  __cf_Body body;
+};
+
+struct __cf_Shape {
+  const char* name;
+  int paramCount;  // numbers in the parameter block (a vector counts its length)
+  int isPath;
+};
+
+struct __cf_Design {
+  int abiVersion;
+  // Shapes 0..3 are the primitives CIRCLE, SQUARE, TRIANGLE, FILL.
+  int shapeCount;
+  const struct __cf_Shape* shapes;
+  int ruleCount;
+  const struct __cf_Rule* rules;  // in file order
+  // Runs the global definitions that are not constant, then starts the start shape.
+  void (*start)(struct __cf_Ctx*);
+  int randStaticCount;  // rand_static() values the engine draws before the run, in parse order
+  int usesColour;       // a sat term appears: the picture is in colour
+  int usesTime;
+};
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+// The engine's state for the body being run. `cur` is the running random state Context Free
+// calls the current seed; the generated code xors constant seeds into it and draws from it
+// through the engine's functions.
+struct __cf_Ctx {
+  uint64_t cur;
+  const struct __cf_State* frame;  // the state children start from (the shape, or a loop's frame)
+  const double* statics;            // rand_static() values
+  void* engine;
+};
+
+uint64_t __cf_step(uint64_t s);
+// One xorshift64* draw from ctx->cur: the low 52 bits of the output scaled to [0, 1).
+double __cf_draw(struct __cf_Ctx* c);
+
+// A fresh identity adjustment.
+void __cf_identity(struct __cf_State* m);
+// shape = `m` applied to `shape` (`m` first): how a folded constant adjustment is applied.
+void __cf_apply(struct __cf_State* shape, const struct __cf_State* m);
+// One constant term merged into an adjustment being folded (`m` starts as __cf_identity): how
+// Context Free folds the constant terms of an adjustment once, before the run.
+void __cf_fold(struct __cf_State* m, int kind, int count, const double* args);
+// One adjustment term applied to a shape (or a loop's frame): `kind` is a __cf_Term.
+void __cf_term(struct __cf_Ctx* c, struct __cf_State* shape, int kind, int count, const double* args);
+
+enum __cf_Term {
+  __cf_X, __cf_Y, __cf_Z, __cf_XYZ, __cf_Transform, __cf_Size, __cf_SizeXYZ, __cf_Rotate, __cf_Skew,
+  __cf_Flip, __cf_ZSize, __cf_Blend, __cf_Hue, __cf_Sat, __cf_Bright, __cf_Alpha, __cf_HueTarg,
+  __cf_SatTarg, __cf_BrightTarg, __cf_AlphaTarg, __cf_TargHue, __cf_TargSat, __cf_TargBright,
+  __cf_TargAlpha, __cf_Time, __cf_TimeScale
+};
+
+// The child `shape` with state `s` and parameters `params` (the shape's paramCount numbers)
+// replaces part of the running shape: queued when it has rules, drawn when it is a primitive.
+void __cf_replace(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params);
+// The start shape: its seed is ctx->cur as it is (no further step).
+void __cf_start(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params);
+
+// Context Free's functions and distributions, with its constants (degrees, truncated factors).
+double __cf_fn1(struct __cf_Ctx* c, int fn, double a);
+double __cf_fn2(struct __cf_Ctx* c, int fn, double a, double b);
+double __cf_rand(struct __cf_Ctx* c, double a, double b);     // rand(a, b), a..b
+double __cf_randpm(struct __cf_Ctx* c, double a, double b);   // a +/- b
+double __cf_randint(struct __cf_Ctx* c, double a, double b);
+double __cf_pow(double a, double b);
+// A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
+void __cf_fail(struct __cf_Ctx* c, const char* message);
+
+enum __cf_Function {
+  __cf_Cos, __cf_Sin, __cf_Tan, __cf_Cot, __cf_Acos, __cf_Asin, __cf_Atan, __cf_Acot, __cf_Cosh,
+  __cf_Sinh, __cf_Tanh, __cf_Acosh, __cf_Asinh, __cf_Atanh, __cf_Log, __cf_Log10, __cf_Sqrt,
+  __cf_Exp, __cf_Abs, __cf_Floor, __cf_Ceiling, __cf_Infinity, __cf_Factorial, __cf_Sg,
+  __cf_IsNatural, __cf_BitNot, __cf_Atan2, __cf_Mod, __cf_Divides, __cf_Div, __cf_Abs2,
+  __cf_BitOr, __cf_BitAnd, __cf_BitXor, __cf_BitLeft, __cf_BitRight, __cf_Min, __cf_Max,
+  __cf_FunctionCount
+};
+
+#ifdef __cplusplus
+}
+#endif

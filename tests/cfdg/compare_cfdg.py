@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Runs Context Free (`cfdg -V`, the oracle, at test time) and lcjit on designs and compares the
+pictures' shape lists: the same shapes in the same order, each with the same fill colour and
+opacity and the same matrix (within what 8 significant digits can say).
+
+usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--expect-fail LIST] DESIGN...
+Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
+import argparse, os, re, subprocess, sys, tempfile
+
+SHAPE = re.compile(r'<(rect|circle|use)\b(.*?)/>', re.S)
+def shapes(svg):
+    out = []
+    for kind, attrs in SHAPE.findall(svg):
+        fill = re.search(r'fill="([^"]*)"', attrs).group(1)
+        op = re.search(r'fill-opacity="([^"]*)"', attrs)
+        m = [float(v) for v in re.search(r'matrix\(([^)]*)\)', attrs).group(1).split()]
+        out.append((kind, fill.lower(), float(op.group(1)) if op else 1.0, m))
+    return out
+
+def close(a, b):
+    return abs(a - b) <= 2e-7 * max(abs(a), abs(b)) + 1e-6
+
+def compare(ref, got):
+    if len(ref) != len(got):
+        return f'{len(got)} shapes, cfdg drew {len(ref)}'
+    for i, (r, g) in enumerate(zip(ref, got)):
+        if r[0] != g[0] or r[1] != g[1] or abs(r[2] - g[2]) > 1e-6:
+            return f'shape {i + 1}: {g[:3]}, cfdg {r[:3]}'
+        if not all(close(x, y) for x, y in zip(r[3], g[3])):
+            return f'shape {i + 1}: matrix {g[3]}, cfdg {r[3]}'
+    return None
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--lcjit', required=True)
+    ap.add_argument('--size', type=int, default=400)
+    ap.add_argument('--variations', default='A,BCD,XYZZY')
+    ap.add_argument('--max-shapes', type=int, default=0)
+    ap.add_argument('designs', nargs='+')
+    a = ap.parse_args()
+    failures = 0
+    work = tempfile.mkdtemp(prefix='cfdg-compare-')
+    for design in a.designs:
+        name = os.path.basename(design)
+        for v in a.variations.split(','):
+            ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
+            for f in (ref_svg, got_svg):
+                if os.path.exists(f): os.remove(f)
+            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v]
+            if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
+            r = subprocess.run(cmd + [design, ref_svg], capture_output=True, text=True)
+            if r.returncode != 0 or not os.path.exists(ref_svg):
+                print(f'{name} {v}: cfdg failed ({r.returncode}): skipped'); continue
+            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v]
+            if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
+            g = subprocess.run(cmd + [design, got_svg], capture_output=True, text=True)
+            if g.returncode != 0:
+                print(f'{name} {v}: lcjit failed: {g.stderr.strip()[:300]}'); failures += 1; break
+            why = compare(shapes(open(ref_svg).read()), shapes(open(got_svg).read()))
+            if why:
+                print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
+            print(f'{name} {v}: equal ({len(shapes(open(ref_svg).read()))} shapes)')
+    return 1 if failures else 0
+
+if __name__ == '__main__':
+    sys.exit(main())
