@@ -27,6 +27,7 @@ packages=(
   parallel  # GNU parallel: lcjit sweep run runs a sweep's tasks with it (and tests/run_sweep.sh)
   imagemagick  # import: tests/run_sandbox_window.sh's screenshots (without it its 7 tests are skipped)
   gdb  # tests/run_debugger.sh: lcjit --debugger under gdb
+  contextfree  # Context Free's cfdg: the oracle of the CFDG tests (tests/cfdg); it brings libagg2
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -38,6 +39,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# AGG, which CFDG pictures are measured and drawn with (runtime/cfdg): Debian 12's libagg-dev
+# conflicts with libagg2, which contextfree needs, so its package is unpacked here, not installed.
+if [ ! -f .deps/agg/usr/include/agg2/agg_basics.h ]; then
+  mkdir -p .deps/agg
+  (cd .deps/agg && rm -f libagg-dev_*.deb && apt-get download -q libagg-dev && dpkg-deb -x libagg-dev_*.deb . && rm -f libagg-dev_*.deb)
 fi
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
