@@ -5,7 +5,11 @@
 #include "frontend/cfdg/Parser.h"
 
 #include <cstdlib>
+#include <filesystem>
 #include <map>
+#include <set>
+
+#include "support/InputFile.h"
 
 namespace lcjit::frontend::cfdg {
 
@@ -27,21 +31,45 @@ struct ParseError {
   std::string message;
 };
 
+// Where an imported design is found: beside the design that imports it, else among Context
+// Free's own examples (which Context Free builds in: designs import them by name).
+constexpr const char* kContextFreeExamples = "/usr/share/doc/contextfree/examples";
+
 class Parser {
  public:
-  Parser(std::vector<Token> tokens, const std::string& file) : t_(std::move(tokens)), file_(file) {}
+  Parser(std::vector<Token> tokens, const std::string& file, std::set<std::string>& open)
+      : t_(std::move(tokens)), file_(file), open_(open) {}
 
-  Design parse() {
-    Design d;
-    d.file = file_;
+  void parseInto(Design& d, bool imported) {
+    imported_ = imported;
     while (peek().kind != Tok::End) statement(d);
-    return d;
   }
 
  private:
   std::vector<Token> t_;
   size_t i_ = 0;
   std::string file_;
+  std::set<std::string>& open_;  // the files being read (an import of one of them is skipped)
+  bool imported_ = false;
+  std::string current_;  // the shape the rules being read belong to
+
+  void importFile(const Token& name, Design& d) {
+    namespace fs = std::filesystem;
+    fs::path beside = fs::path(file_).parent_path() / name.text;
+    fs::path path = fs::exists(beside) ? beside : fs::path(kContextFreeExamples) / fs::path(name.text).filename();
+    std::string key = fs::weakly_canonical(path).string();
+    if (open_.count(key)) return;
+    auto text = support::readInputFile(path.string(), /*nullTerminated=*/false);
+    if (!text) fail(name.at, "cannot read " + name.text + ": " + text.getError().message());
+    auto tokens = tokenize((*text)->getBuffer(), path.string());
+    if (!tokens) {
+      std::string message = llvm::toString(tokens.takeError());
+      fail(name.at, "in " + name.text + ": " + message);
+    }
+    open_.insert(key);
+    Parser inner(std::move(*tokens), path.string(), open_);
+    inner.parseInto(d, true);
+  }
 
   const Token& peek(size_t k = 0) const { return t_[std::min(i_ + k, t_.size() - 1)]; }
   Token next() { return t_[i_ < t_.size() - 1 ? i_++ : i_]; }
@@ -80,6 +108,11 @@ class Parser {
     if (t.text == "startshape") {
       next();
       Token name = expectName("a shape name after startshape");
+      if (imported_ && !d.startShape.empty()) {  // the importing design's start shape counts
+        if (is("(")) argList(nullptr);
+        if (is("[")) modification();
+        return;
+      }
       d.startShape = name.text;
       d.startAt = name.at;
       if (is("(")) d.startArgs = argList(nullptr);
@@ -94,7 +127,9 @@ class Parser {
       if (accept("@")) expectName("a namespace");
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String) unexpected("a file name");
-      d.imports.push_back(next().text);
+      Token name = next();
+      d.imports.push_back(name.text);
+      importFile(name, d);
       return;
     }
     if (t.text == "shape") {
@@ -104,17 +139,26 @@ class Parser {
       s.name = name.text;
       s.at = name.at;
       if (is("(")) s.params = params();
-      d.shapes.push_back(std::move(s));
+      // A shape declared again takes more rules (its parameters must be the same).
+      size_t existing = 0;
+      while (existing < d.shapes.size() && d.shapes[existing].name != s.name) ++existing;
+      if (existing < d.shapes.size()) {
+        if (d.shapes[existing].params.size() != s.params.size())
+          fail(s.at, "shape '" + s.name + "' is declared again with other parameters");
+      } else {
+        d.shapes.push_back(std::move(s));
+      }
+      current_ = d.shapes[existing].name;  // the rules that follow are its
       if (is("{")) {
         Rule r;
-        r.shape = d.shapes.back().name;
+        r.shape = current_;
         r.at = peek().at;
         r.body = block();
         d.rules.push_back(std::move(r));
       } else {
         while (is("rule")) {
           Rule r;
-          r.shape = d.shapes.back().name;
+          r.shape = current_;
           r.at = next().at;
           if (peek().kind == Tok::Number) weight(next(), r);
           r.body = block();
@@ -124,10 +168,10 @@ class Parser {
       return;
     }
     if (t.text == "rule") {
-      if (d.shapes.empty()) fail(t.at, "a rule must follow a shape declaration");
+      if (current_.empty()) fail(t.at, "a rule must follow a shape declaration");
       next();
       Rule r;
-      r.shape = d.shapes.back().name;
+      r.shape = current_;
       r.at = t.at;
       if (peek().kind == Tok::Number) weight(next(), r);
       r.body = block();
@@ -468,21 +512,24 @@ class Parser {
     return base;
   }
   // The argument of an adjustment term: no bare binary operators.
+  // Signs bind tighter than `..` and `+/-`: `-15..15` is (-15)..15.
   ExprP adjArg() {
-    ExprP e;
+    ExprP e = signedPrimary();
+    while (is("..") || is("+/-")) {
+      std::string op = next().text;
+      e = binary(op, std::move(e), signedPrimary());
+    }
+    return e;
+  }
+  ExprP signedPrimary() {
     if (peek().kind == Tok::Punct && (is("-") || is("+"))) {
       Place at = peek().at;
       std::string op = next().text;
-      e = make(Expr::Unary, at, op);
-      e->args.push_back(adjArg());
+      ExprP e = make(Expr::Unary, at, op);
+      e->args.push_back(signedPrimary());
       return e;
     }
-    e = primary();
-    if (is("..") || is("+/-")) {
-      std::string op = next().text;
-      e = binary(op, std::move(e), adjArg());
-    }
-    return e;
+    return primary();
   }
 
   ExprP primary() {
@@ -547,8 +594,12 @@ llvm::Expected<Design> parseDesign(std::string_view source, const std::string& f
   auto tokens = tokenize(source, file);
   if (!tokens) return tokens.takeError();
   try {
-    Parser p(std::move(*tokens), file);
-    return p.parse();
+    std::set<std::string> open = {std::filesystem::weakly_canonical(file).string()};
+    Parser p(std::move(*tokens), file, open);
+    Design d;
+    d.file = file;
+    p.parseInto(d, false);
+    return d;
   } catch (ParseError& e) {
     return llvm::createStringError(file + ":" + std::to_string(e.at.line) + ":" + std::to_string(e.at.column) +
                                    ": error: " + e.message);
