@@ -42,7 +42,9 @@ class Parser {
 
   void parseInto(Design& d, bool imported) {
     imported_ = imported;
-    while (peek().kind != Tok::End) statement(d);
+    v2_ = isVersion2();
+    if (!imported) d.version = v2_ ? 2 : 3;
+    while (peek().kind != Tok::End) v2_ ? statement2(d) : statement(d);
   }
 
  private:
@@ -52,6 +54,127 @@ class Parser {
   std::set<std::string>& open_;  // the files being read (an import of one of them is skipped)
   bool imported_ = false;
   std::string current_;  // the shape the rules being read belong to
+  bool v2_ = false;      // CFDG 2, the older syntax
+
+  // CFDG 2 writes `rule NAME {`; CFDG 3 declares shapes with `shape NAME`.
+  bool isVersion2() const {
+    for (size_t k = 0; k + 2 < t_.size(); ++k) {
+      const Token& t = t_[k];
+      if (t.kind == Tok::Name && t.text == "shape" && (k == 0 || t_[k - 1].text == "}" || t_[k - 1].kind != Tok::Name))
+        return false;
+      if (t.kind == Tok::Name && t.text == "rule" && t_[k + 1].kind == Tok::Name &&
+          (t_[k + 2].text == "{" || t_[k + 2].kind == Tok::Number))
+        return true;
+    }
+    return false;
+  }
+
+  // ---- CFDG 2 ----
+  void statement2(Design& d) {
+    const Token& t = peek();
+    if (t.kind != Tok::Name) unexpected("startshape, rule, path, include or background");
+    if (t.text == "startshape") {
+      next();
+      Token name = expectName("a shape name after startshape");
+      if (imported_ && !d.startShape.empty()) return;
+      d.startShape = name.text;
+      d.startAt = name.at;
+      return;
+    }
+    if (t.text == "include" || t.text == "import") {
+      next();
+      const Token& f = peek();
+      if (f.kind != Tok::FileName && f.kind != Tok::String && f.kind != Tok::Name) unexpected("a file name");
+      Token name = next();
+      d.imports.push_back(name.text);
+      importFile(name, d);
+      return;
+    }
+    if (t.text == "background" || t.text == "tile" || t.text == "size" || t.text == "s" || t.text == "time") {
+      Token word = next();
+      Definition def;
+      def.name = word.text == "background" ? "CF::Background" : word.text == "tile" ? "CF::Tile"
+                 : word.text == "time" ? "CF::Time" : "CF::Size";
+      def.at = word.at;
+      def.config = true;
+      auto e = make(Expr::Modification, peek().at);
+      e->adjustment = std::make_shared<Adjustment>(modification2());
+      def.value = std::move(e);
+      d.definitions.push_back(std::move(def));
+      return;
+    }
+    if (t.text == "rule") {
+      next();
+      Token name = expectName("a shape name after rule");
+      size_t existing = 0;
+      while (existing < d.shapes.size() && d.shapes[existing].name != name.text) ++existing;
+      if (existing == d.shapes.size()) {
+        ShapeDecl s;
+        s.name = name.text;
+        s.at = name.at;
+        d.shapes.push_back(std::move(s));
+      }
+      Rule r;
+      r.shape = name.text;
+      r.at = t.at;
+      if (peek().kind == Tok::Number) weight(next(), r);
+      expect("{");
+      while (!accept("}")) {
+        if (peek().kind == Tok::End) unexpected("'}'");
+        r.body.push_back(replacement2());
+      }
+      d.rules.push_back(std::move(r));
+      return;
+    }
+    if (t.text == "path") fail(t.at, "paths are not supported by lcjit yet");
+    unexpected("startshape, rule, path, include or background");
+  }
+
+  // NAME {adj} | NAME [adj] | N * {adj} body
+  std::unique_ptr<Element> replacement2() {
+    auto e = std::make_unique<Element>();
+    e->at = peek().at;
+    if (peek().kind == Tok::Number) {
+      Token count = next();
+      expect("*");
+      e->kind = Element::Loop;
+      e->v2Loop = true;
+      e->v2Count = count.text;
+      e->value = make(Expr::Number, count.at, count.text);
+      e->adjustment = modification2();
+      if (accept("{")) {
+        while (!accept("}")) {
+          if (peek().kind == Tok::End) unexpected("'}'");
+          e->body.push_back(replacement2());
+        }
+      } else {
+        e->body.push_back(replacement2());
+      }
+      return e;
+    }
+    e->kind = Element::Replace;
+    Token name = expectName("a shape name");
+    e->shape = name.text;
+    e->shapeAt = name.at;
+    e->adjustment = modification2();
+    return e;
+  }
+
+  // { … } in canonical order, [ … ] as written.
+  Adjustment modification2() {
+    Adjustment a;
+    a.at = peek().at;
+    if (accept("{")) {
+      terms(a, "}");
+      expect("}");
+      return a;
+    }
+    expect("[");
+    a.ordered = true;
+    terms(a, "]");
+    expect("]");
+    return a;
+  }
 
   void importFile(const Token& name, Design& d) {
     namespace fs = std::filesystem;

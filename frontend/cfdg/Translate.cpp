@@ -79,7 +79,8 @@ class Translator {
   std::map<std::string, Binding> globals_;
   int temp_ = 0;
   int statics_ = 0;
-  bool usesSat_ = false;  // a sat term: the picture is in colour
+  bool usesSat_ = false;
+  const Expr* background_ = nullptr;  // a sat term: the picture is in colour
   std::string code_;  // the body being written
   int indent_ = 1;
 
@@ -510,23 +511,26 @@ class Translator {
     return kEnum.at(k);
   }
 
+  // Canonical order: colour, time and blend terms first as written, then x y z r s zsize skew f
+  // trans; of two terms of one of these kinds the last one counts.
+  static std::vector<PreparedTerm> canonical(std::vector<PreparedTerm> terms) {
+    std::vector<PreparedTerm> front, geometric;
+    for (auto& t : terms) (canonicalRank(t.kind) < 0 ? front : geometric).push_back(std::move(t));
+    std::stable_sort(geometric.begin(), geometric.end(),
+                     [](const PreparedTerm& x, const PreparedTerm& y) { return canonicalRank(x.kind) < canonicalRank(y.kind); });
+    std::vector<PreparedTerm> unique;
+    for (size_t k = 0; k < geometric.size(); ++k)
+      if (k + 1 == geometric.size() || geometric[k + 1].kind != geometric[k].kind) unique.push_back(std::move(geometric[k]));
+    terms = std::move(front);
+    for (auto& t : unique) terms.push_back(std::move(t));
+    return terms;
+  }
+
   // Writes code that applies adjustment `a` (already prepared) to the state named `state`:
   // the terms Context Free folds at parse time are merged into one constant adjustment applied
   // first, the others applied one by one, in order, as it does at run time.
   void applyAdjustment(const Adjustment& a, std::vector<PreparedTerm> terms, const std::string& state) {
-    if (!a.ordered) {
-      // Canonical order: colour, time and blend terms first as written, then x y z r s zsize
-      // skew f trans; of two terms of one of these kinds the last one counts.
-      std::vector<PreparedTerm> front, geometric;
-      for (auto& t : terms) (canonicalRank(t.kind) < 0 ? front : geometric).push_back(std::move(t));
-      std::stable_sort(geometric.begin(), geometric.end(),
-                       [](const PreparedTerm& x, const PreparedTerm& y) { return canonicalRank(x.kind) < canonicalRank(y.kind); });
-      std::vector<PreparedTerm> unique;
-      for (size_t k = 0; k < geometric.size(); ++k)
-        if (k + 1 == geometric.size() || geometric[k + 1].kind != geometric[k].kind) unique.push_back(std::move(geometric[k]));
-      terms = std::move(front);
-      for (auto& t : unique) terms.push_back(std::move(t));
-    }
+    if (!a.ordered) terms = canonical(std::move(terms));
     int nonConstant = 0;
     std::string folded = temp();
     bool anyFolded = false;
@@ -746,6 +750,9 @@ class Translator {
     auto terms = prepare(e.adjustment);
     std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : e.name;
     uint64_t seed = seedOf(kSeedBase, indexName + bytes(*e.value)) ^ seedOf(kSeedBase, adjustmentBytes(terms));
+    if (e.v2Loop)  // CFDG 2: the terms' bytes twice (as written, then in the order they apply), then the count
+      seed = seedOf(0, adjustmentBytes(terms) + adjustmentBytes(e.adjustment.ordered ? terms : canonical(terms)) +
+                           "~~inaccessiblevar~~" + e.v2Count);
     line("{");
     ++indent_;
     line("c->cur ^= " + hex64(seed) + ";");
@@ -803,6 +810,10 @@ Translation Translator::run() {
 
   // Globals and functions, in file order.
   for (const auto& def : d_.definitions) {
+    if (def.config && def.name == "CF::Background") {
+      background_ = def.value.get();  // the picture's background: drawn by the canvas
+      continue;
+    }
     if (def.config) {
       // Settings are constants read at translation time.
       if (def.value->kind != Expr::Number && !(def.value->kind == Expr::Unary && def.value->args[0]->kind == Expr::Number))
