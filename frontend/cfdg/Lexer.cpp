@@ -2,6 +2,7 @@
 #include "frontend/cfdg/Lexer.h"
 
 #include <cctype>
+#include <cstring>
 
 namespace lcjit::frontend::cfdg {
 namespace {
@@ -56,14 +57,15 @@ llvm::Expected<std::vector<Token>> tokenize(std::string_view src, const std::str
       continue;
     }
     if (c == '/' && i + 1 < src.size() && src[i + 1] == '*') {
-      size_t start = i;
+      Place start = place(i);
       i += 2;
       while (i + 1 < src.size() && !(src[i] == '*' && src[i + 1] == '/')) {
         if (src[i] == '\n') newline(i + 1);
         ++i;
       }
       if (i + 1 >= src.size())
-        return error(start, "unterminated comment");
+        return llvm::createStringError(file + ":" + std::to_string(start.line) + ":" + std::to_string(start.column) +
+                                       ": error: unterminated comment");
       i += 2;
       space = true;
       continue;

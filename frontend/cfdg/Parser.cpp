@@ -543,12 +543,13 @@ class Parser {
         next();
         targetWord = true;
       }
+      if (peek().kind != Tok::Name) unexpected("an adjustment or '" + std::string(close) + "'");
       Token w = next();
-      std::string word = w.kind == Tok::Name ? adjustmentWord(w.text) : "";
+      std::string word = adjustmentWord(w.text);
       if (word.empty()) fail(w.at, "'" + w.text + "' is not an adjustment (x, y, z, s, r, f, skew, trans, h, sat, b, a, blend, time)");
       term.word = targetWord ? "|" + word : word;
       term.args.push_back(adjArg());
-      while (!is(close) && !startsTerm()) {
+      while (!is(close) && !startsTerm() && (startsExpression() || is("|"))) {
         if (is("|")) {
           next();
           term.targetForm = true;
@@ -559,9 +560,19 @@ class Parser {
       a.terms.push_back(std::move(term));
     }
   }
+  bool startsExpression() const {
+    const Token& t = peek();
+    if (t.kind == Tok::Number || t.kind == Tok::Name || t.kind == Tok::ArrayName) return true;
+    return t.kind == Tok::Punct && (t.text == "(" || t.text == "-" || t.text == "+" || t.text == "[");
+  }
   bool startsTerm() const {
     const Token& t = peek();
-    if (t.kind == Tok::Punct && t.text == "|") return peek(1).kind == Tok::Name && !adjustmentWord(peek(1).text).empty();
+    // `|b` (no space) is a target colour word; `b 0.5| b 0.2` ends a target form.
+    if (t.kind == Tok::Punct && t.text == "|") {
+      const Token& w = peek(1);
+      std::string word = w.kind == Tok::Name && !w.spaceBefore ? adjustmentWord(w.text) : "";
+      return word == "h" || word == "sat" || word == "b" || word == "a";
+    }
     return t.kind == Tok::Name && !adjustmentWord(t.text).empty() && !(peek(1).kind == Tok::Punct && peek(1).text == "(");
   }
 

@@ -508,7 +508,9 @@ class Translator {
         {"sat", "__cf_Sat"}, {"b", "__cf_Bright"}, {"a", "__cf_Alpha"}, {"|h", "__cf_TargHue"},
         {"|sat", "__cf_TargSat"}, {"|b", "__cf_TargBright"}, {"|a", "__cf_TargAlpha"},
         {"time", "__cf_Time"}, {"timescale", "__cf_TimeScale"}};
-    return kEnum.at(k);
+    auto it = kEnum.find(k);
+    if (it == kEnum.end()) fail(t.at, "the adjustment '" + k + (t.targetForm ? "|" : "") + "' is not supported by lcjit yet");
+    return it->second;
   }
 
   // Canonical order: colour, time and blend terms first as written, then x y z r s zsize skew f
@@ -534,6 +536,7 @@ class Translator {
     int nonConstant = 0;
     std::string folded = temp();
     bool anyFolded = false;
+    bool literalsOnly = true;
     unsigned colourSet = 0;  // channels the folded part sets (a second one waits for run time)
     std::vector<std::pair<const PreparedTerm*, Value>> runtime;
     std::string foldCode;
@@ -566,14 +569,19 @@ class Translator {
       if (t.kind == "h" && v.parts.size() > 2)
         for (size_t k = 1; k < v.parts.size(); ++k) colourSet |= 1u << k;
       std::string args = "{";
-      for (auto& p : v.parts) args += p + ", ";
+      for (auto& p : v.parts) {
+        args += p + ", ";
+        if (p.rfind("(0x", 0) != 0 && p.rfind("(-0x", 0) != 0) literalsOnly = false;
+      }
       args += "0}";
       foldCode += "{ const double _a[] = " + args + "; __cf_fold(&m, " + termEnum(t) + ", " +
                   std::to_string(v.parts.size()) + ", _a); } ";
       anyFolded = true;
     }
     if (anyFolded) {
-      line("static const __cf_State " + folded + " = []{ __cf_State m; __cf_identity(&m); " + foldCode + "return m; }();");
+      // Folded once when its values are literals; else (constant names of the body) each time.
+      line(std::string(literalsOnly ? "static " : "") + "const __cf_State " + folded + " = [&]{ __cf_State m; __cf_identity(&m); " +
+           foldCode + "return m; }();");
       line("__cf_apply(&" + state + ", &" + folded + ");");
     }
     for (auto& [t, v] : runtime) {

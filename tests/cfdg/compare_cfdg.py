@@ -3,7 +3,7 @@
 pictures' shape lists: the same shapes in the same order, each with the same fill colour and
 opacity and the same matrix (within what 8 significant digits can say).
 
-usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--expect-fail LIST] DESIGN...
+usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--list FILE] DESIGN...
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
 
@@ -36,8 +36,13 @@ def main():
     ap.add_argument('--size', type=int, default=400)
     ap.add_argument('--variations', default='A,BCD,XYZZY')
     ap.add_argument('--max-shapes', type=int, default=0)
-    ap.add_argument('designs', nargs='+')
+    ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
+    ap.add_argument('designs', nargs='*')
     a = ap.parse_args()
+    if a.list:
+        for line in open(a.list):
+            line = line.split('#')[0].strip()
+            if line: a.designs.append(line)
     failures = 0
     work = tempfile.mkdtemp(prefix='cfdg-compare-')
     for design in a.designs:

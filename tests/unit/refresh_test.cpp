@@ -97,7 +97,7 @@ TEST(FileKinds, SetsAndTheCommandLine) {
   EXPECT_FALSE(inputExtensionOf("bark.png")->commandLine);
   EXPECT_EQ(inputExtensionOf("notes.txt"), nullptr);
   const std::string list = commandLineExtensions();
-  EXPECT_EQ(list.rfind(".l, .a, .v, ", 0), 0u) << list;
+  EXPECT_EQ(list.rfind(".l, .cfdg, .a, .v, ", 0), 0u) << list;  // every language's model files first
   EXPECT_NE(list.find(", .fset, .tset or .vset"), std::string::npos) << list;
   EXPECT_EQ(list.find(".png"), std::string::npos) << list;
 }
