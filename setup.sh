@@ -27,6 +27,7 @@ packages=(
   parallel  # GNU parallel: lcjit sweep run runs a sweep's tasks with it (and tests/run_sweep.sh)
   imagemagick  # import: tests/run_sandbox_window.sh's screenshots (without it its 7 tests are skipped)
   gdb  # tests/run_debugger.sh: lcjit --debugger under gdb
+  contextfree  # Context Free's cfdg, the oracle of the CFDG tests; it also brings libagg2 (AGG 2.6.1)
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -38,6 +39,15 @@ if [ ${#missing[@]} -gt 0 ]; then
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# CFDG pictures are drawn with AGG, the library cfdg draws with (docs/cfdg.md). Debian 12's
+# libagg-dev conflicts with libagg2, which contextfree needs, so it is not installed: its headers
+# and static library are taken from its package, unpacked into .deps/agg (CMake's LCJIT_AGG_ROOT).
+if [ ! -f .deps/agg/usr/include/agg2/agg_basics.h ]; then
+  echo "setup: unpacking libagg-dev into .deps/agg"
+  mkdir -p .deps/agg
+  (cd .deps/agg && apt-get download libagg-dev && dpkg-deb -x libagg-dev_*.deb . && rm -f libagg-dev_*.deb)
 fi
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null

@@ -1,0 +1,291 @@
+// The CFDG canvas (runtime/cfdg/Canvas.h) against Context Free's own cfdg, run here as the oracle:
+// small designs whose shapes' pixel transforms follow by hand from Context Free's rules (the
+// adjustment matrices, the stroked bounds of the unit shapes, the fit with its 8-pixel border and
+// ×2 dilation), drawn by the canvas and by cfdg, their PNGs decoded and compared pixel for pixel.
+// Skipped where /usr/bin/cfdg is not installed (setup.sh installs the contextfree package).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <llvm/Support/FileSystem.h>
+#include <llvm/Support/Program.h>
+
+#include "runtime/cfdg/Canvas.h"
+#include "runtime/files/Images.h"
+
+using namespace lcjit::runtime;
+using namespace lcjit::runtime::cfdg;
+
+namespace {
+
+const char* const kCfdg = "/usr/bin/cfdg";
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- The engine's part, by hand ----
+
+// Adjustment terms, in the canonical order cfdg applies them (x, y, r, s): each is put before
+// what the earlier ones built ("premultiply"), so a shape is sized, then rotated, then moved.
+struct Adjust {
+  double x = 0, y = 0, r = 0, sx = 1, sy = 1;
+  Affine matrix() const {
+    Affine a;
+    if (x != 0 || y != 0) a.premultiply(Affine::translation(x, y));
+    if (r != 0) {
+      const double t = r * kPi / 180;
+      a.premultiply(Affine{std::cos(t), std::sin(t), -std::sin(t), std::cos(t), 0, 0});
+    }
+    if (sx != 1 || sy != 1) a.premultiply(Affine::scaling(sx, sy));
+    return a;
+  }
+};
+
+// Context Free's HSB to RGB (hue in degrees), for the colours of the designs below.
+Rgba hsb(double h, double s, double b, double a = 1) {
+  double whole;
+  double f = std::modf(h / 60, &whole);
+  if (whole <= -0.1 || whole >= 5.1 || f < 0) {
+    double q = std::fmod(h / 60, 6);
+    if (q < 0) q += 6;
+    f = std::modf(q, &whole);
+  }
+  const int hextant = int(whole + 0.5);
+  const double p = b * (1 - s), q = b * (1 - s * f), t = b * (1 - s * (1 - f));
+  switch (hextant) {
+    case 0: return {b, t, p, a};
+    case 1: return {q, b, p, a};
+    case 2: return {p, b, t, a};
+    case 3: return {p, q, b, a};
+    case 4: return {t, p, b, a};
+    default: return {b, p, q, a};
+  }
+}
+
+struct Shape {
+  Primitive primitive;
+  Affine world;
+  Rgba colour;
+  int blend = kBlendSourceOver;
+};
+
+// The corners of the unit shape's outline stroked 0.1 wide with miter joins, which is what
+// cfdg measures a shape's bounds by: the square grows to ±0.55, the circle (an octagon there) to
+// radius 0.5 + 0.05 / cos 22.5° at its vertices, each triangle corner moves 0.1 away from the
+// centroid.
+std::vector<std::pair<double, double>> outline(Primitive p) {
+  std::vector<std::pair<double, double>> v;
+  if (p == Primitive::Square) return {{0.55, 0.55}, {-0.55, 0.55}, {-0.55, -0.55}, {0.55, -0.55}};
+  if (p == Primitive::Circle) {
+    const double r = 0.5 + 0.05 / std::cos(kPi / 8);
+    for (int k = 0; k < 8; ++k) v.push_back({r * std::cos(k * kPi / 4), r * std::sin(k * kPi / 4)});
+    return v;
+  }
+  const double h = 0.5 / std::cos(kPi / 6);
+  for (auto [x, y] : {std::pair{0.0, h}, {-0.5, -h / 2}, {0.5, -h / 2}}) {
+    const double d = std::sqrt(x * x + y * y);
+    v.push_back({x + 0.1 * x / d, y + 0.1 * y / d});
+  }
+  return v;
+}
+
+// The fit of an untiled design W×H with the default border (-b 2): each shape's box dilated ×2
+// about its centre, the union scaled into the image less 8 pixels each side, the fitted block
+// (the other side's length rounded, of the image's parity) centred at an integer offset. Returns
+// each shape's transform into AGG pixels (y up).
+std::vector<CanvasShape> fit(const std::vector<Shape>& shapes, int W, int H) {
+  double x1 = std::numeric_limits<double>::infinity(), y1 = x1, x2 = -x1, y2 = -x1;
+  for (const Shape& s : shapes) {
+    if (s.primitive == Primitive::Fill) continue;
+    double bx1 = std::numeric_limits<double>::infinity(), by1 = bx1, bx2 = -bx1, by2 = -bx1;
+    for (auto [x, y] : outline(s.primitive)) {
+      s.world.apply(x, y);
+      bx1 = std::min(bx1, x), bx2 = std::max(bx2, x), by1 = std::min(by1, y), by2 = std::max(by2, y);
+    }
+    const double cx = (bx1 + bx2) / 2, cy = (by1 + by2) / 2, hw = (bx2 - bx1) / 2 * 2, hh = (by2 - by1) / 2 * 2;
+    x1 = std::min(x1, cx - hw), x2 = std::max(x2, cx + hw), y1 = std::min(y1, cy - hh), y2 = std::max(y2, cy + hh);
+  }
+  const double border = 8, vw = x2 - x1, vh = y2 - y1, tw = W - 2 * border, th = H - 2 * border;
+  double scale;
+  int newW = W, newH = H;
+  if (vw / tw > vh / th) {
+    scale = tw / vw;
+    newH = int(std::floor(scale * vh + 2 * border + 0.5));
+    newH += (newH ^ H) & 1;
+  } else {
+    scale = th / vh;
+    newW = int(std::floor(scale * vw + 2 * border + 0.5));
+    newW += (newW ^ W) & 1;
+  }
+  Affine frame = Affine::scaling(scale, scale);
+  frame.multiply(Affine::translation(-(scale * (x1 + x2) / 2 - newW / 2.0), -(scale * (y1 + y2) / 2 - newH / 2.0)));
+  frame.multiply(Affine::translation((W - newW) / 2, (H - newH) / 2));
+  std::vector<CanvasShape> out;
+  for (const Shape& s : shapes) {
+    Affine m = s.world;
+    m.multiply(frame);
+    out.push_back({s.primitive, m, s.colour, s.blend});
+  }
+  return out;
+}
+
+// ---- Running both ----
+
+struct Case {
+  std::string design;  // the .cfdg text; its start shape's variation is fixed (-v A)
+  int width, height;
+  PixelFormat format;
+  Rgba background;
+  std::vector<Shape> shapes;
+};
+
+class CfdgCanvas : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!llvm::sys::fs::can_execute(kCfdg)) GTEST_SKIP() << kCfdg << " (Context Free) is not installed";
+    llvm::SmallString<128> d;
+    ASSERT_FALSE(llvm::sys::fs::createUniqueDirectory("lcjit-cfdg-canvas", d));
+    dir_ = std::string(d);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) llvm::sys::fs::remove_directories(dir_);
+  }
+
+  // Draws `c` with the canvas and with cfdg; expects the same decoded pixels and PNG channels.
+  void expectSameAsCfdg(const Case& c, const std::string& name) {
+    const std::string design = dir_ + "/" + name + ".cfdg", theirs = dir_ + "/" + name + ".cfdg.png",
+                      ours = dir_ + "/" + name + ".png";
+    std::ofstream(design) << c.design;
+    const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
+    std::string error;
+    const int rc = llvm::sys::ExecuteAndWait(kCfdg, {kCfdg, "-q", "-s", size, "-v", "A", design, theirs}, std::nullopt,
+                                             {}, 60, 0, &error);
+    ASSERT_EQ(rc, 0) << "cfdg failed on " << name << ": " << error;
+    Canvas canvas(c.width, c.height, c.format, c.background);
+    for (const CanvasShape& s : fit(c.shapes, c.width, c.height)) canvas.draw(s);
+    ASSERT_FALSE(bool(writePng(canvas, ours)));
+    auto a = loadImage(ours), b = loadImage(theirs);
+    ASSERT_TRUE(bool(a)) << llvm::toString(a.takeError());
+    ASSERT_TRUE(bool(b)) << llvm::toString(b.takeError());
+    ASSERT_EQ(a->width, b->width);
+    ASSERT_EQ(a->height, b->height);
+    EXPECT_EQ(a->fileChannels, b->fileChannels) << name << ": PNG colour type";
+    size_t differ = 0, first = a->rgba.size();
+    int worst = 0;
+    for (size_t i = 0; i < a->rgba.size(); ++i)
+      if (a->rgba[i] != b->rgba[i]) {
+        ++differ;
+        first = std::min(first, i);
+        worst = std::max(worst, std::abs(int(a->rgba[i]) - int(b->rgba[i])));
+      }
+    EXPECT_EQ(differ, 0u) << name << ": " << differ << " channel values differ from cfdg's (largest by " << worst
+                          << "), the first at pixel " << (first / 4) % a->width << "," << (first / 4) / a->width;
+  }
+
+  std::string dir_;
+};
+
+const Rgba kWhite{1, 1, 1, 1};
+const Rgba kBlack{0, 0, 0, 1};
+
+TEST_F(CfdgCanvas, LoneSquare) {
+  // Bounds ±1.1, scale 484/2.2 = 220: a 222-pixel square (grown 0.8) at the centre, grey PNG.
+  const Case c{"startshape A\nshape A { SQUARE [] }\n", 500, 500, PixelFormat::Gray8, kWhite,
+               {{Primitive::Square, {}, kBlack}}};
+  expectSameAsCfdg(c, "square");
+  // Not square: the fitted block is centred at an integer offset, its height of the image's parity.
+  Case wide = c;
+  wide.width = 301, wide.height = 157;
+  expectSameAsCfdg(wide, "square_wide");
+}
+
+TEST_F(CfdgCanvas, ColouredShapes) {
+  // RGB (the design uses sat); h 30 sat 0.8 b 0.6 is #995C1F.
+  const Case c{"startshape A\nshape A {\n SQUARE [h 30 sat 0.8 b 0.6]\n SQUARE [x 0.3 y -0.2 r 45 s 0.4 b 0.9 h 200 sat 1]\n"
+               " SQUARE [r 90 s 0.5 0.1 b 0.3]\n}\n",
+               333, 280, PixelFormat::Rgb8, kWhite,
+               {{Primitive::Square, {}, hsb(30, 0.8, 0.6)},
+                {Primitive::Square, Adjust{0.3, -0.2, 45, 0.4, 0.4}.matrix(), hsb(200, 1, 0.9)},
+                {Primitive::Square, Adjust{0, 0, 90, 0.5, 0.1}.matrix(), hsb(0, 0, 0.3)}}};
+  expectSameAsCfdg(c, "coloured");
+}
+
+TEST_F(CfdgCanvas, Circles) {
+  // A large square sets the frame (scale 484/4.4 = 110); circles of 110, 33, 4.4 and 1.1 pixels
+  // (vertex counts 64, 24, 16 and 8; the last two below 5 pixels, grown as a 5-pixel one).
+  const Case c{"startshape A\nshape A {\n SQUARE [s 2 b 0.8]\n CIRCLE []\n CIRCLE [x 0.7 y 0.6 s 0.3 b 0.5]\n"
+               " CIRCLE [x -0.7 y 0.6 s 0.04 b 0.2]\n CIRCLE [x -0.7 y -0.6 s 0.01]\n CIRCLE [x 0.5 y -0.5 s 0.6 0.2 r 30 b 1]\n}\n",
+               500, 500, PixelFormat::Gray8, kWhite,
+               {{Primitive::Square, Adjust{0, 0, 0, 2, 2}.matrix(), hsb(0, 0, 0.8)},
+                {Primitive::Circle, {}, kBlack},
+                {Primitive::Circle, Adjust{0.7, 0.6, 0, 0.3, 0.3}.matrix(), hsb(0, 0, 0.5)},
+                {Primitive::Circle, Adjust{-0.7, 0.6, 0, 0.04, 0.04}.matrix(), hsb(0, 0, 0.2)},
+                {Primitive::Circle, Adjust{-0.7, -0.6, 0, 0.01, 0.01}.matrix(), kBlack},
+                {Primitive::Circle, Adjust{0.5, -0.5, 30, 0.6, 0.2}.matrix(), kWhite}}};
+  expectSameAsCfdg(c, "circles");
+}
+
+TEST_F(CfdgCanvas, LoneCircleAndTriangle) {
+  // Framed by their own stroked bounds (radius 0.5 + 0.05/cos 22.5°; corners pushed out 0.1).
+  expectSameAsCfdg({"startshape A\nshape A { CIRCLE [] }\n", 400, 300, PixelFormat::Gray8, kWhite,
+                    {{Primitive::Circle, {}, kBlack}}},
+                   "circle");
+  expectSameAsCfdg({"startshape A\nshape A { TRIANGLE [] }\n", 300, 400, PixelFormat::Gray8, kWhite,
+                    {{Primitive::Triangle, {}, kBlack}}},
+                   "triangle");
+}
+
+TEST_F(CfdgCanvas, Triangles) {
+  const Case c{"startshape A\nshape A {\n SQUARE [s 2 b 0.9]\n TRIANGLE [r 45 b 0.3]\n TRIANGLE [x 0.6 y 0.6 r -90 s 0.5 0.2]\n"
+               " TRIANGLE [x -0.6 y -0.6 s 0.03 b 0.5]\n}\n",
+               400, 400, PixelFormat::Gray8, kWhite,
+               {{Primitive::Square, Adjust{0, 0, 0, 2, 2}.matrix(), hsb(0, 0, 0.9)},
+                {Primitive::Triangle, Adjust{0, 0, 45}.matrix(), hsb(0, 0, 0.3)},
+                {Primitive::Triangle, Adjust{0.6, 0.6, -90, 0.5, 0.2}.matrix(), kBlack},
+                {Primitive::Triangle, Adjust{-0.6, -0.6, 0, 0.03, 0.03}.matrix(), hsb(0, 0, 0.5)}}};
+  expectSameAsCfdg(c, "triangles");
+}
+
+TEST_F(CfdgCanvas, TranslucentShapesOnABackground) {
+  // Shapes with alpha blended on a grey background (gray: translucency without an alpha channel),
+  // and a FILL over everything.
+  const Case c{"startshape A\nCF::Background = [b -0.4]\nshape A {\n SQUARE [b 0.2]\n CIRCLE [x 0.3 a -0.6 b 0.9]\n"
+               " FILL [b 0.5 a -0.7]\n TRIANGLE [y -0.2 a -0.3]\n}\n",
+               250, 250, PixelFormat::Gray8, hsb(0, 0, 0.6),
+               {{Primitive::Square, {}, hsb(0, 0, 0.2)},
+                {Primitive::Circle, Adjust{0.3}.matrix(), hsb(0, 0, 0.9, 0.4)},
+                {Primitive::Fill, {}, hsb(0, 0, 0.5, 1 - 0.7)},
+                {Primitive::Triangle, Adjust{0, -0.2}.matrix(), hsb(0, 0, 0, 1 - 0.3)}}};
+  expectSameAsCfdg(c, "translucent");
+}
+
+TEST_F(CfdgCanvas, AlphaChannel) {
+  // CF::Alpha: an RGBA PNG, translucent background, rows un-premultiplied.
+  const Case c{"startshape A\nCF::Alpha = 1\nCF::Background = [a -0.5 b -0.1 sat 0.7 h 120]\nshape A {\n"
+               " SQUARE [h 10 sat 0.9 b 0.8 a -0.3]\n CIRCLE [x 0.3 a -0.6 b 0.9 sat 0.5 h 250]\n}\n",
+               200, 150, PixelFormat::Rgba8, hsb(120, 0.7, 0.9, 0.5),
+               {{Primitive::Square, {}, hsb(10, 0.9, 0.8, 0.7)},
+                {Primitive::Circle, Adjust{0.3}.matrix(), hsb(250, 0.5, 0.9, 0.4)}}};
+  expectSameAsCfdg(c, "alpha");
+}
+
+TEST_F(CfdgCanvas, BlendModes) {
+  // Any blend mode makes the canvas RGBA with AGG's compositing operators; shapes without one
+  // are drawn src-over. Multiply 13, Screen 14, Difference 22.
+  const Case c{"startshape A\nshape A {\n SQUARE [h 30 sat 0.8 b 0.6]\n CIRCLE [x 0.3 b 0.9 sat 1 h 200 blend CF::Multiply]\n"
+               " CIRCLE [x -0.3 b 0.7 sat 0.5 h 100 a -0.4 blend CF::Screen]\n TRIANGLE [y 0.2 b 1 sat 1 h 300 blend CF::Difference]\n"
+               " SQUARE [s 0.3 y -0.3 b 0.5]\n}\n",
+               300, 300, PixelFormat::Rgba8Blend, kWhite,
+               {{Primitive::Square, {}, hsb(30, 0.8, 0.6)},
+                {Primitive::Circle, Adjust{0.3}.matrix(), hsb(200, 1, 0.9), 13},
+                {Primitive::Circle, Adjust{-0.3}.matrix(), hsb(100, 0.5, 0.7, 0.6), 14},
+                {Primitive::Triangle, Adjust{0, 0.2}.matrix(), hsb(300, 1, 1), 22},
+                {Primitive::Square, Adjust{0, -0.3, 0, 0.3, 0.3}.matrix(), hsb(0, 0, 0.5)}}};
+  expectSameAsCfdg(c, "blend");
+}
+
+}  // namespace
