@@ -2,8 +2,9 @@
 // scanline rasteriser (integer clipper, 1/256-pixel subpixels, identity gamma, non-zero fill), the
 // same premultiplied pixel formats and blenders, and the same geometry handed to them: the unit
 // SQUARE and TRIANGLE as polygons, the CIRCLE as cfdg's own n-gon, each first grown by a fraction
-// of a pixel (below). What AGG does inside comes from its headers and libagg.a, the very code cfdg
-// runs (Debian's libagg2 is built from the same source).
+// of a pixel (below); paths flattened and stroked by AGG's converters with cfdg's settings. What
+// AGG does inside comes from its headers and libagg.a, the very code cfdg runs (Debian's libagg2
+// is built from the same source).
 #include "runtime/cfdg/Canvas.h"
 
 #include <algorithm>
@@ -15,7 +16,10 @@
 #include <agg_basics.h>
 #include <agg_color_gray.h>
 #include <agg_color_rgba.h>
+#include <agg_conv_curve.h>
+#include <agg_conv_stroke.h>
 #include <agg_conv_transform.h>
+#include <agg_path_storage.h>
 #include <agg_pixfmt_gray.h>
 #include <agg_pixfmt_rgb.h>
 #include <agg_pixfmt_rgba.h>
@@ -149,7 +153,31 @@ template <class PixFmt> constexpr bool kHasCompOp = requires(PixFmt& p) { p.comp
 struct Canvas::Surface {
   virtual ~Surface() = default;
   virtual void draw(const CanvasShape& shape) = 0;
+  virtual void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
+                        const Rgba& colour, int blend) = 0;
 };
+
+namespace {
+
+// A PathVertex list as an AGG vertex source.
+class PathSource {
+ public:
+  explicit PathSource(const std::vector<PathVertex>& v) : v_(v) {}
+  void rewind(unsigned) { i_ = 0; }
+  unsigned vertex(double* x, double* y) {
+    if (i_ >= v_.size()) return agg::path_cmd_stop;
+    const PathVertex& p = v_[i_++];
+    *x = p.x;
+    *y = p.y;
+    return p.command;
+  }
+
+ private:
+  const std::vector<PathVertex>& v_;
+  size_t i_ = 0;
+};
+
+}  // namespace
 
 namespace {
 
@@ -164,10 +192,43 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
     base_.clear(backgroundColour<Colour>(background));
   }
 
+  void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& a, const Rgba& colour,
+                int blend) override {
+    setBlend(blend);
+    solid_.color(shapeColour<Colour>(colour));
+    agg::trans_affine tr(a.sx, a.shy, a.shx, a.sy, a.tx, a.ty);
+    // Curves are flattened finely enough for the transform's mean scale.
+    const double scale = std::sqrt(std::fabs(tr.determinant()));
+    PathSource source(path);
+    agg::conv_curve<PathSource> curves(source);
+    curves.approximation_scale(scale);
+    rasterizer_.reset();
+    rasterizer_.filling_rule(style.evenOdd ? agg::fill_even_odd : agg::fill_non_zero);
+    if (!style.stroke) {
+      agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
+      rasterizer_.add_path(transformed);
+    } else if (!style.isoWidth) {
+      // Stroked in the path's units, then transformed (a non-uniform transform stretches the width).
+      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      agg::conv_stroke<agg::conv_curve<PathSource>> stroke(curves);
+      configure(stroke, style, style.width, scale);
+      agg::conv_transform<agg::conv_stroke<agg::conv_curve<PathSource>>> transformed(stroke, tr);
+      rasterizer_.add_path(transformed);
+    } else {
+      // Transformed, then stroked in pixels: the same width in every direction.
+      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
+      agg::conv_stroke<agg::conv_transform<agg::conv_curve<PathSource>>> stroke(transformed);
+      configure(stroke, style, style.width * scale, 1);
+      rasterizer_.add_path(stroke);
+    }
+    agg::render_scanlines(rasterizer_, scanline_, solid_);
+    rasterizer_.filling_rule(agg::fill_non_zero);
+  }
+
   void draw(const CanvasShape& shape) override {
     const Colour colour = shapeColour<Colour>(shape.colour);
-    if constexpr (kHasCompOp<PixFmt>)
-      pixfmt_.comp_op(shape.blend == kBlendSourceOver ? unsigned(agg::comp_op_src_over) : unsigned(shape.blend));
+    setBlend(shape.blend);
     if (shape.primitive == Primitive::Fill) {
       base_.fill(colour);
       return;
@@ -199,6 +260,20 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   }
 
  private:
+  void setBlend(int blend) {
+    if constexpr (kHasCompOp<PixFmt>)
+      pixfmt_.comp_op(blend == kBlendSourceOver ? unsigned(agg::comp_op_src_over) : unsigned(blend));
+  }
+
+  template <class Stroke> static void configure(Stroke& stroke, const PathStyle& style, double width, double scale) {
+    stroke.width(width);
+    stroke.line_join(agg::line_join_e(style.join));
+    stroke.line_cap(agg::line_cap_e(style.cap));
+    stroke.miter_limit(style.miterLimit);
+    stroke.inner_join(agg::inner_round);
+    stroke.approximation_scale(scale);
+  }
+
   template <class Source> void render(Source source, agg::trans_affine& tr) {
     agg::conv_transform<Source> transformed(source, tr);
     rasterizer_.reset();
@@ -244,6 +319,39 @@ Canvas::Canvas(Canvas&&) noexcept = default;
 Canvas& Canvas::operator=(Canvas&&) noexcept = default;
 
 void Canvas::draw(const CanvasShape& shape) { surface_->draw(shape); }
+
+void Canvas::drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
+                      const Rgba& colour, int blend) {
+  surface_->drawPath(path, style, toPixels, colour, blend);
+}
+
+// ---- Paths ----
+
+struct PathBuilder::Storage {
+  agg::path_storage path;
+};
+
+PathBuilder::PathBuilder() : storage_(std::make_unique<Storage>()) {}
+PathBuilder::~PathBuilder() = default;
+void PathBuilder::moveTo(double x, double y) { storage_->path.move_to(x, y); }
+void PathBuilder::lineTo(double x, double y) { storage_->path.line_to(x, y); }
+void PathBuilder::arcTo(double rx, double ry, double angle, bool largeArc, bool sweep, double x, double y) {
+  storage_->path.arc_to(rx, ry, angle, largeArc, sweep, x, y);
+}
+void PathBuilder::curve3(double cx, double cy, double x, double y) { storage_->path.curve3(cx, cy, x, y); }
+void PathBuilder::curve3(double x, double y) { storage_->path.curve3(x, y); }
+void PathBuilder::curve4(double c1x, double c1y, double c2x, double c2y, double x, double y) {
+  storage_->path.curve4(c1x, c1y, c2x, c2y, x, y);
+}
+void PathBuilder::curve4(double c2x, double c2y, double x, double y) { storage_->path.curve4(c2x, c2y, x, y); }
+void PathBuilder::closePolygon() { storage_->path.close_polygon(); }
+void PathBuilder::alignAllPaths() { storage_->path.align_all_paths(); }
+size_t PathBuilder::size() const { return storage_->path.total_vertices(); }
+std::vector<PathVertex> PathBuilder::vertices() const {
+  std::vector<PathVertex> out(storage_->path.total_vertices());
+  for (unsigned i = 0; i < out.size(); ++i) out[i].command = storage_->path.vertex(i, &out[i].x, &out[i].y);
+  return out;
+}
 
 // ---- PNG ----
 

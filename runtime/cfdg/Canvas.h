@@ -1,8 +1,9 @@
 // The canvas a CFDG design's finished shapes are drawn on, and the PNG it becomes. Context Free's
 // cfdg draws with the AGG library (Anti-Grain Geometry 2.6.1 on Debian); so does this canvas
 // (AggCanvas.cpp), through the same rasteriser, pixel formats and blenders, so that a picture
-// matches cfdg's pixel for pixel. The engine hands over plain data: which primitive, its complete
-// transform into pixels, its colour and blend mode; the canvas knows nothing of rules or HSB.
+// matches cfdg's pixel for pixel. The engine hands over plain data: which primitive (or a path's
+// outline and paint), its complete transform into pixels, its colour and blend mode; the canvas
+// knows nothing of rules or HSB.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +48,60 @@ struct CanvasShape {
   int blend = kBlendSourceOver;
 };
 
+// A path's outline as AGG's path_storage holds it: one vertex per point, each with AGG's command
+// (agg_basics.h): a curve3 is two vertices (control, end) marked kCurve3, a curve4 three
+// (control, control, end) marked kCurve4; a sub-path closed by CLOSEPOLY ends with a vertex
+// kEndPoly | kClose (coordinates unused). Coordinates are the path's own units.
+enum PathCommand : unsigned { kMoveTo = 1, kLineTo = 2, kCurve3 = 3, kCurve4 = 4, kEndPoly = 0x0F, kClose = 0x40 };
+struct PathVertex {
+  double x = 0, y = 0;
+  unsigned command = kMoveTo;
+};
+
+// Builds a PathVertex list with AGG's own path_storage, so that arcs become the Bézier curves AGG
+// makes of them (bezier_arc_svg) and the other operations behave as in cfdg's paths (a drawing
+// operation with no current point starts the path there, an arc to the current point is dropped).
+class PathBuilder {
+ public:
+  PathBuilder();
+  ~PathBuilder();
+  PathBuilder(const PathBuilder&) = delete;
+  PathBuilder& operator=(const PathBuilder&) = delete;
+
+  void moveTo(double x, double y);
+  void lineTo(double x, double y);
+  // An elliptical arc from the current point to (x, y), as SVG's: radii, the ellipse's x-axis
+  // angle in radians, which of the four arcs.
+  void arcTo(double rx, double ry, double angle, bool largeArc, bool sweep, double x, double y);
+  void curve3(double cx, double cy, double x, double y);
+  void curve3(double x, double y);  // control point: the previous one reflected
+  void curve4(double c1x, double c1y, double c2x, double c2y, double x, double y);
+  void curve4(double c2x, double c2y, double x, double y);  // first control point reflected
+  void closePolygon();
+  // Makes each sub-path's last point exactly its first when they are within 1e-8 (AGG's
+  // align_all_paths; cfdg aligns a path's sub-paths before painting them).
+  void alignAllPaths();
+  size_t size() const;
+  std::vector<PathVertex> vertices() const;
+
+ private:
+  struct Storage;
+  std::unique_ptr<Storage> storage_;
+};
+
+// How a path is painted (a path's STROKE or FILL command).
+struct PathStyle {
+  bool stroke = false;   // else filled
+  bool evenOdd = false;  // fill rule (CF::EvenOdd), else non-zero
+  // Strokes: the width in path units (CF::IsoWidth: the path is transformed first and the width,
+  // scaled by the transform's mean scale, is in pixels, the same in every direction); AGG's
+  // line_join_e (miter 0, round 2, bevel 3) and line_cap_e (butt 0, square 1, round 2).
+  double width = 0.1;
+  bool isoWidth = false;
+  uint8_t join = 0, cap = 0;
+  double miterLimit = 4;
+};
+
 class Canvas {
  public:
   // A width×height picture cleared to `background` (for formats without alpha its alpha is
@@ -57,6 +112,10 @@ class Canvas {
   Canvas& operator=(Canvas&&) noexcept;
 
   void draw(const CanvasShape& shape);
+  // A path's FILL or STROKE: its outline, curves flattened as cfdg flattens them at this scale,
+  // through `toPixels` (as CanvasShape's).
+  void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels, const Rgba& colour,
+                int blend = kBlendSourceOver);
 
   int width() const { return width_; }
   int height() const { return height_; }
