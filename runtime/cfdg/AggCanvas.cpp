@@ -439,16 +439,26 @@ std::vector<uint8_t> fileRows(const Canvas& canvas) {
 
 }  // namespace
 
-llvm::Error writePng(const Canvas& canvas, const std::string& path) {
+llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop) {
+  PixelRect r{0, 0, canvas.width(), canvas.height()};
+  if (crop) {
+    const int x1 = std::max(crop->x, 0), y1 = std::max(crop->y, 0);
+    const int x2 = std::min(crop->x + crop->width, canvas.width()), y2 = std::min(crop->y + crop->height, canvas.height());
+    if (x2 <= x1 || y2 <= y1) return llvm::createStringError(path + ": error: cannot write file: empty picture");
+    r = {x1, y1, x2 - x1, y2 - y1};
+  }
   const std::vector<uint8_t> bytes = fileRows(canvas);
-  std::vector<const uint8_t*> rows(size_t(canvas.height()));
-  for (size_t y = 0; y < rows.size(); ++y) rows[y] = bytes.data() + y * canvas.rowBytes();
+  const size_t pixelBytes = canvas.rowBytes() / size_t(canvas.width());
+  // The file's top row is AGG's row y + height - 1; the canvas stores rows top first.
+  std::vector<const uint8_t*> rows(size_t(r.height));
+  for (size_t i = 0; i < rows.size(); ++i)
+    rows[i] = bytes.data() + (size_t(canvas.height()) - size_t(r.y + r.height) + i) * canvas.rowBytes() + size_t(r.x) * pixelBytes;
   std::string out;
   PngWrite w;
   w.out = &out;
   w.rows = rows.data();
-  w.width = png_uint_32(canvas.width());
-  w.height = png_uint_32(canvas.height());
+  w.width = png_uint_32(r.width);
+  w.height = png_uint_32(r.height);
   w.depth = 8 * bytesPerChannel(canvas.format());
   const int channels = channelCount(canvas.format());
   w.colourType = channels == 1 ? PNG_COLOR_TYPE_GRAY : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA;

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -134,9 +135,15 @@ class Canvas {
   std::unique_ptr<Surface> surface_;
 };
 
+// A rectangle of the canvas in AGG pixels: x from the left, y from the BOTTOM row.
+struct PixelRect {
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
 // Writes the canvas as cfdg writes its PNG: grey (colour type 0), RGB (2) or RGBA (6) at 8 or 16
 // bits, RGBA rows un-premultiplied as AGG does it, one tEXt chunk "Software" = "Context Free"
-// (cfdg's). Errors: "PATH: error: cannot write file: WHY".
-llvm::Error writePng(const Canvas& canvas, const std::string& path);
+// (cfdg's). With `crop` (cfdg -c: the fitted block) only that part, clipped to the canvas.
+// Errors: "PATH: error: cannot write file: WHY".
+llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop = std::nullopt);
 
 }  // namespace lcjit::runtime::cfdg

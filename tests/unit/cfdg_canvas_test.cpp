@@ -110,8 +110,8 @@ std::vector<std::pair<double, double>> outline(Primitive p) {
 // The fit of an untiled design W×H with the default border (-b 2): each shape's box dilated ×2
 // about its centre, the union scaled into the image less 8 pixels each side, the fitted block
 // (the other side's length rounded, of the image's parity) centred at an integer offset. Returns
-// the frame: world coordinates into AGG pixels (y up).
-Affine fit(const std::vector<Shape>& shapes, int W, int H) {
+// the frame: world coordinates into AGG pixels (y up); `block`: where the fitted block lies.
+Affine fit(const std::vector<Shape>& shapes, int W, int H, PixelRect* block = nullptr) {
   double x1 = std::numeric_limits<double>::infinity(), y1 = x1, x2 = -x1, y2 = -x1;
   for (const Shape& s : shapes) {
     if (s.primitive == Primitive::Fill || !s.path.empty()) continue;
@@ -138,6 +138,7 @@ Affine fit(const std::vector<Shape>& shapes, int W, int H) {
   Affine frame = Affine::scaling(scale, scale);
   frame.multiply(Affine::translation(-(scale * (x1 + x2) / 2 - newW / 2.0), -(scale * (y1 + y2) / 2 - newH / 2.0)));
   frame.multiply(Affine::translation((W - newW) / 2, (H - newH) / 2));
+  if (block) *block = {(W - newW) / 2, (H - newH) / 2, newW, newH};
   return frame;
 }
 
@@ -222,14 +223,17 @@ class CfdgCanvas : public ::testing::Test {
   }
 
   // Draws `c` with the canvas and with cfdg; expects the same decoded pixels and PNG channels.
-  void expectSameAsCfdg(const Case& c, const std::string& name) {
+  // `crop`: only the fitted block (cfdg -c).
+  void expectSameAsCfdg(const Case& c, const std::string& name, bool crop = false) {
     const std::string design = dir_ + "/" + name + ".cfdg", theirs = dir_ + "/" + name + ".cfdg.png",
                       ours = dir_ + "/" + name + ".png";
     std::ofstream(design) << c.design;
-    ASSERT_TRUE(runCfdg(design, c.width, c.height, {}, theirs));
+    ASSERT_TRUE(runCfdg(design, c.width, c.height, crop ? std::vector<std::string>{"-c"} : std::vector<std::string>{},
+                        theirs));
     Canvas canvas(c.width, c.height, c.format, c.background);
-    drawAll(canvas, c.shapes, fit(c.shapes, c.width, c.height));
-    ASSERT_FALSE(bool(writePng(canvas, ours)));
+    PixelRect block;
+    drawAll(canvas, c.shapes, fit(c.shapes, c.width, c.height, &block));
+    ASSERT_FALSE(bool(writePng(canvas, ours, crop ? std::optional(block) : std::nullopt)));
     RawPng a, b;
     ASSERT_TRUE(readRawPng(ours.c_str(), &a)) << ours;
     ASSERT_TRUE(readRawPng(theirs.c_str(), &b)) << theirs;
@@ -269,6 +273,32 @@ TEST_F(CfdgCanvas, LoneSquare) {
   Case wide = c;
   wide.width = 301, wide.height = 157;
   expectSameAsCfdg(wide, "square_wide");
+}
+
+TEST_F(CfdgCanvas, CroppedToTheFittedBlock) {
+  // -c: the 157-pixel block of a 301×157 image; a 200×104 block (the frame's height rounded to
+  // the image's parity) with a triangle to tell top from bottom.
+  expectSameAsCfdg({"startshape A\nshape A { SQUARE [] }\n", 301, 157, PixelFormat::Gray8, kWhite,
+                    {{Primitive::Square, {}, kBlack}}},
+                   "crop_square", true);
+  expectSameAsCfdg({"startshape A\nshape A { SQUARE [b 0.5] TRIANGLE [x 3 s 0.5] }\n", 200, 200, PixelFormat::Gray8,
+                    kWhite, {{Primitive::Square, {}, hsb(0, 0, 0.5)},
+                             {Primitive::Triangle, Adjust{3, 0, 0, 0.5, 0.5}.matrix(), kBlack}}},
+                   "crop_wide", true);
+}
+
+TEST_F(CfdgCanvas, CropCountsRowsFromTheBottom) {
+  // cfdg's crops are centred; an off-centre one: AGG's row 0 is the picture's bottom row.
+  Canvas canvas(4, 4, PixelFormat::Gray8, kWhite);
+  canvas.draw({Primitive::Square, Affine{2, 0, 0, 2, 1, 1}, kBlack});  // AGG pixels [0,2]², grown
+  for (auto [y, expected] : {std::pair{0, 0}, {3, 255}}) {
+    ASSERT_FALSE(bool(writePng(canvas, dir_ + "/corner.png", PixelRect{0, y, 1, 1})));
+    RawPng png;
+    ASSERT_TRUE(readRawPng((dir_ + "/corner.png").c_str(), &png));
+    ASSERT_EQ(png.width, 1u);
+    ASSERT_EQ(png.height, 1u);
+    EXPECT_EQ(png.bytes[0], expected) << "AGG row " << y;
+  }
 }
 
 TEST_F(CfdgCanvas, ColouredShapes) {
