@@ -228,11 +228,13 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
 
   void draw(const CanvasShape& shape) override {
     const Colour colour = shapeColour<Colour>(shape.colour);
-    setBlend(shape.blend);
+    // cfdg sets no blend mode for a FILL: it blends with the mode of the shape drawn before it
+    // (src-over before any), whatever its own.
     if (shape.primitive == Primitive::Fill) {
       base_.fill(colour);
       return;
     }
+    setBlend(shape.blend);
     const Affine& a = shape.toPixels;
     agg::trans_affine tr(a.sx, a.shy, a.shx, a.sy, a.tx, a.ty);
     // How long the unit axes are in pixels; each is lengthened by `grow` pixels (less than one)

@@ -46,6 +46,7 @@ struct CanvasShape {
   // y grows UP (row 0 of the picture file is y = height - 1). Unused for Fill.
   Affine toPixels;
   Rgba colour;
+  // Ignored for Fill, which cfdg blends with the mode of the shape drawn before it.
   int blend = kBlendSourceOver;
 };
 

@@ -386,6 +386,40 @@ TEST_F(CfdgCanvas, BlendModes) {
   expectSameAsCfdg(c, "blend");
 }
 
+TEST_F(CfdgCanvas, EveryBlendMode) {
+  // Each of cfdg's blend modes (AGG's comp_op numbers) once, a translucent circle over two squares;
+  // then FILLs.
+  const std::vector<std::pair<const char*, int>> modes = {
+      {"Clear", 0},       {"Normal", 3},     {"Xor", 11},        {"Plus", 12},       {"Multiply", 13},
+      {"Screen", 14},     {"Overlay", 15},   {"Darken", 16},     {"Lighten", 17},    {"ColorDodge", 18},
+      {"ColorBurn", 19},  {"HardLight", 20}, {"SoftLight", 21},  {"Difference", 22}, {"Exclusion", 23}};
+  std::string design = "startshape A\nshape A {\n SQUARE [s 8 2 y 0.5 h 30 sat 0.8 b 0.6]\n SQUARE [s 8 2 y -1 h 200 sat 0.5 b 0.9 a -0.4]\n";
+  std::vector<Shape> shapes = {{Primitive::Square, Adjust{0, 0.5, 0, 8, 2}.matrix(), hsb(30, 0.8, 0.6)},
+                               {Primitive::Square, Adjust{0, -1, 0, 8, 2}.matrix(), hsb(200, 0.5, 0.9, 0.6)}};
+  for (size_t i = 0; i < modes.size(); ++i) {
+    const double x = -3.5 + 0.5 * double(i), hue = 24.0 * double(i);
+    char line[160];
+    std::snprintf(line, sizeof line, " CIRCLE [x %g y %g s 1.2 h %g sat 0.9 b 0.8 a -0.3 blend CF::%s]\n", x,
+                  i % 2 ? -0.3 : 0.0, hue, modes[i].first);
+    design += line;
+    shapes.push_back({Primitive::Circle, Adjust{x, i % 2 ? -0.3 : 0.0, 0, 1.2, 1.2}.matrix(), hsb(hue, 0.9, 0.8, 0.7),
+                      modes[i].second});
+  }
+  // A FILL's own blend mode is ignored: it blends with the last shape's (here Exclusion).
+  design += " FILL [h 120 sat 0.3 b 0.5 a -0.8 blend CF::Overlay]\n}\n";
+  shapes.push_back({Primitive::Fill, {}, hsb(120, 0.3, 0.5, 1 - 0.8), 15});
+  expectSameAsCfdg({design, 400, 160, PixelFormat::Rgba8Blend, kWhite, shapes}, "every_blend");
+  // Before any shape, src-over.
+  expectSameAsCfdg({"startshape A\nCF::Background = [h 200 sat 0.7 b -0.2]\nshape A {\n"
+                    " FILL [h 120 sat 0.3 b 0.5 a -0.5 blend CF::Multiply]\n SQUARE [h 30 sat 0.8 b 0.6 blend CF::Screen]\n"
+                    " FILL [h 300 sat 0.3 b 0.5 a -0.5]\n}\n",
+                    100, 100, PixelFormat::Rgba8Blend, hsb(200, 0.7, 0.8),
+                    {{Primitive::Fill, {}, hsb(120, 0.3, 0.5, 0.5), 13},
+                     {Primitive::Square, {}, hsb(30, 0.8, 0.6), 14},
+                     {Primitive::Fill, {}, hsb(300, 0.3, 0.5, 0.5)}}},
+                   "fill_blend");
+}
+
 TEST_F(CfdgCanvas, SixteenBits) {
   // CF::ColorDepth 16: colours rounded to 16 bits, 16-bit PNG samples; grey, RGB, RGBA, blending.
   const std::string shapes = "shape A {\n SQUARE [b 0.3]\n CIRCLE [x 0.3 a -0.6 b 0.9]\n TRIANGLE [y -0.2 a -0.3 b 0.55]\n}\n";
