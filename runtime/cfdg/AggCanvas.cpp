@@ -1,0 +1,471 @@
+// The CFDG canvas (Canvas.h) drawn with AGG 2.6.1, as Context Free 3.4's cfdg draws: the same
+// scanline rasteriser (integer clipper, 1/256-pixel subpixels, identity gamma, non-zero fill), the
+// same premultiplied pixel formats and blenders, and the same geometry handed to them: the unit
+// SQUARE and TRIANGLE as polygons, the CIRCLE as cfdg's own n-gon, each first grown by a fraction
+// of a pixel (below); paths flattened and stroked by AGG's converters with cfdg's settings. What
+// AGG does inside comes from its headers and libagg.a, the very code cfdg runs (Debian's libagg2
+// is built from the same source).
+#include "runtime/cfdg/Canvas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <type_traits>
+
+#include <agg_basics.h>
+#include <agg_color_gray.h>
+#include <agg_color_rgba.h>
+#include <agg_conv_curve.h>
+#include <agg_conv_stroke.h>
+#include <agg_conv_transform.h>
+#include <agg_path_storage.h>
+#include <agg_pixfmt_gray.h>
+#include <agg_pixfmt_rgb.h>
+#include <agg_pixfmt_rgba.h>
+#include <agg_rasterizer_scanline_aa.h>
+#include <agg_renderer_base.h>
+#include <agg_renderer_scanline.h>
+#include <agg_rendering_buffer.h>
+#include <agg_scanline_p.h>
+#include <agg_trans_affine.h>
+#include <png.h>
+
+#include "support/ReplacingFile.h"
+
+namespace lcjit::runtime::cfdg {
+
+int channelCount(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::Gray8: case PixelFormat::Gray16: return 1;
+    case PixelFormat::Rgb8: case PixelFormat::Rgb16: return 3;
+    default: return 4;
+  }
+}
+
+int bytesPerChannel(PixelFormat f) { return f >= PixelFormat::Gray16 ? 2 : 1; }
+
+namespace {
+
+// Context Free's value of π (its shape.h), used for the circle's vertex angles.
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- The unit primitives as AGG vertex sources ----
+
+// A closed polygon through fixed points: move_to, line_to…, end_poly(close).
+class Polygon {
+ public:
+  Polygon(const double* xy, unsigned count) : xy_(xy), count_(count) {}
+  void rewind(unsigned) { i_ = 0; }
+  unsigned vertex(double* x, double* y) {
+    if (i_ < count_) {
+      *x = xy_[2 * i_];
+      *y = xy_[2 * i_ + 1];
+      return i_++ == 0 ? agg::path_cmd_move_to : agg::path_cmd_line_to;
+    }
+    if (i_++ == count_) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close);
+    return agg::path_cmd_stop;
+  }
+
+ private:
+  const double* xy_;
+  unsigned count_, i_ = 0;
+};
+
+const double kSquare[] = {0.5, 0.5, -0.5, 0.5, -0.5, -0.5, 0.5, -0.5};
+
+// The equilateral triangle of side 1 centred on its centroid, a vertex up: circumradius
+// 0.5 / cos 30°.
+struct TrianglePoints {
+  double xy[6];
+  TrianglePoints() {
+    const double h = 0.5 / std::cos(30.0 * kPi / 180.0);
+    const double p[] = {0, h, -0.5, -h / 2, 0.5, -h / 2};
+    std::copy(p, p + 6, xy);
+  }
+};
+const TrianglePoints kTriangle;
+
+// cfdg's circle: a counter-clockwise n-gon of radius 0.5 whose vertices sit at the odd multiples
+// of π/n, starting just past π. Its cosines and sines come from one octant: the first n/8 angles
+// are computed and the rest of the quarter mirrored from them (so the table is symmetric to the
+// last bit), then each quadrant walks the quarter forwards or backwards with its signs.
+class Circle {
+ public:
+  explicit Circle(unsigned n) : n_(n), quarter_(n / 4), c_(quarter_), s_(quarter_) {
+    for (unsigned i = 0; i < n / 8; ++i) {
+      const double theta = ((i + 0.5) / n) * 2 * kPi;
+      c_[i] = std::cos(theta);
+      s_[i] = std::sin(theta);
+      s_[quarter_ - 1 - i] = std::cos(theta);
+      c_[quarter_ - 1 - i] = std::sin(theta);
+    }
+  }
+  void rewind(unsigned) { k_ = 0; }
+  unsigned vertex(double* x, double* y) {
+    if (k_ < n_) {
+      static const double signX[] = {-1, 1, 1, -1}, signY[] = {-1, -1, 1, 1};
+      const unsigned q = k_ / quarter_;
+      unsigned j = k_ % quarter_;
+      if (q & 1) j = quarter_ - 1 - j;
+      *x = c_[j] * signX[q] * 0.5;
+      *y = s_[j] * signY[q] * 0.5;
+      return k_++ == 0 ? agg::path_cmd_move_to : agg::path_cmd_line_to;
+    }
+    if (k_++ == n_) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close) | unsigned(agg::path_flags_ccw);
+    return agg::path_cmd_stop;
+  }
+
+ private:
+  unsigned n_, quarter_, k_ = 0;
+  std::vector<double> c_, s_;
+};
+
+// ---- Colours ----
+
+// A shape's colour in the format's colour type, premultiplied. cfdg keeps device colours as AGG
+// rgba8 rounded from the doubles (uround(v·255)) and widened to 16 bits; an 8-bit canvas narrows
+// them back (the same bytes), a grey one takes AGG's integer luminance of those bytes, a 16-bit
+// one rounds the doubles to 16 bits.
+template <class C> C shapeColour(const Rgba& c) {
+  const agg::rgba d(c.r, c.g, c.b, c.a);
+  C out;
+  if constexpr (std::is_same_v<C, agg::rgba8> || std::is_same_v<C, agg::gray8>) out = C(agg::rgba8(d));
+  else out = C(agg::rgba16(d));
+  out.premultiply();
+  return out;
+}
+
+// The background is premultiplied in doubles, then converted straight to the format's colour type
+// (a grey one by AGG's floating-point luminance).
+template <class C> C backgroundColour(const Rgba& c) {
+  agg::rgba d(c.r, c.g, c.b, c.a);
+  d.premultiply();
+  return C(d);
+}
+
+template <class PixFmt> constexpr bool kHasCompOp = requires(PixFmt& p) { p.comp_op(0u); };
+
+}  // namespace
+
+// ---- Drawing ----
+
+struct Canvas::Surface {
+  virtual ~Surface() = default;
+  virtual void draw(const CanvasShape& shape) = 0;
+  virtual void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
+                        const Rgba& colour, int blend) = 0;
+};
+
+namespace {
+
+// A PathVertex list as an AGG vertex source.
+class PathSource {
+ public:
+  explicit PathSource(const std::vector<PathVertex>& v) : v_(v) {}
+  void rewind(unsigned) { i_ = 0; }
+  unsigned vertex(double* x, double* y) {
+    if (i_ >= v_.size()) return agg::path_cmd_stop;
+    const PathVertex& p = v_[i_++];
+    *x = p.x;
+    *y = p.y;
+    return p.command;
+  }
+
+ private:
+  const std::vector<PathVertex>& v_;
+  size_t i_ = 0;
+};
+
+}  // namespace
+
+namespace {
+
+template <class PixFmt> class AggSurface final : public Canvas::Surface {
+  using Colour = typename PixFmt::color_type;
+
+ public:
+  // The rows are attached bottom up (negative stride), as cfdg attaches its buffer: AGG's y axis
+  // then points up the picture.
+  AggSurface(uint8_t* pixels, int width, int height, size_t rowBytes, const Rgba& background)
+      : buffer_(pixels, width, height, -int(rowBytes)), pixfmt_(buffer_), base_(pixfmt_), solid_(base_) {
+    base_.clear(backgroundColour<Colour>(background));
+  }
+
+  void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& a, const Rgba& colour,
+                int blend) override {
+    setBlend(blend);
+    solid_.color(shapeColour<Colour>(colour));
+    agg::trans_affine tr(a.sx, a.shy, a.shx, a.sy, a.tx, a.ty);
+    // Curves are flattened finely enough for the transform's mean scale.
+    const double scale = std::sqrt(std::fabs(tr.determinant()));
+    PathSource source(path);
+    agg::conv_curve<PathSource> curves(source);
+    curves.approximation_scale(scale);
+    rasterizer_.reset();
+    rasterizer_.filling_rule(style.evenOdd ? agg::fill_even_odd : agg::fill_non_zero);
+    if (!style.stroke) {
+      agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
+      rasterizer_.add_path(transformed);
+    } else if (!style.isoWidth) {
+      // Stroked in the path's units, then transformed (a non-uniform transform stretches the width).
+      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      agg::conv_stroke<agg::conv_curve<PathSource>> stroke(curves);
+      configure(stroke, style, style.width, scale);
+      agg::conv_transform<agg::conv_stroke<agg::conv_curve<PathSource>>> transformed(stroke, tr);
+      rasterizer_.add_path(transformed);
+    } else {
+      // Transformed, then stroked in pixels: the same width in every direction.
+      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
+      agg::conv_stroke<agg::conv_transform<agg::conv_curve<PathSource>>> stroke(transformed);
+      configure(stroke, style, style.width * scale, 1);
+      rasterizer_.add_path(stroke);
+    }
+    agg::render_scanlines(rasterizer_, scanline_, solid_);
+    rasterizer_.filling_rule(agg::fill_non_zero);
+  }
+
+  void draw(const CanvasShape& shape) override {
+    const Colour colour = shapeColour<Colour>(shape.colour);
+    // cfdg sets no blend mode for a FILL: it blends with the mode of the shape drawn before it
+    // (src-over before any), whatever its own.
+    if (shape.primitive == Primitive::Fill) {
+      base_.fill(colour);
+      return;
+    }
+    setBlend(shape.blend);
+    const Affine& a = shape.toPixels;
+    agg::trans_affine tr(a.sx, a.shy, a.shx, a.sy, a.tx, a.ty);
+    // How long the unit axes are in pixels; each is lengthened by `grow` pixels (less than one)
+    // so that thin shapes and the seams between touching shapes look as in cfdg. Below 5 pixels
+    // the growth is that of a 5-pixel shape, in proportion.
+    const double sizeX = std::sqrt(tr.sx * tr.sx + tr.shy * tr.shy);
+    const double sizeY = std::sqrt(tr.shx * tr.shx + tr.sy * tr.sy);
+    const double grow = shape.primitive == Primitive::Circle ? 0.3 : shape.primitive == Primitive::Square ? 0.8 : 0.9;
+    const double factorX = sizeX >= 5 ? (sizeX + grow) / sizeX : (5 + grow) / 5;
+    const double factorY = sizeY >= 5 ? (sizeY + grow) / sizeY : (5 + grow) / 5;
+    tr.premultiply(agg::trans_affine_scaling(factorX, factorY));
+    solid_.color(colour);
+    switch (shape.primitive) {
+      case Primitive::Square: render(Polygon(kSquare, 4), tr); break;
+      case Primitive::Triangle: render(Polygon(kTriangle.xy, 3), tr); break;
+      case Primitive::Circle: {
+        // Vertices: a quarter of the (ungrown) pixel diameter plus 8, rounded up to a multiple of 8.
+        unsigned n = unsigned(int((sizeX + sizeY) / 4)) + 8;
+        n = (n + 7) & ~7u;
+        render(Circle(n), tr);
+        break;
+      }
+      case Primitive::Fill: break;
+    }
+  }
+
+ private:
+  void setBlend(int blend) {
+    if constexpr (kHasCompOp<PixFmt>)
+      pixfmt_.comp_op(blend == kBlendSourceOver ? unsigned(agg::comp_op_src_over) : unsigned(blend));
+  }
+
+  template <class Stroke> static void configure(Stroke& stroke, const PathStyle& style, double width, double scale) {
+    stroke.width(width);
+    stroke.line_join(agg::line_join_e(style.join));
+    stroke.line_cap(agg::line_cap_e(style.cap));
+    stroke.miter_limit(style.miterLimit);
+    stroke.inner_join(agg::inner_round);
+    stroke.approximation_scale(scale);
+  }
+
+  template <class Source> void render(Source source, agg::trans_affine& tr) {
+    agg::conv_transform<Source> transformed(source, tr);
+    rasterizer_.reset();
+    rasterizer_.add_path(transformed);
+    agg::render_scanlines(rasterizer_, scanline_, solid_);
+  }
+
+  agg::rendering_buffer buffer_;
+  PixFmt pixfmt_;
+  agg::renderer_base<PixFmt> base_;
+  agg::renderer_scanline_aa_solid<agg::renderer_base<PixFmt>> solid_;
+  agg::rasterizer_scanline_aa<> rasterizer_;
+  agg::scanline_p8 scanline_;
+};
+
+using PixfmtRgba32Blend =
+    agg::pixfmt_custom_blend_rgba<agg::comp_op_adaptor_rgba_pre<agg::rgba8, agg::order_rgba>, agg::rendering_buffer>;
+using PixfmtRgba64Blend =
+    agg::pixfmt_custom_blend_rgba<agg::comp_op_adaptor_rgba_pre<agg::rgba16, agg::order_rgba>, agg::rendering_buffer>;
+
+}  // namespace
+
+Canvas::Canvas(int width, int height, PixelFormat format, Rgba background)
+    : width_(std::max(width, 1)), height_(std::max(height, 1)), format_(format) {
+  pixels_.assign(rowBytes() * size_t(height_), 0);
+  if (channelCount(format) < 4) background.a = 1;
+  uint8_t* p = pixels_.data();
+  const size_t rb = rowBytes();
+  switch (format) {
+    case PixelFormat::Gray8: surface_ = std::make_unique<AggSurface<agg::pixfmt_gray8_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgb8: surface_ = std::make_unique<AggSurface<agg::pixfmt_rgb24_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgba8: surface_ = std::make_unique<AggSurface<agg::pixfmt_rgba32_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgba8Blend: surface_ = std::make_unique<AggSurface<PixfmtRgba32Blend>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Gray16: surface_ = std::make_unique<AggSurface<agg::pixfmt_gray16_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgb16: surface_ = std::make_unique<AggSurface<agg::pixfmt_rgb48_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgba16: surface_ = std::make_unique<AggSurface<agg::pixfmt_rgba64_pre>>(p, width_, height_, rb, background); break;
+    case PixelFormat::Rgba16Blend: surface_ = std::make_unique<AggSurface<PixfmtRgba64Blend>>(p, width_, height_, rb, background); break;
+  }
+}
+
+Canvas::~Canvas() = default;
+Canvas::Canvas(Canvas&&) noexcept = default;
+Canvas& Canvas::operator=(Canvas&&) noexcept = default;
+
+void Canvas::draw(const CanvasShape& shape) { surface_->draw(shape); }
+
+void Canvas::drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
+                      const Rgba& colour, int blend) {
+  surface_->drawPath(path, style, toPixels, colour, blend);
+}
+
+// ---- Paths ----
+
+struct PathBuilder::Storage {
+  agg::path_storage path;
+};
+
+PathBuilder::PathBuilder() : storage_(std::make_unique<Storage>()) {}
+PathBuilder::~PathBuilder() = default;
+void PathBuilder::moveTo(double x, double y) { storage_->path.move_to(x, y); }
+void PathBuilder::lineTo(double x, double y) { storage_->path.line_to(x, y); }
+void PathBuilder::arcTo(double rx, double ry, double angle, bool largeArc, bool sweep, double x, double y) {
+  storage_->path.arc_to(rx, ry, angle, largeArc, sweep, x, y);
+}
+void PathBuilder::curve3(double cx, double cy, double x, double y) { storage_->path.curve3(cx, cy, x, y); }
+void PathBuilder::curve3(double x, double y) { storage_->path.curve3(x, y); }
+void PathBuilder::curve4(double c1x, double c1y, double c2x, double c2y, double x, double y) {
+  storage_->path.curve4(c1x, c1y, c2x, c2y, x, y);
+}
+void PathBuilder::curve4(double c2x, double c2y, double x, double y) { storage_->path.curve4(c2x, c2y, x, y); }
+void PathBuilder::closePolygon() { storage_->path.close_polygon(); }
+void PathBuilder::alignAllPaths() { storage_->path.align_all_paths(); }
+size_t PathBuilder::size() const { return storage_->path.total_vertices(); }
+std::vector<PathVertex> PathBuilder::vertices() const {
+  std::vector<PathVertex> out(storage_->path.total_vertices());
+  for (unsigned i = 0; i < out.size(); ++i) out[i].command = storage_->path.vertex(i, &out[i].x, &out[i].y);
+  return out;
+}
+
+// ---- PNG ----
+
+namespace {
+
+// libpng reports errors by longjmp, which must not skip a C++ destructor: the function that calls
+// setjmp owns nothing; its caller owns the rows and the output.
+struct PngWrite {
+  std::string* out = nullptr;
+  const uint8_t* const* rows = nullptr;
+  png_uint_32 width = 0, height = 0;
+  int depth = 8, colourType = PNG_COLOR_TYPE_GRAY;
+  char error[256] = "";
+};
+
+void pngError(png_structp png, png_const_charp msg) {
+  auto* w = static_cast<PngWrite*>(png_get_error_ptr(png));
+  std::snprintf(w->error, sizeof w->error, "%s", msg);
+  png_longjmp(png, 1);
+}
+void pngWarning(png_structp, png_const_charp) {}
+void pngSink(png_structp png, png_bytep data, size_t n) {
+  static_cast<PngWrite*>(png_get_io_ptr(png))->out->append(reinterpret_cast<const char*>(data), n);
+}
+void pngFlush(png_structp) {}
+
+bool encodePng(PngWrite* w) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, w, pngError, pngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
+    png_destroy_write_struct(&png, nullptr);
+    std::snprintf(w->error, sizeof w->error, "out of memory");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_set_write_fn(png, w, pngSink, pngFlush);
+  png_set_IHDR(png, info, w->width, w->height, w->depth, w->colourType, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_text text{};
+  text.compression = PNG_TEXT_COMPRESSION_NONE;
+  text.key = const_cast<char*>("Software");
+  text.text = const_cast<char*>("Context Free");
+  png_set_text(png, info, &text, 1);
+  png_write_info(png, info);
+  png_write_image(png, const_cast<png_bytepp>(w->rows));
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+// The rows as the file stores them: top first, RGBA un-premultiplied (AGG's integer demultiply),
+// 16-bit values big-endian.
+std::vector<uint8_t> fileRows(const Canvas& canvas) {
+  std::vector<uint8_t> bytes = canvas.pixels();
+  const size_t pixels = size_t(canvas.width()) * canvas.height();
+  const bool alpha = channelCount(canvas.format()) == 4;
+  if (bytesPerChannel(canvas.format()) == 1) {
+    if (alpha)
+      for (size_t i = 0; i < pixels; ++i) {
+        uint8_t* p = &bytes[i * 4];
+        agg::rgba8 c(p[0], p[1], p[2], p[3]);
+        c.demultiply();
+        p[0] = c.r, p[1] = c.g, p[2] = c.b;
+      }
+    return bytes;
+  }
+  auto* values = reinterpret_cast<uint16_t*>(bytes.data());
+  if (alpha)
+    for (size_t i = 0; i < pixels; ++i) {
+      uint16_t* p = &values[i * 4];
+      agg::rgba16 c(p[0], p[1], p[2], p[3]);
+      c.demultiply();
+      p[0] = c.r, p[1] = c.g, p[2] = c.b;
+    }
+  for (size_t i = 0, n = bytes.size() / 2; i < n; ++i) {
+    const uint16_t v = values[i];
+    bytes[2 * i] = uint8_t(v >> 8);
+    bytes[2 * i + 1] = uint8_t(v & 0xff);
+  }
+  return bytes;
+}
+
+}  // namespace
+
+llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop) {
+  PixelRect r{0, 0, canvas.width(), canvas.height()};
+  if (crop) {
+    const int x1 = std::max(crop->x, 0), y1 = std::max(crop->y, 0);
+    const int x2 = std::min(crop->x + crop->width, canvas.width()), y2 = std::min(crop->y + crop->height, canvas.height());
+    if (x2 <= x1 || y2 <= y1) return llvm::createStringError(path + ": error: cannot write file: empty picture");
+    r = {x1, y1, x2 - x1, y2 - y1};
+  }
+  const std::vector<uint8_t> bytes = fileRows(canvas);
+  const size_t pixelBytes = canvas.rowBytes() / size_t(canvas.width());
+  // The file's top row is AGG's row y + height - 1; the canvas stores rows top first.
+  std::vector<const uint8_t*> rows(size_t(r.height));
+  for (size_t i = 0; i < rows.size(); ++i)
+    rows[i] = bytes.data() + (size_t(canvas.height()) - size_t(r.y + r.height) + i) * canvas.rowBytes() + size_t(r.x) * pixelBytes;
+  std::string out;
+  PngWrite w;
+  w.out = &out;
+  w.rows = rows.data();
+  w.width = png_uint_32(r.width);
+  w.height = png_uint_32(r.height);
+  w.depth = 8 * bytesPerChannel(canvas.format());
+  const int channels = channelCount(canvas.format());
+  w.colourType = channels == 1 ? PNG_COLOR_TYPE_GRAY : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA;
+  if (!encodePng(&w)) return llvm::createStringError(path + ": error: cannot write file: " + w.error);
+  return support::writeWholeFile(path, out);
+}
+
+}  // namespace lcjit::runtime::cfdg
