@@ -14,6 +14,7 @@
 #include "frontend/cfdg/Translate.h"
 #include "jit/Compiler.h"
 #include "runtime/cfdg/Expander.h"
+#include "runtime/cfdg/Picture.h"
 #include "support/InputFile.h"
 #include "support/ReplacingFile.h"
 
@@ -127,8 +128,11 @@ int runDesign(const DesignRunOptions& o) {
   for (const std::string& out : o.outs) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
       if (auto err = support::writeWholeFile(out, cf::svgOf(e, f, eo))) return failed(std::move(err));
+    } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
+      cf::Canvas canvas = cf::drawExpansion(compiled, e, f, eo);
+      if (auto err = cf::writePng(canvas, out)) return failed(std::move(err));
     } else {
-      std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .svg for now\n", out.c_str());
+      std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .png or .svg\n", out.c_str());
       return 1;
     }
   }

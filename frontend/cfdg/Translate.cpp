@@ -79,8 +79,9 @@ class Translator {
   std::map<std::string, Binding> globals_;
   int temp_ = 0;
   int statics_ = 0;
-  bool usesSat_ = false;
-  const Expr* background_ = nullptr;  // a sat term: the picture is in colour
+  bool usesSat_ = false;    // a sat term: the picture is in colour
+  bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
+  const Expr* background_ = nullptr;  // CF::Background
   std::string code_;  // the body being written
   int indent_ = 1;
 
@@ -551,6 +552,7 @@ class Translator {
         v.pure &= p.pure;
       }
       if (t.kind == "sat") usesSat_ = true;
+      if (t.kind == "blend") usesBlend_ = true;
       int mc = termClass(t.kind);
       if (t.kind == "s" && v.constant && v.parts.size() == 2 && v.parts[0] == "(0x1p+0)" && v.parts[1] == "(0x1p+0)")
         continue;  // `s 1 1` changes nothing and is dropped
@@ -934,6 +936,22 @@ Translation Translator::run() {
   line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
   unit += "void start(__cf_Ctx* c) {\n" + start + code_ + "}\n";
 
+  // The background: white changed by CF::Background.
+  std::string backgroundFn = "nullptr";
+  bool backgroundAlpha = false;
+  if (background_) {
+    if (background_->kind != Expr::Modification) fail(background_->at, "CF::Background must be an adjustment: [ b -1 ]");
+    code_.clear();
+    indent_ = 1;
+    scopes_.clear();
+    scopes_.emplace_back();
+    auto backgroundTerms = prepare(*background_->adjustment);
+    for (const auto& t : backgroundTerms) backgroundAlpha |= t.kind == "a";
+    applyAdjustment(*background_->adjustment, std::move(backgroundTerms), "(*s)");
+    unit += "void background(__cf_Ctx* c, __cf_State* s) {\n" + code_ + "}\n";
+    backgroundFn = "background";
+  }
+
   // The table.
   unit += "const __cf_Shape shapes[] = {\n";
   for (size_t k = 0; k < out_.shapes.size(); ++k) {
@@ -949,7 +967,8 @@ Translation Translator::run() {
   bool colour = usesSat_;
   unit += "extern \"C\" const __cf_Design __cf_design = {__cf_AbiVersion, " + std::to_string(out_.shapes.size()) +
           ", shapes, " + std::to_string(d_.rules.size()) + ", rules, start, " + std::to_string(statics_) + ", " +
-          (colour ? "1" : "0") + ", 0};\n";
+          (colour ? "1" : "0") + ", 0, " + backgroundFn + ", " + (usesBlend_ ? "1" : "0") + ", " +
+          (backgroundAlpha ? "1" : "0") + "};\n";
   out_.cpp = std::move(unit);
   out_.randStaticCount = statics_;
   return std::move(out_);

@@ -309,6 +309,14 @@ struct Engine {
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
     ctx.statics = statics.data();
+    if (design.background) {
+      __cf_State white;
+      __cf_identity(&white);
+      white.colour[2] = 1, white.colour[3] = 1;
+      white.target[3] = 1;
+      design.background(&ctx, &white);
+      for (int k = 0; k < 4; ++k) result.background[k] = white.colour[k];
+    }
     design.start(&ctx);
     while (!heap.empty()) {
       if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)

@@ -50,6 +50,7 @@ struct Expansion {
   std::vector<FinishedShape> shapes;  // in drawing order: z, then the order they were made
   Bounds bounds;
   uint64_t expanded = 0;               // rule shapes expanded
+  double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
   std::string error;                   // a runtime error that stopped the run ("" if none)
 };
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Runs Context Free (`cfdg -V`, the oracle, at test time) and lcjit on designs and compares the
-pictures' shape lists: the same shapes in the same order, each with the same fill colour and
-opacity and the same matrix (within what 8 significant digits can say).
+"""Runs Context Free (`cfdg`, the oracle, at test time) and lcjit on designs and compares
+- the pictures' shape lists (`-V` SVG): the same shapes in the same order, each with the same fill
+  colour and opacity and the same matrix (within what 8 significant digits can say);
+- the PNGs, decoded: the same size, channels, bit depth and every sample (with --image-diff, the
+  suite's image_diff tool, run with --exact).
 
 usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--list FILE] DESIGN...
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
@@ -36,18 +38,23 @@ def main():
     ap.add_argument('--size', type=int, default=400)
     ap.add_argument('--variations', default='A,BCD,XYZZY')
     ap.add_argument('--max-shapes', type=int, default=0)
+    ap.add_argument('--image-diff', help='the image_diff tool: compare the PNGs too')
     ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
+    ap.add_argument('--part', default='1/1', help='K/N: every Nth design from the Kth (the suite runs parts in parallel)')
     ap.add_argument('designs', nargs='*')
     a = ap.parse_args()
     if a.list:
         for line in open(a.list):
             line = line.split('#')[0].strip()
-            if line: a.designs.append(line)
+            if line: a.designs.append(line)  # "design.cfdg" or "design.cfdg A,B": its own variations
+    k, n = (int(x) for x in a.part.split('/'))
+    a.designs = a.designs[k - 1::n]
     failures = 0
     work = tempfile.mkdtemp(prefix='cfdg-compare-')
-    for design in a.designs:
+    for entry in a.designs:
+        design, _, own = entry.partition(' ')
         name = os.path.basename(design)
-        for v in a.variations.split(','):
+        for v in (own.strip() or a.variations).split(','):
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
             for f in (ref_svg, got_svg):
                 if os.path.exists(f): os.remove(f)
@@ -64,7 +71,17 @@ def main():
             why = compare(shapes(open(ref_svg).read()), shapes(open(got_svg).read()))
             if why:
                 print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
-            print(f'{name} {v}: equal ({len(shapes(open(ref_svg).read()))} shapes)')
+            if a.image_diff:
+                ref_png, got_png = os.path.join(work, 'ref.png'), os.path.join(work, 'got.png')
+                limit = ['-m', str(a.max_shapes)] if a.max_shapes else []
+                subprocess.run(['cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, ref_png], capture_output=True)
+                g = subprocess.run([a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, got_png],
+                                   capture_output=True, text=True)
+                d = subprocess.run([a.image_diff, ref_png, got_png, '--exact'], capture_output=True, text=True)
+                why = f'lcjit failed: {g.stderr.strip()[:300]}' if g.returncode else d.stdout.strip() if d.returncode else None
+                if why:
+                    print(f'{name} {v}: DIFFERENT PNG: {why}'); failures += 1; break
+            print(f'{name} {v}: equal ({len(shapes(open(ref_svg).read()))} shapes{", PNG" if a.image_diff else ""})')
     return 1 if failures else 0
 
 if __name__ == '__main__':

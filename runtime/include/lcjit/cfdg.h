@@ -60,6 +60,10 @@ struct __cf_Design {
   int randStaticCount;  // rand_static() values the engine draws before the run, in parse order
   int usesColour;       // a sat term appears: the picture is in colour
   int usesTime;
+  // Changes a white, opaque state into the background's colour (CF::Background), or null.
+  void (*background)(struct __cf_Ctx*, struct __cf_State*);
+  int usesBlend;        // a blend term: drawn with compositing operators
+  int backgroundAlpha;  // the background has an alpha term: the picture has alpha
 };
 
 #ifdef __cplusplus

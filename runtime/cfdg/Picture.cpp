@@ -1,0 +1,35 @@
+// A design's expansion drawn as Context Free draws it (Picture.h).
+#include "runtime/cfdg/Picture.h"
+
+namespace lcjit::runtime::cfdg {
+
+namespace {
+Rgba deviceColour(const double hsba[4]) {
+  double rgba[4];
+  rgbOf(hsba, rgba);
+  return {rgba[0], rgba[1], rgba[2], rgba[3]};
+}
+}  // namespace
+
+Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framing& f, const ExpandOptions& o) {
+  PixelFormat format = design.usesBlend          ? PixelFormat::Rgba8Blend
+                       : design.backgroundAlpha ? PixelFormat::Rgba8
+                       : design.usesColour      ? PixelFormat::Rgb8
+                                                : PixelFormat::Gray8;
+  Canvas canvas(f.width, f.height, format, deviceColour(e.background));
+  for (const FinishedShape& s : e.shapes) {
+    if (!drawn(s, f, o))
+      continue;
+    CanvasShape c;
+    c.primitive = Primitive(s.shape);
+    c.toPixels = {s.state.sx, s.state.shy, s.state.shx, s.state.sy, s.state.tx, s.state.ty};
+    c.toPixels.multiply(f.toPixels);
+    c.colour = deviceColour(s.state.colour);
+    // A blend flag carries AGG's compositing operator above bit 21.
+    c.blend = (s.state.blend & (1 << 20)) ? (s.state.blend >> 21) & 31 : kBlendSourceOver;
+    canvas.draw(c);
+  }
+  return canvas;
+}
+
+}  // namespace lcjit::runtime::cfdg

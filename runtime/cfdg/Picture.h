@@ -1,0 +1,13 @@
+// A design's expansion drawn as Context Free draws it: the pixel format it chooses (grey, RGB,
+// RGBA, with compositing operators), the background, each drawn shape's colour and transform to
+// pixels, on the AGG canvas (Canvas.h).
+#pragma once
+#include "runtime/cfdg/Canvas.h"
+#include "runtime/cfdg/Expander.h"
+
+namespace lcjit::runtime::cfdg {
+
+Canvas drawExpansion(const __cf_Design& design, const Expansion& expansion, const Framing& framing,
+                     const ExpandOptions& options);
+
+}  // namespace lcjit::runtime::cfdg
