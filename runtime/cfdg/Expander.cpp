@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 namespace lcjit::runtime::cfdg {
@@ -148,7 +149,7 @@ struct Unfinished {
   int shape;
   uint64_t seed;
   __cf_State state;
-  std::vector<double> params;
+  std::unique_ptr<double[]> params;  // the shape's parameter block (null for none)
 };
 
 // The unit primitives' outlines, as paths (CIRCLE by eight points: its bounds are an octagon's).
@@ -165,6 +166,26 @@ agg::path_storage primitivePath(int shape) {
   return p;
 }
 
+// The points of a primitive's outline stroked 0.1 wide with miter joins and butt caps, in its own
+// units, as AGG's stroker makes them. Only round joins and caps depend on the approximation scale;
+// these inner joins are inside the outer outline, so the box of any transform of these points is
+// the box Context Free measures.
+std::vector<std::pair<double, double>> strokedOutline(int shape) {
+  agg::path_storage path = primitivePath(shape);
+  agg::conv_stroke<agg::path_storage> stroke(path);
+  stroke.width(0.1);
+  stroke.line_join(agg::miter_join);
+  stroke.line_cap(agg::butt_cap);
+  stroke.miter_limit(4.0);
+  stroke.inner_join(agg::inner_round);
+  std::vector<std::pair<double, double>> points;
+  stroke.rewind(0);
+  double x, y;
+  for (unsigned cmd; !agg::is_stop(cmd = stroke.vertex(&x, &y));)
+    if (agg::is_vertex(cmd)) points.emplace_back(x, y);
+  return points;
+}
+
 struct Engine {
   const __cf_Design& design;
   const ExpandOptions& options;
@@ -175,7 +196,7 @@ struct Engine {
   double scale = 0, scaleArea = 0, minArea = 0.09, totalArea = 0;
   double fixedBorder = 8, shapeBorder = 2;
   uint64_t finishedCount = 0;
-  agg::path_storage paths[3] = {primitivePath(0), primitivePath(1), primitivePath(2)};
+  std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
@@ -258,7 +279,12 @@ struct Engine {
     if (hasRules(shape)) {
       if (!result.bounds.valid() || area * scaleArea >= minArea) {
         int n = design.shapes[shape].paramCount;
-        pushHeap({area, shape, seed, s, std::vector<double>(params, params + n)});
+        std::unique_ptr<double[]> block;
+        if (n > 0) {
+          block.reset(new double[size_t(n)]);
+          std::copy(params, params + n, block.get());
+        }
+        pushHeap({area, shape, seed, s, std::move(block)});
       }
       return;
     }
@@ -271,22 +297,36 @@ struct Engine {
     if (scale == 0.0)
       scale = (options.width + options.height) / std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx));
     FinishedShape f;
-    f.shape = shape;
-    f.state = s;
+    f.shape = uint8_t(shape);
+    f.transform = affineOf(s);
+    double rgba[4];
+    rgbOf(s.colour, rgba);
+    for (int k = 0; k < 4; ++k) f.rgba[k] = rgba[k];
+    f.z = s.ztz;
+    f.blend = s.blend;
     if (shape != 3) {
       // The box of the outline stroked 0.1 wide (miter joins, butt caps), as Context Free
-      // measures every shape, filled or not.
-      agg::conv_stroke<agg::path_storage> stroke(paths[shape]);
-      stroke.width(0.1);
-      stroke.line_join(agg::miter_join);
-      stroke.line_cap(agg::butt_cap);
-      stroke.miter_limit(4.0);
-      stroke.inner_join(agg::inner_round);
-      stroke.approximation_scale(0.1 * scale * std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx)));
-      agg::trans_affine tr(s.sx, s.shy, s.shx, s.sy, s.tx, s.ty);
-      agg::conv_transform<decltype(stroke)> path(stroke, tr);
+      // measures every shape, filled or not: the stroke is made in the shape's own units, so its
+      // points are the same for every shape of a kind (outlines[]), transformed as AGG's
+      // conv_transform does.
       Bounds b;
-      if (!agg::bounding_rect_single(path, 0, &b.minX, &b.minY, &b.maxX, &b.maxY) || !b.valid())
+      bool first = true;
+      for (const auto& [x0, y0] : outlines[shape]) {
+        double x = x0, y = y0;
+        double tmp = x;
+        x = tmp * s.sx + y * s.shx + s.tx;
+        y = tmp * s.shy + y * s.sy + s.ty;
+        if (first) {
+          b = {x, y, x, y};
+          first = false;
+          continue;
+        }
+        if (x < b.minX) b.minX = x;
+        if (y < b.minY) b.minY = y;
+        if (x > b.maxX) b.maxX = x;
+        if (y > b.maxY) b.maxY = y;
+      }
+      if (!b.valid())
         return;
       f.boxArea = std::fabs((b.maxX - b.minX) * (b.maxY - b.minY));
       totalArea += f.boxArea;
@@ -297,10 +337,6 @@ struct Engine {
       f.boxArea = 1.0;
     }
     f.order = ++finishedCount;
-    if (!design.usesTime) {
-      f.state.tbegin = totalArea;
-      f.state.tend = std::numeric_limits<double>::infinity();
-    }
     result.shapes.push_back(f);
   }
 
@@ -333,11 +369,16 @@ struct Engine {
       ctx.cur = u.seed;
       ctx.frame = &u.state;
       ++result.expanded;
-      design.rules[chosen].body(&ctx, u.params.data());
+      design.rules[chosen].body(&ctx, u.params.get());
     }
-    std::sort(result.shapes.begin(), result.shapes.end(), [](const FinishedShape& a, const FinishedShape& b) {
-      return a.state.ztz == b.state.ztz ? a.order < b.order : a.state.ztz < b.state.ztz;
+    // Shapes are made in order: only a design that moves some in z needs sorting.
+    bool flat = std::all_of(result.shapes.begin(), result.shapes.end(), [&](const FinishedShape& f) {
+      return f.z == result.shapes.front().z;
     });
+    if (!flat)
+      std::sort(result.shapes.begin(), result.shapes.end(), [](const FinishedShape& a, const FinishedShape& b) {
+        return a.z == b.z ? a.order < b.order : a.z < b.z;
+      });
   }
 };
 
@@ -424,10 +465,9 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
   for (const FinishedShape& s : e.shapes) {
     if (s.shape == 3 || !drawn(s, f, o))
       continue;
-    Affine m = affineOf(s.state);
+    Affine m = s.transform;
     m.multiply(toSvg);
-    double rgba[4];
-    rgbOf(s.state.colour, rgba);
+    const double* rgba = s.rgba;
     auto byte = [](double v) { return unsigned(v * 255.0 + 0.5); };
     char fill[64];
     std::snprintf(fill, sizeof fill, "#%02x%02x%02x", byte(rgba[0]), byte(rgba[1]), byte(rgba[2]));

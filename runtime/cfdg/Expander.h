@@ -6,6 +6,7 @@
 // a variation gives the shapes Context Free gives, in its order, to the last bit.
 #pragma once
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <utility>
 #include <vector>
@@ -39,15 +40,21 @@ struct ExpandOptions {
   uint64_t maxShapes = 500'000'000;
 };
 
+// What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
 struct FinishedShape {
-  int shape = 0;  // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL
-  __cf_State state{};
-  uint64_t order = 0;
-  double boxArea = 0;  // of the stroked outline's box, world units
+  Affine transform;                 // the unit shape into world units
+  double rgba[4] = {0, 0, 0, 1};    // device colour (Context Free's HSB → RGB), not premultiplied
+  double z = 0;                     // drawing order first
+  double boxArea = 0;               // of the stroked outline's box, world units
+  uint64_t order = 0;               // then the order shapes were finished in
+  int blend = 0;                    // the blend flag (CF::… with bit 20), 0 for src-over
+  uint8_t shape = 0;                // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL
 };
 
 struct Expansion {
-  std::vector<FinishedShape> shapes;  // in drawing order: z, then the order they were made
+  // In drawing order: z, then the order they were made. A deque: a million shapes grow it without
+  // copying (or holding twice) what is there.
+  std::deque<FinishedShape> shapes;
   Bounds bounds;
   uint64_t expanded = 0;               // rule shapes expanded
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background

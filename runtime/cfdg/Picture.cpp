@@ -22,11 +22,11 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
       continue;
     CanvasShape c;
     c.primitive = Primitive(s.shape);
-    c.toPixels = {s.state.sx, s.state.shy, s.state.shx, s.state.sy, s.state.tx, s.state.ty};
+    c.toPixels = s.transform;
     c.toPixels.multiply(f.toPixels);
-    c.colour = deviceColour(s.state.colour);
+    c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
     // A blend flag carries AGG's compositing operator above bit 21.
-    c.blend = (s.state.blend & (1 << 20)) ? (s.state.blend >> 21) & 31 : kBlendSourceOver;
+    c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
     canvas.draw(c);
   }
   return canvas;
