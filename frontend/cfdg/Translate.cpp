@@ -811,7 +811,9 @@ Translation Translator::run() {
   out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
   for (int k = 0; k < 4; ++k) shapeIds_[out_.shapes[size_t(k)]] = k;
   for (const auto& s : d_.shapes) {
-    if (shapeIds_.count(s.name)) fail(s.at, "shape '" + s.name + "' is declared twice");
+    // A design's own shape named like a primitive (rule TRIANGLE { … }) takes the name: its
+    // rules run where the design names it, as in Context Free.
+    if (shapeIds_.count(s.name) && shapeIds_[s.name] >= 4) fail(s.at, "shape '" + s.name + "' is declared twice");
     shapeIds_[s.name] = int(out_.shapes.size());
     out_.shapes.push_back(s.name);
   }
