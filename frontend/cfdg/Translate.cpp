@@ -676,11 +676,97 @@ class Translator {
         return;
       }
       case Element::Transform:
-      case Element::Clone:
-        fail(e.at, std::string(e.kind == Element::Clone ? "clone" : "transform") + " is not supported by lcjit yet");
+      case Element::Clone: transform(e); return;
       case Element::PathOp:
       case Element::PathCommand: fail(e.at, "paths are not supported by lcjit yet");
     }
+  }
+
+  // Whether every term of `a` only moves, turns, scales, skews or flips: such an adjustment in a
+  // transform statement is a copy's geometry alone.
+  static bool geometryOnly(const Adjustment& a) {
+    for (const auto& t : a.terms) {
+      const std::string& k = t.word;
+      if (k != "x" && k != "y" && k != "r" && k != "s" && k != "skew" && k != "f" && k != "trans") return false;
+      if ((k == "x" || k == "s") && t.args.size() == 3) return false;  // moves z too
+    }
+    return true;
+  }
+
+  // transform ADJ, ADJ… BODY (and clone): the body once per adjustment. Adjustments that only
+  // change geometry are evaluated first, as transforms, each distinct one kept once; the others
+  // (colour, z) are applied to each copy as it is made, first. Each copy steps the random state;
+  // clone starts every element of the body from the state the statement began with.
+  void transform(const Element& e) {
+    std::vector<const Expr*> items;
+    if (e.value->kind == Expr::List) for (const auto& a : e.value->args) items.push_back(a.get());
+    else items.push_back(e.value.get());
+    std::vector<const Adjustment*> mods, geometric;
+    for (const Expr* x : items) {
+      if (x->kind != Expr::Modification)
+        fail(x->at, "symmetry flags in transform are not supported by lcjit yet");
+      (geometryOnly(*x->adjustment) ? geometric : mods).push_back(x->adjustment.get());
+    }
+    std::string outer = temp(), transforms = temp(), count = temp(), clone = temp(), child = temp(), k = temp();
+    line("{");
+    ++indent_;
+    line("const __cf_State* " + outer + " = c->frame;");
+    line("__cf_State " + transforms + "[" + std::to_string(geometric.size() + 1) + "];");
+    line("int " + count + " = 0;");
+    for (const Adjustment* a : geometric) {
+      std::string m = temp();
+      line("{");
+      ++indent_;
+      line("__cf_State " + m + ";");
+      line("__cf_identity(&" + m + ");");
+      auto terms = prepare(*a);
+      if (!a->ordered) terms = canonical(std::move(terms));
+      for (const auto& t : terms) {
+        std::string list;
+        int n = 0;
+        for (const Expr* x : t.args)
+          for (auto& p : expr(*x).parts) list += p + ", ", ++n;
+        std::string args = temp();
+        line("{ const double " + args + "[] = {" + list + "0}; __cf_fold(&" + m + ", " + termEnum(t) + ", " +
+             std::to_string(n) + ", " + args + "); }");
+      }
+      line("if (!__cf_seen_transform(" + transforms + ", " + count + ", &" + m + ")) " + transforms + "[" + count + "++] = " + m + ";");
+      --indent_;
+      line("}");
+    }
+    line("const uint64_t " + clone + " = c->cur;");
+    line("(void)" + clone + ";");
+    line("for (int " + k + " = 0; " + k + " < " + std::to_string(mods.size()) + " + " + count + "; ++" + k + ") {");
+    ++indent_;
+    line("__cf_State " + child + " = *" + outer + ";");
+    if (!mods.empty()) {
+      line("switch (" + k + ") {");
+      for (size_t i = 0; i < mods.size(); ++i) {
+        line("case " + std::to_string(i) + ": {");
+        ++indent_;
+        applyAdjustment(*mods[i], prepare(*mods[i]), child);
+        line("break;");
+        --indent_;
+        line("}");
+      }
+      line("default: __cf_transform_by(&" + child + ", &" + transforms + "[" + k + " - " + std::to_string(mods.size()) + "]);");
+      line("}");
+    } else {
+      line("__cf_transform_by(&" + child + ", &" + transforms + "[" + k + "]);");
+    }
+    line("c->cur = __cf_step(c->cur);");
+    line("c->frame = &" + child + ";");
+    scopes_.emplace_back();
+    for (const auto& el : e.body) {
+      if (e.kind == Element::Clone) line("c->cur = " + clone + ";");
+      element(*el);
+    }
+    scopes_.pop_back();
+    --indent_;
+    line("}");
+    line("c->frame = " + outer + ";");
+    --indent_;
+    line("}");
   }
 
   void define(const Element& e) {

@@ -639,6 +639,19 @@ void __cf_term(__cf_Ctx* c, __cf_State* m, int kind, int count, const double* v)
   }
 }
 
+int __cf_seen_transform(const __cf_State* transforms, int count, const __cf_State* m) {
+  auto same = [](double a, double b) { return std::fabs(a - b) <= 1e-14; };
+  for (int i = 0; i < count; ++i) {
+    const __cf_State& t = transforms[i];
+    if (same(t.sx, m->sx) && same(t.shy, m->shy) && same(t.shx, m->shx) && same(t.sy, m->sy) && same(t.tx, m->tx) &&
+        same(t.ty, m->ty))
+      return 1;
+  }
+  return 0;
+}
+
+void __cf_transform_by(__cf_State* shape, const __cf_State* m) { premultiplyState(*shape, affineOf(*m)); }
+
 void __cf_replace(__cf_Ctx* c, int shape, const __cf_State* s, const double* params) {
   engineOf(c).process(c, shape, *s, params, stepSeed(c->cur));
 }
@@ -769,6 +782,8 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
+      {"__cf_seen_transform", reinterpret_cast<void*>(&__cf_seen_transform)},
+      {"__cf_transform_by", reinterpret_cast<void*>(&__cf_transform_by)},
   };
 }
 }  // namespace lcjit::runtime::cfdg

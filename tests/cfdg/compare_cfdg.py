@@ -46,7 +46,9 @@ def main():
     if a.list:
         for line in open(a.list):
             line = line.split('#')[0].strip()
-            if line: a.designs.append(line)  # "design.cfdg" or "design.cfdg A,B": its own variations
+            # "design.cfdg" or "design.cfdg A,B" (its own variations); "@/x.cfdg": beside the list
+            if line.startswith('@/'): line = os.path.join(os.path.dirname(os.path.abspath(a.list)), line[2:])
+            if line: a.designs.append(line)
     k, n = (int(x) for x in a.part.split('/'))
     a.designs = a.designs[k - 1::n]
     failures = 0

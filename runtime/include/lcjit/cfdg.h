@@ -91,6 +91,10 @@ void __cf_apply(struct __cf_State* shape, const struct __cf_State* m);
 // One constant term merged into an adjustment being folded (`m` starts as __cf_identity): how
 // Context Free folds the constant terms of an adjustment once, before the run.
 void __cf_fold(struct __cf_State* m, int kind, int count, const double* args);
+// The copies of a transform statement: whether `m`'s transform is one of the first `count` of
+// `transforms` (to 1e-14, as Context Free keeps only distinct ones), and a copy moved by one.
+int __cf_seen_transform(const struct __cf_State* transforms, int count, const struct __cf_State* m);
+void __cf_transform_by(struct __cf_State* shape, const struct __cf_State* m);
 // One adjustment term applied to a shape (or a loop's frame): `kind` is a __cf_Term.
 void __cf_term(struct __cf_Ctx* c, struct __cf_State* shape, int kind, int count, const double* args);
 
