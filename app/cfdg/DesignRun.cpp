@@ -121,7 +121,7 @@ int runDesign(const DesignRunOptions& o) {
 
   cf::Expansion e = cf::expand(compiled, eo, statics);
   if (!e.error.empty()) {
-    std::fprintf(stderr, "%s: error: %s\n", o.design.c_str(), e.error.c_str());
+    std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
     return 1;
   }
   cf::Framing f = cf::frame(e, eo);

@@ -75,6 +75,8 @@ class Translator {
   const Design& d_;
   Translation out_;
   std::map<std::string, int> shapeIds_;
+  std::vector<ShapeDecl> decls_;         // the design's shapes, then those only named (by id - 4)
+  std::set<std::string> undeclared_;
   std::vector<std::map<std::string, Binding>> scopes_;
   std::map<std::string, Binding> globals_;
   int temp_ = 0;
@@ -100,10 +102,18 @@ class Translator {
     auto g = globals_.find(name);
     return g == globals_.end() ? nullptr : &g->second;
   }
-  int shapeId(const std::string& name, const Place& at) const {
+  // A shape named where none is declared is a shape without rules, as in Context Free: an error
+  // only if a run reaches it (the engine then names the place it is first used).
+  int shapeId(const std::string& name, const Place& at) {
     auto it = shapeIds_.find(name);
-    if (it == shapeIds_.end()) fail(at, "shape '" + name + "' is not declared");
-    return it->second;
+    if (it != shapeIds_.end()) return it->second;
+    ShapeDecl implicit;
+    implicit.name = name;
+    implicit.at = at;
+    decls_.push_back(implicit);
+    undeclared_.insert(name);
+    out_.shapes.push_back(name);
+    return shapeIds_[name] = int(out_.shapes.size()) - 1;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -404,7 +414,24 @@ class Translator {
       if (args.size() != 2) fail(e.at, f + "() takes two numbers");
       return {{ordered({one(0), one(1)}, "__cf_fn2(c, " + it->second + ", $0, $1)", pure)}, constant, pure};
     }
-    if (shapeIds_.count(f)) fail(e.at, "shape '" + f + "' used where a number is expected");
+    if (auto id = shapeIds_.find(f); id != shapeIds_.end()) {
+      // A shape with its parameters bound: a shape value (for a parameter or variable of type
+      // shape).
+      int count = 0;
+      if (id->second >= 4)
+        for (const auto& p : decls_[size_t(id->second - 4)].params) count += p.width;
+      if (e.reuseParams)  // NAME(=): bound to the running shape's own parameters
+        return {{"__cf_bind(c, " + std::to_string(id->second) + ", p)"}, false, true};
+      std::vector<std::string> parts;
+      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
+      if (int(parts.size()) != count)
+        fail(e.at, "shape '" + f + "' takes " + std::to_string(count) + " parameter values, " + std::to_string(parts.size()) +
+                       " given");
+      std::string combine = "({ const double _b[] = {";
+      for (size_t k = 0; k < parts.size(); ++k) combine += "$" + std::to_string(k) + ", ";
+      combine += "0}; __cf_bind(c, " + std::to_string(id->second) + ", _b); })";
+      return {{ordered(parts, combine, pure)}, constant, pure};
+    }
     fail(e.at, "'" + f + "' is not a function lcjit knows");
   }
 
@@ -790,16 +817,27 @@ class Translator {
     std::string spec;
     std::string params = "nullptr";
     int paramCount = 0;
+    const Binding* named = e.shapeExpr ? nullptr : lookup(e.shape);
+    if (named && named->kind == Binding::Function) named = nullptr;
+    std::string value;  // a shape value (a parameter or variable of type shape, if(), select())
     if (e.shapeExpr) {
       Value s = scalar(*e.shapeExpr);
-      std::string t = temp();
-      line("int " + t + " = (int)(" + s.parts[0] + ");");
-      shapeCode = t;
+      value = temp();
+      line("double " + value + " = " + s.parts[0] + ";");
       spec = bytes(*e.shapeExpr);
+    } else if (named) {
+      if (e.hasArgs && !e.reuseParams) fail(e.shapeAt, "'" + e.shape + "' is a shape value: its parameters are bound already");
+      Expr name;
+      name.kind = Expr::Name;
+      name.at = e.shapeAt;
+      name.text = e.shape;
+      value = temp();
+      line("double " + value + " = " + scalar(name).parts[0] + ";");
+      spec = e.shape;
     } else {
       int id = shapeId(e.shape, e.shapeAt);
       shapeCode = std::to_string(id);
-      const ShapeDecl* decl = id >= 4 ? &d_.shapes[size_t(id - 4)] : nullptr;
+      const ShapeDecl* decl = id >= 4 ? &decls_[size_t(id - 4)] : nullptr;
       for (const auto& p : decl ? decl->params : std::vector<Param>{}) paramCount += p.width;
       spec = e.shape;
       if (e.reuseParams) {
@@ -833,7 +871,8 @@ class Translator {
     line("c->cur = __cf_step(c->cur);");
     line("__cf_State s = *c->frame;");
     applyAdjustment(e.adjustment, std::move(terms), "s");
-    line("__cf_replace(c, " + shapeCode + ", &s, " + params + ");");
+    if (!value.empty()) line("__cf_replace_value(c, " + value + ", &s);");
+    else line("__cf_replace(c, " + shapeCode + ", &s, " + params + ");");
     --indent_;
     line("}");
   }
@@ -896,6 +935,7 @@ class Translator {
 Translation Translator::run() {
   out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
   for (int k = 0; k < 4; ++k) shapeIds_[out_.shapes[size_t(k)]] = k;
+  decls_ = d_.shapes;
   for (const auto& s : d_.shapes) {
     // A design's own shape named like a primitive (rule TRIANGLE { … }) takes the name: its
     // rules run where the design names it, as in Context Free.
@@ -965,7 +1005,7 @@ Translation Translator::run() {
     const Rule& rule = d_.rules[r];
     if (rule.isPath) fail(rule.at, "paths are not supported by lcjit yet");
     int id = shapeId(rule.shape, rule.at);
-    const ShapeDecl& decl = d_.shapes[size_t(id - 4)];
+    const ShapeDecl& decl = decls_[size_t(id - 4)];
     code_.clear();
     indent_ = 1;
     scopes_.clear();
@@ -1002,7 +1042,9 @@ Translation Translator::run() {
   indent_ = 1;
   scopes_.clear();
   scopes_.emplace_back();
-  int startId = shapeId(startName, startAt);
+  const Binding* startValue = lookup(startName);
+  if (startValue && startValue->kind != Binding::Global) startValue = nullptr;
+  int startId = startValue ? -1 : shapeId(startName, startAt);
   std::string params = "nullptr";
   if (!d_.startArgs.empty()) {
     std::string list;
@@ -1021,7 +1063,8 @@ Translation Translator::run() {
   line("s.tbegin = 0; s.tend = 1;");
   line("c->frame = &s;");
   if (d_.startHasAdjustment) applyAdjustment(d_.startAdjustment, std::move(terms), "s");
-  line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
+  if (startValue) line("__cf_start_value(c, " + startValue->cpp + ", &s);");
+  else line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
   unit += "void start(__cf_Ctx* c) {\n" + start + code_ + "}\n";
 
   // The background: white changed by CF::Background.
@@ -1045,11 +1088,15 @@ Translation Translator::run() {
   for (size_t k = 0; k < out_.shapes.size(); ++k) {
     int count = 0;
     bool path = false;
+    std::string usedAt = "nullptr";
     if (k >= 4) {
-      for (const auto& p : d_.shapes[k - 4].params) count += p.width;
-      path = d_.shapes[k - 4].isPath;
+      const ShapeDecl& decl = decls_[k - 4];
+      for (const auto& p : decl.params) count += p.width;
+      path = decl.isPath;
+      if (undeclared_.count(decl.name))
+        usedAt = "\"" + d_.file + ":" + std::to_string(decl.at.line) + ":" + std::to_string(decl.at.column) + "\"";
     }
-    unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + "},\n";
+    unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + ", " + usedAt + "},\n";
   }
   unit += "};\nconst __cf_Rule rules[] = {\n" + rules + "  {0, 0, 0, nullptr}\n};\n}  // namespace\n";
   bool colour = usesSat_;

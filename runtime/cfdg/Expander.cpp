@@ -223,6 +223,29 @@ struct Engine {
     if (shapeBorder <= 0) shapeBorder = 1;
   }
 
+  // Shape values with bound parameters: a value is shape + kBoundStride · (index + 1).
+  static constexpr double kBoundStride = 1048576.0;
+  std::deque<std::vector<double>> bound;
+  std::vector<int> boundShape;
+
+  double bind(int shape, const double* params) {
+    int n = design.shapes[shape].paramCount;
+    if (n == 0) return double(shape);
+    bound.emplace_back(params, params + n);
+    boundShape.push_back(shape);
+    return double(shape) + kBoundStride * double(bound.size());
+  }
+  void replaceValue(__cf_Ctx* c, double value, const __cf_State& s, bool start = false) {
+    double index = std::floor(value / kBoundStride);
+    int shape = int(value - index * kBoundStride);
+    if (!(value >= 0) || shape >= design.shapeCount || index > double(bound.size()))
+      fail(c, "a shape value that is no shape");
+    const double* params = index > 0 ? bound[size_t(index) - 1].data() : nullptr;
+    if (!params && design.shapes[shape].paramCount > 0)
+      fail(c, std::string("shape ") + design.shapes[shape].name + " needs parameters");
+    process(c, shape, s, params, start ? c->cur : stepSeed(c->cur));
+  }
+
   bool hasRules(int shape) const { return shape >= 4 && !rulesOf[size_t(shape)].empty(); }
 
   // libstdc++'s push_heap and pop_heap on the area, ties and all: the order shapes are expanded
@@ -288,8 +311,13 @@ struct Engine {
       }
       return;
     }
-    if (shape >= 4)
+    if (shape >= 4) {
+      if (design.shapes[shape].usedAt) {
+        result.errorAt = design.shapes[shape].usedAt;
+        fail(c, std::string("shape '") + design.shapes[shape].name + "' is not declared (it has no rules)");
+      }
       fail(c, std::string("shape with no rules encountered: ") + design.shapes[shape].name);
+    }
     finish(shape, s);
   }
 
@@ -656,6 +684,10 @@ void __cf_replace(__cf_Ctx* c, int shape, const __cf_State* s, const double* par
   engineOf(c).process(c, shape, *s, params, stepSeed(c->cur));
 }
 
+double __cf_bind(__cf_Ctx* c, int shape, const double* params) { return engineOf(c).bind(shape, params); }
+void __cf_replace_value(__cf_Ctx* c, double value, const __cf_State* s) { engineOf(c).replaceValue(c, value, *s); }
+void __cf_start_value(__cf_Ctx* c, double value, const __cf_State* s) { engineOf(c).replaceValue(c, value, *s, true); }
+
 void __cf_start(__cf_Ctx* c, int shape, const __cf_State* s, const double* params) {
   engineOf(c).process(c, shape, *s, params, c->cur);
 }
@@ -782,6 +814,9 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
+      {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},
+      {"__cf_replace_value", reinterpret_cast<void*>(&__cf_replace_value)},
+      {"__cf_start_value", reinterpret_cast<void*>(&__cf_start_value)},
       {"__cf_seen_transform", reinterpret_cast<void*>(&__cf_seen_transform)},
       {"__cf_transform_by", reinterpret_cast<void*>(&__cf_transform_by)},
   };

@@ -59,6 +59,7 @@ struct Expansion {
   uint64_t expanded = 0;               // rule shapes expanded
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
   std::string error;                   // a runtime error that stopped the run ("" if none)
+  std::string errorAt;                 // where in the design, "file:line:col", when known
 };
 
 // Expands `design` with `options`. `statics` are its rand_static() values.

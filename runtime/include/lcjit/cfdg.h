@@ -46,6 +46,7 @@ struct __cf_Shape {
   const char* name;
   int paramCount;  // numbers in the parameter block (a vector counts its length)
   int isPath;
+  const char* usedAt;  // "file:line:col" where a shape that is never declared is first named, or null
 };
 
 struct __cf_Design {
@@ -108,6 +109,12 @@ enum __cf_Term {
 // The child `shape` with state `s` and parameters `params` (the shape's paramCount numbers)
 // replaces part of the running shape: queued when it has rules, drawn when it is a primitive.
 void __cf_replace(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params);
+// Shape values: a shape with its parameters bound (`foo(0.5)` given for a parameter of type
+// shape), kept by the engine for the run; a shape without parameters is its number. Replacing
+// with a value takes the shape and parameters it holds.
+double __cf_bind(struct __cf_Ctx* c, int shape, const double* params);
+void __cf_replace_value(struct __cf_Ctx* c, double value, const struct __cf_State* s);
+void __cf_start_value(struct __cf_Ctx* c, double value, const struct __cf_State* s);
 // The start shape: its seed is ctx->cur as it is (no further step).
 void __cf_start(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params);
 
