@@ -15,6 +15,7 @@
 #include "jit/Compiler.h"
 #include "runtime/cfdg/Expander.h"
 #include "runtime/cfdg/Picture.h"
+#include "support/Elapsed.h"
 #include "support/InputFile.h"
 #include "support/ReplacingFile.h"
 
@@ -37,6 +38,7 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   if (options.optLevel) d.optLevel = *options.optLevel;
   d.emitCpp = options.emitCpp;
   d.quiet = options.quiet;
+  d.timing = options.verbose;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -61,12 +63,14 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("-b", o.border, "border: -1 to 2 (default 2)");
   c.add_option("-o", o.outs, "output file");
   c.add_flag("-q", o.quiet, "quiet");
+  c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
   c.add_option("design", o.design, "the design (.cfdg)")->required();
   c.add_option("output", o.outs, "output file");
 }
 
 int runDesign(const DesignRunOptions& o) {
   namespace cf = runtime::cfdg;
+  const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
   if (!text) {
     std::fprintf(stderr, "lcjit: %s: %s\n", o.design.c_str(), text.getError().message().c_str());
@@ -80,6 +84,7 @@ int runDesign(const DesignRunOptions& o) {
     std::fputs(unit->cpp.c_str(), stdout);
     return 0;
   }
+  const double parseMs = support::msSince(start);
 
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
@@ -92,7 +97,8 @@ int runDesign(const DesignRunOptions& o) {
   co.optLevel = o.optLevel;
   co.plainUnit = true;
   co.bufferName = o.design + ".cpp";
-  auto code = (*compiler)->compile(unit->cpp, co);
+  jit::CompileStats compileStats;
+  auto code = (*compiler)->compile(unit->cpp, co, &compileStats);
   if (!code) return failed(code.takeError());
   auto table = (*code)->lookup("__cf_design");
   if (!table) return failed(table.takeError());
@@ -119,7 +125,9 @@ int runDesign(const DesignRunOptions& o) {
   uint64_t s = eo.variation;
   for (int k = 0; k < unit->randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
 
+  const double compileMs = support::msSince(start) - parseMs;
   cf::Expansion e = cf::expand(compiled, eo, statics);
+  const double expandMs = support::msSince(start) - parseMs - compileMs;
   if (!e.error.empty()) {
     std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
     return 1;
@@ -139,6 +147,13 @@ int runDesign(const DesignRunOptions& o) {
   if (!o.quiet)
     std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(),
                  cf::variationName(eo.variation).c_str(), e.shapes.size());
+  if (o.timing)
+    std::fprintf(stderr,
+                 "lcjit: parse and translate %.1f ms, compile %.1f ms (%s), expand %.1f ms (%llu rules run), "
+                 "draw and write %.1f ms\n",
+                 parseMs, compileMs,
+                 compileStats.object == jit::CompileStats::ObjectFrom::Compiled ? "compiled" : "from the cache", expandMs,
+                 static_cast<unsigned long long>(e.expanded), support::msSince(start) - parseMs - compileMs - expandMs);
   return 0;
 }
 

@@ -26,6 +26,7 @@ struct DesignRunOptions {
   int optLevel = 1;
   bool emitCpp = false;
   bool quiet = false;
+  bool timing = false;  // -t (cfdg's) / -v: where the time went, on stderr
   std::string cacheDir;
 };
 

@@ -600,7 +600,7 @@ class Translator {
       std::string args = "{";
       for (auto& p : v.parts) {
         args += p + ", ";
-        if (p.rfind("(0x", 0) != 0 && p.rfind("(-0x", 0) != 0) literalsOnly = false;
+        if (p.find_first_not_of("()+-0123456789abcdefpx.") != std::string::npos) literalsOnly = false;
       }
       args += "0}";
       foldCode += "{ const double _a[] = " + args + "; __cf_fold(&m, " + termEnum(t) + ", " +

@@ -191,7 +191,6 @@ struct Engine {
   const ExpandOptions& options;
   std::vector<double> cumulative;  // per rule: its shape's cumulative weight
   std::vector<std::vector<int>> rulesOf;
-  std::vector<Unfinished> heap;
   Expansion result;
   double scale = 0, scaleArea = 0, minArea = 0.09, totalArea = 0;
   double fixedBorder = 8, shapeBorder = 2;
@@ -249,45 +248,63 @@ struct Engine {
   bool hasRules(int shape) const { return shape >= 4 && !rulesOf[size_t(shape)].empty(); }
 
   // libstdc++'s push_heap and pop_heap on the area, ties and all: the order shapes are expanded
-  // in decides the picture.
+  // in decides the picture. The heap holds (area, slot) pairs; the shapes stay in their slots.
+  struct Entry {
+    double area;
+    uint32_t slot;
+  };
+  std::vector<Entry> heap;
+  std::deque<Unfinished> slots;  // a deque: a body adding shapes does not move its own
+  std::vector<uint32_t> freeSlots;
+
   void pushHeap(Unfinished&& u) {
-    heap.push_back(std::move(u));
+    uint32_t slot;
+    if (!freeSlots.empty()) {
+      slot = freeSlots.back();
+      freeSlots.pop_back();
+      slots[slot] = std::move(u);
+    } else {
+      slot = uint32_t(slots.size());
+      slots.push_back(std::move(u));
+    }
+    Entry value{slots[slot].area, slot};
+    heap.push_back(value);
     size_t hole = heap.size() - 1;
-    Unfinished value = std::move(heap[hole]);
     while (hole > 0) {
       size_t parent = (hole - 1) / 2;
       if (!(heap[parent].area < value.area)) break;
-      heap[hole] = std::move(heap[parent]);
+      heap[hole] = heap[parent];
       hole = parent;
     }
-    heap[hole] = std::move(value);
+    heap[hole] = value;
   }
-  Unfinished popHeap() {
+  // The largest shape's slot, out of the heap (the caller frees the slot).
+  uint32_t popHeap() {
     size_t n = heap.size();
     if (n > 1) {
-      Unfinished value = std::move(heap[n - 1]);
-      heap[n - 1] = std::move(heap[0]);
+      Entry value = heap[n - 1];
+      heap[n - 1] = heap[0];
       size_t len = n - 1, hole = 0, child = 0;
-      while (len > 1 && child < (len - 1) / 2) {
+      while (child < (len - 1) / 2) {
         child = 2 * (child + 1);
         if (heap[child].area < heap[child - 1].area) --child;
-        heap[hole] = std::move(heap[child]);
+        heap[hole] = heap[child];
         hole = child;
       }
       if ((len & 1) == 0 && child == (len - 2) / 2) {
         child = 2 * (child + 1);
-        heap[hole] = std::move(heap[child - 1]);
+        heap[hole] = heap[child - 1];
         hole = child - 1;
       }
       while (hole > 0) {
         size_t parent = (hole - 1) / 2;
         if (!(heap[parent].area < value.area)) break;
-        heap[hole] = std::move(heap[parent]);
+        heap[hole] = heap[parent];
         hole = parent;
       }
-      heap[hole] = std::move(value);
+      heap[hole] = value;
     }
-    Unfinished top = std::move(heap.back());
+    uint32_t top = heap.back().slot;
     heap.pop_back();
     return top;
   }
@@ -358,9 +375,14 @@ struct Engine {
         return;
       f.boxArea = std::fabs((b.maxX - b.minX) * (b.maxY - b.minY));
       totalArea += f.boxArea;
+      Bounds before = result.bounds;
       result.bounds.merge(b.dilated(shapeBorder));
-      scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, false).scale;
-      scaleArea = scale * scale;
+      // The scale follows the bounds: worked out again only when they grew.
+      if (!before.valid() || before.minX != result.bounds.minX || before.minY != result.bounds.minY ||
+          before.maxX != result.bounds.maxX || before.maxY != result.bounds.maxY) {
+        scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, false).scale;
+        scaleArea = scale * scale;
+      }
     } else {
       f.boxArea = 1.0;
     }
@@ -385,7 +407,14 @@ struct Engine {
     while (!heap.empty()) {
       if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)
         break;
-      Unfinished u = popHeap();
+      uint32_t slot = popHeap();
+      Unfinished& u = slots[slot];
+      // The next shape to expand is likely the heap's top now: its slot is somewhere in a large
+      // pool, so ask for it while this body runs.
+      if (!heap.empty()) {
+        const char* next = reinterpret_cast<const char*>(&slots[heap[0].slot]);
+        for (size_t line = 0; line < sizeof(Unfinished); line += 64) __builtin_prefetch(next + line);
+      }
       double d = drawDouble(u.seed);
       const auto& rules = rulesOf[size_t(u.shape)];
       int chosen = rules.back();
@@ -398,6 +427,8 @@ struct Engine {
       ctx.frame = &u.state;
       ++result.expanded;
       design.rules[chosen].body(&ctx, u.params.get());
+      slots[slot].params.reset();
+      freeSlots.push_back(slot);
     }
     // Shapes are made in order: only a design that moves some in z needs sorting.
     bool flat = std::all_of(result.shapes.begin(), result.shapes.end(), [&](const FinishedShape& f) {
