@@ -7,6 +7,7 @@
 //   6. The unit: globals, functions, rules, the start shape, the design's table
 #include "frontend/cfdg/Translate.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -58,6 +59,21 @@ const std::map<std::string, std::string> kFunctions2 = {
     {"atan2", "__cf_Atan2"}, {"mod", "__cf_Mod"}, {"divides", "__cf_Divides"}, {"div", "__cf_Div"},
     {"bitor", "__cf_BitOr"}, {"bitand", "__cf_BitAnd"}, {"bitxor", "__cf_BitXor"},
     {"bitleft", "__cf_BitLeft"}, {"bitright", "__cf_BitRight"}};
+
+// A design's name as a C++ identifier: names may hold any UTF-8 letter and `::`.
+std::string identifier(const std::string& name) {
+  std::string out;
+  for (unsigned char ch : name) {
+    if (std::isalnum(ch)) {
+      out += char(ch);
+    } else {
+      char b[8];
+      std::snprintf(b, sizeof b, "_%02X", ch);
+      out += b;
+    }
+  }
+  return out;
+}
 
 std::string hex64(uint64_t v) {
   char b[32];
@@ -316,7 +332,7 @@ class Translator {
         bool constant = true, pure = true;
         for (size_t k = 0; k + 1 < e.args.size(); ++k) {
           Value val = expr(*e.args[k]);
-          std::string name = "v_" + e.names[k] + "_" + std::to_string(temp_++);
+          std::string name = "v_" + identifier(e.names[k]) + "_" + std::to_string(temp_++);
           if (val.parts.size() == 1) body += "double " + name + " = " + val.parts[0] + "; ";
           else {
             body += "double " + name + "[" + std::to_string(val.parts.size()) + "] = {";
@@ -798,7 +814,7 @@ class Translator {
 
   void define(const Element& e) {
     Value v = expr(*e.value);
-    std::string name = "v_" + e.name + "_" + std::to_string(temp_++);
+    std::string name = "v_" + identifier(e.name) + "_" + std::to_string(temp_++);
     if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
     if (v.parts.size() == 1) {
       line("double " + name + " = " + v.parts[0] + ";");
@@ -901,7 +917,7 @@ class Translator {
     if (bounds.size() == 1) end = bounds[0];
     else start = bounds[0], end = bounds[1];
     if (bounds.size() == 3) step = bounds[2];
-    std::string frame = temp(), outer = temp(), index = "v_" + (e.name.empty() ? std::string("loop") : e.name) + "_" + std::to_string(temp_++);
+    std::string frame = temp(), outer = temp(), index = "v_" + (e.name.empty() ? std::string("loop") : identifier(e.name)) + "_" + std::to_string(temp_++);
     line("__cf_State " + frame + " = *c->frame;");
     line("const __cf_State* " + outer + " = c->frame;");
     line("double " + index + " = " + start + ";");
@@ -965,7 +981,7 @@ Translation Translator::run() {
       continue;
     }
     if (def.isFunction) {
-      std::string name = "f_" + def.name;
+      std::string name = "f_" + identifier(def.name);
       Binding b{Binding::Function, name, 1, false};
       b.function = &def;
       globals_[def.name] = b;
@@ -976,7 +992,7 @@ Translation Translator::run() {
       std::string signature = "double " + name + "(__cf_Ctx* c";
       for (const auto& p : def.params) {
         if (p.width != 1) fail(p.at, "vector and adjustment parameters of functions are not supported by lcjit yet");
-        std::string pn = "a_" + p.name;
+        std::string pn = "a_" + identifier(p.name);
         signature += ", double " + pn;
         scopes_.back()[p.name] = {Binding::Local, pn, 1, false};
         ++index;
@@ -989,7 +1005,7 @@ Translation Translator::run() {
     code_.clear();
     indent_ = 1;
     Value v = expr(*def.value);
-    std::string name = "g_" + def.name;
+    std::string name = "g_" + identifier(def.name);
     Binding b{Binding::Global, name, int(v.parts.size()), v.constant};
     unit += "double " + name + (v.parts.size() > 1 ? "[" + std::to_string(v.parts.size()) + "]" : "") + ";\n";
     start += code_;

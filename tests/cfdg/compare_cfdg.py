@@ -46,7 +46,7 @@ def main():
     if a.list:
         for line in open(a.list):
             line = line.split('#')[0].strip()
-            # "design.cfdg" or "design.cfdg A,B" (its own variations); "@/x.cfdg": beside the list
+            # "design.cfdg" or "design.cfdg -v A,B" (its own variations); "@/x.cfdg": beside the list
             if line.startswith('@/'): line = os.path.join(os.path.dirname(os.path.abspath(a.list)), line[2:])
             if line: a.designs.append(line)
     k, n = (int(x) for x in a.part.split('/'))
@@ -54,7 +54,7 @@ def main():
     failures = 0
     work = tempfile.mkdtemp(prefix='cfdg-compare-')
     for entry in a.designs:
-        design, _, own = entry.partition(' ')
+        design, _, own = entry.partition(' -v ')
         name = os.path.basename(design)
         for v in (own.strip() or a.variations).split(','):
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
