@@ -1070,7 +1070,15 @@ Translation Translator::run() {
     params = "_start";
   }
   auto terms = prepare(d_.startAdjustment);
-  uint64_t seed = d_.startHasAdjustment ? seedOf(0, adjustmentBytes(terms) + startName) : seedOf(kSeedBase, startName);
+  // With an adjustment (even an empty one) the start shape's seed is its terms' bytes mixed into
+  // the base seed, xor the base seed, then its name's bytes (Context Free mixes the terms into the
+  // adjustment before the start shape takes it); without, its name's bytes from the base seed.
+  uint64_t seed = seedOf(kSeedBase, startName);
+  if (d_.startHasAdjustment) {
+    int position = 0;
+    seed = mixBytes(kSeedBase, adjustmentBytes(terms), position) ^ kSeedBase;
+    seed = mixBytes(seed, startName, position);
+  }
   line("c->cur ^= " + hex64(seed) + ";");
   line("c->cur = __cf_step(c->cur);");
   line("__cf_State s;");
