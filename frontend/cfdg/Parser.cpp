@@ -65,6 +65,10 @@ class Parser {
       if (t.kind == Tok::Name && t.text == "rule" && t_[k + 1].kind == Tok::Name &&
           (t_[k + 2].text == "{" || t_[k + 2].kind == Tok::Number))
         return true;
+      // CFDG 2's directives with an adjustment in braces (CFDG 3 writes CF::Tile = [ … ]).
+      if (t.kind == Tok::Name && (t.text == "tile" || t.text == "background" || t.text == "size") &&
+          t_[k + 1].text == "{")
+        return true;
     }
     return false;
   }
@@ -573,7 +577,8 @@ class Parser {
       std::string word = w.kind == Tok::Name && !w.spaceBefore ? adjustmentWord(w.text) : "";
       return word == "h" || word == "sat" || word == "b" || word == "a";
     }
-    return t.kind == Tok::Name && !adjustmentWord(t.text).empty() && !(peek(1).kind == Tok::Punct && peek(1).text == "(");
+    // An adjustment word always starts a term (`s (w) (h)`): no function can have its name.
+    return t.kind == Tok::Name && !adjustmentWord(t.text).empty();
   }
 
   // ---- expressions ----
