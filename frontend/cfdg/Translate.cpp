@@ -5,6 +5,8 @@
 //   4. Adjustments: Context Free's term order, folding of constant terms, run-time terms
 //   5. Elements of a body → C++
 //   6. The unit: globals, functions, rules, the start shape, the design's table
+//   7. Picture settings: CF::Tile, CF::Size, CF::Symmetry, the borders, the pixel format,
+//      CF::StartShape
 #include "frontend/cfdg/Translate.h"
 
 #include <cctype>
@@ -357,7 +359,14 @@ class Translator {
         {"CF::None", 0}, {"CF::MiterJoin", 8}, {"CF::RoundJoin", 10}, {"CF::BevelJoin", 11},
         {"CF::ButtCap", 128}, {"CF::SquareCap", 144}, {"CF::RoundCap", 160}, {"CF::ArcCW", 256},
         {"CF::ArcLarge", 512}, {"CF::Continuous", 1024}, {"CF::Align", 2048}, {"CF::EvenOdd", 4096},
-        {"CF::IsoWidth", 8192}};
+        {"CF::IsoWidth", 8192},
+        // Symmetry groups (CF::Symmetry, transform statements): k << 15.
+        {"CF::Cyclic", 31 << 15}, {"CF::Dihedral", 1 << 15}, {"CF::p11g", 2 << 15}, {"CF::p11m", 3 << 15},
+        {"CF::p1m1", 4 << 15}, {"CF::p2", 30 << 15}, {"CF::p2mg", 6 << 15}, {"CF::p2mm", 7 << 15},
+        {"CF::pm", 8 << 15}, {"CF::pg", 9 << 15}, {"CF::cm", 10 << 15}, {"CF::pmm", 11 << 15},
+        {"CF::pmg", 12 << 15}, {"CF::pgg", 13 << 15}, {"CF::cmm", 14 << 15}, {"CF::p4", 15 << 15},
+        {"CF::p4m", 16 << 15}, {"CF::p4g", 17 << 15}, {"CF::p3", 18 << 15}, {"CF::p3m1", 19 << 15},
+        {"CF::p31m", 20 << 15}, {"CF::p6", 21 << 15}, {"CF::p6m", 22 << 15}};
     auto it = kFlags.find(e.text);
     if (it == kFlags.end()) fail(e.at, "'" + e.text + "' is not a Context Free flag lcjit knows");
     return number(std::to_string(int(it->second)));
@@ -745,17 +754,33 @@ class Translator {
     if (e.value->kind == Expr::List) for (const auto& a : e.value->args) items.push_back(a.get());
     else items.push_back(e.value.get());
     std::vector<const Adjustment*> mods, geometric;
+    bool symmetric = false;  // symmetry flags among the transforms (section 7)
     for (const Expr* x : items) {
-      if (x->kind != Expr::Modification)
-        fail(x->at, "symmetry flags in transform are not supported by lcjit yet");
+      if (x->kind != Expr::Modification) {
+        symmetric = true;
+        continue;
+      }
       (geometryOnly(*x->adjustment) ? geometric : mods).push_back(x->adjustment.get());
     }
     std::string outer = temp(), transforms = temp(), count = temp(), clone = temp(), child = temp(), k = temp();
     line("{");
     ++indent_;
     line("const __cf_State* " + outer + " = c->frame;");
-    line("__cf_State " + transforms + "[" + std::to_string(geometric.size() + 1) + "];");
-    line("int " + count + " = 0;");
+    if (symmetric) {
+      // The transforms and the groups' transforms, each kept once, in the engine's buffer.
+      std::vector<std::string> list = symmetryItems(*e.value, true);
+      std::string initialisers, sym = temp();
+      for (auto& i : list) initialisers += i + ", ";
+      line("const __cf_SymmetryItem " + sym + "[] = {" + initialisers + "};");
+      const std::string n = std::to_string(list.size());
+      line("int " + count + " = __cf_symmetry(c, " + sym + ", " + n + ", nullptr, 0);");
+      line("__cf_State* " + transforms + " = (__cf_State*)__builtin_alloca(sizeof(__cf_State) * (" + count + " + 1));");
+      line("__cf_symmetry(c, " + sym + ", " + n + ", " + transforms + ", " + count + ");");
+      geometric.clear();
+    } else {
+      line("__cf_State " + transforms + "[" + std::to_string(geometric.size() + 1) + "];");
+      line("int " + count + " = 0;");
+    }
     for (const Adjustment* a : geometric) {
       std::string m = temp();
       line("{");
@@ -942,6 +967,166 @@ class Translator {
     --indent_;
     line("}");
   }
+
+  // -------------------------------------------------------------------------------------------
+  // 7. Picture settings
+  // -------------------------------------------------------------------------------------------
+
+  std::map<std::string, const Definition*> settings_;  // the first definition of each
+
+  // Records a setting this section compiles; false for the others.
+  bool pictureSetting(const Definition& def) {
+    static const std::set<std::string> kNames = {"CF::Tile",  "CF::Size",  "CF::Symmetry",   "CF::BorderFixed",
+                                                 "CF::BorderDynamic", "CF::Color", "CF::Alpha", "CF::ColorDepth",
+                                                 "CF::StartShape"};
+    if (!kNames.count(def.name)) return false;
+    settings_.emplace(def.name, &def);
+    return true;
+  }
+  const Expr* setting(const std::string& name) const {
+    auto it = settings_.find(name);
+    return it == settings_.end() ? nullptr : it->second->value.get();
+  }
+
+  std::string placeString(const Place& at) const {
+    std::string text = d_.file + ":" + std::to_string(at.line) + ":" + std::to_string(at.column), out = "\"";
+    for (char ch : text) {
+      if (ch == '"' || ch == '\\') out += '\\';
+      out += ch;
+    }
+    return out + "\"";
+  }
+
+  // Whether Context Free can evaluate `e` when it reads the design (CF::Tile and CF::Size must be
+  // such): no random numbers, no functions of the design, only constant names.
+  bool constantExpr(const Expr& e) const {
+    switch (e.kind) {
+      case Expr::Number: return true;
+      case Expr::Name: {
+        if (e.text.rfind("CF::", 0) == 0) return true;
+        const Binding* b = lookup(e.text);
+        return b ? b->constant && b->kind != Binding::Function : shapeIds_.count(e.text) > 0;
+      }
+      case Expr::Binary:
+        if (e.text == ".." || e.text == "+/-") return false;
+        break;
+      case Expr::Call: {
+        const Binding* b = lookup(e.text);
+        if ((b && b->kind == Binding::Function) || e.text == "rand" || e.text == "randint" ||
+            e.text.rfind("rand::", 0) == 0 || e.text.rfind("randint::", 0) == 0)
+          return false;
+        break;
+      }
+      case Expr::Modification:
+        for (const auto& t : e.adjustment->terms)
+          for (const auto& a : t.args)
+            if (!constantExpr(*a)) return false;
+        return true;
+      default: break;
+    }
+    for (const auto& a : e.args)
+      if (!constantExpr(*a)) return false;
+    return true;
+  }
+
+  // Code setting `state` (a fresh identity) to adjustment `e`; a setting's adjustment.
+  void settingAdjustment(const Expr& e, const std::string& name, const std::string& state) {
+    if (e.kind != Expr::Modification) fail(e.at, name + " must be an adjustment: [ … ]");
+    line("__cf_identity(&" + state + ");");
+    applyAdjustment(*e.adjustment, prepare(*e.adjustment), state);
+  }
+
+  // The settings' code, run by the start function after the global definitions: the values in
+  // __cf_Settings, handed to the engine (which then computes the background).
+  std::string settingsCode() {
+    code_.clear();
+    indent_ = 1;
+    scopes_.clear();
+    scopes_.emplace_back();
+    line("{");
+    ++indent_;
+    line("__cf_Settings _set;");
+    line("__builtin_memset(&_set, 0, sizeof _set);");
+    for (const char* name : {"CF::Tile", "CF::Size"}) {
+      const Expr* e = setting(name);
+      if (!e) continue;
+      if (!constantExpr(*e)) fail(e->at, "This expression must be constant");
+      std::string field = std::string(name) == "CF::Tile" ? "tile" : "size";
+      line("_set.has" + std::string(field == "tile" ? "Tile" : "Size") + " = 1;");
+      line("_set." + field + "At = " + placeString(e->at) + ";");
+      settingAdjustment(*e, name, "_set." + field);
+    }
+    // Numbers, in the order Context Free reads them: the borders, then the symmetry list.
+    const std::pair<const char*, const char*> numbers[] = {{"CF::BorderFixed", "BorderFixed"},
+                                                           {"CF::BorderDynamic", "BorderDynamic"},
+                                                           {"CF::Color", "Colour"},
+                                                           {"CF::Alpha", "Alpha"},
+                                                           {"CF::ColorDepth", "ColourDepth"}};
+    for (const auto& [name, field] : numbers) {
+      const Expr* e = setting(name);
+      if (!e) continue;
+      Value v = scalar(*e);
+      std::string lower = field;
+      lower[0] = char(std::tolower(lower[0]));
+      line("_set.has" + std::string(field) + " = 1;");
+      line("_set." + lower + " = " + v.parts[0] + ";");
+    }
+    if (const Expr* e = setting("CF::Symmetry")) {
+      std::vector<std::string> items = symmetryItems(*e, false);
+      std::string list;
+      for (auto& i : items) list += i + ", ";
+      line("const __cf_SymmetryItem _sym[] = {" + list + "};");
+      line("_set.symmetryCount = " + std::to_string(items.size()) + ";");
+      line("_set.symmetry = _sym;");
+    }
+    line("__cf_configure(c, &_set);");
+    --indent_;
+    line("}");
+    scopes_.clear();
+    return code_;
+  }
+
+  // A symmetry list's elements as __cf_SymmetryItem initialisers, their values computed in order
+  // by code written before them. In a transform statement (`statement`), adjustments other than
+  // transforms are not elements (the statement applies them itself).
+  std::vector<std::string> symmetryItems(const Expr& list, bool statement) {
+    std::vector<const Expr*> elements;
+    if (list.kind == Expr::List)
+      for (const auto& a : list.args) elements.push_back(a.get());
+    else
+      elements.push_back(&list);
+    std::vector<std::string> items;
+    for (const Expr* x : elements) {
+      std::string values = temp();
+      std::string kind, count;
+      if (x->kind == Expr::Name && x->text.rfind("CF::", 0) == 0 && x->text != "CF::Infinity") {
+        kind = "__cf_SymmetryFlag";
+        count = "1";
+        line("static const double " + values + "[] = {" + flag(*x) + "};");
+      } else if (x->kind == Expr::Modification) {
+        if (!geometryOnly(*x->adjustment)) {
+          if (statement) continue;
+          fail(x->at, "At least one term was invalid");
+        }
+        std::string state = temp();
+        line("__cf_State " + state + ";");
+        settingAdjustment(*x, "CF::Symmetry", state);
+        kind = "__cf_SymmetryTransform";
+        count = "6";
+        line("const double " + values + "[] = {" + state + ".sx, " + state + ".shy, " + state + ".shx, " + state + ".sy, " +
+             state + ".tx, " + state + ".ty};");
+      } else {
+        Value v = expr(*x);
+        kind = "__cf_SymmetryNumbers";
+        count = std::to_string(v.parts.size());
+        std::string parts;
+        for (auto& p : v.parts) parts += p + ", ";
+        line("const double " + values + "[] = {" + parts + "};");
+      }
+      items.push_back("{" + kind + ", " + count + ", " + values + ", " + placeString(x->at) + "}");
+    }
+    return items;
+  }
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -964,6 +1149,7 @@ Translation Translator::run() {
 
   // Globals and functions, in file order.
   for (const auto& def : d_.definitions) {
+    if (def.config && pictureSetting(def)) continue;  // section 7
     if (def.config && def.name == "CF::Background") {
       background_ = def.value.get();  // the picture's background: drawn by the canvas
       continue;
@@ -1042,9 +1228,37 @@ Translation Translator::run() {
     rules += "  {" + std::to_string(id) + ", " + w + ", " + (rule.percent ? "1" : "0") + ", rule_" + std::to_string(r) + "},\n";
   }
 
-  // The start shape: named, or the first shape declared without parameters.
+  // The settings, then the start shape: named, or the first shape declared without parameters.
+  std::string settings = settingsCode();
   std::string startName = d_.startShape;
   Place startAt = d_.startAt;
+  const std::vector<ExprP>* startArgs = &d_.startArgs;
+  const Adjustment* startAdjustment = &d_.startAdjustment;
+  bool startHasAdjustment = d_.startHasAdjustment;
+  Adjustment noAdjustment;
+  std::string startBytes;  // the start shape's bytes in its seed: its name, as a rule (its arguments too)
+  if (const Expr* e = setting("CF::StartShape"); e && startName.empty()) {
+    // CF::StartShape = shape[(arguments)][, adjustment]: always with an adjustment (an empty one
+    // if none), which its seed takes.
+    const Expr* spec = e->kind == Expr::List ? e->args[0].get() : e;
+    if (e->kind == Expr::List && e->args.size() > 2)
+      fail(e->at, "CF::StartShape expression must have the form shape_spec or shape_spec, [modification]");
+    if (spec->kind != Expr::Name && spec->kind != Expr::Call)
+      fail(spec->at, "CF::StartShape must start with a shape specification");
+    startName = spec->text;
+    // Here the shape's arguments count in its seed, as in a replacement.
+    startBytes = spec->kind == Expr::Call && !spec->reuseParams && !spec->args.empty() ? startName + argBytes(spec->args)
+                                                                                       : startName;
+    startAt = spec->at;
+    startArgs = &spec->args;
+    startHasAdjustment = true;
+    startAdjustment = &noAdjustment;
+    if (e->kind == Expr::List) {
+      const Expr* m = e->args[1].get();
+      if (m->kind != Expr::Modification) fail(m->at, "CF::StartShape second term must be a modification");
+      startAdjustment = m->adjustment.get();
+    }
+  }
   if (startName.empty()) {
     for (const auto& s : d_.shapes)
       if (s.params.empty()) {
@@ -1062,22 +1276,23 @@ Translation Translator::run() {
   if (startValue && startValue->kind != Binding::Global) startValue = nullptr;
   int startId = startValue ? -1 : shapeId(startName, startAt);
   std::string params = "nullptr";
-  if (!d_.startArgs.empty()) {
+  if (!startArgs->empty()) {
     std::string list;
-    for (const auto& a : d_.startArgs)
+    for (const auto& a : *startArgs)
       for (auto& p : expr(*a).parts) list += p + ", ";
     line("const double _start[] = {" + list + "};");
     params = "_start";
   }
-  auto terms = prepare(d_.startAdjustment);
+  auto terms = prepare(*startAdjustment);
   // With an adjustment (even an empty one) the start shape's seed is its terms' bytes mixed into
   // the base seed, xor the base seed, then its name's bytes (Context Free mixes the terms into the
   // adjustment before the start shape takes it); without, its name's bytes from the base seed.
   uint64_t seed = seedOf(kSeedBase, startName);
-  if (d_.startHasAdjustment) {
+  if (startBytes.empty()) startBytes = startName;
+  if (startHasAdjustment) {
     int position = 0;
     seed = mixBytes(kSeedBase, adjustmentBytes(terms), position) ^ kSeedBase;
-    seed = mixBytes(seed, startName, position);
+    seed = mixBytes(seed, startBytes, position);
   }
   line("c->cur ^= " + hex64(seed) + ";");
   line("c->cur = __cf_step(c->cur);");
@@ -1086,10 +1301,10 @@ Translation Translator::run() {
   line("s.colour[3] = 1; s.target[3] = 1;");
   line("s.tbegin = 0; s.tend = 1;");
   line("c->frame = &s;");
-  if (d_.startHasAdjustment) applyAdjustment(d_.startAdjustment, std::move(terms), "s");
+  if (startHasAdjustment) applyAdjustment(*startAdjustment, std::move(terms), "s");
   if (startValue) line("__cf_start_value(c, " + startValue->cpp + ", &s);");
   else line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
-  unit += "void start(__cf_Ctx* c) {\n" + start + code_ + "}\n";
+  unit += "void start(__cf_Ctx* c) {\n" + start + settings + code_ + "}\n";
 
   // The background: white changed by CF::Background.
   std::string backgroundFn = "nullptr";

@@ -6,6 +6,9 @@
 //   4. Framing and the -V picture
 #include "runtime/cfdg/Expander.h"
 
+#include "runtime/cfdg/Symmetry.h"
+#include "runtime/cfdg/Tiling.h"
+
 #include <agg_conv_stroke.h>
 #include <agg_conv_transform.h>
 #include <agg_bounding_rect.h>
@@ -119,20 +122,24 @@ Bounds Bounds::dilated(double d) const {
 }
 
 Fit fitBounds(const Bounds& b, int width, int height, double border, bool exact) {
+  return fitBounds(b, width, height, border, border, exact);
+}
+
+Fit fitBounds(const Bounds& b, int width, int height, double borderX, double borderY, bool exact) {
   double vw = b.maxX - b.minX, vh = b.maxY - b.minY;
   if (!b.valid())
     vw = vh = 1.0;
-  double tw = width - 2.0 * border, th = height - 2.0 * border;
+  double tw = width - 2.0 * borderX, th = height - 2.0 * borderY;
   Fit f;
   f.width = width;
   f.height = height;
   if (vw / tw > vh / th) {
     f.scale = tw / vw;
-    f.height = int(std::floor(f.scale * vh + 2.0 * border + 0.5));
+    f.height = int(std::floor(f.scale * vh + 2.0 * borderY + 0.5));
     if (!exact) f.height += (f.height ^ height) & 1;
   } else {
     f.scale = th / vh;
-    f.width = int(std::floor(f.scale * vw + 2.0 * border + 0.5));
+    f.width = int(std::floor(f.scale * vw + 2.0 * borderX + 0.5));
     if (!exact) f.width += (f.width ^ width) & 1;
   }
   double ox = f.scale * (b.maxX + b.minX) / 2.0 - f.width / 2.0;
@@ -193,7 +200,7 @@ struct Engine {
   std::vector<std::vector<int>> rulesOf;
   Expansion result;
   double scale = 0, scaleArea = 0, minArea = 0.09, totalArea = 0;
-  double fixedBorder = 8, shapeBorder = 2;
+  double fixedBorder = 8, shapeBorder = 2, fixedBorderY = 8;
   uint64_t finishedCount = 0;
   std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
@@ -216,10 +223,18 @@ struct Engine {
     }
     double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
     minArea = minSize * minSize;
-    fixedBorder = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-    shapeBorder = 1.0 * (o.border <= 1.0 ? 1.0 : o.border);
-    if (2 * int(std::fabs(fixedBorder)) >= std::min(o.width, o.height)) fixedBorder = 0;
+    setBorders(nullptr, nullptr);
+  }
+
+  // The fixed border (pixels) and the dynamic one (a factor): cfdg's -b, unless the design sets
+  // them (CF::BorderFixed, CF::BorderDynamic).
+  void setBorders(const double* fixed, const double* dynamic) {
+    fixedBorder = fixed ? *fixed : 8.0 * (options.border <= 1.0 ? options.border : 1.0);
+    shapeBorder = dynamic ? *dynamic : 1.0 * (options.border <= 1.0 ? 1.0 : options.border);
+    if (2 * int(std::fabs(fixedBorder)) >= std::min(options.width, options.height)) fixedBorder = 0;
     if (shapeBorder <= 0) shapeBorder = 1;
+    fixedBorderY = fixedBorder;
+    result.picture.borderX = result.picture.borderY = fixedBorder;
   }
 
   // Shape values with bound parameters: a value is shape + kBoundStride · (index + 1).
@@ -335,7 +350,7 @@ struct Engine {
       }
       fail(c, std::string("shape with no rules encountered: ") + design.shapes[shape].name);
     }
-    finish(shape, s);
+    finishSymmetric(shape, s);
   }
 
   void finish(int shape, const __cf_State& s) {
@@ -374,20 +389,148 @@ struct Engine {
       if (!b.valid())
         return;
       f.boxArea = std::fabs((b.maxX - b.minX) * (b.maxY - b.minY));
-      totalArea += f.boxArea;
-      Bounds before = result.bounds;
-      result.bounds.merge(b.dilated(shapeBorder));
-      // The scale follows the bounds: worked out again only when they grew.
-      if (!before.valid() || before.minX != result.bounds.minX || before.minY != result.bounds.minY ||
-          before.maxX != result.bounds.maxX || before.maxY != result.bounds.maxY) {
-        scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, false).scale;
-        scaleArea = scale * scale;
-      }
+      if (!settle(b, f.boxArea))
+        return;
+      if (keepBoxes) result.boxes.push_back(b);
     } else {
       f.boxArea = 1.0;
+      if (keepBoxes) result.boxes.emplace_back();
     }
     f.order = ++finishedCount;
     result.shapes.push_back(f);
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Picture settings: CF::Tile, CF::Size, CF::Symmetry, the borders (Context Free's init and
+  // initBounds), then the background.
+  // -------------------------------------------------------------------------------------------
+
+  std::vector<Affine> symmetry;  // CF::Symmetry: each finished shape once per transform
+  double friezeSize = 0;         // half the frieze's period
+  double startX = 0, startY = 0; // CF::Tile's or CF::Size's translation: the start shape's offset
+  bool keepBoxes = false;        // tiled and frieze designs keep each shape's box
+
+  [[noreturn]] void failAt(const std::string& at, const std::string& message) {
+    result.errorAt = at;
+    fail(nullptr, message);
+  }
+
+  void configure(__cf_Ctx* c, const __cf_Settings& set) {
+    PictureSettings& p = result.picture;
+    setBorders(set.hasBorderFixed ? &set.borderFixed : nullptr, set.hasBorderDynamic ? &set.borderDynamic : nullptr);
+    if (set.hasColour) p.colour = set.colour != 0.0;
+    if (set.hasAlpha) p.alpha = set.alpha != 0.0;
+    p.depth16 = set.hasColourDepth && std::floor(set.colourDepth) == 16.0;
+
+    // The lattice: both sides (tiled), or one (a frieze along the other's axis).
+    Affine tile = affineOf(set.tile);
+    tile.tx = tile.ty = 0.0;
+    if (set.hasTile) {
+      p.tile = tile;
+      p.tiled = tile.sx != 0.0 && tile.sy != 0.0;
+      if (!p.tiled && (tile.sx != 0.0 || tile.sy != 0.0)) p.frieze = tile.sx == 0.0 ? 2 : 1;
+      startX = set.tile.tx, startY = set.tile.ty;
+    }
+    try {
+      symmetry = symmetryTransforms(set.symmetry, set.symmetryCount, p.tiled, set.hasTile ? tile : Affine());
+    } catch (SettingError& e) {
+      failAt(e.at, e.message);
+    }
+    background(c);
+
+    double tileX = 0, tileY = 0;
+    if (p.tiled || p.frieze) {
+      // The lattice's sides must lie along the axes (a tile's one of them), pointing up and right.
+      const double ux = tile.sx, uy = tile.shy, vx = tile.shx, vy = tile.sy;
+      const bool off = p.tiled ? std::fabs(uy) >= 0.0001 && std::fabs(vx) >= 0.0001
+                               : std::fabs(uy) >= 0.0001 || std::fabs(vx) >= 0.0001;
+      const char* what = p.tiled ? "Tile" : "Frieze";
+      if (off)
+        failAt(set.tileAt, std::string(what) + (p.tiled ? " must be aligned with the X or Y axis." : " must be aligned with the X and Y axis."));
+      if (ux < 0.0 || vy < 0.0) failAt(set.tileAt, std::string(what) + " must be in the positive X/Y quadrant.");
+      tileX = ux, tileY = vy;
+    }
+    if (set.hasSize) {
+      p.sized = true;
+      tileX = set.size.sx, tileY = set.size.sy;
+      if (set.size.shx != 0.0 || set.size.shy != 0.0) failAt(set.sizeAt, "Size specification must not be rotated or skewed.");
+      startX = set.size.tx, startY = set.size.ty;
+    }
+    if (p.tiled || p.sized) {
+      // A fixed frame, the picture's size fitted to it at once.
+      fixedBorder = shapeBorder = 0.0;
+      fixedBorderY = 0.0;
+      result.bounds.maxX = tileX / 2.0;
+      result.bounds.minX = -result.bounds.maxX;
+      result.bounds.maxY = tileY / 2.0;
+      result.bounds.minY = -result.bounds.maxY;
+      Fit f = fitBounds(result.bounds, options.width, options.height, 0.0, 0.0, true);
+      p.width = f.width, p.height = f.height;
+      scaleArea = f.scale * f.scale;
+    }
+    if (p.frieze == 1) friezeSize = tileX / 2.0;
+    if (p.frieze == 2) friezeSize = tileY / 2.0;
+    if (p.frieze == 2) fixedBorderY = 0.0;
+    if (p.frieze == 1) fixedBorder = 0.0;
+    p.borderX = fixedBorder, p.borderY = fixedBorderY;
+    keepBoxes = p.tiled || p.frieze;
+  }
+
+  void background(__cf_Ctx* c) {
+    if (!design.background) return;
+    __cf_State white;
+    __cf_identity(&white);
+    white.colour[2] = 1, white.colour[3] = 1;
+    white.target[3] = 1;
+    design.background(c, &white);
+    for (int k = 0; k < 4; ++k) result.background[k] = white.colour[k];
+  }
+
+  // A primitive finished once per symmetry transform (applied after its own), FILL once.
+  void finishSymmetric(int shape, const __cf_State& s) {
+    if (symmetry.empty() || shape == 3) {
+      finish(shape, s);
+      return;
+    }
+    for (const Affine& op : symmetry) {
+      __cf_State copy = s;
+      Affine a = affineOf(s);
+      a.multiply(op);
+      setAffine(copy, a);
+      finish(shape, copy);
+    }
+  }
+
+  // A finished shape's box (world units) and its area: a shape outside CF::Size's frame is
+  // dropped (false); unless the frame is fixed the bounds grow by the box, dilated by the
+  // dynamic border (a frieze's across its period only), and the scale follows them.
+  bool settle(const Bounds& b, double area) {
+    const PictureSettings& p = result.picture;
+    if (p.sized && (b.minX > result.bounds.maxX || b.maxX < result.bounds.minX || b.minY > result.bounds.maxY ||
+                    b.maxY < result.bounds.minY))
+      return false;
+    totalArea += area;
+    if (p.tiled || p.sized)
+      return true;
+    Bounds before = result.bounds;
+    result.bounds.merge(b.dilated(shapeBorder));
+    if (p.frieze == 1) result.bounds.minX = -(result.bounds.maxX = friezeSize);
+    if (p.frieze == 2) result.bounds.minY = -(result.bounds.maxY = friezeSize);
+    // The scale follows the bounds: worked out again only when they grew.
+    if (!before.valid() || before.minX != result.bounds.minX || before.minY != result.bounds.minY ||
+        before.maxX != result.bounds.maxX || before.maxY != result.bounds.maxY) {
+      scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, fixedBorderY, false).scale;
+      scaleArea = scale * scale;
+    }
+    return true;
+  }
+
+  // The start shape, moved by CF::Tile's or CF::Size's translation.
+  __cf_State startState(const __cf_State& s) const {
+    __cf_State moved = s;
+    moved.tx += startX;
+    moved.ty += startY;
+    return moved;
   }
 
   void run() {
@@ -395,14 +538,6 @@ struct Engine {
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
     ctx.statics = statics.data();
-    if (design.background) {
-      __cf_State white;
-      __cf_identity(&white);
-      white.colour[2] = 1, white.colour[3] = 1;
-      white.target[3] = 1;
-      design.background(&ctx, &white);
-      for (int k = 0; k < 4; ++k) result.background[k] = white.colour[k];
-    }
     design.start(&ctx);
     while (!heap.empty()) {
       if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)
@@ -465,16 +600,24 @@ Expansion expand(const __cf_Design& design, const ExpandOptions& options, const 
 // ---------------------------------------------------------------------------------------------
 
 Framing frame(const Expansion& e, const ExpandOptions& o) {
+  const PictureSettings& p = e.picture;
   Framing f;
   f.width = o.width;
   f.height = o.height;
-  double fixed = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-  if (2 * int(std::fabs(fixed)) >= std::min(o.width, o.height)) fixed = 0;
-  f.fit = fitBounds(e.bounds, o.width, o.height, fixed, false);
-  f.offsetX = double((o.width - f.fit.width) / 2);
-  f.offsetY = double((o.height - f.fit.height) / 2);
+  // A tiled or sized picture took the frame's shape at the start; a frieze takes it now, from its
+  // final bounds. Their fits are exact (no change of parity to keep the picture centred).
+  const bool exact = p.tiled || p.sized || p.frieze;
+  if (p.tiled || p.sized) f.width = p.width, f.height = p.height;
+  if (p.frieze && e.bounds.valid()) {
+    Fit once = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, true);
+    f.width = once.width, f.height = once.height;
+  }
+  f.fit = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, exact);
+  f.offsetX = double((f.width - f.fit.width) / 2);
+  f.offsetY = double((f.height - f.fit.height) / 2);
   f.toPixels = f.fit.toBlock;
   f.toPixels.multiply(Affine::translation(f.offsetX, f.offsetY));
+  if (p.tiled || p.frieze) frameLattice(f, p);
   return f;
 }
 
@@ -508,6 +651,36 @@ void rgbOf(const double hsba[4], double rgba[4]) {
   rgba[0] = r, rgba[1] = g, rgba[2] = b, rgba[3] = hsba[3];
 }
 
+namespace {
+
+// One shape of the -V picture, with its matrix into SVG's pixels. Its colour is rounded as the
+// picture's depth rounds it (16 bits: the fill shows the high byte).
+void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool depth16) {
+  char line[512];
+  const double* rgba = s.rgba;
+  const double top = depth16 ? 65535.0 : 255.0;
+  auto level = [&](double v) { return unsigned(v * top + 0.5); };
+  auto byte = [&](double v) { return depth16 ? level(v) >> 8 : level(v); };
+  char fill[64];
+  std::snprintf(fill, sizeof fill, "#%02x%02x%02x", byte(rgba[0]), byte(rgba[1]), byte(rgba[2]));
+  std::string opacity;
+  if (level(rgba[3]) != unsigned(top)) {
+    char a[64];
+    std::snprintf(a, sizeof a, " fill-opacity=\"%.8g\"", level(rgba[3]) / top);
+    opacity = a;
+  }
+  const char* element = s.shape == 0   ? "<circle r=\"0.5\""
+                        : s.shape == 1 ? "<rect x=\"-0.5\" y=\"-0.5\" width=\"1\" height=\"1\""
+                                       : "<use xlink:href=\"#TRIANGLE\"";
+  std::snprintf(line, sizeof line,
+                "  %s\n        stroke=\"none\" fill=\"%s\"%s fill-rule=\"nonzero\"\n"
+                "        transform=\"matrix(%.8g %.8g %.8g %.8g %.8g %.8g)\"/>\n",
+                element, fill, opacity.c_str(), m.sx, m.shy, m.shx, m.sy, m.tx, m.ty);
+  out += line;
+}
+
+}  // namespace
+
 std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) {
   std::string out;
   char line[512];
@@ -515,35 +688,16 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
                 "<?xml version=\"1.0\" standalone=\"no\"?>\n<svg width=\"%dpx\" height=\"%dpx\" version=\"1.1\"\n"
                 "     xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\">\n"
                 "  <defs>\n    <polygon id=\"TRIANGLE\" points=\"0,0.57735 -0.5,-0.288675 0.5,-0.288675\"/>\n  </defs>\n",
-                o.width, o.height);
+                f.width, f.height);
   out += line;
-  // SVG's y axis points down: the picture is flipped about its height.
-  Affine toSvg = f.fit.toBlock;
-  toSvg.multiply({1, 0, 0, -1, 0, double(o.height)});
-  toSvg.multiply(Affine::translation((o.width - f.fit.width) / 2.0, (o.height - f.fit.height) / 2.0));
+  // SVG's y axis points down: the picture is flipped about its height, then the fitted block
+  // placed in it.
+  Affine toSvg{1, 0, 0, -1, 0, double(f.height)};
+  toSvg.multiply(Affine::translation((f.width - f.fit.width) / 2.0, (f.height - f.fit.height) / 2.0));
   for (const FinishedShape& s : e.shapes) {
     if (s.shape == 3 || !drawn(s, f, o))
       continue;
-    Affine m = s.transform;
-    m.multiply(toSvg);
-    const double* rgba = s.rgba;
-    auto byte = [](double v) { return unsigned(v * 255.0 + 0.5); };
-    char fill[64];
-    std::snprintf(fill, sizeof fill, "#%02x%02x%02x", byte(rgba[0]), byte(rgba[1]), byte(rgba[2]));
-    std::string opacity;
-    if (byte(rgba[3]) != 255) {
-      char a[64];
-      std::snprintf(a, sizeof a, " fill-opacity=\"%.8g\"", byte(rgba[3]) / 255.0);
-      opacity = a;
-    }
-    const char* element = s.shape == 0   ? "<circle r=\"0.5\""
-                          : s.shape == 1 ? "<rect x=\"-0.5\" y=\"-0.5\" width=\"1\" height=\"1\""
-                                         : "<use xlink:href=\"#TRIANGLE\"";
-    std::snprintf(line, sizeof line,
-                  "  %s\n        stroke=\"none\" fill=\"%s\"%s fill-rule=\"nonzero\"\n"
-                  "        transform=\"matrix(%.8g %.8g %.8g %.8g %.8g %.8g)\"/>\n",
-                  element, fill, opacity.c_str(), m.sx, m.shy, m.shx, m.sy, m.tx, m.ty);
-    out += line;
+    forEachCopy(e, f, s, toSvg, [&](const Affine& m) { svgShape(out, s, m, e.picture.depth16); });
   }
   out += "</svg>\n";
   return out;
@@ -717,10 +871,30 @@ void __cf_replace(__cf_Ctx* c, int shape, const __cf_State* s, const double* par
 
 double __cf_bind(__cf_Ctx* c, int shape, const double* params) { return engineOf(c).bind(shape, params); }
 void __cf_replace_value(__cf_Ctx* c, double value, const __cf_State* s) { engineOf(c).replaceValue(c, value, *s); }
-void __cf_start_value(__cf_Ctx* c, double value, const __cf_State* s) { engineOf(c).replaceValue(c, value, *s, true); }
+void __cf_start_value(__cf_Ctx* c, double value, const __cf_State* s) {
+  Engine& e = engineOf(c);
+  e.replaceValue(c, value, e.startState(*s), true);
+}
 
 void __cf_start(__cf_Ctx* c, int shape, const __cf_State* s, const double* params) {
-  engineOf(c).process(c, shape, *s, params, c->cur);
+  Engine& e = engineOf(c);
+  e.process(c, shape, e.startState(*s), params, c->cur);
+}
+
+void __cf_configure(__cf_Ctx* c, const __cf_Settings* s) { engineOf(c).configure(c, *s); }
+
+int __cf_symmetry(__cf_Ctx* c, const __cf_SymmetryItem* items, int count, __cf_State* out, int capacity) {
+  std::vector<Affine> transforms;
+  try {
+    transforms = symmetryTransforms(items, count, false, Affine());
+  } catch (SettingError& e) {
+    engineOf(c).failAt(e.at, e.message);
+  }
+  for (int i = 0; i < capacity && i < int(transforms.size()); ++i) {
+    __cf_identity(&out[i]);
+    setAffine(out[i], transforms[size_t(i)]);
+  }
+  return int(transforms.size());
 }
 
 void __cf_fail(__cf_Ctx* c, const char* message) { fail(c, message); }
@@ -850,6 +1024,8 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_start_value", reinterpret_cast<void*>(&__cf_start_value)},
       {"__cf_seen_transform", reinterpret_cast<void*>(&__cf_seen_transform)},
       {"__cf_transform_by", reinterpret_cast<void*>(&__cf_transform_by)},
+      {"__cf_configure", reinterpret_cast<void*>(&__cf_configure)},
+      {"__cf_symmetry", reinterpret_cast<void*>(&__cf_symmetry)},
   };
 }
 }  // namespace lcjit::runtime::cfdg

@@ -31,6 +31,8 @@ struct Fit {
   Affine toBlock;             // world → the fitted block's pixels (y up)
 };
 Fit fitBounds(const Bounds& bounds, int width, int height, double border, bool exact);
+// With different borders left and right (x) and top and bottom (y), as a frieze has.
+Fit fitBounds(const Bounds& bounds, int width, int height, double borderX, double borderY, bool exact);
 
 struct ExpandOptions {
   int width = 500, height = 500;
@@ -51,6 +53,20 @@ struct FinishedShape {
   uint8_t shape = 0;                // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL
 };
 
+// What a design's settings make of its picture, as the run found them: CF::Tile (a lattice the
+// picture repeats on, or a frieze repeated in one direction) and CF::Size (a fixed frame) fix the
+// bounds and the picture's size before the first shape; the borders; the pixel format's settings.
+struct PictureSettings {
+  bool tiled = false;      // a lattice in both directions
+  int frieze = 0;          // repeated in one direction: 1 along x, 2 along y
+  bool sized = false;      // CF::Size
+  Affine tile;             // the lattice: CF::Tile's transform without its translation
+  int width = 0, height = 0;        // the picture's size when tiling or CF::Size fix it (else 0)
+  double borderX = 8, borderY = 8;  // fixed borders, pixels (CF::BorderFixed)
+  int colour = -1, alpha = -1;      // CF::Color, CF::Alpha: 0 or 1 when set, else -1
+  bool depth16 = false;             // CF::ColorDepth 16
+};
+
 struct Expansion {
   // In drawing order: z, then the order they were made. A deque: a million shapes grow it without
   // copying (or holding twice) what is there.
@@ -60,6 +76,10 @@ struct Expansion {
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
   std::string error;                   // a runtime error that stopped the run ("" if none)
   std::string errorAt;                 // where in the design, "file:line:col", when known
+  PictureSettings picture;
+  // Tiled and frieze designs: each finished shape's box (world units, unstroked by the border),
+  // by its order - 1 (FILL's invalid), from which its copies around the lattice are found.
+  std::deque<Bounds> boxes;
 };
 
 // Expands `design` with `options`. `statics` are its rand_static() values.
@@ -72,6 +92,9 @@ struct Framing {
   Fit fit;
   double offsetX = 0, offsetY = 0;  // the fitted block's place in the picture
   Affine toPixels;                  // world → picture pixels, y up
+  // Tiled and frieze designs: the lattice in pixels, and its inverse (a frieze's: per axis).
+  int tiling = 0;                   // 0 none, 1 tiled, 2 frieze
+  Affine lattice, latticeInverse;
 };
 Framing frame(const Expansion& expansion, const ExpandOptions& options);
 bool drawn(const FinishedShape& shape, const Framing& framing, const ExpandOptions& options);

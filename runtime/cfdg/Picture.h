@@ -7,6 +7,10 @@
 
 namespace lcjit::runtime::cfdg {
 
+// The format cfdg draws a design in: its terms and settings (CF::Color, CF::Alpha, CF::ColorDepth,
+// the background's alpha, blend modes).
+PixelFormat pixelFormat(const __cf_Design& design, const PictureSettings& picture);
+
 Canvas drawExpansion(const __cf_Design& design, const Expansion& expansion, const Framing& framing,
                      const ExpandOptions& options);
 

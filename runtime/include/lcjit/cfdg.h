@@ -137,6 +137,43 @@ enum __cf_Function {
   __cf_FunctionCount
 };
 
+// ---- Picture settings ----
+// The settings that shape the picture (CF::Tile, CF::Size, CF::Symmetry, the borders, the pixel
+// format), evaluated as the design's other values are. The start function hands them to the
+// engine after the global definitions and before the start shape, where Context Free reads them;
+// the engine then computes the background (design.background).
+
+// One element of a symmetry list (CF::Symmetry, or the list of a transform statement): a flag
+// (CF::Dihedral …) followed by number elements, or a transform.
+enum __cf_SymmetryKind { __cf_SymmetryFlag, __cf_SymmetryNumbers, __cf_SymmetryTransform };
+struct __cf_SymmetryItem {
+  int kind;
+  int count;             // numbers in values (a transform: 6, sx shy shx sy tx ty)
+  const double* values;
+  const char* at;        // "file:line:col", for errors
+};
+
+struct __cf_Settings {
+  int hasTile;  // CF::Tile (CFDG 2's tile): the lattice, with the start shape's offset
+  struct __cf_State tile;
+  const char* tileAt;
+  int hasSize;  // CF::Size (CFDG 2's size): the fixed frame, with the start shape's offset
+  struct __cf_State size;
+  const char* sizeAt;
+  int symmetryCount;  // CF::Symmetry
+  const struct __cf_SymmetryItem* symmetry;
+  int hasBorderFixed, hasBorderDynamic;  // CF::BorderFixed (pixels), CF::BorderDynamic (a factor)
+  double borderFixed, borderDynamic;
+  int hasColour, hasAlpha, hasColourDepth;  // CF::Color, CF::Alpha, CF::ColorDepth
+  double colour, alpha, colourDepth;
+};
+void __cf_configure(struct __cf_Ctx* c, const struct __cf_Settings* s);
+
+// The transforms a symmetry list makes, in Context Free's order, each kept once (to 1e-14): how
+// many, the first `capacity` of them written to `out` (a transform statement asks twice).
+int __cf_symmetry(struct __cf_Ctx* c, const struct __cf_SymmetryItem* items, int count, struct __cf_State* out,
+                  int capacity);
+
 #ifdef __cplusplus
 }
 #endif
