@@ -63,6 +63,7 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("-b", o.border, "border: -1 to 2 (default 2)");
   c.add_option("-o", o.outs, "output file");
   c.add_flag("-q", o.quiet, "quiet");
+  c.add_flag("-c", o.crop, "crop the picture to the fitted block (not for tiled or frieze designs)");
   c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
   c.add_option("design", o.design, "the design (.cfdg)")->required();
   c.add_option("output", o.outs, "output file");
@@ -133,12 +134,19 @@ int runDesign(const DesignRunOptions& o) {
     return 1;
   }
   cf::Framing f = cf::frame(e, eo);
+  // -c: the fitted block alone, as cfdg crops: the SVG is the block's size, the PNG the block's
+  // rows counted from the picture's top by the block's offset from its bottom (as cfdg reads them).
+  const bool crop = o.crop && !e.picture.tiled && !e.picture.frieze;
+  cf::Framing cropped = f;
+  cropped.width = f.fit.width, cropped.height = f.fit.height;
+  const cf::PixelRect block{int(f.offsetX), f.height - f.fit.height - int(f.offsetY), f.fit.width, f.fit.height};
   for (const std::string& out : o.outs) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
-      if (auto err = support::writeWholeFile(out, cf::svgOf(e, f, eo))) return failed(std::move(err));
+      if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return failed(std::move(err));
     } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
       cf::Canvas canvas = cf::drawExpansion(compiled, e, f, eo);
-      if (auto err = cf::writePng(canvas, out)) return failed(std::move(err));
+      if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
+        return failed(std::move(err));
     } else {
       std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .png or .svg\n", out.c_str());
       return 1;

@@ -27,6 +27,7 @@ struct DesignRunOptions {
   bool emitCpp = false;
   bool quiet = false;
   bool timing = false;  // -t (cfdg's) / -v: where the time went, on stderr
+  bool crop = false;    // -c (cfdg's): only the fitted block (not for tiled or frieze designs)
   std::string cacheDir;
 };
 

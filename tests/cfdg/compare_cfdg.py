@@ -5,11 +5,15 @@
 - the PNGs, decoded: the same size, channels, bit depth and every sample (with --image-diff, the
   suite's image_diff tool, run with --exact).
 
-usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--list FILE] DESIGN...
+usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--list FILE] DESIGN...
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
 
 SHAPE = re.compile(r'<(rect|circle|use)\b(.*?)/>', re.S)
+SIZE = re.compile(r'<svg width="(\d+)px" height="(\d+)px"')
+def size(svg):
+    m = SIZE.search(svg)
+    return m.groups() if m else None
 def shapes(svg):
     out = []
     for kind, attrs in SHAPE.findall(svg):
@@ -38,6 +42,7 @@ def main():
     ap.add_argument('--size', type=int, default=400)
     ap.add_argument('--variations', default='A,BCD,XYZZY')
     ap.add_argument('--max-shapes', type=int, default=0)
+    ap.add_argument('--crop', action='store_true', help='both with -c: the fitted block alone')
     ap.add_argument('--image-diff', help='the image_diff tool: compare the PNGs too')
     ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
     ap.add_argument('--part', default='1/1', help='K/N: every Nth design from the Kth (the suite runs parts in parallel)')
@@ -60,22 +65,27 @@ def main():
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
             for f in (ref_svg, got_svg):
                 if os.path.exists(f): os.remove(f)
-            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v]
+            crop = ['-c'] if a.crop else []
+            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v] + crop
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             r = subprocess.run(cmd + [design, ref_svg], capture_output=True, text=True)
             if r.returncode != 0 or not os.path.exists(ref_svg):
                 print(f'{name} {v}: cfdg failed ({r.returncode}): skipped'); continue
-            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v]
+            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + crop
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             g = subprocess.run(cmd + [design, got_svg], capture_output=True, text=True)
             if g.returncode != 0:
                 print(f'{name} {v}: lcjit failed: {g.stderr.strip()[:300]}'); failures += 1; break
-            why = compare(shapes(open(ref_svg).read()), shapes(open(got_svg).read()))
+            ref, got = open(ref_svg).read(), open(got_svg).read()
+            why = compare(shapes(ref), shapes(got))
+            if not why and size(ref) != size(got):
+                why = f'picture {"x".join(size(got) or "?")}, cfdg {"x".join(size(ref) or "?")}'
+
             if why:
                 print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
             if a.image_diff:
                 ref_png, got_png = os.path.join(work, 'ref.png'), os.path.join(work, 'got.png')
-                limit = ['-m', str(a.max_shapes)] if a.max_shapes else []
+                limit = (['-m', str(a.max_shapes)] if a.max_shapes else []) + crop
                 subprocess.run(['cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, ref_png], capture_output=True)
                 g = subprocess.run([a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, got_png],
                                    capture_output=True, text=True)
