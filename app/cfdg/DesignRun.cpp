@@ -2,6 +2,7 @@
 #include "app/cfdg/DesignRun.h"
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <random>
 
@@ -9,6 +10,7 @@
 
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
+#include "app/session/FileMonitor.h"
 #include "app/session/Session.h"  // runtimeIncludeDir, prebuiltDir
 #include "frontend/cfdg/Parser.h"
 #include "frontend/cfdg/Translate.h"
@@ -39,6 +41,7 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.emitCpp = options.emitCpp;
   d.quiet = options.quiet;
   d.timing = options.verbose;
+  d.watch = options.watch;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -68,66 +71,72 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("output", o.outs, "output file");
 }
 
-int runDesign(const DesignRunOptions& o) {
-  namespace cf = runtime::cfdg;
+namespace {
+
+namespace cf = runtime::cfdg;
+
+// A design compiled and loaded: its code, its table and what its translation says of it.
+struct LoadedDesign {
+  std::unique_ptr<jit::ModelCode> code;
+  const __cf_Design* table = nullptr;
+  frontend::cfdg::Translation unit;
+  std::vector<std::string> files;  // the design and what it imports
+  double parseMs = 0, compileMs = 0;
+  bool fromCache = false;
+};
+
+llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& o) {
   const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
-  if (!text) {
-    std::fprintf(stderr, "lcjit: %s: %s\n", o.design.c_str(), text.getError().message().c_str());
-    return 1;
-  }
+  if (!text) return llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message());
   auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design);
-  if (!design) return failed(design.takeError());
+  if (!design) return design.takeError();
   auto unit = frontend::cfdg::translateDesign(*design);
-  if (!unit) return failed(unit.takeError());
-  if (o.emitCpp) {
-    std::fputs(unit->cpp.c_str(), stdout);
-    return 0;
-  }
-  const double parseMs = support::msSince(start);
-
-  jit::CompilerConfig config;
-  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
-  config.cacheDir = o.cacheDir;
-  config.prebuiltDir = prebuiltDir();
-  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
-  auto compiler = jit::Compiler::create(std::move(config));
-  if (!compiler) return failed(compiler.takeError());
+  if (!unit) return unit.takeError();
+  LoadedDesign d;
+  d.files = {o.design};
+  d.files.insert(d.files.end(), design->imports.begin(), design->imports.end());
+  d.parseMs = support::msSince(start);
   jit::CompileOptions co;
   co.optLevel = o.optLevel;
   co.plainUnit = true;
   co.bufferName = o.design + ".cpp";
-  jit::CompileStats compileStats;
-  auto code = (*compiler)->compile(unit->cpp, co, &compileStats);
-  if (!code) return failed(code.takeError());
+  jit::CompileStats stats;
+  auto code = compiler.compile(unit->cpp, co, &stats);
+  if (!code) return code.takeError();
   auto table = (*code)->lookup("__cf_design");
-  if (!table) return failed(table.takeError());
-  const auto& compiled = *static_cast<const __cf_Design*>(*table);
+  if (!table) return table.takeError();
+  d.code = std::move(*code);
+  d.table = static_cast<const __cf_Design*>(*table);
+  d.unit = std::move(*unit);
+  d.compileMs = support::msSince(start) - d.parseMs;
+  d.fromCache = stats.object != jit::CompileStats::ObjectFrom::Compiled;
+  return d;
+}
 
+uint64_t chooseVariation(const std::string& code) {
+  if (!code.empty()) return cf::variationOf(code);
+  std::random_device device;
+  return std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
+}
+
+// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
+int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  const auto start = support::Clock::now();
   cf::ExpandOptions eo;
   eo.width = o.width;
   eo.height = o.height;
-  eo.minimumSize = unit->settings.minimumSize > 0 ? unit->settings.minimumSize : o.minimumSize;
+  eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
   eo.border = o.border;
   eo.maxShapes = o.maxShapes;
-  if (o.variation.empty()) {
-    std::random_device device;
-    eo.variation = std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
-  } else {
-    eo.variation = cf::variationOf(o.variation);
-    if (eo.variation == 0) {
-      std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
-      return 1;
-    }
-  }
+  eo.variation = variation;
   // rand_static(): drawn once, before the run, from the variation.
   std::vector<double> statics;
   uint64_t s = eo.variation;
-  for (int k = 0; k < unit->randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
+  for (int k = 0; k < d.unit.randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
 
-  const double compileMs = support::msSince(start) - parseMs;
-  cf::Expansion e = cf::expand(compiled, eo, statics);
-  const double expandMs = support::msSince(start) - parseMs - compileMs;
+  cf::Expansion e = cf::expand(*d.table, eo, statics);
+  const double expandMs = support::msSince(start);
   if (!e.error.empty()) {
     std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
     return 1;
@@ -137,7 +146,7 @@ int runDesign(const DesignRunOptions& o) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
       if (auto err = support::writeWholeFile(out, cf::svgOf(e, f, eo))) return failed(std::move(err));
     } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
-      cf::Canvas canvas = cf::drawExpansion(compiled, e, f, eo);
+      cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
       if (auto err = cf::writePng(canvas, out)) return failed(std::move(err));
     } else {
       std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .png or .svg\n", out.c_str());
@@ -145,16 +154,87 @@ int runDesign(const DesignRunOptions& o) {
     }
   }
   if (!o.quiet)
-    std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(),
-                 cf::variationName(eo.variation).c_str(), e.shapes.size());
+    std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(), cf::variationName(eo.variation).c_str(),
+                 e.shapes.size());
   if (o.timing)
     std::fprintf(stderr,
                  "lcjit: parse and translate %.1f ms, compile %.1f ms (%s), expand %.1f ms (%llu rules run), "
                  "draw and write %.1f ms\n",
-                 parseMs, compileMs,
-                 compileStats.object == jit::CompileStats::ObjectFrom::Compiled ? "compiled" : "from the cache", expandMs,
-                 static_cast<unsigned long long>(e.expanded), support::msSince(start) - parseMs - compileMs - expandMs);
+                 d.parseMs, d.compileMs, d.fromCache ? "from the cache" : "compiled", expandMs,
+                 static_cast<unsigned long long>(e.expanded), support::msSince(start) - expandMs);
   return 0;
+}
+
+}  // namespace
+
+int runDesign(const DesignRunOptions& given) {
+  DesignRunOptions o = given;
+  if (o.outs.empty()) {  // as lcjit does for a model without a display: the picture beside it
+    o.outs = {(std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string() + ".png"};
+    if (!o.quiet) std::fprintf(stderr, "lcjit: writing %s\n", o.outs[0].c_str());
+  }
+  const uint64_t variation = chooseVariation(o.variation);
+  if (variation == 0) {
+    std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
+    return 1;
+  }
+  if (o.emitCpp) {
+    auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
+    if (!text) return failed(llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message()));
+    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design);
+    if (!design) return failed(design.takeError());
+    auto unit = frontend::cfdg::translateDesign(*design);
+    if (!unit) return failed(unit.takeError());
+    std::fputs(unit->cpp.c_str(), stdout);
+    return 0;
+  }
+
+  jit::CompilerConfig config;
+  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
+  config.cacheDir = o.cacheDir;
+  config.prebuiltDir = prebuiltDir();
+  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
+  auto compiler = jit::Compiler::create(std::move(config));
+  if (!compiler) return failed(compiler.takeError());
+
+  auto loaded = loadDesign(**compiler, o);
+  int status = 1;
+  std::vector<std::string> watched = {o.design};
+  if (loaded) {
+    status = drawDesign(*loaded, o, variation);
+    watched = loaded->files;
+  } else {
+    std::fprintf(stderr, "%s\n", llvm::toString(loaded.takeError()).c_str());
+  }
+  if (!o.watch) return status;
+
+  // --watch: a saved edit of the design (or of a file it imports) draws again; a broken one is
+  // reported and the last good pictures stay.
+  FileMonitor monitor;
+  if (!monitor.watch(watched)) std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+  if (!o.quiet) std::fprintf(stderr, "lcjit: watching %s\n", o.design.c_str());
+  for (int reload = 1;; ++reload) {
+    std::vector<std::string> changed = monitor.poll(-1);
+    if (changed.empty()) {
+      --reload;
+      continue;
+    }
+    auto next = loadDesign(**compiler, o);
+    if (!next) {
+      std::fprintf(stderr, "%s\n", llvm::toString(next.takeError()).c_str());
+      std::fprintf(stderr, "lcjit: reload %d failed; the last good picture stays\n", reload);
+      continue;
+    }
+    if (drawDesign(*next, o, variation) != 0) {
+      std::fprintf(stderr, "lcjit: reload %d failed; the last good picture stays\n", reload);
+      continue;
+    }
+    std::fprintf(stderr, "lcjit: reload %d: drawn again\n", reload);
+    if (next->files != watched) {
+      watched = next->files;
+      monitor.watch(watched);
+    }
+  }
 }
 
 }  // namespace lcjit::app

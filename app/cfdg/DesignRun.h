@@ -26,7 +26,8 @@ struct DesignRunOptions {
   int optLevel = 1;
   bool emitCpp = false;
   bool quiet = false;
-  bool timing = false;  // -t (cfdg's) / -v: where the time went, on stderr
+  bool timing = false;
+  bool watch = false;   // --watch: draw again when the design is saved  // -t (cfdg's) / -v: where the time went, on stderr
   std::string cacheDir;
 };
 

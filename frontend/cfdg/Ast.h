@@ -121,7 +121,7 @@ struct Design {
   std::vector<ShapeDecl> shapes;
   std::vector<Rule> rules;
   std::vector<Definition> definitions;  // global, in file order (configs included)
-  std::vector<std::string> imports;
+  std::vector<std::string> imports;  // the files imported or included, as read (paths)
 };
 
 }  // namespace lcjit::frontend::cfdg

@@ -86,7 +86,6 @@ class Parser {
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String && f.kind != Tok::Name) unexpected("a file name");
       Token name = next();
-      d.imports.push_back(name.text);
       importFile(name, d);
       return;
     }
@@ -190,6 +189,7 @@ class Parser {
       fail(name.at, "in " + name.text + ": " + message);
     }
     open_.insert(key);
+    d.imports.push_back(path.string());
     Parser inner(std::move(*tokens), path.string(), open_);
     inner.parseInto(d, true);
   }
@@ -251,7 +251,6 @@ class Parser {
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String) unexpected("a file name");
       Token name = next();
-      d.imports.push_back(name.text);
       importFile(name, d);
       return;
     }
