@@ -19,7 +19,7 @@ printf 'shape B { TRIANGLE [ ] }\n' > part.cfdg
 pid=$!
 wait_for 'watching' err.txt
 wait_for '<rect' out.svg
-grep -q 'TRIANGLE"' out.svg || fail "the imported shape was not drawn"
+grep -q '#TRIANGLE"' out.svg || fail "the imported shape was not drawn"
 
 sed -i 's/SQUARE/CIRCLE/' design.cfdg
 wait_for 'reload 1: drawn again' err.txt
@@ -34,6 +34,6 @@ sed -i '$d' design.cfdg
 wait_for 'reload 3: drawn again' err.txt
 sed -i 's/TRIANGLE/SQUARE/' part.cfdg   # the imported file is watched too
 wait_for 'reload 4: drawn again' err.txt
-grep -q 'TRIANGLE"' out.svg && fail "reload 4 did not draw the imported file's edit"
+grep -q '#TRIANGLE"' out.svg && fail "reload 4 did not draw the imported file's edit"
 grep -q '<rect' out.svg || fail "reload 4: no square from the imported file"
 echo "ok"
