@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <cstdio>
+#include <cctype>
 #include <random>
 
 #include <CLI/CLI.hpp>
@@ -42,6 +43,7 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.quiet = options.quiet;
   d.timing = options.verbose;
   d.watch = options.watch;
+  d.defines = options.overrides;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -64,7 +66,9 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("-x", o.minimumSize, "minimum size of a shape in pixels (default 0.3)");
   c.add_option("-m", o.maxShapes, "maximum number of shapes");
   c.add_option("-b", o.border, "border: -1 to 2 (default 2)");
-  c.add_option("-o", o.outs, "output file");
+  c.add_option("-o", o.outs, "output file: %v and %V are the variation (lower, upper case), %% a percent sign");
+  c.add_option("-D", o.defines, "NAME=VALUE: a definition read before the design's (its own NAME is dropped)")
+      ->allow_extra_args(false);
   c.add_flag("-q", o.quiet, "quiet");
   c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
   c.add_option("design", o.design, "the design (.cfdg)")->required();
@@ -89,7 +93,7 @@ llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRun
   const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
   if (!text) return llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message());
-  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design);
+  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
   if (!design) return design.takeError();
   auto unit = frontend::cfdg::translateDesign(*design);
   if (!unit) return unit.takeError();
@@ -178,10 +182,27 @@ int runDesign(const DesignRunOptions& given) {
     std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
     return 1;
   }
+  // Output names as cfdg's -o takes them: %v / %V the variation in lower / upper case.
+  for (std::string& out : o.outs) {
+    std::string named;
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (out[i] != '%' || i + 1 == out.size()) {
+        named += out[i];
+        continue;
+      }
+      char c = out[++i];
+      std::string v = cf::variationName(variation);
+      if (c == 'V') named += v;
+      else if (c == 'v') for (char ch : v) named += char(std::tolower(static_cast<unsigned char>(ch)));
+      else if (c == '%') named += '%';
+      else named += std::string("%") + c;
+    }
+    out = named;
+  }
   if (o.emitCpp) {
     auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
     if (!text) return failed(llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message()));
-    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design);
+    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
     if (!design) return failed(design.takeError());
     auto unit = frontend::cfdg::translateDesign(*design);
     if (!unit) return failed(unit.takeError());

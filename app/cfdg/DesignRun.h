@@ -27,7 +27,8 @@ struct DesignRunOptions {
   bool emitCpp = false;
   bool quiet = false;
   bool timing = false;
-  bool watch = false;   // --watch: draw again when the design is saved  // -t (cfdg's) / -v: where the time went, on stderr
+  bool watch = false;
+  std::vector<std::string> defines;  // -D NAME=VALUE   // --watch: draw again when the design is saved  // -t (cfdg's) / -v: where the time went, on stderr
   std::string cacheDir;
 };
 

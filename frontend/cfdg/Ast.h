@@ -108,6 +108,7 @@ struct Definition {
   bool isFunction = false;
   ExprP value;
   bool config = false;  // CF::Name = …
+  bool commandLine = false;  // -D NAME=VALUE: the design's own definition of NAME is dropped
 };
 
 struct Design {

@@ -40,9 +40,10 @@ class Parser {
   Parser(std::vector<Token> tokens, const std::string& file, std::set<std::string>& open)
       : t_(std::move(tokens)), file_(file), open_(open) {}
 
-  void parseInto(Design& d, bool imported) {
+  void parseInto(Design& d, bool imported, bool forceVersion3 = false, bool commandLine = false) {
     imported_ = imported;
-    v2_ = isVersion2();
+    commandLine_ = commandLine;
+    v2_ = !forceVersion3 && isVersion2();
     if (!imported) d.version = v2_ ? 2 : 3;
     while (peek().kind != Tok::End) v2_ ? statement2(d) : statement(d);
   }
@@ -55,6 +56,7 @@ class Parser {
   bool imported_ = false;
   std::string current_;  // the shape the rules being read belong to
   bool v2_ = false;      // CFDG 2, the older syntax
+  bool commandLine_ = false;  // reading -D definitions
 
   // CFDG 2 writes `rule NAME {`; CFDG 3 declares shapes with `shape NAME`.
   bool isVersion2() const {
@@ -330,6 +332,9 @@ class Parser {
     }
     expect("=");
     def.value = exp2();
+    def.commandLine = commandLine_;
+    for (const Definition& given : d.definitions)
+      if (given.commandLine && given.name == def.name && !commandLine_) return;  // -D's value wins
     d.definitions.push_back(std::move(def));
   }
 
@@ -723,15 +728,29 @@ class Parser {
 
 }  // namespace
 
-llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file) {
+llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file,
+                                   const std::vector<std::string>& defines) {
   auto tokens = tokenize(source, file);
   if (!tokens) return tokens.takeError();
+  Design d;
+  d.file = file;
+  std::set<std::string> open = {std::filesystem::weakly_canonical(file).string()};
+  for (const std::string& define : defines) {
+    const std::string where = "-D " + define;
+    if (define.find('=') == std::string::npos)
+      return llvm::createStringError(where + ": error: a definition is NAME=VALUE");
+    auto given = tokenize(define, where);
+    if (!given) return given.takeError();
+    try {
+      Parser p(std::move(*given), where, open);
+      p.parseInto(d, false, /*forceVersion3=*/true, /*commandLine=*/true);
+    } catch (ParseError& e) {
+      return llvm::createStringError(where + ":" + std::to_string(e.at.column) + ": error: " + e.message);
+    }
+  }
   try {
-    std::set<std::string> open = {std::filesystem::weakly_canonical(file).string()};
     Parser p(std::move(*tokens), file, open);
-    Design d;
-    d.file = file;
-    p.parseInto(d, false);
+    p.parseInto(d, false, /*forceVersion3=*/!defines.empty());
     return d;
   } catch (ParseError& e) {
     return llvm::createStringError(file + ":" + std::to_string(e.at.line) + ":" + std::to_string(e.at.column) +

@@ -38,6 +38,7 @@ def main():
     ap.add_argument('--size', type=int, default=400)
     ap.add_argument('--variations', default='A,BCD,XYZZY')
     ap.add_argument('--max-shapes', type=int, default=0)
+    ap.add_argument('--define', action='append', default=[], help='NAME=VALUE, given to both as -D')
     ap.add_argument('--image-diff', help='the image_diff tool: compare the PNGs too')
     ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
     ap.add_argument('--part', default='1/1', help='K/N: every Nth design from the Kth (the suite runs parts in parallel)')
@@ -60,12 +61,13 @@ def main():
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
             for f in (ref_svg, got_svg):
                 if os.path.exists(f): os.remove(f)
-            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v]
+            defines = [x for d in a.define for x in ('-D', d)]
+            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v] + defines
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             r = subprocess.run(cmd + [design, ref_svg], capture_output=True, text=True)
             if r.returncode != 0 or not os.path.exists(ref_svg):
                 print(f'{name} {v}: cfdg failed ({r.returncode}): skipped'); continue
-            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v]
+            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + defines
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             g = subprocess.run(cmd + [design, got_svg], capture_output=True, text=True)
             if g.returncode != 0:
@@ -75,7 +77,7 @@ def main():
                 print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
             if a.image_diff:
                 ref_png, got_png = os.path.join(work, 'ref.png'), os.path.join(work, 'got.png')
-                limit = ['-m', str(a.max_shapes)] if a.max_shapes else []
+                limit = (['-m', str(a.max_shapes)] if a.max_shapes else []) + defines
                 subprocess.run(['cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, ref_png], capture_output=True)
                 g = subprocess.run([a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, got_png],
                                    capture_output=True, text=True)
