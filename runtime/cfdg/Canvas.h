@@ -7,6 +7,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -114,6 +115,10 @@ class Canvas {
   Canvas& operator=(Canvas&&) noexcept;
 
   void draw(const CanvasShape& shape);
+  // `count` shapes, in order: shapeAt(i, shape) fills in shape i, or says it is not drawn (it is
+  // called from several threads at once). With `threads` > 1 the picture is drawn in bands of
+  // rows at once, the same pixels as one pass.
+  void drawEach(size_t count, const std::function<bool(size_t, CanvasShape&)>& shapeAt, unsigned threads);
   // A path's FILL or STROKE: its outline, curves flattened as cfdg flattens them at this scale,
   // through `toPixels` (as CanvasShape's).
   void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels, const Rgba& colour,

@@ -1,6 +1,9 @@
 // A design's expansion drawn as Context Free draws it (Picture.h).
 #include "runtime/cfdg/Picture.h"
 
+#include <algorithm>
+#include <thread>
+
 namespace lcjit::runtime::cfdg {
 
 namespace {
@@ -17,18 +20,19 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
                        : design.usesColour      ? PixelFormat::Rgb8
                                                 : PixelFormat::Gray8;
   Canvas canvas(f.width, f.height, format, deviceColour(e.background));
-  for (const FinishedShape& s : e.shapes) {
+  auto shapeAt = [&](size_t i, CanvasShape& c) {
+    const FinishedShape& s = e.shapes[i];
     if (!drawn(s, f, o))
-      continue;
-    CanvasShape c;
+      return false;
     c.primitive = Primitive(s.shape);
     c.toPixels = s.transform;
     c.toPixels.multiply(f.toPixels);
     c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
     // A blend flag carries AGG's compositing operator above bit 21.
     c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
-    canvas.draw(c);
-  }
+    return true;
+  };
+  canvas.drawEach(e.shapes.size(), shapeAt, std::max(1u, std::thread::hardware_concurrency()));
   return canvas;
 }
 
