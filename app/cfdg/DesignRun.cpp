@@ -16,6 +16,7 @@
 #include "frontend/cfdg/Parser.h"
 #include "frontend/cfdg/Translate.h"
 #include "jit/Compiler.h"
+#include "runtime/ModelGuard.h"
 #include "runtime/cfdg/Expander.h"
 #include "runtime/cfdg/Picture.h"
 #include "support/Elapsed.h"
@@ -44,6 +45,7 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.timing = options.verbose;
   d.watch = options.watch;
   d.defines = options.overrides;
+  d.maxMemory = options.maxMemory;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -133,6 +135,7 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
   eo.border = o.border;
   eo.maxShapes = o.maxShapes;
+  eo.maxMemory = o.maxMemory;
   eo.variation = variation;
   // rand_static(): drawn once, before the run, from the variation.
   std::vector<double> statics;
@@ -145,6 +148,9 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
     std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
     return 1;
   }
+  if (!e.stopped.empty())
+    std::fprintf(stderr, "lcjit: %s: stopped: %s; drawing the %zu shapes made so far\n", o.design.c_str(),
+                 e.stopped.c_str(), e.shapes.size());
   cf::Framing f = cf::frame(e, eo);
   for (const std::string& out : o.outs) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
@@ -160,19 +166,23 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   if (!o.quiet)
     std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(), cf::variationName(eo.variation).c_str(),
                  e.shapes.size());
+  // A limit of memory or an interrupt cut the design short: its picture is written, and the run
+  // fails; the shape limit is an end the user chose (as in Context Free).
+  const int status = !e.stopped.empty() && !e.shapeLimit ? 1 : 0;
   if (o.timing)
     std::fprintf(stderr,
                  "lcjit: parse and translate %.1f ms, compile %.1f ms (%s), expand %.1f ms (%llu rules run), "
                  "draw and write %.1f ms\n",
                  d.parseMs, d.compileMs, d.fromCache ? "from the cache" : "compiled", expandMs,
                  static_cast<unsigned long long>(e.expanded), support::msSince(start) - expandMs);
-  return 0;
+  return status;
 }
 
 }  // namespace
 
 int runDesign(const DesignRunOptions& given) {
   DesignRunOptions o = given;
+  runtime::interruptModelCodeOnSigint();  // Ctrl-C stops the expansion, and the shapes made are drawn
   if (o.outs.empty()) {  // as lcjit does for a model without a display: the picture beside it
     o.outs = {(std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string() + ".png"};
     if (!o.quiet) std::fprintf(stderr, "lcjit: writing %s\n", o.outs[0].c_str());

@@ -23,6 +23,7 @@ struct DesignRunOptions {
   double minimumSize = 0.3;
   double border = 2;
   uint64_t maxShapes = 500'000'000;
+  size_t maxMemory = 0;  // --max-memory; 0: half the physical memory
   int optLevel = 1;
   bool emitCpp = false;
   bool quiet = false;

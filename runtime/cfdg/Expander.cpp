@@ -6,6 +6,8 @@
 //   4. Framing and the -V picture
 #include "runtime/cfdg/Expander.h"
 
+#include "runtime/ModelGuard.h"
+
 #include <agg_conv_stroke.h>
 #include <agg_conv_transform.h>
 #include <agg_bounding_rect.h>
@@ -21,6 +23,9 @@
 #include <stdexcept>
 
 namespace lcjit::runtime::cfdg {
+using runtime::Fault;
+using runtime::FaultKind;
+using runtime::ModelGuard;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -310,6 +315,7 @@ struct Engine {
   }
 
   void process(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    ModelGuard::checkpoint();
     double area = std::fabs(s.sx * s.sy - s.shy * s.shx);
     for (double v : {s.sx, s.shy, s.shx, s.sy, s.tx, s.ty})
       if (!std::isfinite(v))
@@ -405,8 +411,12 @@ struct Engine {
     }
     design.start(&ctx);
     while (!heap.empty()) {
-      if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)
+      ModelGuard::checkpoint();
+      if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes) {
+        result.stopped = "the shape limit (" + std::to_string(options.maxShapes) + ") was reached";
+        result.shapeLimit = true;
         break;
+      }
       uint32_t slot = popHeap();
       Unfinished& u = slots[slot];
       // The next shape to expand is likely the heap's top now: its slot is somewhere in a large
@@ -430,6 +440,9 @@ struct Engine {
       slots[slot].params.reset();
       freeSlots.push_back(slot);
     }
+  }
+
+  void sortForDrawing() {
     // Shapes are made in order: only a design that moves some in z needs sorting.
     bool flat = std::all_of(result.shapes.begin(), result.shapes.end(), [&](const FinishedShape& f) {
       return f.z == result.shapes.front().z;
@@ -452,11 +465,22 @@ struct Stop {
 
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
   Engine engine(design, options, statics);
-  try {
-    engine.run();
-  } catch (Stop& stop) {
-    engine.result.error = stop.message;
-  }
+  // Design code runs behind the fault guard: a crash or an exception in it is an error, not the
+  // end of lcjit; the memory limit and Ctrl-C stop the run, keeping what it has made.
+  ModelGuard guard;
+  guard.setLimits({0, options.maxMemory ? options.maxMemory : defaultMemoryLimit()});
+  Fault fault = guard.run([&] {
+    try {
+      engine.run();
+    } catch (Stop& stop) {
+      engine.result.error = stop.message;
+    }
+  });
+  if (fault.kind == FaultKind::MemoryLimit || fault.kind == FaultKind::Interrupted || fault.kind == FaultKind::TimeLimit)
+    engine.result.stopped = fault.what;
+  else if (fault)
+    engine.result.error = "the design's code failed: " + fault.what;
+  if (engine.result.error.empty()) engine.sortForDrawing();
   return std::move(engine.result);
 }
 

@@ -38,6 +38,7 @@ struct ExpandOptions {
   double border = 2;          // `-b`: -1 … 2
   uint64_t variation = 1;
   uint64_t maxShapes = 500'000'000;
+  size_t maxMemory = 0;  // bytes of the whole process; 0: half the physical memory (--max-memory)
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
@@ -60,6 +61,10 @@ struct Expansion {
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
   std::string error;                   // a runtime error that stopped the run ("" if none)
   std::string errorAt;                 // where in the design, "file:line:col", when known
+  // Why the run stopped before the design was finished, when a limit stopped it (the shape or
+  // memory limit, an interrupt): the shapes made so far are kept, and drawn.
+  std::string stopped;
+  bool shapeLimit = false;  // it was the shape limit (-m, CF::MaxShapes): an end, not a failure
 };
 
 // Expands `design` with `options`. `statics` are its rand_static() values.
