@@ -17,7 +17,9 @@
 #include "frontend/cfdg/Translate.h"
 #include "jit/Compiler.h"
 #include "runtime/ModelGuard.h"
+#include "runtime/cfdg/DesignGeometry.h"
 #include "runtime/cfdg/Expander.h"
+#include "runtime/export/Export.h"
 #include "runtime/cfdg/Picture.h"
 #include "support/Elapsed.h"
 #include "support/InputFile.h"
@@ -158,8 +160,16 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
     } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
       cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
       if (auto err = cf::writePng(canvas, out)) return failed(std::move(err));
+    } else if (auto format = runtime::exportFormatFor(out)) {
+      // The other formats lcjit exports: the shapes as flat coloured triangles.
+      runtime::Geometry geometry = cf::geometryOf(e, f, eo);
+      runtime::ExportInput in;
+      in.geometry = &geometry;
+      in.width = eo.width;
+      in.height = eo.height;
+      if (auto err = runtime::exportGeometry(out, *format, in)) return failed(std::move(err));
     } else {
-      std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .png or .svg\n", out.c_str());
+      std::fprintf(stderr, "lcjit: %s: not a picture or export lcjit writes\n", out.c_str());
       return 1;
     }
   }
