@@ -205,18 +205,21 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
     rasterizer_.reset();
     rasterizer_.filling_rule(style.evenOdd ? agg::fill_even_odd : agg::fill_non_zero);
     if (!style.stroke) {
+      // cfdg paints every path through one set of converters: a fill flattens its curves with the
+      // angle tolerance the last stroke painted set.
+      curves.angle_tolerance(angleTolerance_);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       rasterizer_.add_path(transformed);
     } else if (!style.isoWidth) {
       // Stroked in the path's units, then transformed (a non-uniform transform stretches the width).
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_stroke<agg::conv_curve<PathSource>> stroke(curves);
       configure(stroke, style, style.width, scale);
       agg::conv_transform<agg::conv_stroke<agg::conv_curve<PathSource>>> transformed(stroke, tr);
       rasterizer_.add_path(transformed);
     } else {
       // Transformed, then stroked in pixels: the same width in every direction.
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       agg::conv_stroke<agg::conv_transform<agg::conv_curve<PathSource>>> stroke(transformed);
       configure(stroke, style, style.width * scale, 1);
@@ -289,6 +292,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   agg::renderer_scanline_aa_solid<agg::renderer_base<PixFmt>> solid_;
   agg::rasterizer_scanline_aa<> rasterizer_;
   agg::scanline_p8 scanline_;
+  double angleTolerance_ = 0;  // the curve flattener's, as the last stroke left it
 };
 
 using PixfmtRgba32Blend =

@@ -1,6 +1,8 @@
 // A design's expansion drawn as Context Free draws it (Picture.h).
 #include "runtime/cfdg/Picture.h"
 
+#include "runtime/cfdg/Paths.h"
+
 namespace lcjit::runtime::cfdg {
 
 namespace {
@@ -17,9 +19,33 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
                        : design.usesColour      ? PixelFormat::Rgb8
                                                 : PixelFormat::Gray8;
   Canvas canvas(f.width, f.height, format, deviceColour(e.background));
+  PathEngine paths(design);
+  // A path command's transform to pixels, multiplied in cfdg's order: its state's, the fit, the
+  // fitted block's place in the picture.
+  const Affine offset = Affine::translation(f.offsetX, f.offsetY);
+  const PathPainter paint = [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info,
+                                const __cf_State& state) {
+    PathStyle style;
+    style.stroke = (info.flags & kFill) == 0;
+    style.evenOdd = !style.stroke && (info.flags & kEvenOdd);
+    style.width = info.width;
+    style.isoWidth = (info.flags & kIsoWidth) != 0;
+    style.join = uint8_t(info.flags & kJoinMask);
+    style.cap = uint8_t((info.flags >> kCapShift) & 7);
+    style.miterLimit = info.miterLimit;
+    Affine toPixels{state.sx, state.shy, state.shx, state.sy, state.tx, state.ty};
+    toPixels.multiply(f.fit.toBlock);
+    toPixels.multiply(offset);
+    const int blend = (info.flags & kBlendPresent) ? (info.flags >> 21) & 31 : kBlendSourceOver;
+    canvas.drawPath(outline, style, toPixels, deviceColour(state.colour), blend);
+  };
   for (const FinishedShape& s : e.shapes) {
     if (!drawn(s, f, o))
       continue;
+    if (s.shape == kPathShape) {
+      paths.paint(e.paths[size_t(s.path)], e.statics, paint);
+      continue;
+    }
     CanvasShape c;
     c.primitive = Primitive(s.shape);
     c.toPixels = s.transform;
