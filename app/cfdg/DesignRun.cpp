@@ -103,6 +103,8 @@ int runDesign(const DesignRunOptions& o) {
   eo.height = o.height;
   eo.minimumSize = unit->settings.minimumSize > 0 ? unit->settings.minimumSize : o.minimumSize;
   eo.border = o.border;
+  eo.borderFixed = unit->settings.borderFixed;
+  eo.borderDynamic = unit->settings.borderDynamic;
   eo.maxShapes = o.maxShapes;
   if (o.variation.empty()) {
     std::random_device device;

@@ -1093,6 +1093,8 @@ Translation Translator::run() {
       if (def.value->kind == Expr::Unary && def.value->text == "-") v = -v;
       if (def.name == "CF::MinimumSize") out_.settings.minimumSize = v;
       else if (def.name == "CF::MaxShapes") out_.settings.maxShapes = v;
+      else if (def.name == "CF::BorderFixed") out_.settings.borderFixed = v;
+      else if (def.name == "CF::BorderDynamic") out_.settings.borderDynamic = v;
       else if (def.name == "CF::AllowOverlap" || def.name == "CF::Impure" || def.name == "CF::MaxNatural") {
       } else fail(def.at, def.name + " is not supported by lcjit yet");
       continue;

@@ -146,6 +146,13 @@ Fit fitBounds(const Bounds& b, int width, int height, double border, bool exact)
 
 namespace {
 
+// The border around the fitted picture, in pixels: -b's (or CF::BorderFixed), none if it would
+// leave no picture.
+double fixedBorderOf(const ExpandOptions& o) {
+  double fixed = std::isnan(o.borderFixed) ? 8.0 * (o.border <= 1.0 ? o.border : 1.0) : o.borderFixed;
+  return 2 * int(std::fabs(fixed)) >= std::min(o.width, o.height) ? 0.0 : fixed;
+}
+
 struct Unfinished {
   double area;
   int shape;
@@ -220,9 +227,8 @@ struct Engine {
     }
     double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
     minArea = minSize * minSize;
-    fixedBorder = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-    shapeBorder = 1.0 * (o.border <= 1.0 ? 1.0 : o.border);
-    if (2 * int(std::fabs(fixedBorder)) >= std::min(o.width, o.height)) fixedBorder = 0;
+    fixedBorder = fixedBorderOf(o);
+    shapeBorder = std::isnan(o.borderDynamic) ? 1.0 * (o.border <= 1.0 ? 1.0 : o.border) : o.borderDynamic;
     if (shapeBorder <= 0) shapeBorder = 1;
   }
 
@@ -451,8 +457,7 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
   Framing f;
   f.width = o.width;
   f.height = o.height;
-  double fixed = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-  if (2 * int(std::fabs(fixed)) >= std::min(o.width, o.height)) fixed = 0;
+  double fixed = fixedBorderOf(o);
   f.fit = fitBounds(e.bounds, o.width, o.height, fixed, false);
   f.offsetX = double((o.width - f.fit.width) / 2);
   f.offsetY = double((o.height - f.fit.height) / 2);

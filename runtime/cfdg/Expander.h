@@ -37,6 +37,9 @@ struct ExpandOptions {
   int width = 500, height = 500;
   double minimumSize = 0.3;  // pixels; `-x`
   double border = 2;          // `-b`: -1 … 2
+  // CF::BorderFixed (pixels around the picture) and CF::BorderDynamic (how much each shape's box
+  // is grown): the design's own, in place of -b's (NaN: not set).
+  double borderFixed = __builtin_nan(""), borderDynamic = __builtin_nan("");
   uint64_t variation = 1;
   uint64_t maxShapes = 500'000'000;
 };
