@@ -106,7 +106,8 @@ class Canvas {
 
   void draw(const CanvasShape& shape);
   // A path's FILL or STROKE: its outline, curves flattened as cfdg flattens them at this scale,
-  // through `toPixels` (as CanvasShape's).
+  // through `toPixels` (as CanvasShape's). As cfdg's one set of converters, a fill flattens curves
+  // with the angle tolerance the last stroke painted left: paths are painted in the picture's order.
   void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels, const Rgba& colour,
                 int blend = kBlendSourceOver);
 
