@@ -136,6 +136,8 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   eo.height = o.height;
   eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
   eo.border = o.border;
+  eo.borderFixed = d.unit.settings.borderFixed;
+  eo.borderDynamic = d.unit.settings.borderDynamic;
   eo.maxShapes = o.maxShapes;
   eo.maxMemory = o.maxMemory;
   eo.variation = variation;

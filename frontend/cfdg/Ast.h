@@ -81,6 +81,10 @@ struct Element {
   std::vector<Case> cases;
   bool v2Loop = false;
   std::string v2Count;  // CFDG 2 `N *`: the count as written
+  // Paths. PathOp: name (MOVETO …), value (the arguments, null for none). PathCommand: name
+  // (STROKE, FILL), args (width, flags), adjustment. Replace with subpath: `path NAME [adj]`.
+  bool subpath = false;
+  int flags = 0;  // CFDG 2 path operations: the flags their `p` words name
 };
 
 struct Rule {

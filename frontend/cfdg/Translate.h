@@ -15,6 +15,7 @@ namespace lcjit::frontend::cfdg {
 struct Settings {
   double minimumSize = 0;  // CF::MinimumSize (0: not set)
   double maxShapes = 0;    // CF::MaxShapes
+  double borderFixed = __builtin_nan(""), borderDynamic = __builtin_nan("");  // CF::Border… (NaN: not set)
   double border = -100;    // not a CF setting: kept for -b
 };
 

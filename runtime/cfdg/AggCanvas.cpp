@@ -222,18 +222,21 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
     rasterizer_.reset();
     rasterizer_.filling_rule(style.evenOdd ? agg::fill_even_odd : agg::fill_non_zero);
     if (!style.stroke) {
+      // cfdg paints every path through one set of converters: a fill flattens its curves with the
+      // angle tolerance the last stroke painted set.
+      curves.angle_tolerance(angleTolerance_);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       rasterizer_.add_path(transformed);
     } else if (!style.isoWidth) {
       // Stroked in the path's units, then transformed (a non-uniform transform stretches the width).
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_stroke<agg::conv_curve<PathSource>> stroke(curves);
       configure(stroke, style, style.width, scale);
       agg::conv_transform<agg::conv_stroke<agg::conv_curve<PathSource>>> transformed(stroke, tr);
       rasterizer_.add_path(transformed);
     } else {
       // Transformed, then stroked in pixels: the same width in every direction.
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       agg::conv_stroke<agg::conv_transform<agg::conv_curve<PathSource>>> stroke(transformed);
       configure(stroke, style, style.width * scale, 1);
@@ -314,6 +317,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   size_t rowBytes_;
   int bandY0_ = 0, bandY1_ = 0;
   bool banded_ = false;
+  double angleTolerance_ = 0;  // the curve flattener's, as the last stroke left it
 };
 
 using PixfmtRgba32Blend =

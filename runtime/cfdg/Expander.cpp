@@ -7,6 +7,7 @@
 #include "runtime/cfdg/Expander.h"
 
 #include "runtime/ModelGuard.h"
+#include "runtime/cfdg/Paths.h"
 
 #include <agg_conv_stroke.h>
 #include <agg_conv_transform.h>
@@ -149,6 +150,13 @@ Fit fitBounds(const Bounds& b, int width, int height, double border, bool exact)
 
 namespace {
 
+// The border around the fitted picture, in pixels: -b's (or CF::BorderFixed), none if it would
+// leave no picture.
+double fixedBorderOf(const ExpandOptions& o) {
+  double fixed = std::isnan(o.borderFixed) ? 8.0 * (o.border <= 1.0 ? o.border : 1.0) : o.borderFixed;
+  return 2 * int(std::fabs(fixed)) >= std::min(o.width, o.height) ? 0.0 : fixed;
+}
+
 struct Unfinished {
   double area;
   int shape;
@@ -202,6 +210,7 @@ struct Engine {
   uint64_t finishedCount = 0;
   std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
+  PathEngine paths{design};
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
       : design(d), options(o), statics(s) {
@@ -221,9 +230,8 @@ struct Engine {
     }
     double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
     minArea = minSize * minSize;
-    fixedBorder = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-    shapeBorder = 1.0 * (o.border <= 1.0 ? 1.0 : o.border);
-    if (2 * int(std::fabs(fixedBorder)) >= std::min(o.width, o.height)) fixedBorder = 0;
+    fixedBorder = fixedBorderOf(o);
+    shapeBorder = std::isnan(o.borderDynamic) ? 1.0 * (o.border <= 1.0 ? 1.0 : o.border) : o.borderDynamic;
     if (shapeBorder <= 0) shapeBorder = 1;
   }
 
@@ -322,6 +330,10 @@ struct Engine {
         fail(c, std::string("a shape has undefined or infinite state: ") + design.shapes[shape].name);
     if (s.tbegin > s.tend)
       return;
+    if (paths.isPath(shape)) {  // drawn now, as a primitive is: no rule is chosen
+      finishPath(c, shape, s, params, seed);
+      return;
+    }
     if (hasRules(shape)) {
       if (!result.bounds.valid() || area * scaleArea >= minArea) {
         int n = design.shapes[shape].paramCount;
@@ -356,6 +368,7 @@ struct Engine {
     f.z = s.ztz;
     f.blend = s.blend;
     if (shape != 3) {
+      paths.primitiveMeasured(s.sx * s.sy - s.shy * s.shx);
       // The box of the outline stroked 0.1 wide (miter joins, butt caps), as Context Free
       // measures every shape, filled or not: the stroke is made in the shape's own units, so its
       // points are the same for every shape of a kind (outlines[]), transformed as AGG's
@@ -396,7 +409,41 @@ struct Engine {
     result.shapes.push_back(f);
   }
 
+  // A path is finished by running its body, measuring each command's outline; it is drawn by
+  // running it again, so it keeps its seed, state and parameters.
+  void finishPath(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    if (scale == 0.0)
+      scale = (options.width + options.height) / std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx));
+    double area = 0;
+    Bounds b = paths.measure(c, shape, s, params, seed, scale, area);
+    if (!b.valid())
+      return;  // it paints nothing
+    totalArea += area;
+    result.bounds.merge(b.dilated(shapeBorder));
+    scale = fitBounds(result.bounds, options.width, options.height, fixedBorder, false).scale;
+    scaleArea = scale * scale;
+    FinishedShape f;
+    f.shape = kPathShape;
+    f.transform = affineOf(s);
+    f.z = s.ztz;
+    f.boxArea = area;
+    f.path = int(result.paths.size());
+    f.order = ++finishedCount;
+    FinishedPath p;
+    p.shape = shape;
+    p.seed = seed;
+    p.state = s;
+    if (int n = design.shapes[shape].paramCount; n > 0) {
+      p.params.reset(new double[size_t(n)]);
+      std::copy(params, params + n, p.params.get());
+    }
+    result.paths.push_back(std::move(p));
+    result.shapes.push_back(f);
+  }
+
   void run() {
+    result.design = &design;
+    result.statics = statics;
     __cf_Ctx ctx{};
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
@@ -492,8 +539,7 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
   Framing f;
   f.width = o.width;
   f.height = o.height;
-  double fixed = 8.0 * (o.border <= 1.0 ? o.border : 1.0);
-  if (2 * int(std::fabs(fixed)) >= std::min(o.width, o.height)) fixed = 0;
+  double fixed = fixedBorderOf(o);
   f.fit = fitBounds(e.bounds, o.width, o.height, fixed, false);
   f.offsetX = double((o.width - f.fit.width) / 2);
   f.offsetY = double((o.height - f.fit.height) / 2);
@@ -545,7 +591,15 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
   Affine toSvg = f.fit.toBlock;
   toSvg.multiply({1, 0, 0, -1, 0, double(o.height)});
   toSvg.multiply(Affine::translation((o.width - f.fit.width) / 2.0, (o.height - f.fit.height) / 2.0));
+  std::unique_ptr<PathEngine> paths;
+  int nextPathId = 1;
+  int precision = 6;  // cfdg's stream: 6 significant digits until the first transform is written
   for (const FinishedShape& s : e.shapes) {
+    if (s.shape == kPathShape && drawn(s, f, o)) {
+      if (!paths) paths = std::make_unique<PathEngine>(*e.design);
+      out += paths->svg(e.paths[size_t(s.path)], e.statics, toSvg, nextPathId, precision);
+      continue;
+    }
     if (s.shape == 3 || !drawn(s, f, o))
       continue;
     Affine m = s.transform;
@@ -557,7 +611,7 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
     std::string opacity;
     if (byte(rgba[3]) != 255) {
       char a[64];
-      std::snprintf(a, sizeof a, " fill-opacity=\"%.8g\"", byte(rgba[3]) / 255.0);
+      std::snprintf(a, sizeof a, " fill-opacity=\"%.*g\"", precision, byte(rgba[3]) / 255.0);
       opacity = a;
     }
     const char* element = s.shape == 0   ? "<circle r=\"0.5\""
@@ -568,6 +622,7 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
                   "        transform=\"matrix(%.8g %.8g %.8g %.8g %.8g %.8g)\"/>\n",
                   element, fill, opacity.c_str(), m.sx, m.shy, m.shx, m.sy, m.tx, m.ty);
     out += line;
+    precision = 8;
   }
   out += "</svg>\n";
   return out;
@@ -853,7 +908,7 @@ double __cf_fn2(__cf_Ctx*, int fn, double a, double b) {
 
 namespace lcjit::runtime::cfdg {
 std::vector<std::pair<std::string, void*>> hostSymbols() {
-  return {
+  std::vector<std::pair<std::string, void*>> symbols = {
       {"__cf_step", reinterpret_cast<void*>(&__cf_step)},
       {"__cf_draw", reinterpret_cast<void*>(&__cf_draw)},
       {"__cf_identity", reinterpret_cast<void*>(&__cf_identity)},
@@ -875,5 +930,7 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_seen_transform", reinterpret_cast<void*>(&__cf_seen_transform)},
       {"__cf_transform_by", reinterpret_cast<void*>(&__cf_transform_by)},
   };
+  for (auto& s : pathHostSymbols()) symbols.push_back(std::move(s));
+  return symbols;
 }
 }  // namespace lcjit::runtime::cfdg
