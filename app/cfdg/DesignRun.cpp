@@ -2,18 +2,24 @@
 #include "app/cfdg/DesignRun.h"
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
+#include <cctype>
 #include <random>
 
 #include <CLI/CLI.hpp>
 
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
+#include "app/session/FileMonitor.h"
 #include "app/session/Session.h"  // runtimeIncludeDir, prebuiltDir
 #include "frontend/cfdg/Parser.h"
 #include "frontend/cfdg/Translate.h"
 #include "jit/Compiler.h"
+#include "runtime/ModelGuard.h"
+#include "runtime/cfdg/DesignGeometry.h"
 #include "runtime/cfdg/Expander.h"
+#include "runtime/export/Export.h"
 #include "runtime/cfdg/Picture.h"
 #include "support/Elapsed.h"
 #include "support/InputFile.h"
@@ -39,6 +45,9 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.emitCpp = options.emitCpp;
   d.quiet = options.quiet;
   d.timing = options.verbose;
+  d.watch = options.watch;
+  d.defines = options.overrides;
+  d.maxMemory = options.maxMemory;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -61,7 +70,9 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("-x", o.minimumSize, "minimum size of a shape in pixels (default 0.3)");
   c.add_option("-m", o.maxShapes, "maximum number of shapes");
   c.add_option("-b", o.border, "border: -1 to 2 (default 2)");
-  c.add_option("-o", o.outs, "output file");
+  c.add_option("-o", o.outs, "output file: %v and %V are the variation (lower, upper case), %% a percent sign");
+  c.add_option("-D", o.defines, "NAME=VALUE: a definition read before the design's (its own NAME is dropped)")
+      ->allow_extra_args(false);
   c.add_flag("-q", o.quiet, "quiet");
   c.add_flag("-c", o.crop, "crop the picture to the fitted block (not for tiled or frieze designs)");
   c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
@@ -69,70 +80,80 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("output", o.outs, "output file");
 }
 
-int runDesign(const DesignRunOptions& o) {
-  namespace cf = runtime::cfdg;
+namespace {
+
+namespace cf = runtime::cfdg;
+
+// A design compiled and loaded: its code, its table and what its translation says of it.
+struct LoadedDesign {
+  std::unique_ptr<jit::ModelCode> code;
+  const __cf_Design* table = nullptr;
+  frontend::cfdg::Translation unit;
+  std::vector<std::string> files;  // the design and what it imports
+  double parseMs = 0, compileMs = 0;
+  bool fromCache = false;
+};
+
+llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& o) {
   const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
-  if (!text) {
-    std::fprintf(stderr, "lcjit: %s: %s\n", o.design.c_str(), text.getError().message().c_str());
-    return 1;
-  }
-  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design);
-  if (!design) return failed(design.takeError());
+  if (!text) return llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message());
+  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
+  if (!design) return design.takeError();
   auto unit = frontend::cfdg::translateDesign(*design);
-  if (!unit) return failed(unit.takeError());
-  if (o.emitCpp) {
-    std::fputs(unit->cpp.c_str(), stdout);
-    return 0;
-  }
-  const double parseMs = support::msSince(start);
-
-  jit::CompilerConfig config;
-  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
-  config.cacheDir = o.cacheDir;
-  config.prebuiltDir = prebuiltDir();
-  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
-  auto compiler = jit::Compiler::create(std::move(config));
-  if (!compiler) return failed(compiler.takeError());
+  if (!unit) return unit.takeError();
+  LoadedDesign d;
+  d.files = {o.design};
+  d.files.insert(d.files.end(), design->imports.begin(), design->imports.end());
+  d.parseMs = support::msSince(start);
   jit::CompileOptions co;
   co.optLevel = o.optLevel;
   co.plainUnit = true;
   co.bufferName = o.design + ".cpp";
-  jit::CompileStats compileStats;
-  auto code = (*compiler)->compile(unit->cpp, co, &compileStats);
-  if (!code) return failed(code.takeError());
+  jit::CompileStats stats;
+  auto code = compiler.compile(unit->cpp, co, &stats);
+  if (!code) return code.takeError();
   auto table = (*code)->lookup("__cf_design");
-  if (!table) return failed(table.takeError());
-  const auto& compiled = *static_cast<const __cf_Design*>(*table);
+  if (!table) return table.takeError();
+  d.code = std::move(*code);
+  d.table = static_cast<const __cf_Design*>(*table);
+  d.unit = std::move(*unit);
+  d.compileMs = support::msSince(start) - d.parseMs;
+  d.fromCache = stats.object != jit::CompileStats::ObjectFrom::Compiled;
+  return d;
+}
 
+uint64_t chooseVariation(const std::string& code) {
+  if (!code.empty()) return cf::variationOf(code);
+  std::random_device device;
+  return std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
+}
+
+// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
+int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  const auto start = support::Clock::now();
   cf::ExpandOptions eo;
   eo.width = o.width;
   eo.height = o.height;
-  eo.minimumSize = unit->settings.minimumSize > 0 ? unit->settings.minimumSize : o.minimumSize;
+  eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
   eo.border = o.border;
   eo.maxShapes = o.maxShapes;
-  if (o.variation.empty()) {
-    std::random_device device;
-    eo.variation = std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
-  } else {
-    eo.variation = cf::variationOf(o.variation);
-    if (eo.variation == 0) {
-      std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
-      return 1;
-    }
-  }
+  eo.maxMemory = o.maxMemory;
+  eo.variation = variation;
   // rand_static(): drawn once, before the run, from the variation.
   std::vector<double> statics;
   uint64_t s = eo.variation;
-  for (int k = 0; k < unit->randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
+  for (int k = 0; k < d.unit.randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
 
-  const double compileMs = support::msSince(start) - parseMs;
-  cf::Expansion e = cf::expand(compiled, eo, statics);
-  const double expandMs = support::msSince(start) - parseMs - compileMs;
+  cf::Expansion e = cf::expand(*d.table, eo, statics);
+  const double expandMs = support::msSince(start);
   if (!e.error.empty()) {
     std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
     return 1;
   }
+  if (!e.stopped.empty())
+    std::fprintf(stderr, "lcjit: %s: stopped: %s; drawing the %zu shapes made so far\n", o.design.c_str(),
+                 e.stopped.c_str(), e.shapes.size());
   cf::Framing f = cf::frame(e, eo);
   // -c: the fitted block alone, as cfdg crops: the SVG is the block's size, the PNG the block's
   // rows counted from the picture's top by the block's offset from its bottom (as cfdg reads them).
@@ -144,25 +165,125 @@ int runDesign(const DesignRunOptions& o) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
       if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return failed(std::move(err));
     } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
-      cf::Canvas canvas = cf::drawExpansion(compiled, e, f, eo);
+      cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
       if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
         return failed(std::move(err));
+    } else if (auto format = runtime::exportFormatFor(out)) {
+      // The other formats lcjit exports: the shapes as flat coloured triangles.
+      runtime::Geometry geometry = cf::geometryOf(e, f, eo);
+      runtime::ExportInput in;
+      in.geometry = &geometry;
+      in.width = f.width;
+      in.height = f.height;
+      if (auto err = runtime::exportGeometry(out, *format, in)) return failed(std::move(err));
     } else {
-      std::fprintf(stderr, "lcjit: %s: Context Free designs are written as .png or .svg\n", out.c_str());
+      std::fprintf(stderr, "lcjit: %s: not a picture or export lcjit writes\n", out.c_str());
       return 1;
     }
   }
   if (!o.quiet)
-    std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(),
-                 cf::variationName(eo.variation).c_str(), e.shapes.size());
+    std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(), cf::variationName(eo.variation).c_str(),
+                 e.shapes.size());
+  // A limit of memory or an interrupt cut the design short: its picture is written, and the run
+  // fails; the shape limit is an end the user chose (as in Context Free).
+  const int status = !e.stopped.empty() && !e.shapeLimit ? 1 : 0;
   if (o.timing)
     std::fprintf(stderr,
                  "lcjit: parse and translate %.1f ms, compile %.1f ms (%s), expand %.1f ms (%llu rules run), "
                  "draw and write %.1f ms\n",
-                 parseMs, compileMs,
-                 compileStats.object == jit::CompileStats::ObjectFrom::Compiled ? "compiled" : "from the cache", expandMs,
-                 static_cast<unsigned long long>(e.expanded), support::msSince(start) - parseMs - compileMs - expandMs);
-  return 0;
+                 d.parseMs, d.compileMs, d.fromCache ? "from the cache" : "compiled", expandMs,
+                 static_cast<unsigned long long>(e.expanded), support::msSince(start) - expandMs);
+  return status;
+}
+
+}  // namespace
+
+int runDesign(const DesignRunOptions& given) {
+  DesignRunOptions o = given;
+  runtime::interruptModelCodeOnSigint();  // Ctrl-C stops the expansion, and the shapes made are drawn
+  if (o.outs.empty()) {  // as lcjit does for a model without a display: the picture beside it
+    o.outs = {(std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string() + ".png"};
+    if (!o.quiet) std::fprintf(stderr, "lcjit: writing %s\n", o.outs[0].c_str());
+  }
+  const uint64_t variation = chooseVariation(o.variation);
+  if (variation == 0) {
+    std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
+    return 1;
+  }
+  // Output names as cfdg's -o takes them: %v / %V the variation in lower / upper case.
+  for (std::string& out : o.outs) {
+    std::string named;
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (out[i] != '%' || i + 1 == out.size()) {
+        named += out[i];
+        continue;
+      }
+      char c = out[++i];
+      std::string v = cf::variationName(variation);
+      if (c == 'V') named += v;
+      else if (c == 'v') for (char ch : v) named += char(std::tolower(static_cast<unsigned char>(ch)));
+      else if (c == '%') named += '%';
+      else named += std::string("%") + c;
+    }
+    out = named;
+  }
+  if (o.emitCpp) {
+    auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
+    if (!text) return failed(llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message()));
+    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
+    if (!design) return failed(design.takeError());
+    auto unit = frontend::cfdg::translateDesign(*design);
+    if (!unit) return failed(unit.takeError());
+    std::fputs(unit->cpp.c_str(), stdout);
+    return 0;
+  }
+
+  jit::CompilerConfig config;
+  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
+  config.cacheDir = o.cacheDir;
+  config.prebuiltDir = prebuiltDir();
+  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
+  auto compiler = jit::Compiler::create(std::move(config));
+  if (!compiler) return failed(compiler.takeError());
+
+  auto loaded = loadDesign(**compiler, o);
+  int status = 1;
+  std::vector<std::string> watched = {o.design};
+  if (loaded) {
+    status = drawDesign(*loaded, o, variation);
+    watched = loaded->files;
+  } else {
+    std::fprintf(stderr, "%s\n", llvm::toString(loaded.takeError()).c_str());
+  }
+  if (!o.watch) return status;
+
+  // --watch: a saved edit of the design (or of a file it imports) draws again; a broken one is
+  // reported and the last good pictures stay.
+  FileMonitor monitor;
+  if (!monitor.watch(watched)) std::fprintf(stderr, "lcjit: file monitoring: %s\n", monitor.error().c_str());
+  if (!o.quiet) std::fprintf(stderr, "lcjit: watching %s\n", o.design.c_str());
+  for (int reload = 1;; ++reload) {
+    std::vector<std::string> changed = monitor.poll(-1);
+    if (changed.empty()) {
+      --reload;
+      continue;
+    }
+    auto next = loadDesign(**compiler, o);
+    if (!next) {
+      std::fprintf(stderr, "%s\n", llvm::toString(next.takeError()).c_str());
+      std::fprintf(stderr, "lcjit: reload %d failed; the last good picture stays\n", reload);
+      continue;
+    }
+    if (drawDesign(*next, o, variation) != 0) {
+      std::fprintf(stderr, "lcjit: reload %d failed; the last good picture stays\n", reload);
+      continue;
+    }
+    std::fprintf(stderr, "lcjit: reload %d: drawn again\n", reload);
+    if (next->files != watched) {
+      watched = next->files;
+      monitor.watch(watched);
+    }
+  }
 }
 
 }  // namespace lcjit::app

@@ -23,11 +23,14 @@ struct DesignRunOptions {
   double minimumSize = 0.3;
   double border = 2;
   uint64_t maxShapes = 500'000'000;
+  size_t maxMemory = 0;  // --max-memory; 0: half the physical memory
   int optLevel = 1;
   bool emitCpp = false;
   bool quiet = false;
   bool timing = false;  // -t (cfdg's) / -v: where the time went, on stderr
   bool crop = false;    // -c (cfdg's): only the fitted block (not for tiled or frieze designs)
+  bool watch = false;   // --watch: draw again when the design is saved
+  std::vector<std::string> defines;  // -D NAME=VALUE
   std::string cacheDir;
 };
 

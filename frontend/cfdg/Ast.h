@@ -81,6 +81,10 @@ struct Element {
   std::vector<Case> cases;
   bool v2Loop = false;
   std::string v2Count;  // CFDG 2 `N *`: the count as written
+  // Paths. PathOp: name (MOVETO …), value (the arguments, null for none). PathCommand: name
+  // (STROKE, FILL), args (width, flags), adjustment. Replace with subpath: `path NAME [adj]`.
+  bool subpath = false;
+  int flags = 0;  // CFDG 2 path operations: the flags their `p` words name
 };
 
 struct Rule {
@@ -108,6 +112,7 @@ struct Definition {
   bool isFunction = false;
   ExprP value;
   bool config = false;  // CF::Name = …
+  bool commandLine = false;  // -D NAME=VALUE: the design's own definition of NAME is dropped
 };
 
 struct Design {
@@ -121,7 +126,7 @@ struct Design {
   std::vector<ShapeDecl> shapes;
   std::vector<Rule> rules;
   std::vector<Definition> definitions;  // global, in file order (configs included)
-  std::vector<std::string> imports;
+  std::vector<std::string> imports;  // the files imported or included, as read (paths)
 };
 
 }  // namespace lcjit::frontend::cfdg

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include "runtime/cfdg/Paths.h"  // Context Free's path flags
 #include "support/InputFile.h"
 
 namespace lcjit::frontend::cfdg {
@@ -40,9 +41,10 @@ class Parser {
   Parser(std::vector<Token> tokens, const std::string& file, std::set<std::string>& open)
       : t_(std::move(tokens)), file_(file), open_(open) {}
 
-  void parseInto(Design& d, bool imported) {
+  void parseInto(Design& d, bool imported, bool forceVersion3 = false, bool commandLine = false) {
     imported_ = imported;
-    v2_ = isVersion2();
+    commandLine_ = commandLine;
+    v2_ = !forceVersion3 && isVersion2();
     if (!imported) d.version = v2_ ? 2 : 3;
     while (peek().kind != Tok::End) v2_ ? statement2(d) : statement(d);
   }
@@ -55,6 +57,9 @@ class Parser {
   bool imported_ = false;
   std::string current_;  // the shape the rules being read belong to
   bool v2_ = false;      // CFDG 2, the older syntax
+  bool commandLine_ = false;  // reading -D definitions
+  bool inPath_ = false;  // reading a path's body: FILL and STROKE are its commands
+  bool v2Command_ = false;  // reading a CFDG 2 path command's adjustment (width and p words)
 
   // CFDG 2 writes `rule NAME {`; CFDG 3 declares shapes with `shape NAME`.
   bool isVersion2() const {
@@ -68,6 +73,8 @@ class Parser {
       // CFDG 2's directives with an adjustment in braces (CFDG 3 writes CF::Tile = [ … ]).
       if (t.kind == Tok::Name && (t.text == "tile" || t.text == "background" || t.text == "size") &&
           t_[k + 1].text == "{")
+        return true;
+      if (t.kind == Tok::PathOp && t_[k + 1].kind == Tok::Punct && t_[k + 1].text == "{")  // MOVETO {x 1}
         return true;
     }
     return false;
@@ -90,7 +97,6 @@ class Parser {
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String && f.kind != Tok::Name) unexpected("a file name");
       Token name = next();
-      d.imports.push_back(name.text);
       importFile(name, d);
       return;
     }
@@ -130,8 +136,119 @@ class Parser {
       d.rules.push_back(std::move(r));
       return;
     }
-    if (t.text == "path") fail(t.at, "paths are not supported by lcjit yet");
+    if (t.text == "path") {
+      next();
+      Token name = expectName("a path name after path");
+      ShapeDecl s;
+      s.name = name.text;
+      s.at = name.at;
+      s.isPath = true;
+      d.shapes.push_back(std::move(s));
+      Rule r;
+      r.shape = name.text;
+      r.at = name.at;
+      r.isPath = true;
+      expect("{");
+      while (!accept("}")) {
+        if (peek().kind == Tok::End) unexpected("'}'");
+        r.body.push_back(pathElement2());
+      }
+      d.rules.push_back(std::move(r));
+      return;
+    }
     unexpected("startshape, rule, path, include or background");
+  }
+
+  // A CFDG 2 path's element: `MOVETO {x 1 y 2}`, `STROKE {width 0.1 p roundjoin}`, `N * {adj} …`.
+  std::unique_ptr<Element> pathElement2() {
+    auto e = std::make_unique<Element>();
+    e->at = peek().at;
+    if (peek().kind == Tok::Number) {
+      Token count = next();
+      expect("*");
+      e->kind = Element::Loop;
+      e->v2Loop = true;
+      e->v2Count = count.text;
+      e->value = make(Expr::Number, count.at, count.text);
+      e->adjustment = modification2();
+      if (accept("{")) {
+        while (!accept("}")) {
+          if (peek().kind == Tok::End) unexpected("'}'");
+          e->body.push_back(pathElement2());
+        }
+      } else {
+        e->body.push_back(pathElement2());
+      }
+      return e;
+    }
+    if (peek().kind == Tok::PathOp) {
+      e->kind = Element::PathOp;
+      e->name = next().text;
+      pathOpArguments2(*e);
+      return e;
+    }
+    if (is("STROKE") || is("FILL")) {
+      e->kind = Element::PathCommand;
+      e->name = next().text;
+      v2Command_ = true;
+      e->adjustment = modification2();
+      v2Command_ = false;
+      // `p` words are flags (they add nothing to the seed); `width` stays a term for its bytes.
+      auto& terms = e->adjustment.terms;
+      for (auto it = terms.begin(); it != terms.end();) {
+        if (it->word != "p") {
+          ++it;
+          continue;
+        }
+        e->flags |= flagsOfWords(it->args[0]->text);
+        it = terms.erase(it);
+      }
+      return e;
+    }
+    unexpected("a path operation (MOVETO …), STROKE, FILL or a loop");
+  }
+
+  // `{x 1 y 2 x1 … rx … r … p cw}`: Context Free's named arguments of a CFDG 2 path operation,
+  // put in the order CFDG 3 writes them: x y, then (arcs) rx ry angle or the radius, (curves) the
+  // first control point if given (else the curve continues the previous one), the second.
+  void pathOpArguments2(Element& e) {
+    const Place at = peek().at;
+    expect("{");
+    std::map<std::string, ExprP> args;
+    while (!accept("}")) {
+      Token w = expectName("a path operation argument (x, y, x1, y1, x2, y2, rx, ry, r, p)");
+      std::string word = w.text == "rotate" ? "r" : w.text == "param" ? "p" : w.text;
+      if (word == "p") {
+        e.flags |= flagsOfWords(next().text);
+        continue;
+      }
+      static const std::set<std::string> kWords = {"x", "y", "x1", "y1", "x2", "y2", "rx", "ry", "r"};
+      if (!kWords.count(word)) fail(w.at, "'" + w.text + "' is not an argument of a path operation");
+      if (args.count(word)) fail(w.at, "'" + w.text + "' is given twice");
+      args[word] = adjArg();
+    }
+    if (e.name == "CLOSEPOLY") {
+      if (!args.empty()) fail(at, "CLOSEPOLY takes no arguments, only flags");
+      return;
+    }
+    auto list = make(Expr::List, at);
+    auto take = [&](const char* word, const char* number) {
+      auto it = args.find(word);
+      list->args.push_back(it != args.end() ? std::move(it->second) : make(Expr::Number, at, number));
+      if (it != args.end()) args.erase(it);
+    };
+    take("x", "0"), take("y", "0");
+    const std::string& op = e.name;
+    if (op == "ARCTO" || op == "ARCREL") {
+      if (args.count("rx") || args.count("ry")) take("rx", "1"), take("ry", "1"), take("r", "0");
+      else take("r", "1");
+    } else if (op == "CURVETO" || op == "CURVEREL") {
+      if (args.count("x1") || args.count("y1")) take("x1", "0"), take("y1", "0");
+      else e.flags |= runtime::cfdg::kContinuous;
+      if (args.count("x2") || args.count("y2")) take("x2", "0"), take("y2", "0");
+    }
+    if (!args.empty()) fail(at, "'" + args.begin()->first + "' is not an argument of " + op);
+    e.value = std::move(list);
   }
 
   // NAME {adj} | NAME [adj] | N * {adj} body
@@ -164,6 +281,20 @@ class Parser {
     return e;
   }
 
+  // Context Free's flags named in a CFDG 2 `p` word (or string): each name it contains counts.
+  static int flagsOfWords(const std::string& words) {
+    using namespace runtime::cfdg;
+    static const std::pair<const char*, int> kFlags[] = {
+        {"evenodd", kEvenOdd}, {"iso", kIsoWidth}, {"miterjoin", 0 | kJoinPresent},
+        {"roundjoin", 2 | kJoinPresent}, {"beveljoin", 3 | kJoinPresent}, {"buttcap", (0 << 4) | kCapPresent},
+        {"squarecap", (1 << 4) | kCapPresent}, {"roundcap", (2 << 4) | kCapPresent}, {"large", kArcLarge},
+        {"cw", kArcCW}, {"align", kAlign}};
+    int flags = 0;
+    for (const auto& [name, value] : kFlags)
+      if (words.find(name) != std::string::npos) flags |= value;
+    return flags;
+  }
+
   // { … } in canonical order, [ … ] as written.
   Adjustment modification2() {
     Adjustment a;
@@ -194,6 +325,7 @@ class Parser {
       fail(name.at, "in " + name.text + ": " + message);
     }
     open_.insert(key);
+    d.imports.push_back(path.string());
     Parser inner(std::move(*tokens), path.string(), open_);
     inner.parseInto(d, true);
   }
@@ -255,7 +387,6 @@ class Parser {
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String) unexpected("a file name");
       Token name = next();
-      d.imports.push_back(name.text);
       importFile(name, d);
       return;
     }
@@ -318,7 +449,9 @@ class Parser {
       r.shape = name.text;
       r.at = name.at;
       r.isPath = true;
+      inPath_ = true;
       r.body = block();
+      inPath_ = false;
       d.rules.push_back(std::move(r));
       return;
     }
@@ -335,6 +468,9 @@ class Parser {
     }
     expect("=");
     def.value = exp2();
+    def.commandLine = commandLine_;
+    for (const Definition& given : d.definitions)
+      if (given.commandLine && given.name == def.name && !commandLine_) return;  // -D's value wins
     d.definitions.push_back(std::move(def));
   }
 
@@ -467,17 +603,16 @@ class Parser {
       e->adjustment = modification();
       return e;
     }
-    if ((t.text == "STROKE" || t.text == "FILL") && is("(", 1)) {
+    if ((t.text == "STROKE" || t.text == "FILL") && (is("(", 1) || (inPath_ && is("[", 1)))) {
       e->kind = Element::PathCommand;
       e->name = next().text;
-      e->args = argList(nullptr);
+      if (is("(")) e->args = argList(nullptr);
       e->adjustment = modification();
       return e;
     }
-    bool sub = false;
-    if (t.text == "path") {
+    if (t.text == "path") {  // a sub-path
       next();
-      sub = true;
+      e->subpath = true;
     }
     e->kind = Element::Replace;
     Token name = expectName("a shape name");
@@ -487,7 +622,6 @@ class Parser {
       e->hasArgs = true;
       e->args = argList(&e->reuseParams);
     }
-    (void)sub;
     e->adjustment = modification();
     return e;
   }
@@ -549,6 +683,19 @@ class Parser {
       }
       if (peek().kind != Tok::Name) unexpected("an adjustment or '" + std::string(close) + "'");
       Token w = next();
+      if (v2Command_ && !targetWord && (w.text == "width" || w.text == "p" || w.text == "param")) {
+        // A CFDG 2 path command's stroke width, or its flags (`p roundjoin`), kept as terms: their
+        // bytes count in the command's seed.
+        term.word = w.text == "width" ? "width" : "p";
+        if (term.word == "width") {
+          term.args.push_back(adjArg());
+        } else {
+          Token f = next();
+          term.args.push_back(make(Expr::Name, f.at, f.text));
+        }
+        a.terms.push_back(std::move(term));
+        continue;
+      }
       std::string word = adjustmentWord(w.text);
       if (word.empty()) fail(w.at, "'" + w.text + "' is not an adjustment (x, y, z, s, r, f, skew, trans, h, sat, b, a, blend, time)");
       term.word = targetWord ? "|" + word : word;
@@ -577,7 +724,8 @@ class Parser {
       std::string word = w.kind == Tok::Name && !w.spaceBefore ? adjustmentWord(w.text) : "";
       return word == "h" || word == "sat" || word == "b" || word == "a";
     }
-    // An adjustment word always starts a term (`s (w) (h)`): no function can have its name.
+    if (v2Command_ && t.kind == Tok::Name && (t.text == "width" || t.text == "p" || t.text == "param")) return true;
+    // Adjustment words are reserved: `s (2)` and `s(2)` start a term, never call a function.
     return t.kind == Tok::Name && !adjustmentWord(t.text).empty();
   }
 
@@ -729,15 +877,29 @@ class Parser {
 
 }  // namespace
 
-llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file) {
+llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file,
+                                   const std::vector<std::string>& defines) {
   auto tokens = tokenize(source, file);
   if (!tokens) return tokens.takeError();
+  Design d;
+  d.file = file;
+  std::set<std::string> open = {std::filesystem::weakly_canonical(file).string()};
+  for (const std::string& define : defines) {
+    const std::string where = "-D " + define;
+    if (define.find('=') == std::string::npos)
+      return llvm::createStringError(where + ": error: a definition is NAME=VALUE");
+    auto given = tokenize(define, where);
+    if (!given) return given.takeError();
+    try {
+      Parser p(std::move(*given), where, open);
+      p.parseInto(d, false, /*forceVersion3=*/true, /*commandLine=*/true);
+    } catch (ParseError& e) {
+      return llvm::createStringError(where + ":" + std::to_string(e.at.column) + ": error: " + e.message);
+    }
+  }
   try {
-    std::set<std::string> open = {std::filesystem::weakly_canonical(file).string()};
     Parser p(std::move(*tokens), file, open);
-    Design d;
-    d.file = file;
-    p.parseInto(d, false);
+    p.parseInto(d, false, /*forceVersion3=*/!defines.empty());
     return d;
   } catch (ParseError& e) {
     return llvm::createStringError(file + ":" + std::to_string(e.at.line) + ":" + std::to_string(e.at.column) +

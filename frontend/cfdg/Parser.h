@@ -3,6 +3,7 @@
 #pragma once
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <llvm/Support/Error.h>
 
@@ -10,7 +11,11 @@
 
 namespace lcjit::frontend::cfdg {
 
-llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file);
+// `defines`: NAME=VALUE definitions given on the command line (-D), read before the design as
+// CFDG 3 definitions (a design is then read as CFDG 3, as Context Free does); the design's own
+// definition of such a NAME is dropped.
+llvm::Expected<Design> parseDesign(std::string_view source, const std::string& file,
+                                   const std::vector<std::string>& defines = {});
 
 // The adjustment words (x, size, hue, …) in their canonical spelling; "" for other names.
 std::string adjustmentWord(std::string_view word);

@@ -5,7 +5,8 @@
 //   4. Adjustments: Context Free's term order, folding of constant terms, run-time terms
 //   5. Elements of a body → C++
 //   6. The unit: globals, functions, rules, the start shape, the design's table
-//   7. Picture settings: CF::Tile, CF::Size, CF::Symmetry, the borders, the pixel format,
+//   7. Paths: operations, commands, sub-paths
+//   8. Picture settings: CF::Tile, CF::Size, CF::Symmetry, the borders, the pixel format,
 //      CF::StartShape
 #include "frontend/cfdg/Translate.h"
 
@@ -18,6 +19,7 @@
 #include "frontend/cfdg/Entropy.h"
 #include "frontend/cfdg/Parser.h"
 #include "runtime/cfdg/Expander.h"  // kSeedBase
+#include "runtime/cfdg/Paths.h"     // Context Free's path flags
 
 namespace lcjit::frontend::cfdg {
 namespace {
@@ -102,6 +104,8 @@ class Translator {
   bool usesSat_ = false;    // a sat term: the picture is in colour
   bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
   const Expr* background_ = nullptr;  // CF::Background
+  bool inPath_ = false;      // translating a path's body
+  size_t currentRule_ = 0;   // the rule being translated (its index in the design)
   std::string code_;  // the body being written
   int indent_ = 1;
 
@@ -354,8 +358,10 @@ class Translator {
     return v;
   }
 
-  std::string flag(const Expr& e) {
-    static const std::map<std::string, double> kFlags = {
+  std::string flag(const Expr& e) { return number(std::to_string(flagNumber(e))); }
+
+  int flagNumber(const Expr& e) {
+    static const std::map<std::string, int> kFlags = {
         {"CF::None", 0}, {"CF::MiterJoin", 8}, {"CF::RoundJoin", 10}, {"CF::BevelJoin", 11},
         {"CF::ButtCap", 128}, {"CF::SquareCap", 144}, {"CF::RoundCap", 160}, {"CF::ArcCW", 256},
         {"CF::ArcLarge", 512}, {"CF::Continuous", 1024}, {"CF::Align", 2048}, {"CF::EvenOdd", 4096},
@@ -369,7 +375,7 @@ class Translator {
         {"CF::p31m", 20 << 15}, {"CF::p6", 21 << 15}, {"CF::p6m", 22 << 15}};
     auto it = kFlags.find(e.text);
     if (it == kFlags.end()) fail(e.at, "'" + e.text + "' is not a Context Free flag lcjit knows");
-    return number(std::to_string(int(it->second)));
+    return it->second;
   }
 
   Value call(const Expr& e) {
@@ -657,7 +663,10 @@ class Translator {
 
   void element(const Element& e) {
     switch (e.kind) {
-      case Element::Replace: replacement(e); return;
+      case Element::Replace:
+        if (inPath_) subpath(e);
+        else replacement(e);
+        return;
       case Element::Define: define(e); return;
       case Element::Loop: loop(e); return;
       case Element::If: {
@@ -729,8 +738,8 @@ class Translator {
       }
       case Element::Transform:
       case Element::Clone: transform(e); return;
-      case Element::PathOp:
-      case Element::PathCommand: fail(e.at, "paths are not supported by lcjit yet");
+      case Element::PathOp: pathOp(e); return;
+      case Element::PathCommand: pathCommand(e); return;
     }
   }
 
@@ -945,6 +954,7 @@ class Translator {
     std::string frame = temp(), outer = temp(), index = "v_" + (e.name.empty() ? std::string("loop") : identifier(e.name)) + "_" + std::to_string(temp_++);
     line("__cf_State " + frame + " = *c->frame;");
     line("const __cf_State* " + outer + " = c->frame;");
+    std::string pathOps = enterPathOps(e, frame);
     line("double " + index + " = " + start + ";");
     line("for (;;) {");
     ++indent_;
@@ -963,13 +973,264 @@ class Translator {
     if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
     body(e.otherwise);
     scopes_.pop_back();
+    leavePathOps(pathOps);
     line("c->frame = " + outer + ";");
     --indent_;
     line("}");
   }
 
   // -------------------------------------------------------------------------------------------
-  // 7. Picture settings
+  // 7. Paths
+  // -------------------------------------------------------------------------------------------
+
+  // What an element or body holds, as Context Free classes them: path operations, path commands,
+  // replacements (ORed). A loop of operations only transforms them by its frame.
+  enum { kOps = 1, kCommands = 2, kReplacements = 4 };
+
+  int bodyKind(const Body& b) {
+    int k = 0;
+    for (const auto& e : b) k |= elementKind(*e);
+    return k;
+  }
+  int elementKind(const Element& e) {
+    switch (e.kind) {
+      case Element::PathOp: return kOps;
+      case Element::PathCommand: return kCommands;
+      case Element::Replace: return inPath_ ? subpathKind(e) : kReplacements;
+      case Element::Loop:
+      case Element::If:
+      case Element::Transform:
+      case Element::Clone: return bodyKind(e.body) | bodyKind(e.otherwise);
+      case Element::Switch: {
+        int k = 0;
+        for (const auto& c : e.cases) k |= bodyKind(c.body);
+        return k;
+      }
+      case Element::Define: return 0;
+    }
+    return 0;
+  }
+
+  // What path `shape`'s body holds, its sub-paths taken as they were when it was read.
+  int pathBodyOf(int shape) {
+    for (size_t r = 0; r < d_.rules.size(); ++r)
+      if (d_.rules[r].isPath && d_.rules[r].shape == out_.shapes[size_t(shape)]) {
+        bool outer = inPath_;
+        size_t rule = currentRule_;
+        inPath_ = true, currentRule_ = r;
+        int k = bodyKind(d_.rules[r].body);
+        inPath_ = outer, currentRule_ = rule;
+        return k;
+      }
+    return 0;
+  }
+
+  // What a sub-path element is taken to hold when it is read: a path written earlier in the file
+  // holds what its body holds; anything else (a later path, a primitive, a shape parameter or
+  // variable) is taken to be operations, and checked when it runs.
+  int subpathKind(const Element& e) {
+    auto it = e.shapeExpr ? shapeIds_.end() : shapeIds_.find(e.shape);
+    if (it == shapeIds_.end() || it->second < 4) return kOps;
+    const ShapeDecl& decl = decls_[size_t(it->second - 4)];
+    if (!decl.isPath) return kReplacements;
+    for (size_t r = 0; r < currentRule_ && r < d_.rules.size(); ++r)
+      if (d_.rules[r].isPath && d_.rules[r].shape == e.shape) {
+        int k = pathBodyOf(it->second);
+        return k != 0 ? k : kOps;
+      }
+    return kOps;
+  }
+
+  // A loop of path operations only: its frame transforms them (from the identity, unless they
+  // already are transformed). Returns the saved state for leavePathOps, or "".
+  std::string enterPathOps(const Element& loop, const std::string& frame) {
+    if (!inPath_ || (bodyKind(loop.body) | bodyKind(loop.otherwise)) != kOps) return {};
+    std::string saved = temp();
+    line("int " + saved + " = __cf_pathEnterOps(c, &" + frame + ");");
+    return saved;
+  }
+  void leavePathOps(const std::string& saved) {
+    if (!saved.empty()) line("__cf_pathLeaveOps(c, " + saved + ");");
+  }
+
+  // A CF:: flag, or a sum of them (flags combine with +).
+  bool isFlag(const Expr& e) const {
+    if (e.kind == Expr::Name) return e.text.rfind("CF::", 0) == 0 && e.text != "CF::Infinity";
+    if (e.kind == Expr::Paren) return isFlag(*e.args[0]);
+    if (e.kind == Expr::Binary && e.text == "+") return isFlag(*e.args[0]) && isFlag(*e.args[1]);
+    return false;
+  }
+  int flagsOf(const Expr& e) {
+    if (e.kind == Expr::Paren) return flagsOf(*e.args[0]);
+    if (e.kind == Expr::Binary) return flagsOf(*e.args[0]) | flagsOf(*e.args[1]);
+    return flagNumber(e);
+  }
+
+  void pathOp(const Element& e) {
+    if (!inPath_) fail(e.at, "path operations are only allowed in a path");
+    static const std::map<std::string, std::string> kOpNames = {
+        {"MOVETO", "__cf_MoveTo"}, {"MOVEREL", "__cf_MoveRel"}, {"LINETO", "__cf_LineTo"},
+        {"LINEREL", "__cf_LineRel"}, {"ARCTO", "__cf_ArcTo"}, {"ARCREL", "__cf_ArcRel"},
+        {"CURVETO", "__cf_CurveTo"}, {"CURVEREL", "__cf_CurveRel"}, {"CLOSEPOLY", "__cf_ClosePoly"}};
+    std::vector<const Expr*> items;
+    if (e.value && e.value->kind == Expr::List) for (const auto& a : e.value->args) items.push_back(a.get());
+    else if (e.value) items.push_back(e.value.get());
+    // Numbers, then at most one flag (Context Free's rules and words).
+    int flags = e.flags;
+    const Expr* flag = nullptr;
+    std::vector<std::string> values;
+    for (const Expr* item : items) {
+      if (isFlag(*item)) {
+        if (flag) fail(item->at, "There can only be one flag argument");
+        flag = item;
+        flags |= flagsOf(*item);
+        continue;
+      }
+      if (flag) fail(flag->at, "Flags must be the last argument");
+      for (auto& part : expr(*item).parts) {
+        std::string t = temp();
+        line("double " + t + " = " + part + ";");  // in order: they may draw random numbers
+        values.push_back(t);
+      }
+    }
+    const std::string& op = e.name;
+    const int n = int(values.size());
+    using namespace runtime::cfdg;  // the path flags
+    // Context Free checks the arguments CFDG 3 writes; CFDG 2's named ones are put in order by the
+    // parser, and their flags are not checked.
+    const bool v2 = d_.version == 2;
+    if (op == "MOVETO" || op == "MOVEREL" || op == "LINETO" || op == "LINEREL") {
+      if (flags && !v2) fail(e.at, "No flags can be used with this operation");
+      if (n != 2) fail(e.at, "Move/line path operation requires two arguments");
+    } else if (op == "ARCTO" || op == "ARCREL") {
+      if ((flags & ~(kArcCW | kArcLarge)) && !v2)
+        fail(e.at, "Only CF::ArcCW and CF::ArcLarge flags can be used with this operation");
+      if (n != 3 && n != 5) fail(e.at, "Arc path operations require three or five arguments");
+    } else if (op == "CURVETO" || op == "CURVEREL") {
+      if ((flags & ~kContinuous) && !v2) fail(e.at, "Only CF::Continuous flag can be used with this operation");
+      if ((flags & kContinuous) && n != 2 && n != 4)
+        fail(e.at, "Continuous curve path operations require two or four arguments");
+      if (!(flags & kContinuous) && n != 4 && n != 6)
+        fail(e.at, "Non-continuous curve path operations require four or six arguments");
+    } else {
+      if ((flags & ~kAlign) && !v2) fail(e.at, "Only CF::Align flag can be used with this operation");
+      if (n != 0) fail(e.at, "CLOSEPOLY takes no arguments, only flags");
+    }
+    std::string list;
+    for (int k = 0; k < 6; ++k) list += (k < n ? values[size_t(k)] : std::string("0")) + (k < 5 ? ", " : "");
+    line("{ double _d[6] = {" + list + "}; __cf_pathOp(c, " + kOpNames.at(op) + ", " + std::to_string(flags) + ", " +
+         std::to_string(n) + ", _d); }");
+  }
+
+  // STROKE(width, flags) [adj], FILL(flags) [adj]; CFDG 2: STROKE {width w p … adj}.
+  void pathCommand(const Element& e) {
+    if (!inPath_) fail(e.at, "path commands are only allowed in a path");
+    using namespace runtime::cfdg;  // the path flags
+    int flags = (e.name == "FILL" ? kFill : 0) | e.flags;  // miter joins, butt caps
+    const Expr* width = nullptr;
+    const Expr* flagArg = nullptr;
+    if (e.args.size() > 2) fail(e.args[2]->at, "Path commands can have zero, one, or two parameters");
+    if (e.args.size() == 2) width = e.args[0].get(), flagArg = e.args[1].get();
+    if (e.args.size() == 1) (isFlag(*e.args[0]) ? flagArg : width) = e.args[0].get();
+    if (flagArg) {
+      if (!isFlag(*flagArg)) fail(flagArg->at, "Unexpected argument in path command");
+      int f = flagsOf(*flagArg);
+      if (f & kJoinPresent) flags &= ~kJoinMask;  // a join replaces the miter join
+      if (f & kCapPresent) flags &= ~kCapMask;    // a cap, the butt cap
+      flags |= f;
+    }
+    // The adjustment's terms give the seed, the CFDG 2 stroke width with them (`width` adds its
+    // value's bytes); the command runs with the others.
+    auto terms = prepare(e.adjustment);
+    uint64_t seed = seedOf(0, adjustmentBytes(terms) + e.name);
+    std::vector<PreparedTerm> applied;
+    for (auto& t : terms) {
+      if (t.kind != "width") {
+        applied.push_back(t);
+        continue;
+      }
+      if (width || t.args.size() != 1) fail(t.at, "Only one stroke width term is allowed");
+      width = t.args[0];
+    }
+    line("{");
+    ++indent_;
+    line("c->cur ^= " + hex64(seed) + ";");
+    line("c->cur = __cf_step(c->cur);");
+    line("__cf_State s = *c->frame;");
+    applyAdjustment(e.adjustment, std::move(applied), "s");
+    std::string w = "0.1";
+    if (width) w = scalar(*width).parts[0];  // after the adjustment, as Context Free evaluates it
+    line("__cf_pathCommand(c, &s, " + std::to_string(flags) + ", " + w + ");");
+    --indent_;
+    line("}");
+  }
+
+  // `path NAME(args) [adj]` in a path: the path's body (or a primitive's outline) runs here with
+  // the element's state, its operations transformed by it when it holds operations only.
+  void subpath(const Element& e) {
+    if (!e.subpath) fail(e.shapeAt, "Replacements are not allowed in paths");
+    if (e.shapeExpr) fail(e.shapeAt, "a sub-path must name a path");
+    std::string shapeCode;
+    std::string params = "nullptr";
+    std::string spec = e.shape;
+    const int kind = subpathKind(e);
+    line("{");
+    ++indent_;
+    auto it = shapeIds_.find(e.shape);
+    const Binding* variable = it == shapeIds_.end() ? lookup(e.shape) : nullptr;
+    int paramCount = 0;
+    if (variable) {
+      if (variable->kind == Binding::Function || variable->width != 1)
+        fail(e.shapeAt, "'" + e.shape + "' is not a shape");
+      shapeCode = "(int)(" + (variable->kind == Binding::Param ? "p[" + variable->cpp + "]" : variable->cpp) + ")";
+    } else {
+      int id = shapeId(e.shape, e.shapeAt);
+      if (id == 3) fail(e.shapeAt, "FILL cannot be a subpath");
+      if (id >= 4 && !decls_[size_t(id - 4)].isPath) fail(e.shapeAt, "Subpath can only refer to a path");
+      if (id >= 4 && pathBodyOf(id) != kind) fail(e.shapeAt, "Subpath type mismatch error");
+      shapeCode = std::to_string(id);
+      if (id >= 4)
+        for (const auto& p : decls_[size_t(id - 4)].params) paramCount += p.width;
+    }
+    if (e.reuseParams) {
+      params = "p";
+    } else if (e.hasArgs && !e.args.empty()) {
+      spec += argBytes(e.args);
+      std::string list;
+      int count = 0;
+      for (const auto& a : e.args)
+        for (auto& part : expr(*a).parts) {
+          std::string t = temp();
+          line("double " + t + " = " + part + ";");
+          list += t + ", ";
+          ++count;
+        }
+      if (!variable && count != paramCount)
+        fail(e.shapeAt, "path '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
+                            std::to_string(count) + " given");
+      params = temp();
+      line("const double " + params + "[] = {" + list + "};");
+    } else if (paramCount > 0) {
+      fail(e.shapeAt, "path '" + e.shape + "' needs parameters");
+    }
+    auto terms = prepare(e.adjustment);
+    line("c->cur ^= " + hex64(seedOf(0, adjustmentBytes(terms) + spec)) + ";");
+    line("c->cur = __cf_step(c->cur);");
+    line("__cf_State s = *c->frame;");
+    std::string saved;
+    if (kind == kOps) {
+      saved = temp();
+      line("int " + saved + " = __cf_pathEnterOps(c, &s);");
+    }
+    applyAdjustment(e.adjustment, std::move(terms), "s");
+    line("__cf_subpath(c, " + shapeCode + ", &s, " + params + ", " + std::to_string(kind) + ");");
+    leavePathOps(saved);
+    --indent_;
+    line("}");
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // 8. Picture settings
   // -------------------------------------------------------------------------------------------
 
   std::map<std::string, const Definition*> settings_;  // the first definition of each
@@ -1149,7 +1410,7 @@ Translation Translator::run() {
 
   // Globals and functions, in file order.
   for (const auto& def : d_.definitions) {
-    if (def.config && pictureSetting(def)) continue;  // section 7
+    if (def.config && pictureSetting(def)) continue;  // section 8
     if (def.config && def.name == "CF::Background") {
       background_ = def.value.get();  // the picture's background: drawn by the canvas
       continue;
@@ -1205,8 +1466,9 @@ Translation Translator::run() {
   std::string rules;
   for (size_t r = 0; r < d_.rules.size(); ++r) {
     const Rule& rule = d_.rules[r];
-    if (rule.isPath) fail(rule.at, "paths are not supported by lcjit yet");
     int id = shapeId(rule.shape, rule.at);
+    inPath_ = rule.isPath;
+    currentRule_ = r;
     const ShapeDecl& decl = decls_[size_t(id - 4)];
     code_.clear();
     indent_ = 1;
@@ -1221,6 +1483,7 @@ Translation Translator::run() {
       offset += p.width;
     }
     body(rule.body);
+    inPath_ = false;
     scopes_.clear();
     unit += "void rule_" + std::to_string(r) + "(__cf_Ctx* c, const double* p) {\n  (void)p;\n" + code_ + "}\n";
     char w[64];
@@ -1328,14 +1591,17 @@ Translation Translator::run() {
     int count = 0;
     bool path = false;
     std::string usedAt = "nullptr";
+    int pathBody = 0;
     if (k >= 4) {
       const ShapeDecl& decl = decls_[k - 4];
       for (const auto& p : decl.params) count += p.width;
       path = decl.isPath;
+      if (path) pathBody = pathBodyOf(int(k)) & (kOps | kCommands);
       if (undeclared_.count(decl.name))
         usedAt = "\"" + d_.file + ":" + std::to_string(decl.at.line) + ":" + std::to_string(decl.at.column) + "\"";
     }
-    unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + ", " + usedAt + "},\n";
+    unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + ", " + usedAt + ", " +
+            std::to_string(pathBody) + "},\n";
   }
   unit += "};\nconst __cf_Rule rules[] = {\n" + rules + "  {0, 0, 0, nullptr}\n};\n}  // namespace\n";
   bool colour = usesSat_;

@@ -7,6 +7,8 @@
 // is built from the same source).
 #include "runtime/cfdg/Canvas.h"
 
+#include <thread>
+
 #include <algorithm>
 #include <cmath>
 #include <csetjmp>
@@ -152,6 +154,10 @@ template <class PixFmt> constexpr bool kHasCompOp = requires(PixFmt& p) { p.comp
 
 struct Canvas::Surface {
   virtual ~Surface() = default;
+  // Another surface over the same pixels that only changes rows y0…y1 (AGG's y, from the bottom):
+  // each thread of a banded draw has one. The same shapes give the same pixels in its rows, as the
+  // rasteriser does not see the band, only the renderer clips to it.
+  virtual std::unique_ptr<Surface> band(int y0, int y1) = 0;
   virtual void draw(const CanvasShape& shape) = 0;
   virtual void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
                         const Rgba& colour, int blend) = 0;
@@ -188,8 +194,19 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   // The rows are attached bottom up (negative stride), as cfdg attaches its buffer: AGG's y axis
   // then points up the picture.
   AggSurface(uint8_t* pixels, int width, int height, size_t rowBytes, const Rgba& background)
-      : buffer_(pixels, width, height, -int(rowBytes)), pixfmt_(buffer_), base_(pixfmt_), solid_(base_) {
+      : buffer_(pixels, width, height, -int(rowBytes)), pixfmt_(buffer_), base_(pixfmt_), solid_(base_),
+        pixels_(pixels), rowBytes_(rowBytes) {
     base_.clear(backgroundColour<Colour>(background));
+  }
+  // A band of an existing surface: nothing cleared.
+  AggSurface(uint8_t* pixels, int width, int height, size_t rowBytes, int y0, int y1)
+      : buffer_(pixels, width, height, -int(rowBytes)), pixfmt_(buffer_), base_(pixfmt_), solid_(base_),
+        pixels_(pixels), rowBytes_(rowBytes), bandY0_(y0), bandY1_(y1), banded_(true) {
+    base_.clip_box(0, y0, width - 1, y1);
+  }
+
+  std::unique_ptr<Canvas::Surface> band(int y0, int y1) override {
+    return std::make_unique<AggSurface>(pixels_, int(buffer_.width()), int(buffer_.height()), rowBytes_, y0, y1);
   }
 
   void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& a, const Rgba& colour,
@@ -205,18 +222,21 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
     rasterizer_.reset();
     rasterizer_.filling_rule(style.evenOdd ? agg::fill_even_odd : agg::fill_non_zero);
     if (!style.stroke) {
+      // cfdg paints every path through one set of converters: a fill flattens its curves with the
+      // angle tolerance the last stroke painted set.
+      curves.angle_tolerance(angleTolerance_);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       rasterizer_.add_path(transformed);
     } else if (!style.isoWidth) {
       // Stroked in the path's units, then transformed (a non-uniform transform stretches the width).
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_stroke<agg::conv_curve<PathSource>> stroke(curves);
       configure(stroke, style, style.width, scale);
       agg::conv_transform<agg::conv_stroke<agg::conv_curve<PathSource>>> transformed(stroke, tr);
       rasterizer_.add_path(transformed);
     } else {
       // Transformed, then stroked in pixels: the same width in every direction.
-      curves.angle_tolerance(style.width * scale > 1 ? 0.2 : 0);
+      curves.angle_tolerance(angleTolerance_ = style.width * scale > 1 ? 0.2 : 0);
       agg::conv_transform<agg::conv_curve<PathSource>> transformed(curves, tr);
       agg::conv_stroke<agg::conv_transform<agg::conv_curve<PathSource>>> stroke(transformed);
       configure(stroke, style, style.width * scale, 1);
@@ -231,7 +251,11 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
     // cfdg sets no blend mode for a FILL: it blends with the mode of the shape drawn before it
     // (src-over before any), whatever its own.
     if (shape.primitive == Primitive::Fill) {
-      base_.fill(colour);
+      if (!banded_) {
+        base_.fill(colour);
+      } else {  // the same blend of every pixel, in this band's rows
+        for (int y = bandY0_; y <= bandY1_; ++y) pixfmt_.blend_hline(0, y, buffer_.width(), colour, agg::cover_full);
+      }
       return;
     }
     setBlend(shape.blend);
@@ -289,6 +313,11 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   agg::renderer_scanline_aa_solid<agg::renderer_base<PixFmt>> solid_;
   agg::rasterizer_scanline_aa<> rasterizer_;
   agg::scanline_p8 scanline_;
+  uint8_t* pixels_;
+  size_t rowBytes_;
+  int bandY0_ = 0, bandY1_ = 0;
+  bool banded_ = false;
+  double angleTolerance_ = 0;  // the curve flattener's, as the last stroke left it
 };
 
 using PixfmtRgba32Blend =
@@ -321,6 +350,49 @@ Canvas::Canvas(Canvas&&) noexcept = default;
 Canvas& Canvas::operator=(Canvas&&) noexcept = default;
 
 void Canvas::draw(const CanvasShape& shape) { surface_->draw(shape); }
+
+namespace {
+// The rows (AGG's y) a shape can touch: its unit box, a little larger than any primitive, through
+// the transform, and two pixels for antialiasing and the growth `draw` gives small shapes.
+void rowsOf(const CanvasShape& shape, int height, int& low, int& high) {
+  if (shape.primitive == Primitive::Fill) {
+    low = 0, high = height - 1;
+    return;
+  }
+  const Affine& a = shape.toPixels;
+  double reach = 0.6 * (std::fabs(a.shy) + std::fabs(a.sy)) + 2.0;
+  low = int(std::floor(a.ty - reach)), high = int(std::ceil(a.ty + reach));
+}
+}  // namespace
+
+void Canvas::drawEach(size_t count, const std::function<bool(size_t, CanvasShape&)>& shapeAt, unsigned threads) {
+  if (threads <= 1 || count < 4096 || height_ < 64) {
+    CanvasShape shape;
+    for (size_t i = 0; i < count; ++i)
+      if (shapeAt(i, shape)) surface_->draw(shape);
+    return;
+  }
+  // Bands of rows, one per thread; each draws, in order, the shapes that reach its rows. A pixel
+  // sees the same shapes in the same order as in one pass.
+  std::vector<std::thread> workers;
+  const int rows = (height_ + int(threads) - 1) / int(threads);
+  for (unsigned t = 0; t < threads; ++t) {
+    const int y0 = int(t) * rows, y1 = std::min(height_ - 1, y0 + rows - 1);
+    if (y0 > y1) break;
+    workers.emplace_back([this, y0, y1, count, &shapeAt] {
+      std::unique_ptr<Surface> band = surface_->band(y0, y1);
+      CanvasShape shape;
+      for (size_t i = 0; i < count; ++i) {
+        if (!shapeAt(i, shape)) continue;
+        int low, high;
+        rowsOf(shape, height_, low, high);
+        if (high < y0 || low > y1) continue;
+        band->draw(shape);
+      }
+    });
+  }
+  for (auto& w : workers) w.join();
+}
 
 void Canvas::drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels,
                       const Rgba& colour, int blend) {

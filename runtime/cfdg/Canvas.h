@@ -7,6 +7,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include <llvm/Support/Error.h>
 
 #include "runtime/cfdg/Affine.h"
+#include "runtime/cfdg/PathVertex.h"
 
 namespace lcjit::runtime::cfdg {
 
@@ -48,16 +50,6 @@ struct CanvasShape {
   Rgba colour;
   // Ignored for Fill, which cfdg blends with the mode of the shape drawn before it.
   int blend = kBlendSourceOver;
-};
-
-// A path's outline as AGG's path_storage holds it: one vertex per point, each with AGG's command
-// (agg_basics.h): a curve3 is two vertices (control, end) marked kCurve3, a curve4 three
-// (control, control, end) marked kCurve4; a sub-path closed by CLOSEPOLY ends with a vertex
-// kEndPoly | kClose (coordinates unused). Coordinates are the path's own units.
-enum PathCommand : unsigned { kMoveTo = 1, kLineTo = 2, kCurve3 = 3, kCurve4 = 4, kEndPoly = 0x0F, kClose = 0x40 };
-struct PathVertex {
-  double x = 0, y = 0;
-  unsigned command = kMoveTo;
 };
 
 // Builds a PathVertex list with AGG's own path_storage, so that arcs become the Bézier curves AGG
@@ -114,8 +106,13 @@ class Canvas {
   Canvas& operator=(Canvas&&) noexcept;
 
   void draw(const CanvasShape& shape);
+  // `count` shapes, in order: shapeAt(i, shape) fills in shape i, or says it is not drawn (it is
+  // called from several threads at once). With `threads` > 1 the picture is drawn in bands of
+  // rows at once, the same pixels as one pass.
+  void drawEach(size_t count, const std::function<bool(size_t, CanvasShape&)>& shapeAt, unsigned threads);
   // A path's FILL or STROKE: its outline, curves flattened as cfdg flattens them at this scale,
-  // through `toPixels` (as CanvasShape's).
+  // through `toPixels` (as CanvasShape's). As cfdg's one set of converters, a fill flattens curves
+  // with the angle tolerance the last stroke painted left: paths are painted in the picture's order.
   void drawPath(const std::vector<PathVertex>& path, const PathStyle& style, const Affine& toPixels, const Rgba& colour,
                 int blend = kBlendSourceOver);
 

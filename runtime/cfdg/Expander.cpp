@@ -6,6 +6,8 @@
 //   4. Framing and the -V picture
 #include "runtime/cfdg/Expander.h"
 
+#include "runtime/ModelGuard.h"
+#include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Symmetry.h"
 #include "runtime/cfdg/Tiling.h"
 
@@ -24,6 +26,9 @@
 #include <stdexcept>
 
 namespace lcjit::runtime::cfdg {
+using runtime::Fault;
+using runtime::FaultKind;
+using runtime::ModelGuard;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -204,6 +209,7 @@ struct Engine {
   uint64_t finishedCount = 0;
   std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
+  PathEngine paths{design};
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
       : design(d), options(o), statics(s) {
@@ -325,12 +331,17 @@ struct Engine {
   }
 
   void process(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    ModelGuard::checkpoint();
     double area = std::fabs(s.sx * s.sy - s.shy * s.shx);
     for (double v : {s.sx, s.shy, s.shx, s.sy, s.tx, s.ty})
       if (!std::isfinite(v))
         fail(c, std::string("a shape has undefined or infinite state: ") + design.shapes[shape].name);
     if (s.tbegin > s.tend)
       return;
+    if (paths.isPath(shape)) {  // drawn now, as a primitive is: no rule is chosen
+      finishSymmetric(c, shape, s, params, seed);
+      return;
+    }
     if (hasRules(shape)) {
       if (!result.bounds.valid() || area * scaleArea >= minArea) {
         int n = design.shapes[shape].paramCount;
@@ -350,7 +361,7 @@ struct Engine {
       }
       fail(c, std::string("shape with no rules encountered: ") + design.shapes[shape].name);
     }
-    finishSymmetric(shape, s);
+    finishSymmetric(c, shape, s, params, seed);
   }
 
   void finish(int shape, const __cf_State& s) {
@@ -365,6 +376,7 @@ struct Engine {
     f.z = s.ztz;
     f.blend = s.blend;
     if (shape != 3) {
+      paths.primitiveMeasured(s.sx * s.sy - s.shy * s.shx);
       // The box of the outline stroked 0.1 wide (miter joins, butt caps), as Context Free
       // measures every shape, filled or not: the stroke is made in the shape's own units, so its
       // points are the same for every shape of a kind (outlines[]), transformed as AGG's
@@ -397,6 +409,37 @@ struct Engine {
       if (keepBoxes) result.boxes.emplace_back();
     }
     f.order = ++finishedCount;
+    result.shapes.push_back(f);
+  }
+
+  // A path is finished by running its body, measuring each command's outline; it is drawn by
+  // running it again, so it keeps its seed, state and parameters.
+  void finishPath(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    if (scale == 0.0)
+      scale = (options.width + options.height) / std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx));
+    double area = 0;
+    Bounds b = paths.measure(c, shape, s, params, seed, scale, area);
+    if (!b.valid())
+      return;  // it paints nothing
+    if (!settle(b, area))
+      return;
+    if (keepBoxes) result.boxes.push_back(b);
+    FinishedShape f;
+    f.shape = kPathShape;
+    f.transform = affineOf(s);
+    f.z = s.ztz;
+    f.boxArea = area;
+    f.path = int(result.paths.size());
+    f.order = ++finishedCount;
+    FinishedPath p;
+    p.shape = shape;
+    p.seed = seed;
+    p.state = s;
+    if (int n = design.shapes[shape].paramCount; n > 0) {
+      p.params.reset(new double[size_t(n)]);
+      std::copy(params, params + n, p.params.get());
+    }
+    result.paths.push_back(std::move(p));
     result.shapes.push_back(f);
   }
 
@@ -486,10 +529,14 @@ struct Engine {
     for (int k = 0; k < 4; ++k) result.background[k] = white.colour[k];
   }
 
-  // A primitive finished once per symmetry transform (applied after its own), FILL once.
-  void finishSymmetric(int shape, const __cf_State& s) {
+  // A primitive or a path finished once per symmetry transform (applied after its own), FILL once.
+  void finishSymmetric(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed) {
+    auto one = [&](const __cf_State& state) {
+      if (paths.isPath(shape)) finishPath(c, shape, state, params, seed);
+      else finish(shape, state);
+    };
     if (symmetry.empty() || shape == 3) {
-      finish(shape, s);
+      one(s);
       return;
     }
     for (const Affine& op : symmetry) {
@@ -497,7 +544,7 @@ struct Engine {
       Affine a = affineOf(s);
       a.multiply(op);
       setAffine(copy, a);
-      finish(shape, copy);
+      one(copy);
     }
   }
 
@@ -534,14 +581,20 @@ struct Engine {
   }
 
   void run() {
+    result.design = &design;
+    result.statics = statics;
     __cf_Ctx ctx{};
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
     ctx.statics = statics.data();
     design.start(&ctx);
     while (!heap.empty()) {
-      if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes)
+      ModelGuard::checkpoint();
+      if (std::max<uint64_t>(finishedCount, heap.size()) >= options.maxShapes) {
+        result.stopped = "the shape limit (" + std::to_string(options.maxShapes) + ") was reached";
+        result.shapeLimit = true;
         break;
+      }
       uint32_t slot = popHeap();
       Unfinished& u = slots[slot];
       // The next shape to expand is likely the heap's top now: its slot is somewhere in a large
@@ -565,6 +618,9 @@ struct Engine {
       slots[slot].params.reset();
       freeSlots.push_back(slot);
     }
+  }
+
+  void sortForDrawing() {
     // Shapes are made in order: only a design that moves some in z needs sorting.
     bool flat = std::all_of(result.shapes.begin(), result.shapes.end(), [&](const FinishedShape& f) {
       return f.z == result.shapes.front().z;
@@ -587,11 +643,22 @@ struct Stop {
 
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
   Engine engine(design, options, statics);
-  try {
-    engine.run();
-  } catch (Stop& stop) {
-    engine.result.error = stop.message;
-  }
+  // Design code runs behind the fault guard: a crash or an exception in it is an error, not the
+  // end of lcjit; the memory limit and Ctrl-C stop the run, keeping what it has made.
+  ModelGuard guard;
+  guard.setLimits({0, options.maxMemory ? options.maxMemory : defaultMemoryLimit()});
+  Fault fault = guard.run([&] {
+    try {
+      engine.run();
+    } catch (Stop& stop) {
+      engine.result.error = stop.message;
+    }
+  });
+  if (fault.kind == FaultKind::MemoryLimit || fault.kind == FaultKind::Interrupted || fault.kind == FaultKind::TimeLimit)
+    engine.result.stopped = fault.what;
+  else if (fault)
+    engine.result.error = "the design's code failed: " + fault.what;
+  if (engine.result.error.empty()) engine.sortForDrawing();
   return std::move(engine.result);
 }
 
@@ -655,7 +722,7 @@ namespace {
 
 // One shape of the -V picture, with its matrix into SVG's pixels. Its colour is rounded as the
 // picture's depth rounds it (16 bits: the fill shows the high byte).
-void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool depth16) {
+void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool depth16, int& precision) {
   char line[512];
   const double* rgba = s.rgba;
   const double top = depth16 ? 65535.0 : 255.0;
@@ -666,7 +733,7 @@ void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool de
   std::string opacity;
   if (level(rgba[3]) != unsigned(top)) {
     char a[64];
-    std::snprintf(a, sizeof a, " fill-opacity=\"%.8g\"", level(rgba[3]) / top);
+    std::snprintf(a, sizeof a, " fill-opacity=\"%.*g\"", precision, level(rgba[3]) / top);
     opacity = a;
   }
   const char* element = s.shape == 0   ? "<circle r=\"0.5\""
@@ -677,6 +744,7 @@ void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool de
                 "        transform=\"matrix(%.8g %.8g %.8g %.8g %.8g %.8g)\"/>\n",
                 element, fill, opacity.c_str(), m.sx, m.shy, m.shx, m.sy, m.tx, m.ty);
   out += line;
+  precision = 8;  // cfdg's stream keeps the precision its first transform set
 }
 
 }  // namespace
@@ -694,10 +762,18 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
   // placed in it.
   Affine toSvg{1, 0, 0, -1, 0, double(f.height)};
   toSvg.multiply(Affine::translation((f.width - f.fit.width) / 2.0, (f.height - f.fit.height) / 2.0));
+  std::unique_ptr<PathEngine> paths;
+  int nextPathId = 1;
+  int precision = 6;  // cfdg's stream: 6 significant digits until the first transform is written
   for (const FinishedShape& s : e.shapes) {
+    if (s.shape == kPathShape && drawn(s, f, o)) {
+      if (!paths) paths = std::make_unique<PathEngine>(*e.design);
+      out += paths->svg(e.paths[size_t(s.path)], e.statics, f, copyOffsets(e, f, s), toSvg, nextPathId, precision);
+      continue;
+    }
     if (s.shape == 3 || !drawn(s, f, o))
       continue;
-    forEachCopy(e, f, s, toSvg, [&](const Affine& m) { svgShape(out, s, m, e.picture.depth16); });
+    forEachCopy(e, f, s, toSvg, [&](const Affine& m) { svgShape(out, s, m, e.picture.depth16, precision); });
   }
   out += "</svg>\n";
   return out;
@@ -1003,7 +1079,7 @@ double __cf_fn2(__cf_Ctx*, int fn, double a, double b) {
 
 namespace lcjit::runtime::cfdg {
 std::vector<std::pair<std::string, void*>> hostSymbols() {
-  return {
+  std::vector<std::pair<std::string, void*>> symbols = {
       {"__cf_step", reinterpret_cast<void*>(&__cf_step)},
       {"__cf_draw", reinterpret_cast<void*>(&__cf_draw)},
       {"__cf_identity", reinterpret_cast<void*>(&__cf_identity)},
@@ -1027,5 +1103,7 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_configure", reinterpret_cast<void*>(&__cf_configure)},
       {"__cf_symmetry", reinterpret_cast<void*>(&__cf_symmetry)},
   };
+  for (auto& s : pathHostSymbols()) symbols.push_back(std::move(s));
+  return symbols;
 }
 }  // namespace lcjit::runtime::cfdg

@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,6 +41,7 @@ struct ExpandOptions {
   double border = 2;          // `-b`: -1 … 2
   uint64_t variation = 1;
   uint64_t maxShapes = 500'000'000;
+  size_t maxMemory = 0;  // bytes of the whole process; 0: half the physical memory (--max-memory)
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
@@ -49,8 +51,22 @@ struct FinishedShape {
   double z = 0;                     // drawing order first
   double boxArea = 0;               // of the stroked outline's box, world units
   uint64_t order = 0;               // then the order shapes were finished in
-  int blend = 0;                    // the blend flag (CF::… with bit 20), 0 for src-over
-  uint8_t shape = 0;                // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL
+  union {
+    int blend = 0;  // a primitive's blend flag (CF::… with bit 20), 0 for src-over
+    int path;       // a path's record in Expansion::paths (its commands have their own blend)
+  };
+  uint8_t shape = 0;                // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL; or kPathShape
+};
+constexpr uint8_t kPathShape = 4;
+
+// What a finished path keeps to be drawn: cfdg draws a path by running its body again, from the
+// same seed, with the same state and parameters (its commands' colours and transforms are made
+// from them). Apart from the primitives' records: a design has few paths or many primitives.
+struct FinishedPath {
+  int shape = 0;  // the path's shape number in the design
+  uint64_t seed = 0;
+  __cf_State state{};
+  std::unique_ptr<double[]> params;  // the parameter block (null for none)
 };
 
 // What a design's settings make of its picture, as the run found them: CF::Tile (a lattice the
@@ -71,11 +87,18 @@ struct Expansion {
   // In drawing order: z, then the order they were made. A deque: a million shapes grow it without
   // copying (or holding twice) what is there.
   std::deque<FinishedShape> shapes;
+  std::deque<FinishedPath> paths;      // the paths among them (FinishedShape::path)
+  const __cf_Design* design = nullptr; // what was expanded, and its rand_static() values: a path's
+  std::vector<double> statics;         // body runs again to be drawn
   Bounds bounds;
   uint64_t expanded = 0;               // rule shapes expanded
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
   std::string error;                   // a runtime error that stopped the run ("" if none)
   std::string errorAt;                 // where in the design, "file:line:col", when known
+  // Why the run stopped before the design was finished, when a limit stopped it (the shape or
+  // memory limit, an interrupt): the shapes made so far are kept, and drawn.
+  std::string stopped;
+  bool shapeLimit = false;  // it was the shape limit (-m, CF::MaxShapes): an end, not a failure
   PictureSettings picture;
   // Tiled and frieze designs: each finished shape's box (world units, unstroked by the border),
   // by its order - 1 (FILL's invalid), from which its copies around the lattice are found.

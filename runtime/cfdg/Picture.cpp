@@ -1,6 +1,10 @@
 // A design's expansion drawn as Context Free draws it (Picture.h).
 #include "runtime/cfdg/Picture.h"
 
+#include <algorithm>
+#include <thread>
+
+#include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Tiling.h"
 
 namespace lcjit::runtime::cfdg {
@@ -28,15 +32,54 @@ PixelFormat pixelFormat(const __cf_Design& design, const PictureSettings& p) {
 
 Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framing& f, const ExpandOptions& o) {
   Canvas canvas(f.width, f.height, pixelFormat(design, e.picture), deviceColour(e.background));
+  // A shape's transform to pixels, multiplied in cfdg's order: its state's, the fit, (on a tiled
+  // picture, the copy's offset,) the fitted block's place in the picture (Tiling.h).
   const Affine offset = Affine::translation(f.offsetX, f.offsetY);
-  for (const FinishedShape& s : e.shapes) {
-    if (!drawn(s, f, o))
-      continue;
-    CanvasShape c;
+  auto primitive = [&](const FinishedShape& s, CanvasShape& c) {
     c.primitive = Primitive(s.shape);
     c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
     // A blend flag carries AGG's compositing operator above bit 21.
     c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
+  };
+  if (e.paths.empty() && f.tiling == 0) {
+    // Primitives only, each drawn once: drawn in bands of rows on every core (Canvas::drawEach).
+    auto shapeAt = [&](size_t i, CanvasShape& c) {
+      const FinishedShape& s = e.shapes[i];
+      if (!drawn(s, f, o))
+        return false;
+      primitive(s, c);
+      forEachCopy(e, f, s, offset, [&](const Affine& toPixels) { c.toPixels = toPixels; });
+      return true;
+    };
+    canvas.drawEach(e.shapes.size(), shapeAt, std::max(1u, std::thread::hardware_concurrency()));
+    return canvas;
+  }
+  PathEngine paths(design);
+  std::vector<std::pair<double, double>> copies;  // of the path being painted, on a tiled picture
+  const PathPainter paint = [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info,
+                                const __cf_State& state) {
+    PathStyle style;
+    style.stroke = (info.flags & kFill) == 0;
+    style.evenOdd = !style.stroke && (info.flags & kEvenOdd);
+    style.width = info.width;
+    style.isoWidth = (info.flags & kIsoWidth) != 0;
+    style.join = uint8_t(info.flags & kJoinMask);
+    style.cap = uint8_t((info.flags >> kCapShift) & 7);
+    style.miterLimit = info.miterLimit;
+    const int blend = (info.flags & kBlendPresent) ? (info.flags >> 21) & 31 : kBlendSourceOver;
+    forEachCopy(Affine{state.sx, state.shy, state.shx, state.sy, state.tx, state.ty}, copies, f, offset,
+                [&](const Affine& toPixels) { canvas.drawPath(outline, style, toPixels, deviceColour(state.colour), blend); });
+  };
+  for (const FinishedShape& s : e.shapes) {
+    if (!drawn(s, f, o))
+      continue;
+    if (s.shape == kPathShape) {
+      copies = copyOffsets(e, f, s);
+      paths.paint(e.paths[size_t(s.path)], e.statics, paint);
+      continue;
+    }
+    CanvasShape c;
+    primitive(s, c);
     forEachCopy(e, f, s, offset, [&](const Affine& toPixels) {
       c.toPixels = toPixels;
       canvas.draw(c);

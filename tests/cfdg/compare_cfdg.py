@@ -1,26 +1,43 @@
 #!/usr/bin/env python3
 """Runs Context Free (`cfdg`, the oracle, at test time) and lcjit on designs and compares
 - the pictures' shape lists (`-V` SVG): the same shapes in the same order, each with the same fill
-  colour and opacity and the same matrix (within what 8 significant digits can say);
+  colour and opacity and the same matrix (within what 8 significant digits can say); a path's
+  commands each with the same paint (fill or stroke, colour, rule, width, cap, join) and outline;
 - the PNGs, decoded: the same size, channels, bit depth and every sample (with --image-diff, the
   suite's image_diff tool, run with --exact).
 
-usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--list FILE] DESIGN...
+usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--define N=V] [--list FILE] DESIGN...
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
 
-SHAPE = re.compile(r'<(rect|circle|use)\b(.*?)/>', re.S)
+# A primitive (<rect>, <circle>, <use> of the triangle) or a path command: a group with its paint
+# and transform holding the path's outline, or a use of an outline written before.
+ELEMENT = re.compile(r'<(rect|circle)\b(.*?)/>|<use xlink:href="#TRIANGLE"(.*?)/>'
+                     r'|<g\b([^>]*)>\s*(?:<path id="([^"]*)" d="([^"]*)"\s*/>|<use xlink:href="#([^"]*)"\s*/>)\s*</g>', re.S)
+ATTR = re.compile(r'([a-z-]+)="([^"]*)"')
+NUMBER = re.compile(r'[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?')
 SIZE = re.compile(r'<svg width="(\d+)px" height="(\d+)px"')
 def size(svg):
     m = SIZE.search(svg)
     return m.groups() if m else None
+
 def shapes(svg):
-    out = []
-    for kind, attrs in SHAPE.findall(svg):
-        fill = re.search(r'fill="([^"]*)"', attrs).group(1)
-        op = re.search(r'fill-opacity="([^"]*)"', attrs)
-        m = [float(v) for v in re.search(r'matrix\(([^)]*)\)', attrs).group(1).split()]
-        out.append((kind, fill.lower(), float(op.group(1)) if op else 1.0, m))
+    out, outlines = [], {}
+    for m in ELEMENT.finditer(svg):
+        kind, attrs = (m.group(1), m.group(2)) if m.group(1) else ('use', m.group(3)) if m.group(3) is not None else ('path', m.group(4))
+        a = dict(ATTR.findall(attrs))
+        matrix = [float(v) for v in a['transform'][7:-1].split()] if 'transform' in a else []
+        if kind != 'path':
+            out.append((kind, a['fill'].lower(), float(a.get('fill-opacity', 1)), matrix, []))
+            continue
+        if m.group(5): outlines[m.group(5)] = m.group(6)
+        d = outlines.get(m.group(5) or m.group(7), '')
+        # An iso-width outline is written in pixels; cfdg's use of one written before (a path it
+        # cached) shows the first one's pixels: not compared.
+        if m.group(7) and not matrix: d = None
+        paint = tuple(a.get(k, '').lower() for k in ('fill', 'stroke', 'fill-rule', 'stroke-linecap', 'stroke-linejoin'))
+        numbers = [float(a.get(k, 1)) for k in ('fill-opacity', 'stroke-opacity', 'stroke-width', 'stroke-miterlimit')]
+        out.append(('path', paint, numbers, matrix, None if d is None else (re.sub(NUMBER, '#', d), [float(x) for x in NUMBER.findall(d)])))
     return out
 
 def close(a, b):
@@ -30,9 +47,16 @@ def compare(ref, got):
     if len(ref) != len(got):
         return f'{len(got)} shapes, cfdg drew {len(ref)}'
     for i, (r, g) in enumerate(zip(ref, got)):
-        if r[0] != g[0] or r[1] != g[1] or abs(r[2] - g[2]) > 1e-6:
+        if r[0] != g[0] or r[1] != g[1]:
             return f'shape {i + 1}: {g[:3]}, cfdg {r[:3]}'
-        if not all(close(x, y) for x, y in zip(r[3], g[3])):
+        if r[0] == 'path':
+            if not all(close(x, y) for x, y in zip(r[2], g[2])):
+                return f'shape {i + 1} (path): paint {g[2]}, cfdg {r[2]}'
+            if r[4] and g[4] and (r[4][0] != g[4][0] or not all(close(x, y) for x, y in zip(r[4][1], g[4][1]))):
+                return f'shape {i + 1} (path): outline {g[4][0][:60]}…, cfdg {r[4][0][:60]}…'
+        elif abs(r[2] - g[2]) > 1e-6:
+            return f'shape {i + 1}: {g[:3]}, cfdg {r[:3]}'
+        if len(r[3]) != len(g[3]) or not all(close(x, y) for x, y in zip(r[3], g[3])):
             return f'shape {i + 1}: matrix {g[3]}, cfdg {r[3]}'
     return None
 
@@ -42,6 +66,7 @@ def main():
     ap.add_argument('--size', type=int, default=400)
     ap.add_argument('--variations', default='A,BCD,XYZZY')
     ap.add_argument('--max-shapes', type=int, default=0)
+    ap.add_argument('--define', action='append', default=[], help='NAME=VALUE, given to both as -D')
     ap.add_argument('--crop', action='store_true', help='both with -c: the fitted block alone')
     ap.add_argument('--image-diff', help='the image_diff tool: compare the PNGs too')
     ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
@@ -65,13 +90,13 @@ def main():
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
             for f in (ref_svg, got_svg):
                 if os.path.exists(f): os.remove(f)
-            crop = ['-c'] if a.crop else []
-            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v] + crop
+            options = [x for d in a.define for x in ('-D', d)] + (['-c'] if a.crop else [])
+            cmd = ['cfdg', '-q', '-V', '-s', str(a.size), '-v', v] + options
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             r = subprocess.run(cmd + [design, ref_svg], capture_output=True, text=True)
             if r.returncode != 0 or not os.path.exists(ref_svg):
                 print(f'{name} {v}: cfdg failed ({r.returncode}): skipped'); continue
-            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + crop
+            cmd = [a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + options
             if a.max_shapes: cmd += ['-m', str(a.max_shapes)]
             g = subprocess.run(cmd + [design, got_svg], capture_output=True, text=True)
             if g.returncode != 0:
@@ -80,12 +105,11 @@ def main():
             why = compare(shapes(ref), shapes(got))
             if not why and size(ref) != size(got):
                 why = f'picture {"x".join(size(got) or "?")}, cfdg {"x".join(size(ref) or "?")}'
-
             if why:
                 print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
             if a.image_diff:
                 ref_png, got_png = os.path.join(work, 'ref.png'), os.path.join(work, 'got.png')
-                limit = (['-m', str(a.max_shapes)] if a.max_shapes else []) + crop
+                limit = (['-m', str(a.max_shapes)] if a.max_shapes else []) + options
                 subprocess.run(['cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, ref_png], capture_output=True)
                 g = subprocess.run([a.lcjit, 'cfdg', '-q', '-s', str(a.size), '-v', v] + limit + [design, got_png],
                                    capture_output=True, text=True)

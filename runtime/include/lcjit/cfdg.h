@@ -47,6 +47,7 @@ struct __cf_Shape {
   int paramCount;  // numbers in the parameter block (a vector counts its length)
   int isPath;
   const char* usedAt;  // "file:line:col" where a shape that is never declared is first named, or null
+  int pathBody;    // a path's body: __cf_PathOps, __cf_PathCommands or both (0: none, or a shape)
 };
 
 struct __cf_Design {
@@ -79,6 +80,7 @@ struct __cf_Ctx {
   const struct __cf_State* frame;  // the state children start from (the shape, or a loop's frame)
   const double* statics;            // rand_static() values
   void* engine;
+  void* path;  // the path whose body is running (its outline and commands), else null
 };
 
 uint64_t __cf_step(uint64_t s);
@@ -127,6 +129,33 @@ double __cf_randint(struct __cf_Ctx* c, double a, double b);
 double __cf_pow(double a, double b);
 // A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
 void __cf_fail(struct __cf_Ctx* c, const char* message);
+
+// ---- Paths ----
+// A path's body runs once when the path is finished (its commands measured) and again when it is
+// drawn (its commands painted), each time from the path shape's seed. Its operations build the
+// path's outline in the path's own units; a command paints (or measures) the operations since
+// the previous command with the command's state (the path's, changed by the command's
+// adjustment). Inside a loop of operations only, and in a sub-path of operations, the operations'
+// points are transformed by the frame (c->frame).
+enum __cf_PathOp {
+  __cf_MoveTo = 1, __cf_MoveRel, __cf_LineTo, __cf_LineRel, __cf_ArcTo, __cf_ArcRel, __cf_CurveTo,
+  __cf_CurveRel, __cf_ClosePoly
+};
+// What a body (or a sub-path element) holds: path operations, path commands (ORed).
+enum __cf_PathBody { __cf_PathOps = 1, __cf_PathCommands = 2 };
+// One path operation: `count` numbers in data[0..count) (data has room for 6; the engine uses the
+// rest as scratch), `flags` Context Free's CF::ArcCW, CF::ArcLarge, CF::Continuous or CF::Align.
+void __cf_pathOp(struct __cf_Ctx* c, int op, int flags, int count, double* data);
+// A STROKE or FILL (CF::… flags, with Context Free's bit for FILL) with state `s` and stroke width.
+void __cf_pathCommand(struct __cf_Ctx* c, const struct __cf_State* s, int flags, double width);
+// Entering a loop of operations only, or a sub-path of operations: from now on operations are
+// transformed by the frame; `frame` (the loop's or the sub-path's state) starts from the identity
+// transform unless they already were. Returns what __cf_pathLeaveOps restores.
+int __cf_pathEnterOps(struct __cf_Ctx* c, struct __cf_State* frame);
+void __cf_pathLeaveOps(struct __cf_Ctx* c, int saved);
+// A sub-path element (`path NAME(args) [adj]`): path or primitive `shape` with state `s` and
+// parameters; `body` what the element was compiled to expect (__cf_PathBody).
+void __cf_subpath(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params, int body);
 
 enum __cf_Function {
   __cf_Cos, __cf_Sin, __cf_Tan, __cf_Cot, __cf_Acos, __cf_Asin, __cf_Atan, __cf_Acot, __cf_Cosh,
