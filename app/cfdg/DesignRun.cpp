@@ -137,7 +137,9 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   eo.height = o.height;
   eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
   eo.border = o.border;
-  eo.maxShapes = o.maxShapes;
+  // -m wins over CF::MaxShapes, which counts when above 1 (as in cfdg).
+  if (o.maxShapes > 0) eo.maxShapes = o.maxShapes;
+  else if (d.unit.settings.maxShapes > 1) eo.maxShapes = uint64_t(d.unit.settings.maxShapes);
   eo.maxMemory = o.maxMemory;
   eo.variation = variation;
   // rand_static(): drawn once, before the run, from the variation.

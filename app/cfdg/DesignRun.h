@@ -22,7 +22,7 @@ struct DesignRunOptions {
   std::string variation;          // a code as Context Free takes one ("A", "ABC", "17"); "" = random
   double minimumSize = 0.3;
   double border = 2;
-  uint64_t maxShapes = 500'000'000;
+  uint64_t maxShapes = 0;  // -m; 0: CF::MaxShapes if the design sets one above 1, else 500,000,000
   size_t maxMemory = 0;  // --max-memory; 0: half the physical memory
   int optLevel = 1;
   bool emitCpp = false;
