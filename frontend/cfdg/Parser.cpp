@@ -164,21 +164,7 @@ class Parser {
     auto e = std::make_unique<Element>();
     e->at = peek().at;
     if (peek().kind == Tok::Number) {
-      Token count = next();
-      expect("*");
-      e->kind = Element::Loop;
-      e->v2Loop = true;
-      e->v2Count = count.text;
-      e->value = make(Expr::Number, count.at, count.text);
-      e->adjustment = modification2();
-      if (accept("{")) {
-        while (!accept("}")) {
-          if (peek().kind == Tok::End) unexpected("'}'");
-          e->body.push_back(pathElement2());
-        }
-      } else {
-        e->body.push_back(pathElement2());
-      }
+      loop2(*e, &Parser::pathElement2);
       return e;
     }
     if (peek().kind == Tok::PathOp) {
@@ -251,26 +237,32 @@ class Parser {
     e.value = std::move(list);
   }
 
+  // CFDG 2's `N * {adj} body`, whose body is one element or a block of them, each read by `item`
+  // (a rule's replacements or a path's operations).
+  void loop2(Element& e, std::unique_ptr<Element> (Parser::*item)()) {
+    Token count = next();
+    expect("*");
+    e.kind = Element::Loop;
+    e.v2Loop = true;
+    e.v2Count = count.text;
+    e.value = make(Expr::Number, count.at, count.text);
+    e.adjustment = modification2();
+    if (accept("{")) {
+      while (!accept("}")) {
+        if (peek().kind == Tok::End) unexpected("'}'");
+        e.body.push_back((this->*item)());
+      }
+    } else {
+      e.body.push_back((this->*item)());
+    }
+  }
+
   // NAME {adj} | NAME [adj] | N * {adj} body
   std::unique_ptr<Element> replacement2() {
     auto e = std::make_unique<Element>();
     e->at = peek().at;
     if (peek().kind == Tok::Number) {
-      Token count = next();
-      expect("*");
-      e->kind = Element::Loop;
-      e->v2Loop = true;
-      e->v2Count = count.text;
-      e->value = make(Expr::Number, count.at, count.text);
-      e->adjustment = modification2();
-      if (accept("{")) {
-        while (!accept("}")) {
-          if (peek().kind == Tok::End) unexpected("'}'");
-          e->body.push_back(replacement2());
-        }
-      } else {
-        e->body.push_back(replacement2());
-      }
+      loop2(*e, &Parser::replacement2);
       return e;
     }
     e->kind = Element::Replace;

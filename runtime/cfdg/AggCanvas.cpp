@@ -481,28 +481,25 @@ bool encodePng(PngWrite* w) {
 
 // The rows as the file stores them: top first, RGBA un-premultiplied (AGG's integer demultiply),
 // 16-bit values big-endian.
+// RGBA pixels, premultiplied, made straight with AGG's integer demultiply (rgba8 or rgba16).
+template <class Colour, class Value> void demultiplyAll(Value* p, size_t pixels) {
+  for (size_t i = 0; i < pixels; ++i, p += 4) {
+    Colour c(p[0], p[1], p[2], p[3]);
+    c.demultiply();
+    p[0] = c.r, p[1] = c.g, p[2] = c.b;
+  }
+}
+
 std::vector<uint8_t> fileRows(const Canvas& canvas) {
   std::vector<uint8_t> bytes = canvas.pixels();
   const size_t pixels = size_t(canvas.width()) * canvas.height();
   const bool alpha = channelCount(canvas.format()) == 4;
   if (bytesPerChannel(canvas.format()) == 1) {
-    if (alpha)
-      for (size_t i = 0; i < pixels; ++i) {
-        uint8_t* p = &bytes[i * 4];
-        agg::rgba8 c(p[0], p[1], p[2], p[3]);
-        c.demultiply();
-        p[0] = c.r, p[1] = c.g, p[2] = c.b;
-      }
+    if (alpha) demultiplyAll<agg::rgba8>(bytes.data(), pixels);
     return bytes;
   }
   auto* values = reinterpret_cast<uint16_t*>(bytes.data());
-  if (alpha)
-    for (size_t i = 0; i < pixels; ++i) {
-      uint16_t* p = &values[i * 4];
-      agg::rgba16 c(p[0], p[1], p[2], p[3]);
-      c.demultiply();
-      p[0] = c.r, p[1] = c.g, p[2] = c.b;
-    }
+  if (alpha) demultiplyAll<agg::rgba16>(values, pixels);
   for (size_t i = 0, n = bytes.size() / 2; i < n; ++i) {
     const uint16_t v = values[i];
     bytes[2 * i] = uint8_t(v >> 8);

@@ -290,7 +290,10 @@ struct Engine {
     }
     Entry value{slots[slot].area, slot};
     heap.push_back(value);
-    size_t hole = heap.size() - 1;
+    siftUp(heap.size() - 1, value);
+  }
+  // libstdc++'s __push_heap: `value` goes up from `hole` past every parent of smaller area.
+  void siftUp(size_t hole, Entry value) {
     while (hole > 0) {
       size_t parent = (hole - 1) / 2;
       if (!(heap[parent].area < value.area)) break;
@@ -317,13 +320,7 @@ struct Engine {
         heap[hole] = heap[child - 1];
         hole = child - 1;
       }
-      while (hole > 0) {
-        size_t parent = (hole - 1) / 2;
-        if (!(heap[parent].area < value.area)) break;
-        heap[hole] = heap[parent];
-        hole = parent;
-      }
-      heap[hole] = value;
+      siftUp(hole, value);
     }
     uint32_t top = heap.back().slot;
     heap.pop_back();
