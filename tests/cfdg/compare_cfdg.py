@@ -40,6 +40,13 @@ def shapes(svg):
         out.append(('path', paint, numbers, matrix, None if d is None else (re.sub(NUMBER, '#', d), [float(x) for x in NUMBER.findall(d)])))
     return out
 
+# The two programs write the same elements with different spacing (cfdg pads matrix numbers to a
+# width). Written alike once spacing is set aside, the pictures are the same shape for shape, and
+# the slow element-by-element comparison (seconds for 100,000 shapes) is not needed.
+def same_text(ref, got):
+    canonical = lambda svg: ' '.join(svg[svg.find('<svg'):].split()).replace('( ', '(').replace(' )', ')')
+    return canonical(ref) == canonical(got)
+
 def close(a, b):
     return abs(a - b) <= 2e-7 * max(abs(a), abs(b)) + 1e-6
 
@@ -102,7 +109,8 @@ def main():
             if g.returncode != 0:
                 print(f'{name} {v}: lcjit failed: {g.stderr.strip()[:300]}'); failures += 1; break
             ref, got = open(ref_svg).read(), open(got_svg).read()
-            why = compare(shapes(ref), shapes(got))
+            count = len(re.findall(r'<(?:rect|circle|path)\b|<use xlink:href="#TRIANGLE"', ref))
+            why = None if same_text(ref, got) else compare(shapes(ref), shapes(got))
             if not why and size(ref) != size(got):
                 why = f'picture {"x".join(size(got) or "?")}, cfdg {"x".join(size(ref) or "?")}'
             if why:
@@ -117,7 +125,7 @@ def main():
                 why = f'lcjit failed: {g.stderr.strip()[:300]}' if g.returncode else d.stdout.strip() if d.returncode else None
                 if why:
                     print(f'{name} {v}: DIFFERENT PNG: {why}'); failures += 1; break
-            print(f'{name} {v}: equal ({len(shapes(open(ref_svg).read()))} shapes{", PNG" if a.image_diff else ""})')
+            print(f'{name} {v}: equal ({count} shapes{", PNG" if a.image_diff else ""})')
     return 1 if failures else 0
 
 if __name__ == '__main__':
