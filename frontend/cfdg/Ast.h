@@ -52,7 +52,7 @@ struct Param {
   std::string type;  // number, natural, adjustment, shape, vectorN
   std::string name;
   Place at;
-  int width = 1;     // numbers it takes
+  int width = 1;     // numbers it takes in a parameter block (an adjustment: a __cf_State's room)
 };
 
 struct Element;

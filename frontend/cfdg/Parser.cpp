@@ -10,6 +10,7 @@
 #include <set>
 
 #include "runtime/cfdg/Paths.h"  // Context Free's path flags
+#include "runtime/include/lcjit/cfdg.h"  // __cf_StateDoubles
 #include "support/InputFile.h"
 
 namespace lcjit::frontend::cfdg {
@@ -493,7 +494,7 @@ class Parser {
         p.name = first.text;
       }
       if (p.type.rfind("vector", 0) == 0) p.width = std::atoi(p.type.c_str() + 6);
-      if (p.type == "adjustment") p.width = 0;  // not yet supported: refused by the translator
+      if (p.type == "adjustment") p.width = __cf_StateDoubles;  // the room a __cf_State takes
       out.push_back(std::move(p));
     } while (accept(","));
     expect(")");

@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -36,19 +37,39 @@ struct TranslateError {
 // 1. Names in scope and values
 // ---------------------------------------------------------------------------------------------
 
+// What an adjustment value is known to hold when the design is read: Context Free folds a
+// constant one into the adjustment it is used in, which then takes its seed and its term classes.
+struct AdjustmentInfo {
+  int classes = -1;       // the classes of its terms (section 4's termClass); all when not known
+  unsigned colours = 0;   // the colour values it sets (1 << channel), for conflicts when folding
+  uint64_t seed = 0;      // the seed it brings along when folded
+};
+
 struct Binding {
   enum Kind { Param, Local, Global, Function } kind;
   std::string cpp;  // what C++ calls it (Param: the block's first index)
-  int width = 1;    // numbers
+  int width = 1;    // numbers (an adjustment: the room it takes in a parameter block)
   bool constant = false;
   bool shape = false;  // a shape-typed parameter
   const Definition* function = nullptr;
+  bool adjustment = false;  // a __cf_State
+  AdjustmentInfo info;      // an adjustment's
 };
 
+// The C++ of a value of the design: numbers (one, or a vector's), or an adjustment.
 struct Value {
   std::vector<std::string> parts;  // C++ expressions, one per number
   bool constant = true;            // Context Free folds it at parse time: no seed effect
   bool pure = true;                // draws no random numbers
+  // Statements to run before the parts (a vector's values computed once, in order): then the
+  // parts only name what they computed. Numbers alone never have any (see scalar()).
+  std::string pre;
+  // An adjustment: `apply` writes the statements that change the __cf_State named `state` by it,
+  // applied to a shape (`merge` false: Context Free's shape destination) or merged into an
+  // adjustment being built (`merge` true: a variable's or parameter's value).
+  bool adjustment = false;
+  std::function<void(const std::string& state, bool merge)> apply;
+  AdjustmentInfo info;
 };
 
 const std::map<std::string, std::string> kFunctions1 = {
@@ -101,6 +122,7 @@ class Translator {
   std::map<std::string, Binding> globals_;
   int temp_ = 0;
   int statics_ = 0;
+  std::map<const Expr*, int> staticIndex_;  // each rand_static()'s number, in the order first met
   bool usesSat_ = false;    // a sat term: the picture is in colour
   bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
   const Expr* background_ = nullptr;  // CF::Background
@@ -171,12 +193,13 @@ class Translator {
       case Expr::Call: {
         const std::string& f = e.text;
         if (f == "if" || f == "select") {
+          // select()'s arguments are a call's, each in a parenthesis; if()'s a plain list.
           std::string b;
-          for (const auto& a : e.args) b += bytes(*a);
+          for (const auto& a : e.args) b += bytes(*a) + (f == "select" ? hotbits("paren") : std::string());
           return b + hotbits("cons") + hotbits("select");
         }
         const Binding* bnd = lookup(f);
-        if (bnd && bnd->kind == Binding::Function) return argBytes(e.args) + f;
+        if (bnd && bnd->kind == Binding::Function) return (e.args.empty() ? std::string() : argBytes(e.args)) + f;
         if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? f : f + argBytes(e.args);
         std::string h = hotbits(f);
         if (h.empty()) return argBytes(e.args) + f;
@@ -192,9 +215,20 @@ class Translator {
         return argBytes(e.args) + h;
       }
       case Expr::Let: {
+        // The definitions whose values are not constant (a list when more than one), then
+        // `let`: the value itself adds nothing.
         std::string b;
-        for (size_t k = 0; k + 1 < e.args.size(); ++k) b += bytes(*e.args[k]);
-        return b + bytes(*e.args.back()) + "let";
+        int given = 0;
+        scopes_.emplace_back();
+        for (size_t k = 0; k + 1 < e.args.size(); ++k) {
+          Value v = probe(*e.args[k]);
+          if (!v.constant) b += bytes(*e.args[k]), ++given;
+          Binding bound{Binding::Local, "", int(v.parts.size()), v.constant};
+          bound.adjustment = v.adjustment;
+          scopes_.back()[e.names[k]] = bound;
+        }
+        scopes_.pop_back();
+        return b + (given > 1 ? hotbits("cons") : std::string()) + "let";
       }
       case Expr::Modification: return {};
     }
@@ -217,34 +251,129 @@ class Translator {
   }
 
   // Sequences the parts of impure operands: C++ leaves the order of operands open, Context Free
-  // draws left to right.
+  // draws left to right. `$k` in `combine` is operand k.
   std::string ordered(const std::vector<std::string>& operands, const std::string& combine,
                       bool pure) {
-    if (pure) {
-      std::string r = combine;
-      for (size_t k = 0; k < operands.size(); ++k) {
-        std::string key = "$" + std::to_string(k);
-        for (size_t p; (p = r.find(key)) != std::string::npos;) r.replace(p, key.size(), operands[k]);
+    std::vector<std::string> names = operands;
+    std::string r = pure ? "" : "({ ";
+    if (!pure)
+      for (auto& n : names) {
+        std::string t = temp();
+        r += "double " + t + " = " + n + "; ";
+        n = t;
       }
-      return r;
-    }
-    std::string r = "({ ";
-    std::vector<std::string> names;
-    for (const auto& o : operands) {
-      names.push_back(temp());
-      r += "double " + names.back() + " = " + o + "; ";
-    }
     std::string c = combine;
-    for (size_t k = 0; k < names.size(); ++k) {
+    for (size_t k = names.size(); k-- > 0;) {  // $12 before $1
       std::string key = "$" + std::to_string(k);
       for (size_t p; (p = c.find(key)) != std::string::npos;) c.replace(p, key.size(), names[k]);
     }
-    return r + c + "; })";
+    return pure ? c : r + c + "; })";
   }
 
-  Value scalar(const Expr& e) {
+  // Translates `e` only to learn what it is (its width, whether it is constant). Translating an
+  // expression again writes the same C++ (a rand_static() keeps its number, staticOf).
+  Value probe(const Expr& e) { return expr(e); }
+  int staticOf(const Expr& e) {
+    auto it = staticIndex_.find(&e);
+    return it != staticIndex_.end() ? it->second : staticIndex_[&e] = statics_++;
+  }
+
+  // The statements `f` writes, as text (for a statement expression).
+  std::string captured(const std::function<void()>& f) {
+    std::string saved = std::move(code_);
+    int indent = indent_;
+    code_.clear();
+    indent_ = 0;
+    f();
+    std::string out = std::move(code_);
+    code_ = std::move(saved);
+    indent_ = indent;
+    for (char& ch : out)
+      if (ch == '\n') ch = ' ';
+    return out;
+  }
+
+  // A value's numbers computed by its statements, in order, the parts naming them.
+  void hoist(Value& v) {
+    for (auto& p : v.parts) {
+      std::string t = temp();
+      v.pre += "const double " + t + " = " + p + "; ";
+      p = t;
+    }
+  }
+
+  // Values taken left to right, their numbers in one list. When `settle`, or when one of them
+  // has statements to run first, the numbers that draw random numbers are computed first too, in
+  // order: each is drawn once, in its place.
+  Value joined(std::vector<Value> values, bool settle) {
+    Value out;
+    for (auto& v : values) settle |= !v.pre.empty();
+    for (auto& v : values) {
+      if (settle && !v.pure && v.pre.empty()) hoist(v);
+      out.pre += v.pre;
+      out.parts.insert(out.parts.end(), v.parts.begin(), v.parts.end());
+      out.constant &= v.constant;
+      out.pure &= v.pure;
+    }
+    return out;
+  }
+
+  // Numbers, one or more (a vector).
+  Value numbers(const Expr& e) {
     Value v = expr(e);
+    if (v.adjustment) fail(e.at, "an adjustment is not a number");
+    return v;
+  }
+  // One number, as one C++ expression.
+  Value scalar(const Expr& e) {
+    Value v = numbers(e);
     if (v.parts.size() != 1) fail(e.at, "a number is expected here, this has " + std::to_string(v.parts.size()) + " values");
+    return single(std::move(v));
+  }
+  static Value single(Value v) {
+    if (!v.pre.empty()) v.parts[0] = "({ " + v.pre + v.parts[0] + "; })";
+    v.pre.clear();
+    return v;
+  }
+  // A value's numbers for statements: its own statements written first.
+  std::vector<std::string> emitted(Value v) {
+    if (!v.pre.empty()) line(v.pre);
+    return v.parts;
+  }
+  // An adjustment value as a __cf_State (merged from the identity, as Context Free stores one).
+  std::string adjustmentState(const Value& v) {
+    std::string t = temp();
+    return "({ __cf_State " + t + "; __cf_identity(&" + t + "); " + captured([&] { v.apply(t, true); }) + t + "; })";
+  }
+
+  // A number written as a constant where Context Free needs one when it reads the design.
+  double literal(const Expr& e, const std::string& what) {
+    if (e.kind == Expr::Paren) return literal(*e.args[0], what);
+    if (e.kind == Expr::Unary && e.text == "-") return -literal(*e.args[0], what);
+    if (e.kind == Expr::Unary && e.text == "+") return literal(*e.args[0], what);
+    if (e.kind != Expr::Number) fail(e.at, what + " must be a number written here for lcjit");
+    std::string t = e.text;
+    bool percent = !t.empty() && t.back() == '%';
+    if (percent) t.pop_back();
+    double v = std::strtod(t.c_str(), nullptr);
+    return percent ? v / 100.0 : v;
+  }
+
+  std::string place(const Place& at) const {
+    return d_.file + ":" + std::to_string(at.line) + ":" + std::to_string(at.column);
+  }
+
+  // An adjustment variable or parameter: its value applied or merged.
+  Value adjustmentVariable(const std::string& cpp, const Binding& b) {
+    Value v;
+    v.parts.clear();
+    v.adjustment = true;
+    v.constant = b.constant;
+    v.info = b.info;
+    v.apply = [this, cpp](const std::string& state, bool merge) {
+      std::string t = temp();
+      line("{ const __cf_State " + t + " = " + cpp + "; " + (merge ? "__cf_merge(&" : "__cf_apply(&") + state + ", &" + t + "); }");
+    };
     return v;
   }
 
@@ -261,6 +390,8 @@ class Translator {
           fail(e.at, "'" + e.text + "' is not defined");
         }
         if (b->kind == Binding::Function) fail(e.at, "function '" + e.text + "' needs arguments");
+        if (b->adjustment)
+          return adjustmentVariable(b->kind == Binding::Param ? "__cf_state_at(p + " + b->cpp + ")" : b->cpp, *b);
         v.constant = b->constant;
         for (int k = 0; k < b->width; ++k) {
           if (b->kind == Binding::Param) v.parts.push_back("p[" + std::to_string(std::stoi(b->cpp) + k) + "]");
@@ -270,31 +401,26 @@ class Translator {
       }
       case Expr::Paren: return expr(*e.args[0]);
       case Expr::List: {
-        for (const auto& a : e.args) {
-          Value p = expr(*a);
-          v.parts.insert(v.parts.end(), p.parts.begin(), p.parts.end());
-          v.constant &= p.constant;
-          v.pure &= p.pure;
-        }
-        if (!v.pure) {  // sequence the parts
-          for (auto& p : v.parts) {
-            std::string t = temp();
-            line("double " + t + " = " + p + ";");
-            p = t;
-          }
-        }
-        return v;
+        std::vector<Value> items;
+        for (const auto& a : e.args) items.push_back(numbers(*a));
+        return joined(std::move(items), true);
       }
       case Expr::Unary: {
+        if (numbers(*e.args[0]).parts.size() != 1)
+          fail(e.at, "a sign before a vector is not supported by lcjit (Context Free gives it one value's place)");
         Value a = scalar(*e.args[0]);
         std::string op = e.text == "!" ? "(double)!(" + a.parts[0] + ")" : "(" + e.text + a.parts[0] + ")";
         return {{op}, a.constant, a.pure};
       }
       case Expr::Binary: {
-        Value l = scalar(*e.args[0]), r = scalar(*e.args[1]);
+        const std::string& op = e.text;
+        Value l = numbers(*e.args[0]), r = numbers(*e.args[1]);
+        const size_t ls = l.parts.size(), rs = r.parts.size();
+        if (ls != 1 || rs != 1) return vectorOperation(e, std::move(l), std::move(r));
+        l = single(std::move(l));
+        r = single(std::move(r));
         bool pure = l.pure && r.pure;
         std::string c;
-        const std::string& op = e.text;
         if (op == "..") {
           return {{ordered({l.parts[0], r.parts[0]}, "__cf_rand(c, $0, $1)", pure)}, false, false};
         }
@@ -305,15 +431,11 @@ class Translator {
         else if (op == "--") c = "((($0) - ($1)) > 0 ? (($0) - ($1)) : 0.0)";
         else if (op == "==") c = "(double)(($0) == ($1))";
         else if (op == "<>") c = "(double)(($0) != ($1))";
-        else if (op == "&&") c = "(($0) == 0.0 ? 0.0 : ($1))";
-        else if (op == "||") c = "(($0) != 0.0 ? ($0) : ($1))";
         else if (op == "^^") c = "(double)((($0) != 0.0) != (($1) != 0.0))";
         else if (op == "<" || op == ">" || op == "<=" || op == ">=") c = "(double)(($0) " + op + " ($1))";
         else c = "(($0) " + op + " ($1))";
         if (op == "&&" || op == "||") {
           // Short-circuit: the right side is evaluated only when needed.
-          std::string t = "({ double " + temp() + "; })";
-          (void)t;
           std::string lt = temp();
           std::string body = op == "&&" ? "(" + lt + " == 0.0 ? 0.0 : (" + r.parts[0] + "))"
                                         : "(" + lt + " != 0.0 ? " + lt + " : (" + r.parts[0] + "))";
@@ -321,40 +443,167 @@ class Translator {
         }
         return {{ordered({l.parts[0], r.parts[0]}, c, pure)}, l.constant && r.constant, pure};
       }
-      case Expr::Index: {
-        const Binding* b = lookup(e.text);
-        if (!b || b->kind == Binding::Function) fail(e.at, "'" + e.text + "' is not a vector");
-        Value i = scalar(*e.args[0]);
-        std::string base = b->kind == Binding::Param ? "p + " + b->cpp : b->cpp;
-        std::string idx = "(int)(" + i.parts[0] + ")";
-        return {{"(" + (b->kind == Binding::Param ? "p[" + b->cpp + " + " + idx + "]" : b->cpp + "[" + idx + "]") + ")"},
-                b->constant && i.constant, i.pure};
-      }
+      case Expr::Index: return index(e);
       case Expr::Call: return call(e);
-      case Expr::Let: {
-        // let(a = …; b = …; value): a block with its own names.
-        scopes_.emplace_back();
-        std::string body = "({ ";
-        bool constant = true, pure = true;
-        for (size_t k = 0; k + 1 < e.args.size(); ++k) {
-          Value val = expr(*e.args[k]);
-          std::string name = "v_" + identifier(e.names[k]) + "_" + std::to_string(temp_++);
-          if (val.parts.size() == 1) body += "double " + name + " = " + val.parts[0] + "; ";
-          else {
-            body += "double " + name + "[" + std::to_string(val.parts.size()) + "] = {";
-            for (auto& p : val.parts) body += p + ", ";
-            body += "}; ";
-          }
-          scopes_.back()[e.names[k]] = {Binding::Local, name, int(val.parts.size()), val.constant};
-          constant &= val.constant;
-          pure &= val.pure;
-        }
-        Value r = scalar(*e.args.back());
-        scopes_.pop_back();
-        return {{body + r.parts[0] + "; })"}, constant && r.constant, pure && r.pure};
-      }
-      case Expr::Modification: fail(e.at, "an adjustment is not a number");
+      case Expr::Let: return let(e);
+      case Expr::Modification: return adjustmentLiteral(*e.adjustment);
     }
+    return v;
+  }
+
+  // Operators with a vector operand, as Context Free computes them: + - -- element by element on
+  // equal lengths, * and / also with one scalar operand, == and <> comparing whole vectors.
+  Value vectorOperation(const Expr& e, Value l, Value r) {
+    const std::string& op = e.text;
+    const size_t ls = l.parts.size(), rs = r.parts.size();
+    if (op == "+" || op == "-" || op == "--" || op == "==" || op == "<>") {
+      if (ls != rs) fail(e.at, "Operands must have the same length");
+    } else if (op == "*" || op == "/") {
+      if (ls != rs && std::min(ls, rs) > 1) fail(e.at, "At least one operand must be scalar (or both same size)");
+    } else {
+      fail(e.at, "Binary operators must have two scalar operands");
+    }
+    Value both = joined({l, r}, true);  // each impure number drawn once, in order
+    const std::vector<std::string> lp(both.parts.begin(), both.parts.begin() + long(ls));
+    const std::vector<std::string> rp(both.parts.begin() + long(ls), both.parts.end());
+    Value out;
+    out.constant = both.constant;
+    out.pure = both.pure;
+    out.pre = both.pre;
+    if (op == "==" || op == "<>") {
+      std::string all;
+      for (size_t k = 0; k < ls; ++k) all += (k ? " && " : "") + std::string("(") + lp[k] + ") == (" + rp[k] + ")";
+      out.parts = {op == "==" ? "(double)(" + all + ")" : "(double)!(" + all + ")"};
+      return single(std::move(out));
+    }
+    for (size_t k = 0; k < std::max(ls, rs); ++k) {
+      const std::string& a = lp[ls == 1 ? 0 : k];
+      const std::string& b = rp[rs == 1 ? 0 : k];
+      if (op == "--") out.parts.push_back("((" + a + ") - (" + b + ") > 0.0 ? (" + a + ") - (" + b + ") : 0.0)");
+      else out.parts.push_back("((" + a + ") " + op + " (" + b + "))");
+    }
+    return out;
+  }
+
+  // v[i], v[i, length], v[i, length, stride]: `length` numbers from index i, `stride` apart.
+  Value index(const Expr& e) {
+    const Binding* b = lookup(e.text);
+    if (!b || b->kind == Binding::Function || b->adjustment) fail(e.at, "'" + e.text + "' is not a vector");
+    std::vector<const Expr*> items;
+    if (e.args[0]->kind == Expr::List) for (const auto& a : e.args[0]->args) items.push_back(a.get());
+    else items.push_back(e.args[0].get());
+    if (items.size() > 3) fail(e.at, "a vector index takes an index, a length and a stride");
+    int length = 1, stride = 1;
+    for (size_t k = items.size() - 1; k > 0; --k) {  // Context Free reads them from the last
+      stride = length;
+      length = int(literal(*items[k], "Vector stride/length"));
+    }
+    if (stride < 0 || length < 0) fail(e.at, "Vector length & stride arguments must be positive");
+    if (stride * (length - 1) >= b->width) fail(e.at, "Vector length & stride arguments too large for source");
+    Value i = scalar(*items[0]);
+    std::string k = temp();
+    std::string checked = "({ int " + k + " = (int)(" + i.parts[0] + "); if (" + k + " < 0 || " + k + " + " +
+                          std::to_string((length - 1) * stride) + " >= " + std::to_string(b->width) +
+                          ") __cf_fail(c, \"" + place(e.at) + ": error: Vector index exceeds bounds\"); " + k + "; })";
+    auto element = [&](const std::string& at) {
+      if (b->kind == Binding::Param) return "p[" + b->cpp + " + " + at + "]";
+      return (b->width == 1 ? "(&" + b->cpp + ")" : b->cpp) + "[" + at + "]";
+    };
+    Value v;
+    v.constant = b->constant && i.constant;
+    v.pure = i.pure;
+    if (length == 1) {
+      v.parts = {"(" + element(checked) + ")"};
+      return v;
+    }
+    std::string t = temp();
+    v.pre = "const int " + t + " = " + checked + "; ";
+    for (int n = 0; n < length; ++n) v.parts.push_back(element(t + " + " + std::to_string(n * stride)));
+    return v;
+  }
+
+  // let(a = …; b = …; value): the definitions, then the value, with their names.
+  Value let(const Expr& e) {
+    // The definitions' code, binding their names in a new scope (left for the caller to pop).
+    auto define = [this, &e](bool& constant, bool& pure) {
+      std::string code;
+      scopes_.emplace_back();
+      for (size_t k = 0; k + 1 < e.args.size(); ++k) {
+        Value val = expr(*e.args[k]);
+        std::string name = "v_" + identifier(e.names[k]) + "_" + std::to_string(temp_++);
+        Binding bound{Binding::Local, name, int(val.parts.size()), val.constant};
+        if (val.adjustment) {
+          code += "const __cf_State " + name + " = " + adjustmentState(val) + "; ";
+          bound.adjustment = true;
+          bound.width = __cf_StateDoubles;
+          bound.info = val.info;
+          bound.info.seed = seedOf(kSeedBase, e.names[k]);
+        } else if (val.parts.size() == 1) {
+          code += "const double " + name + " = " + single(val).parts[0] + "; ";
+        } else {
+          code += val.pre + "const double " + name + "[" + std::to_string(val.parts.size()) + "] = {";
+          for (auto& p : val.parts) code += p + ", ";
+          code += "}; ";
+        }
+        scopes_.back()[e.names[k]] = bound;
+        constant &= val.constant;
+        pure &= val.pure;
+      }
+      return code;
+    };
+    bool constant = true, pure = true;
+    std::string code = define(constant, pure);
+    Value r = expr(*e.args.back());
+    scopes_.pop_back();
+    if (r.adjustment) {
+      Value out = r;
+      out.constant = constant && r.constant;
+      if (!out.constant) out.info = AdjustmentInfo{};
+      out.apply = [this, &e, define](const std::string& state, bool merge) {
+        bool c = true, p = true;
+        line("{");
+        line(define(c, p));
+        expr(*e.args.back()).apply(state, merge);
+        scopes_.pop_back();
+        line("}");
+      };
+      return out;
+    }
+    r.constant &= constant;
+    r.pure &= pure;
+    if (r.parts.size() == 1) {
+      r = single(std::move(r));
+      r.parts[0] = "({ " + code + r.parts[0] + "; })";
+      return r;
+    }
+    if (!r.pure && r.pre.empty()) hoist(r);
+    r.pre = code + r.pre;
+    return r;
+  }
+
+  // [ … ] as a value.
+  Value adjustmentLiteral(const Adjustment& a) {
+    Value v;
+    v.parts.clear();
+    v.adjustment = true;
+    auto terms = prepare(a);
+    v.info.classes = 0;
+    for (const auto& t : terms) {
+      if (t.kind == "sat") usesSat_ = true;
+      if (t.kind == "blend") usesBlend_ = true;
+      Value x = termValue(t);
+      v.constant &= x.constant;
+      v.pure &= x.pure;
+      v.info.classes |= x.adjustment ? x.info.classes : termClass(t.kind);
+      v.info.colours |= x.adjustment ? x.info.colours : termColours(t.kind, int(x.parts.size()));
+    }
+    v.info.seed = seedOf(kSeedBase, adjustmentBytes(terms));
+    const Adjustment* at = &a;
+    v.apply = [this, at](const std::string& state, bool merge) {
+      line("{");
+      applyAdjustment(*at, prepare(*at), state, merge);
+      line("}");
+    };
     return v;
   }
 
@@ -378,6 +627,62 @@ class Translator {
     return it->second;
   }
 
+  // The arguments of a call, left to right: numbers, and adjustments (as __cf_State
+  // expressions), with statements to run first. `settled`: each is computed once, in order, by
+  // the statements (or draws nothing), so they may be used in any order.
+  struct Arguments {
+    std::vector<std::string> items;
+    std::vector<bool> adjustment;
+    std::string pre;
+    bool constant = true, pure = true, settled = false;
+  };
+  Arguments arguments(const std::vector<Value>& values, bool settle = false) {
+    Arguments out;
+    for (const auto& v : values) settle |= v.adjustment || !v.pre.empty();
+    std::vector<Value> numbers;
+    for (const auto& v : values) {
+      out.constant &= v.constant;
+      out.pure &= v.pure;
+      if (v.adjustment) {
+        std::string t = temp();
+        out.pre += "const __cf_State " + t + " = " + adjustmentState(v) + "; ";
+        out.items.push_back(t);
+        out.adjustment.push_back(true);
+        continue;
+      }
+      Value n = v;
+      if (settle && !n.pure && n.pre.empty()) hoist(n);
+      out.pre += n.pre;
+      for (auto& p : n.parts) out.items.push_back(p), out.adjustment.push_back(false);
+    }
+    out.settled = settle;
+    return out;
+  }
+  // `combine` ($k: item k) of the arguments, as one C++ expression.
+  std::string combined(const Arguments& a, const std::string& combine) {
+    std::string r = ordered(a.items, combine, a.pure || a.settled);
+    return a.pre.empty() ? r : "({ " + a.pre + r + "; })";
+  }
+  // A parameter block of `shape`'s parameters from the arguments, as one C++ expression bound
+  // by `use` ($b: the block).
+  std::string block(const Arguments& a, int count, const std::string& use, const Place& at, const std::string& name) {
+    int n = 0;
+    std::string b = temp(), fill;
+    for (size_t k = 0; k < a.items.size(); ++k) {
+      if (a.adjustment[k]) {
+        fill += "__cf_state_to(" + b + " + " + std::to_string(n) + ", $" + std::to_string(k) + "); ";
+        n += __cf_StateDoubles;
+      } else {
+        fill += b + "[" + std::to_string(n++) + "] = $" + std::to_string(k) + "; ";
+      }
+    }
+    if (n != count)
+      fail(at, "shape '" + name + "' takes " + std::to_string(count) + " parameter values, " + std::to_string(n) + " given");
+    std::string u = use;
+    for (size_t p; (p = u.find("$b")) != std::string::npos;) u.replace(p, 2, b);
+    return "({ double " + b + "[" + std::to_string(n + 1) + "]; " + fill + u + "; })";
+  }
+
   Value call(const Expr& e) {
     const std::string& f = e.text;
     std::vector<Value> args;
@@ -387,63 +692,41 @@ class Translator {
       constant &= args.back().constant;
       pure &= args.back().pure;
     }
-    auto one = [&](size_t k) -> std::string {
-      if (k >= args.size() || args[k].parts.size() != 1) fail(e.at, f + "() takes numbers");
-      return args[k].parts[0];
+    if (f == "if" || f == "select") return choice(e, std::move(args));
+    auto numeric = [&]() {
+      for (size_t k = 0; k < args.size(); ++k)
+        if (args[k].adjustment) fail(e.args[k]->at, f + "() takes numbers");
     };
     if (const Binding* b = lookup(f); b && b->kind == Binding::Function) {
       const Definition& fn = *b->function;
-      std::vector<std::string> parts;
-      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
-      std::string combine = b->cpp + "(c";
-      for (size_t k = 0; k < parts.size(); ++k) combine += ", $" + std::to_string(k);
-      combine += ")";
-      (void)fn;
-      return {{ordered(parts, combine, pure)}, false, pure && b->constant};
-    }
-    if (f == "if" || f == "select") {
-      if (f == "if" && args.size() != 3) fail(e.at, "if() takes a condition and two values");
-      std::string r = one(0);
-      if (f == "if") return {{"((" + r + ") != 0.0 ? (" + one(1) + ") : (" + one(2) + "))"}, constant, pure};
-      std::string t = temp();
-      std::string s = "({ double " + t + " = " + r + "; ";
-      size_t n = args.size() - 1;
-      for (size_t k = 1; k <= n; ++k) s += (k == n ? "" : t + " < " + std::to_string(k) + " ? (" + one(k) + ") : ");
-      s += "(" + one(n) + "); })";
-      return {{s}, constant, pure};
-    }
-    if (f == "rand" || f == "randint" || f == "rand_static") {
-      std::string lo = "0.0", hi = f == "randint" ? "2.0" : "1.0";
-      if (args.size() == 1) hi = one(0);
-      if (args.size() == 2) lo = one(0), hi = one(1);
-      if (f == "rand_static") {
-        std::string r = "(c->statics[" + std::to_string(statics_++) + "] * __builtin_fabs((" + hi + ") - (" + lo +
-                        ")) + __builtin_fmin(" + lo + ", " + hi + "))";
-        return {{r}, constant, pure};
+      Arguments a = arguments(args);
+      // Numbers fill the parameters in order (a vector parameter takes as many), an adjustment
+      // the adjustment parameter.
+      size_t item = 0;
+      for (const auto& p : fn.params) {
+        if (p.type == "adjustment") {
+          if (item >= a.items.size() || !a.adjustment[item]) fail(e.at, "function '" + f + "' takes an adjustment here");
+          ++item;
+          continue;
+        }
+        for (int k = 0; k < p.width; ++k, ++item)
+          if (item >= a.items.size() || a.adjustment[item]) fail(e.at, "function '" + f + "' takes numbers here");
       }
-      return {{ordered({lo, hi}, std::string(f == "rand" ? "__cf_rand" : "__cf_randint") + "(c, $0, $1)", pure)},
-              false, false};
-    }
-    if (f == "abs" && args.size() == 2)
-      return {{ordered({one(0), one(1)}, "__cf_fn2(c, __cf_Abs2, $0, $1)", pure)}, constant, pure};
-    if (f == "min" || f == "max") {
-      if (args.size() < 2) fail(e.at, f + "() takes two or more numbers");
-      std::vector<std::string> parts;
-      std::string combine = "$0";
-      for (size_t k = 0; k < args.size(); ++k) parts.push_back(one(k));
-      for (size_t k = 1; k < args.size(); ++k)
-        combine = "__cf_fn2(c, " + std::string(f == "min" ? "__cf_Min" : "__cf_Max") + ", " + combine + ", $" +
-                  std::to_string(k) + ")";
-      return {{ordered(parts, combine, pure)}, constant, pure};
-    }
-    if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
-      if (args.size() != 1 && f != "infinity") fail(e.at, f + "() takes one number");
-      std::string a = args.empty() ? "1.0" : one(0);
-      return {{"__cf_fn1(c, " + it->second + ", " + a + ")"}, constant, pure};
-    }
-    if (auto it = kFunctions2.find(f); it != kFunctions2.end()) {
-      if (args.size() != 2) fail(e.at, f + "() takes two numbers");
-      return {{ordered({one(0), one(1)}, "__cf_fn2(c, " + it->second + ", $0, $1)", pure)}, constant, pure};
+      if (item != a.items.size()) fail(e.at, "function '" + f + "' is given too many values");
+      std::string combine = b->cpp + "(c";
+      for (size_t k = 0; k < a.items.size(); ++k) combine += ", $" + std::to_string(k);
+      combine += ")";
+      const int width = functionWidth(fn);
+      if (width == 1) return {{combined(a, combine)}, false, pure && b->constant};
+      // A vector: the call once, its numbers named.
+      Value v;
+      v.constant = false;
+      v.pure = pure && b->constant;
+      std::string t = temp();
+      v.pre = a.pre + "const __cf_V<" + std::to_string(width) + "> " + t + " = " +
+              ordered(a.items, combine, a.pure || a.settled) + "; ";
+      for (int k = 0; k < width; ++k) v.parts.push_back(t + ".v[" + std::to_string(k) + "]");
+      return v;
     }
     if (auto id = shapeIds_.find(f); id != shapeIds_.end()) {
       // A shape with its parameters bound: a shape value (for a parameter or variable of type
@@ -453,17 +736,160 @@ class Translator {
         for (const auto& p : decls_[size_t(id->second - 4)].params) count += p.width;
       if (e.reuseParams)  // NAME(=): bound to the running shape's own parameters
         return {{"__cf_bind(c, " + std::to_string(id->second) + ", p)"}, false, true};
-      std::vector<std::string> parts;
-      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
-      if (int(parts.size()) != count)
-        fail(e.at, "shape '" + f + "' takes " + std::to_string(count) + " parameter values, " + std::to_string(parts.size()) +
-                       " given");
-      std::string combine = "({ const double _b[] = {";
-      for (size_t k = 0; k < parts.size(); ++k) combine += "$" + std::to_string(k) + ", ";
-      combine += "0}; __cf_bind(c, " + std::to_string(id->second) + ", _b); })";
-      return {{ordered(parts, combine, pure)}, constant, pure};
+      Arguments a = arguments(args, true);
+      std::string r = block(a, count, "__cf_bind(c, " + std::to_string(id->second) + ", $b)", e.at, f);
+      return {{combined(a, r)}, constant, pure};
+    }
+    numeric();
+    Value all = joined(args, !pure);  // the numbers of all the arguments, in order
+    const size_t n = all.parts.size();
+    auto wrap = [&](const std::string& r) -> Value {
+      return {{all.pre.empty() ? r : "({ " + all.pre + r + "; })"}, constant, pure};
+    };
+    auto ord = [&](const std::vector<std::string>& operands, const std::string& combine) {
+      return ordered(operands, combine, pure || !all.pre.empty());
+    };
+    if (f == "rand" || f == "randint" || f == "rand_static") {
+      if (n > 2) fail(e.at, "Illegal argument(s) for random function");
+      std::string lo = "0.0", hi = f == "randint" ? "2.0" : "1.0";
+      if (n == 1) hi = all.parts[0];
+      if (n == 2) lo = all.parts[0], hi = all.parts[1];
+      if (f == "rand_static") {
+        std::string r = "(c->statics[" + std::to_string(staticOf(e)) + "] * __builtin_fabs((" + hi + ") - (" + lo +
+                        ")) + __builtin_fmin(" + lo + ", " + hi + "))";
+        return wrap(r);
+      }
+      Value v = wrap(ord({lo, hi}, std::string(f == "rand" ? "__cf_rand" : "__cf_randint") + "(c, $0, $1)"));
+      v.constant = v.pure = false;
+      return v;
+    }
+    if (f == "abs" && n == 2) return wrap(ord(all.parts, "__cf_fn2(c, __cf_Abs2, $0, $1)"));
+    if (f == "min" || f == "max") {
+      if (args.size() < 2 || n != args.size()) fail(e.at, f + "() takes two or more numbers");
+      std::string combine = "$0";
+      for (size_t k = 1; k < n; ++k)
+        combine = "__cf_fn2(c, " + std::string(f == "min" ? "__cf_Min" : "__cf_Max") + ", " + combine + ", $" +
+                  std::to_string(k) + ")";
+      return wrap(ord(all.parts, combine));
+    }
+    if (f == "dot" || f == "cross") {
+      if (args.size() != 2) fail(e.at, "Dot/cross product takes two vectors");
+      const size_t ls = args[0].parts.size(), rs = args[1].parts.size();
+      if (f == "dot" && (ls != rs || ls < 2)) fail(e.at, "Dot product takes two vectors of the same length");
+      if (f == "cross" && (ls != 3 || rs != 3)) fail(e.at, "Cross product takes two vector3s");
+      Value both = joined(args, true);
+      const auto& p = both.parts;
+      Value v;
+      v.constant = both.constant;
+      v.pure = both.pure;
+      v.pre = both.pre;
+      if (f == "dot") {
+        std::string sum = "0.0";
+        for (size_t k = 0; k < ls; ++k) sum = "(" + sum + " + (" + p[k] + ") * (" + p[ls + k] + "))";
+        v.parts = {sum};
+        return single(std::move(v));
+      }
+      auto x = [&](int i, int j, int k, int l) {  // l[i]*r[j] - l[k]*r[l]
+        return "((" + p[size_t(i)] + ") * (" + p[size_t(3 + j)] + ") - (" + p[size_t(k)] + ") * (" + p[size_t(3 + l)] + "))";
+      };
+      v.parts = {x(1, 2, 2, 1), x(2, 0, 0, 2), x(0, 1, 1, 0)};
+      return v;
+    }
+    if (f == "vec") {
+      // vec(n, a…): n numbers, a… repeated.
+      if (e.args.size() < 2) fail(e.at, "vec() function at least two arguments");
+      const int length = int(std::floor(literal(*e.args[0], "vec()'s length")));
+      if (length < 2 || length > 99) fail(e.args[0]->at, "vec() function length argument must be >= 2 and <= 99");
+      Value v = joined(args, true);
+      std::vector<std::string> from(v.parts.begin() + 1, v.parts.end());
+      v.parts.clear();
+      for (int k = 0; k < length; ++k) v.parts.push_back(from[size_t(k) % from.size()]);
+      return v;
+    }
+    if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
+      if (n != 1 && !(f == "infinity" && n == 0)) fail(e.at, f + "() takes one number");
+      return wrap("__cf_fn1(c, " + it->second + ", " + (n == 0 ? std::string("1.0") : all.parts[0]) + ")");
+    }
+    if (auto it = kFunctions2.find(f); it != kFunctions2.end()) {
+      if (n != 2) fail(e.at, f + "() takes two numbers");
+      return wrap(ord(all.parts, "__cf_fn2(c, " + it->second + ", $0, $1)"));
     }
     fail(e.at, "'" + f + "' is not a function lcjit knows");
+  }
+
+  // The numbers a function of the design gives: its type's (vectorN: N), 1 for a number.
+  int functionWidth(const Definition& fn) {
+    if (fn.type.rfind("vector", 0) == 0) return std::atoi(fn.type.c_str() + 6);
+    return 1;
+  }
+
+  // if(c, a, b) and select(i, a, b, …): the value chosen (only it is evaluated), numbers (all of
+  // one length) or adjustments.
+  Value choice(const Expr& e, std::vector<Value> args) {
+    const std::string& f = e.text;
+    if (f == "if" && args.size() != 3) fail(e.at, "if() takes a condition and two values");
+    if (args.size() < 3) fail(e.at, "select()/if() function requires arguments");
+    Value selector = scalar(*e.args[0]);
+    const size_t n = args.size() - 1;
+    for (size_t k = 2; k <= n; ++k) {
+      if (args[k].adjustment != args[1].adjustment) fail(e.args[k]->at, "select()/if() choices must be of one type");
+      if (!args[k].adjustment && args[k].parts.size() != args[1].parts.size())
+        fail(e.args[k]->at, "select()/if() choices must be of one length");
+    }
+    // The condition for choice k (1…n), on the selector's value named s.
+    auto test = [&](const std::string& s, size_t k) {
+      return f == "if" ? (k == 1 ? s + " != 0.0" : "") : (k == n ? "" : s + " < " + std::to_string(k));
+    };
+    if (args[1].adjustment) {
+      Value v;
+      v.parts.clear();
+      v.adjustment = true;
+      v.constant = false;
+      v.apply = [this, &e, selector, n, test](const std::string& state, bool merge) {
+        std::string s = temp();
+        line("{ const double " + s + " = " + selector.parts[0] + ";");
+        for (size_t k = 1; k <= n; ++k) {
+          std::string t = test(s, k);
+          line(std::string(k == 1 ? "" : "} else ") + (t.empty() ? "{" : "if (" + t + ") {"));
+          expr(*e.args[k]).apply(state, merge);
+          if (t.empty()) break;
+        }
+        line("} }");
+      };
+      return v;
+    }
+    const size_t width = args[1].parts.size();
+    bool constant = selector.constant, pure = selector.pure;
+    for (size_t k = 1; k <= n; ++k) constant &= args[k].constant, pure &= args[k].pure;
+    std::string s = temp();
+    std::string r = "({ const double " + s + " = " + selector.parts[0] + "; ";
+    std::string type = width == 1 ? "double" : "__cf_V<" + std::to_string(width) + ">";
+    for (size_t k = 1; k <= n; ++k) {
+      std::string t = test(s, k);
+      Value c = args[k];
+      std::string value;
+      if (width == 1) {
+        value = single(c).parts[0];
+      } else {
+        std::string list;
+        for (auto& p : c.parts) list += p + ", ";
+        value = "({ " + c.pre + type + "{{" + list + "}}; })";
+      }
+      r += (t.empty() ? "" : "(" + t + ") ? ") + std::string("(") + value + ")" + (t.empty() ? "" : " : ");
+      if (t.empty()) break;
+    }
+    r += "; })";
+    Value v;
+    v.constant = constant;
+    v.pure = pure;
+    if (width == 1) {
+      v.parts = {r};
+      return v;
+    }
+    std::string t = temp();
+    v.pre = "const " + type + " " + t + " = " + r + "; ";
+    for (size_t k = 0; k < width; ++k) v.parts.push_back(t + ".v[" + std::to_string(k) + "]");
+    return v;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -486,8 +912,20 @@ class Translator {
     }
   }
 
-  // Context Free's preparation before seeds: `x A y B` become one x term; three-valued x and s
-  // split into a z (or zsize) term, then the two-valued one.
+  // The numbers an argument gives (0 for an adjustment).
+  int widthOf(const Expr* e) {
+    Value v = probe(*e);
+    return v.adjustment ? 0 : int(v.parts.size());
+  }
+  int widthOf(const std::vector<const Expr*>& args) {
+    int n = 0;
+    for (const Expr* e : args) n += widthOf(e);
+    return n;
+  }
+
+  // Context Free's preparation before seeds: `x A y B` (A one number) become one x term; x and s
+  // with three numbers split into a z (or zsize) term, then the two-valued one, when the
+  // arguments part into two numbers and the rest (else they stay xyz, sizexyz).
   std::vector<PreparedTerm> prepare(const Adjustment& a) {
     std::vector<PreparedTerm> out;
     for (size_t k = 0; k < a.terms.size(); ++k) {
@@ -497,21 +935,27 @@ class Translator {
       p.at = t.at;
       p.targetForm = t.targetForm;
       flattenArgs(t, p.args);
-      if (p.kind == "x" && p.args.size() == 1 && k + 1 < a.terms.size() && a.terms[k + 1].word == "y") {
-        std::vector<const Expr*> yArgs;
-        flattenArgs(a.terms[k + 1], yArgs);
-        if (yArgs.size() == 1) {
-          p.args.push_back(yArgs[0]);
-          ++k;
-        }
+      if (p.kind == "x" && widthOf(p.args) == 1 && k + 1 < a.terms.size() && a.terms[k + 1].word == "y") {
+        flattenArgs(a.terms[k + 1], p.args);
+        ++k;
       }
-      if ((p.kind == "x" || p.kind == "s") && p.args.size() == 3) {
-        PreparedTerm z;
-        z.kind = p.kind == "x" ? "z" : "zsize";
-        z.at = p.at;
-        z.args = {p.args[2]};
-        out.push_back(z);
-        p.args.pop_back();
+      if ((p.kind == "x" || p.kind == "s") && widthOf(p.args) == 3) {
+        std::vector<const Expr*> xy, z;
+        int width = 0;
+        for (const Expr* e : p.args) {
+          if (xy.empty() || width < 2) xy.push_back(e), width += widthOf(e);
+          else z.push_back(e);
+        }
+        if (!z.empty() && width == 2) {
+          PreparedTerm zt;
+          zt.kind = p.kind == "x" ? "z" : "zsize";
+          zt.at = p.at;
+          zt.args = z;
+          out.push_back(zt);
+          p.args = xy;
+        } else {
+          p.kind = p.kind == "x" ? "xyz" : "sizexyz";
+        }
       }
       out.push_back(std::move(p));
     }
@@ -587,27 +1031,60 @@ class Translator {
     return terms;
   }
 
+  // The value of a prepared term's arguments: numbers, or (`trans a`) an adjustment.
+  Value termValue(const PreparedTerm& t) {
+    if (t.kind == "trans" && t.args.size() == 1) {
+      Value v = expr(*t.args[0]);
+      if (v.adjustment) return v;
+    }
+    std::vector<Value> values;
+    for (const Expr* e : t.args) values.push_back(numbers(*e));
+    return joined(std::move(values), false);
+  }
+
+  // The colour values (1 << channel: 1 sat, 2 brightness, 3 alpha) a term with `count` numbers
+  // sets: a second setting of one in an adjustment waits for the run.
+  static unsigned termColours(const std::string& kind, int count) {
+    if (kind == "sat") return 1u << 1;
+    if (kind == "b") return 1u << 2;
+    if (kind == "a") return 1u << 3;
+    if (kind == "h" && count > 2) return count == 3 ? 6u : 14u;
+    return 0;
+  }
+
   // Writes code that applies adjustment `a` (already prepared) to the state named `state`:
   // the terms Context Free folds at parse time are merged into one constant adjustment applied
-  // first, the others applied one by one, in order, as it does at run time.
-  void applyAdjustment(const Adjustment& a, std::vector<PreparedTerm> terms, const std::string& state) {
+  // first, the others applied one by one, in order, as it does at run time. With `merge` the
+  // adjustment is merged into `state` (an adjustment value being built) instead. Returns the seed
+  // the adjustment values folded in bring to the element's.
+  uint64_t applyAdjustment(const Adjustment& a, std::vector<PreparedTerm> terms, const std::string& state,
+                           bool merge = false) {
     if (!a.ordered) terms = canonical(std::move(terms));
     int nonConstant = 0;
     std::string folded = temp();
     bool anyFolded = false;
     bool literalsOnly = true;
     unsigned colourSet = 0;  // channels the folded part sets (a second one waits for run time)
+    uint64_t seed = 0;
     std::vector<std::pair<const PreparedTerm*, Value>> runtime;
     std::string foldCode;
     for (const auto& t : terms) {
-      if (t.kind == "trans" && t.args.size() == 1 && t.args[0]->kind == Expr::Modification)
-        fail(t.at, "adjustment arguments to trans are not supported by lcjit yet");
-      Value v;
-      for (const Expr* e : t.args) {
-        Value p = expr(*e);
-        v.parts.insert(v.parts.end(), p.parts.begin(), p.parts.end());
-        v.constant &= p.constant;
-        v.pure &= p.pure;
+      Value v = termValue(t);
+      if (v.adjustment) {
+        // `trans a`: a constant adjustment is folded in (with its seed) unless a term of its
+        // classes waits for the run, or it sets a colour value already set.
+        int mc = v.constant ? v.info.classes : -1;
+        if (!v.constant) nonConstant = -1;
+        if (!v.constant || (mc & nonConstant) != 0 || (colourSet & v.info.colours) != 0) {
+          runtime.emplace_back(&t, std::move(v));
+          continue;
+        }
+        colourSet |= v.info.colours;
+        seed ^= v.info.seed;
+        foldCode += "{ " + captured([&] { v.apply("m", true); }) + "} ";
+        literalsOnly = false;
+        anyFolded = true;
+        continue;
       }
       if (t.kind == "sat") usesSat_ = true;
       if (t.kind == "blend") usesBlend_ = true;
@@ -634,7 +1111,7 @@ class Translator {
         if (p.find_first_not_of("()+-0123456789abcdefpx.") != std::string::npos) literalsOnly = false;
       }
       args += "0}";
-      foldCode += "{ const double _a[] = " + args + "; __cf_fold(&m, " + termEnum(t) + ", " +
+      foldCode += "{ " + v.pre + "const double _a[] = " + args + "; __cf_fold(&m, " + termEnum(t) + ", " +
                   std::to_string(v.parts.size()) + ", _a); } ";
       anyFolded = true;
     }
@@ -642,15 +1119,20 @@ class Translator {
       // Folded once when its values are literals; else (constant names of the body) each time.
       line(std::string(literalsOnly ? "static " : "") + "const __cf_State " + folded + " = [&]{ __cf_State m; __cf_identity(&m); " +
            foldCode + "return m; }();");
-      line("__cf_apply(&" + state + ", &" + folded + ");");
+      line(std::string(merge ? "__cf_merge(&" : "__cf_apply(&") + state + ", &" + folded + ");");
     }
     for (auto& [t, v] : runtime) {
+      if (v.adjustment) {
+        v.apply(state, merge);
+        continue;
+      }
       std::string args = temp();
       std::string list;
       for (auto& p : v.parts) list += p + ", ";
-      line("{ const double " + args + "[] = {" + list + "0}; __cf_term(c, &" + state + ", " + termEnum(*t) + ", " +
-           std::to_string(v.parts.size()) + ", " + args + "); }");
+      line("{ " + v.pre + "const double " + args + "[] = {" + list + "0}; " + (merge ? "__cf_fold(&" : "__cf_term(c, &") +
+           state + ", " + termEnum(*t) + ", " + std::to_string(v.parts.size()) + ", " + args + "); }");
     }
+    return seed;
   }
 
   // -------------------------------------------------------------------------------------------
@@ -765,6 +1247,8 @@ class Translator {
     std::vector<const Adjustment*> mods, geometric;
     bool symmetric = false;  // symmetry flags among the transforms (section 7)
     for (const Expr* x : items) {
+      if (x->kind != Expr::Modification && probe(*x).adjustment)
+        fail(x->at, "adjustment values in a transform statement are not supported by lcjit yet");
       if (x->kind != Expr::Modification) {
         symmetric = true;
         continue;
@@ -799,13 +1283,13 @@ class Translator {
       auto terms = prepare(*a);
       if (!a->ordered) terms = canonical(std::move(terms));
       for (const auto& t : terms) {
+        Value v = termValue(t);
+        if (v.adjustment) fail(t.at, "adjustment values in a transform statement are not supported by lcjit yet");
         std::string list;
-        int n = 0;
-        for (const Expr* x : t.args)
-          for (auto& p : expr(*x).parts) list += p + ", ", ++n;
+        for (auto& p : v.parts) list += p + ", ";
         std::string args = temp();
-        line("{ const double " + args + "[] = {" + list + "0}; __cf_fold(&" + m + ", " + termEnum(t) + ", " +
-             std::to_string(n) + ", " + args + "); }");
+        line("{ " + v.pre + "const double " + args + "[] = {" + list + "0}; __cf_fold(&" + m + ", " + termEnum(t) + ", " +
+             std::to_string(v.parts.size()) + ", " + args + "); }");
       }
       line("if (!__cf_seen_transform(" + transforms + ", " + count + ", &" + m + ")) " + transforms + "[" + count + "++] = " + m + ";");
       --indent_;
@@ -846,18 +1330,89 @@ class Translator {
     line("}");
   }
 
+  // An adjustment value in a fresh __cf_State variable, as Context Free stores one; its name.
+  std::string adjustmentTemp(const Value& v) {
+    std::string t = temp();
+    line("__cf_State " + t + ";");
+    line("__cf_identity(&" + t + ");");
+    v.apply(t, true);
+    return t;
+  }
+
+  // The parameter block of a shape's arguments (numbers; an adjustment in a __cf_State's room),
+  // evaluated in order: its name and the numbers it holds.
+  std::pair<std::string, int> argumentBlock(const std::vector<ExprP>& args) {
+    std::vector<std::pair<std::string, bool>> items;
+    int n = 0;
+    for (const auto& a : args) {
+      Value v = expr(*a);
+      if (v.adjustment) {
+        items.emplace_back(adjustmentTemp(v), true);
+        n += __cf_StateDoubles;
+        continue;
+      }
+      for (auto& p : emitted(v)) {
+        std::string t = temp();
+        line("const double " + t + " = " + p + ";");
+        items.emplace_back(t, false);
+        ++n;
+      }
+    }
+    std::string block = temp();
+    line("double " + block + "[" + std::to_string(n + 1) + "];");
+    int k = 0;
+    for (auto& [t, adjustment] : items) {
+      if (adjustment) {
+        line("__cf_state_to(" + block + " + " + std::to_string(k) + ", " + t + ");");
+        k += __cf_StateDoubles;
+      } else {
+        line(block + "[" + std::to_string(k++) + "] = " + t + ";");
+      }
+    }
+    return {block, n};
+  }
+
+  // A seed xored into the running one, written once the adjustment after it is known (the
+  // adjustment values it folds in change it): the position to give patchSeed.
+  size_t seedPlaceholder() {
+    size_t at = code_.size();
+    line("c->cur ^= @SEED@;");
+    return at;
+  }
+  void patchSeed(size_t at, uint64_t seed) {
+    size_t p = code_.find("@SEED@", at);
+    code_.replace(p, 6, hex64(seed));
+  }
+
   void define(const Element& e) {
     Value v = expr(*e.value);
     std::string name = "v_" + identifier(e.name) + "_" + std::to_string(temp_++);
+    if (v.adjustment) {
+      // Context Free keeps `name = [ … ]` as the adjustment; another expression only when it is
+      // constant.
+      if (e.value->kind != Expr::Modification && !v.constant)
+        fail(e.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
+      if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
+      line("__cf_State " + name + ";");
+      line("__cf_identity(&" + name + ");");
+      v.apply(name, true);
+      Binding b{Binding::Local, name, __cf_StateDoubles, v.constant};
+      b.adjustment = true;
+      b.info = v.info;
+      b.info.seed = seedOf(kSeedBase, e.name);  // a definition's seed is its name's
+      scopes_.back()[e.name] = b;
+      return;
+    }
     if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
-    if (v.parts.size() == 1) {
-      line("double " + name + " = " + v.parts[0] + ";");
+    std::vector<std::string> parts = emitted(v);
+    if (parts.size() == 1) {
+      line("double " + name + " = " + parts[0] + ";");
     } else {
       std::string list;
-      for (auto& p : v.parts) list += p + ", ";
-      line("double " + name + "[" + std::to_string(v.parts.size()) + "] = {" + list + "};");
+      for (auto& p : parts) list += p + ", ";
+      line("double " + name + "[" + std::to_string(parts.size()) + "] = {" + list + "};");
     }
-    scopes_.back()[e.name] = {Binding::Local, name, int(v.parts.size()), v.constant};
+    scopes_.back()[e.name] = {Binding::Local, name, int(parts.size()), v.constant};
   }
 
   void replacement(const Element& e) {
@@ -894,33 +1449,21 @@ class Translator {
         params = "p";
       } else if (e.hasArgs && !e.args.empty()) {
         spec += argBytes(e.args);
-        std::vector<std::string> parts;
-        for (const auto& a : e.args) {
-          Value v = expr(*a);
-          for (auto& p : v.parts) {
-            std::string t = temp();
-            line("double " + t + " = " + p + ";");
-            parts.push_back(t);
-          }
-        }
-        if (int(parts.size()) != paramCount)
+        auto [block, count] = argumentBlock(e.args);
+        if (count != paramCount)
           fail(e.shapeAt, "shape '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
-                              std::to_string(parts.size()) + " given");
-        std::string arr = temp();
-        std::string list;
-        for (auto& p : parts) list += p + ", ";
-        line("const double " + arr + "[] = {" + list + "};");
-        params = arr;
+                              std::to_string(count) + " given");
+        params = block;
       } else if (paramCount > 0) {
         fail(e.shapeAt, "shape '" + e.shape + "' needs parameters");
       }
     }
     auto terms = prepare(e.adjustment);
     uint64_t seed = seedOf(0, adjustmentBytes(terms) + spec);
-    line("c->cur ^= " + hex64(seed) + ";");
+    size_t seedAt = seedPlaceholder();
     line("c->cur = __cf_step(c->cur);");
     line("__cf_State s = *c->frame;");
-    applyAdjustment(e.adjustment, std::move(terms), "s");
+    patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, std::move(terms), "s"));
     if (!value.empty()) line("__cf_replace_value(c, " + value + ", &s);");
     else line("__cf_replace(c, " + shapeCode + ", &s, " + params + ");");
     --indent_;
@@ -928,11 +1471,10 @@ class Translator {
   }
 
   void loop(const Element& e) {
-    std::vector<const Expr*> args;
-    if (e.value->kind == Expr::List) for (const auto& a : e.value->args) args.push_back(a.get());
-    else args.push_back(e.value.get());
-    if (args.size() > 3) fail(e.at, "loop takes a count, or a start and an end, and a step");
+    scopes_.emplace_back();  // the index is a name in the loop's adjustment
+    if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, "0.0", 1, false};
     auto terms = prepare(e.adjustment);
+    scopes_.pop_back();
     std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : e.name;
     uint64_t seed = seedOf(kSeedBase, indexName + bytes(*e.value)) ^ seedOf(kSeedBase, adjustmentBytes(terms));
     if (e.v2Loop)  // CFDG 2: the terms' bytes twice (as written, then in the order they apply), then the count
@@ -940,13 +1482,14 @@ class Translator {
                            "~~inaccessiblevar~~" + e.v2Count);
     line("{");
     ++indent_;
-    line("c->cur ^= " + hex64(seed) + ";");
+    size_t seedAt = seedPlaceholder();
     std::vector<std::string> bounds;
-    for (const Expr* a : args) {
+    for (auto& part : emitted(numbers(*e.value))) {  // in order: they may draw random numbers
       std::string t = temp();
-      line("double " + t + " = " + scalar(*a).parts[0] + ";");
+      line("double " + t + " = " + part + ";");
       bounds.push_back(t);
     }
+    if (bounds.empty() || bounds.size() > 3) fail(e.at, "loop takes a count, or a start and an end, and a step");
     std::string start = "0.0", end, step = "1.0";
     if (bounds.size() == 1) end = bounds[0];
     else start = bounds[0], end = bounds[1];
@@ -963,8 +1506,8 @@ class Translator {
     scopes_.emplace_back();
     if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
     body(e.body);
+    patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, terms, frame));  // with the index
     scopes_.pop_back();
-    applyAdjustment(e.adjustment, terms, frame);
     line(index + " += " + step + ";");
     --indent_;
     line("}");
@@ -1087,7 +1630,7 @@ class Translator {
         continue;
       }
       if (flag) fail(flag->at, "Flags must be the last argument");
-      for (auto& part : expr(*item).parts) {
+      for (auto& part : emitted(numbers(*item))) {
         std::string t = temp();
         line("double " + t + " = " + part + ";");  // in order: they may draw random numbers
         values.push_back(t);
@@ -1154,10 +1697,10 @@ class Translator {
     }
     line("{");
     ++indent_;
-    line("c->cur ^= " + hex64(seed) + ";");
+    size_t seedAt = seedPlaceholder();
     line("c->cur = __cf_step(c->cur);");
     line("__cf_State s = *c->frame;");
-    applyAdjustment(e.adjustment, std::move(applied), "s");
+    patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, std::move(applied), "s"));
     std::string w = "0.1";
     if (width) w = scalar(*width).parts[0];  // after the adjustment, as Context Free evaluates it
     line("__cf_pathCommand(c, &s, " + std::to_string(flags) + ", " + w + ");");
@@ -1196,25 +1739,16 @@ class Translator {
       params = "p";
     } else if (e.hasArgs && !e.args.empty()) {
       spec += argBytes(e.args);
-      std::string list;
-      int count = 0;
-      for (const auto& a : e.args)
-        for (auto& part : expr(*a).parts) {
-          std::string t = temp();
-          line("double " + t + " = " + part + ";");
-          list += t + ", ";
-          ++count;
-        }
+      auto [block, count] = argumentBlock(e.args);
       if (!variable && count != paramCount)
         fail(e.shapeAt, "path '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                             std::to_string(count) + " given");
-      params = temp();
-      line("const double " + params + "[] = {" + list + "};");
+      params = block;
     } else if (paramCount > 0) {
       fail(e.shapeAt, "path '" + e.shape + "' needs parameters");
     }
     auto terms = prepare(e.adjustment);
-    line("c->cur ^= " + hex64(seedOf(0, adjustmentBytes(terms) + spec)) + ";");
+    size_t seedAt = seedPlaceholder();
     line("c->cur = __cf_step(c->cur);");
     line("__cf_State s = *c->frame;");
     std::string saved;
@@ -1222,7 +1756,7 @@ class Translator {
       saved = temp();
       line("int " + saved + " = __cf_pathEnterOps(c, &s);");
     }
-    applyAdjustment(e.adjustment, std::move(terms), "s");
+    patchSeed(seedAt, seedOf(0, adjustmentBytes(terms) + spec) ^ applyAdjustment(e.adjustment, std::move(terms), "s"));
     line("__cf_subpath(c, " + shapeCode + ", &s, " + params + ", " + std::to_string(kind) + ");");
     leavePathOps(saved);
     --indent_;
@@ -1377,11 +1911,11 @@ class Translator {
         line("const double " + values + "[] = {" + state + ".sx, " + state + ".shy, " + state + ".shx, " + state + ".sy, " +
              state + ".tx, " + state + ".ty};");
       } else {
-        Value v = expr(*x);
+        std::vector<std::string> v = emitted(numbers(*x));
         kind = "__cf_SymmetryNumbers";
-        count = std::to_string(v.parts.size());
+        count = std::to_string(v.size());
         std::string parts;
-        for (auto& p : v.parts) parts += p + ", ";
+        for (auto& p : v) parts += p + ", ";
         line("const double " + values + "[] = {" + parts + "};");
       }
       items.push_back("{" + kind + ", " + count + ", " + values + ", " + placeString(x->at) + "}");
@@ -1435,30 +1969,69 @@ Translation Translator::run() {
       code_.clear();
       indent_ = 1;
       scopes_.emplace_back();
-      int index = 0;
-      std::string signature = "double " + name + "(__cf_Ctx* c";
+      if (def.type == "adjustment") fail(def.at, "functions of type adjustment are not supported by lcjit yet");
+      const int width = functionWidth(def);
+      std::string signature = (width == 1 ? "double " : "__cf_V<" + std::to_string(width) + "> ") + name + "(__cf_Ctx* c";
       for (const auto& p : def.params) {
-        if (p.width != 1) fail(p.at, "vector and adjustment parameters of functions are not supported by lcjit yet");
+        // A number, or a vector's numbers one by one (gathered in an array), or an adjustment.
         std::string pn = "a_" + identifier(p.name);
-        signature += ", double " + pn;
-        scopes_.back()[p.name] = {Binding::Local, pn, 1, false};
-        ++index;
+        Binding bound{Binding::Local, pn, p.width, false};
+        if (p.type == "adjustment") {
+          signature += ", __cf_State " + pn;
+          bound.adjustment = true;
+        } else if (p.width == 1) {
+          signature += ", double " + pn;
+        } else {
+          std::string list;
+          for (int k = 0; k < p.width; ++k) {
+            signature += ", double " + pn + "_" + std::to_string(k);
+            list += pn + "_" + std::to_string(k) + ", ";
+          }
+          line("const double " + pn + "[" + std::to_string(p.width) + "] = {" + list + "};");
+        }
+        scopes_.back()[p.name] = bound;
       }
-      Value v = scalar(*def.value);
+      Value v = numbers(*def.value);
+      if (int(v.parts.size()) != width)
+        fail(def.at, "Mismatch between declared and defined vector length of user function");
+      std::string result;
+      if (width == 1) {
+        result = single(v).parts[0];
+      } else {
+        for (auto& p : emitted(v)) result += p + ", ";
+        result = "__cf_V<" + std::to_string(width) + ">{{" + result + "}}";
+      }
       scopes_.pop_back();
-      unit += signature + ") {\n  (void)c;\n" + code_ + "  return " + v.parts[0] + ";\n}\n";
+      unit += signature + ") {\n  (void)c;\n" + code_ + "  return " + result + ";\n}\n";
       continue;
     }
     code_.clear();
     indent_ = 1;
     Value v = expr(*def.value);
     std::string name = "g_" + identifier(def.name);
-    Binding b{Binding::Global, name, int(v.parts.size()), v.constant};
-    unit += "double " + name + (v.parts.size() > 1 ? "[" + std::to_string(v.parts.size()) + "]" : "") + ";\n";
+    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, def.name)) + ";");
+    if (v.adjustment) {
+      // Context Free keeps `name = [ … ]` as the adjustment; another expression only when it is
+      // constant.
+      if (def.value->kind != Expr::Modification && !v.constant)
+        fail(def.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
+      unit += "__cf_State " + name + ";\n";
+      line("__cf_identity(&" + name + ");");
+      v.apply(name, true);
+      Binding b{Binding::Global, name, __cf_StateDoubles, v.constant};
+      b.adjustment = true;
+      b.info = v.info;
+      b.info.seed = seedOf(kSeedBase, def.name);  // a definition's seed is its name's
+      globals_[def.name] = b;
+      start += code_;
+      continue;
+    }
+    std::vector<std::string> parts = emitted(v);
+    Binding b{Binding::Global, name, int(parts.size()), v.constant};
+    unit += "double " + name + (parts.size() > 1 ? "[" + std::to_string(parts.size()) + "]" : "") + ";\n";
+    for (size_t k = 0; k < parts.size(); ++k)
+      line(name + (parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + parts[k] + ";");
     start += code_;
-    if (!v.constant) start += "  c->cur ^= " + hex64(seedOf(kSeedBase, def.name)) + ";\n";
-    for (size_t k = 0; k < v.parts.size(); ++k)
-      start += "  " + name + (v.parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + v.parts[k] + ";\n";
     globals_[def.name] = b;
   }
 
@@ -1476,9 +2049,9 @@ Translation Translator::run() {
     scopes_.emplace_back();
     int offset = 0;
     for (const auto& p : decl.params) {
-      if (p.width == 0) fail(p.at, "adjustment parameters are not supported by lcjit yet");
       Binding b{Binding::Param, std::to_string(offset), p.width, false};
       b.shape = p.type == "shape";
+      b.adjustment = p.type == "adjustment";
       scopes_.back()[p.name] = b;
       offset += p.width;
     }
@@ -1539,13 +2112,7 @@ Translation Translator::run() {
   if (startValue && startValue->kind != Binding::Global) startValue = nullptr;
   int startId = startValue ? -1 : shapeId(startName, startAt);
   std::string params = "nullptr";
-  if (!startArgs->empty()) {
-    std::string list;
-    for (const auto& a : *startArgs)
-      for (auto& p : expr(*a).parts) list += p + ", ";
-    line("const double _start[] = {" + list + "};");
-    params = "_start";
-  }
+  if (!startArgs->empty()) params = argumentBlock(*startArgs).first;
   auto terms = prepare(*startAdjustment);
   // With an adjustment (even an empty one) the start shape's seed is its terms' bytes mixed into
   // the base seed, xor the base seed, then its name's bytes (Context Free mixes the terms into the
@@ -1557,14 +2124,15 @@ Translation Translator::run() {
     seed = mixBytes(kSeedBase, adjustmentBytes(terms), position) ^ kSeedBase;
     seed = mixBytes(seed, startBytes, position);
   }
-  line("c->cur ^= " + hex64(seed) + ";");
+  size_t seedAt = seedPlaceholder();
   line("c->cur = __cf_step(c->cur);");
   line("__cf_State s;");
   line("__cf_identity(&s);");
   line("s.colour[3] = 1; s.target[3] = 1;");
   line("s.tbegin = 0; s.tend = 1;");
   line("c->frame = &s;");
-  if (startHasAdjustment) applyAdjustment(*startAdjustment, std::move(terms), "s");
+  if (startHasAdjustment) seed ^= applyAdjustment(*startAdjustment, std::move(terms), "s");
+  patchSeed(seedAt, seed);
   if (startValue) line("__cf_start_value(c, " + startValue->cpp + ", &s);");
   else line("__cf_start(c, " + std::to_string(startId) + ", &s, " + params + ");");
   unit += "void start(__cf_Ctx* c) {\n" + start + settings + code_ + "}\n";

@@ -833,6 +833,27 @@ void __cf_apply(__cf_State* s, const __cf_State* m) {
   if (m->blend) s->blend = m->blend;
 }
 
+void __cf_merge(__cf_State* m, const __cf_State* v) {
+  constexpr unsigned kHueMask = 3;
+  if ((m->assign & v->assign) || ((v->assign & kHueMask) && m->colour[0] != 0.0) ||
+      ((m->assign & kHueMask) && v->colour[0] != 0.0))
+    return;
+  for (int k = 1; k < 4; ++k)
+    if (m->colour[k] != 0.0 && v->colour[k] != 0.0) return;
+  premultiplyState(*m, affineOf(*v));
+  m->ztz = v->ztz * m->zsz + m->ztz;
+  m->zsz = v->zsz * m->zsz;
+  m->tbegin = v->tbegin * m->tsc + m->tbegin;
+  m->tend = v->tend * m->tsc + m->tend;
+  m->tsc = v->tsc * m->tsc;
+  if (v->blend) m->blend = v->blend;
+  for (int k = 0; k < 4; ++k) {
+    m->target[k] += v->target[k];
+    m->colour[k] += v->colour[k];
+  }
+  m->assign |= v->assign;
+}
+
 void __cf_term(__cf_Ctx* c, __cf_State* m, int kind, int count, const double* v) {
   double args[6] = {0, 0, 0, 0, 0, 0};
   for (int i = 0; i < count && i < 6; ++i) args[i] = v[i];
@@ -1083,6 +1104,7 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_apply", reinterpret_cast<void*>(&__cf_apply)},
       {"__cf_fold", reinterpret_cast<void*>(&__cf_fold)},
       {"__cf_term", reinterpret_cast<void*>(&__cf_term)},
+      {"__cf_merge", reinterpret_cast<void*>(&__cf_merge)},
       {"__cf_replace", reinterpret_cast<void*>(&__cf_replace)},
       {"__cf_start", reinterpret_cast<void*>(&__cf_start)},
       {"__cf_fn1", reinterpret_cast<void*>(&__cf_fn1)},

@@ -32,6 +32,25 @@ struct __cf_State {
   int blend;
 };
 
+// An adjustment value (a parameter or variable of type adjustment, `[ … ]` written as a value)
+// is a __cf_State; in a shape's parameter block it takes __cf_StateDoubles numbers' room.
+enum { __cf_StateDoubles = 20 };
+#ifdef __cplusplus
+static_assert(sizeof(struct __cf_State) == __cf_StateDoubles * sizeof(double), "__cf_StateDoubles");
+// A vector value (Context Free's number tuples) returned by a function of the design.
+template <int N>
+struct __cf_V {
+  double v[N];
+};
+// The adjustment kept at `p` in a parameter block, and one stored there.
+inline struct __cf_State __cf_state_at(const double* p) {
+  struct __cf_State s;
+  __builtin_memcpy(&s, p, sizeof s);
+  return s;
+}
+inline void __cf_state_to(double* p, const struct __cf_State& s) { __builtin_memcpy(p, &s, sizeof s); }
+#endif
+
 struct __cf_Ctx;
 typedef void (*__cf_Body)(struct __cf_Ctx*, const double* params);
 
@@ -98,6 +117,10 @@ void __cf_fold(struct __cf_State* m, int kind, int count, const double* args);
 // `transforms` (to 1e-14, as Context Free keeps only distinct ones), and a copy moved by one.
 int __cf_seen_transform(const struct __cf_State* transforms, int count, const struct __cf_State* m);
 void __cf_transform_by(struct __cf_State* shape, const struct __cf_State* m);
+// Adjustment value `v` merged into adjustment `m` as Context Free combines adjustments that are
+// values (`[trans a]`, a parameter given `[…]`): transforms compose (`v` first), colour changes
+// add; when both change the same colour value (or an assigned one) nothing is merged.
+void __cf_merge(struct __cf_State* m, const struct __cf_State* v);
 // One adjustment term applied to a shape (or a loop's frame): `kind` is a __cf_Term.
 void __cf_term(struct __cf_Ctx* c, struct __cf_State* shape, int kind, int count, const double* args);
 
