@@ -359,10 +359,6 @@ class Translator {
     return percent ? v / 100.0 : v;
   }
 
-  std::string place(const Place& at) const {
-    return d_.file + ":" + std::to_string(at.line) + ":" + std::to_string(at.column);
-  }
-
   // An adjustment variable or parameter: its value applied or merged.
   Value adjustmentVariable(const std::string& cpp, const Binding& b) {
     Value v;
@@ -504,7 +500,7 @@ class Translator {
     std::string k = temp();
     std::string checked = "({ int " + k + " = (int)(" + i.parts[0] + "); if (" + k + " < 0 || " + k + " + " +
                           std::to_string((length - 1) * stride) + " >= " + std::to_string(b->width) +
-                          ") __cf_fail(c, \"" + place(e.at) + ": error: Vector index exceeds bounds\"); " + k + "; })";
+                          ") __cf_fail_at(c, " + placeString(e.at) + ", \"Vector index exceeds bounds\"); " + k + "; })";
     auto element = [&](const std::string& at) {
       if (b->kind == Binding::Param) return "p[" + b->cpp + " + " + at + "]";
       return (b->width == 1 ? "(&" + b->cpp + ")" : b->cpp) + "[" + at + "]";

@@ -992,6 +992,7 @@ int __cf_symmetry(__cf_Ctx* c, const __cf_SymmetryItem* items, int count, __cf_S
 }
 
 void __cf_fail(__cf_Ctx* c, const char* message) { fail(c, message); }
+void __cf_fail_at(__cf_Ctx* c, const char* at, const char* message) { engineOf(c).failAt(at, message); }
 
 // ---------------------------------------------------------------------------------------------
 // 3. Functions and distributions
@@ -1114,6 +1115,7 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
+      {"__cf_fail_at", reinterpret_cast<void*>(&__cf_fail_at)},
       {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},
       {"__cf_replace_value", reinterpret_cast<void*>(&__cf_replace_value)},
       {"__cf_start_value", reinterpret_cast<void*>(&__cf_start_value)},

@@ -152,6 +152,8 @@ double __cf_randint(struct __cf_Ctx* c, double a, double b);
 double __cf_pow(double a, double b);
 // A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
 void __cf_fail(struct __cf_Ctx* c, const char* message);
+// The same at a place of the design ("file:line:col").
+void __cf_fail_at(struct __cf_Ctx* c, const char* at, const char* message);
 
 // ---- Paths ----
 // A path's body runs once when the path is finished (its commands measured) and again when it is
