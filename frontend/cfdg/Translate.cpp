@@ -833,8 +833,8 @@ class Translator {
         fail(e.args[k]->at, "select()/if() choices must be of one length");
     }
     // The condition for choice k (1…n), on the selector's value named s.
-    auto test = [&](const std::string& s, size_t k) {
-      return f == "if" ? (k == 1 ? s + " != 0.0" : "") : (k == n ? "" : s + " < " + std::to_string(k));
+    auto test = [isIf = f == "if", n](const std::string& s, size_t k) -> std::string {
+      return isIf ? (k == 1 ? s + " != 0.0" : "") : (k == n ? "" : s + " < " + std::to_string(k));
     };
     if (args[1].adjustment) {
       Value v;
@@ -1223,11 +1223,15 @@ class Translator {
 
   // Whether every term of `a` only moves, turns, scales, skews or flips: such an adjustment in a
   // transform statement is a copy's geometry alone.
-  static bool geometryOnly(const Adjustment& a) {
-    for (const auto& t : a.terms) {
-      const std::string& k = t.word;
+  bool geometryOnly(const Adjustment& a) {
+    constexpr int kGeometry = 1 | 4;  // termClass: moves, turns, sizes, skews, flips
+    for (const auto& t : prepare(a)) {  // three-valued x and s move z too: z, xyz, sizexyz
+      const std::string& k = t.kind;
       if (k != "x" && k != "y" && k != "r" && k != "s" && k != "skew" && k != "f" && k != "trans") return false;
-      if ((k == "x" || k == "s") && t.args.size() == 3) return false;  // moves z too
+      if (k == "trans" && t.args.size() == 1) {
+        Value v = probe(*t.args[0]);
+        if (v.adjustment && (v.info.classes & ~kGeometry) != 0) return false;
+      }
     }
     return true;
   }
@@ -1240,16 +1244,27 @@ class Translator {
     std::vector<const Expr*> items;
     if (e.value->kind == Expr::List) for (const auto& a : e.value->args) items.push_back(a.get());
     else items.push_back(e.value.get());
-    std::vector<const Adjustment*> mods, geometric;
+    // A copy's adjustment: written [ … ], or a constant adjustment variable (Context Free takes no
+    // other).
+    struct Copy {
+      const Adjustment* literal;
+      const Expr* value;
+    };
+    std::vector<Copy> mods, geometric;
     bool symmetric = false;  // symmetry flags among the transforms (section 7)
     for (const Expr* x : items) {
-      if (x->kind != Expr::Modification && probe(*x).adjustment)
-        fail(x->at, "adjustment values in a transform statement are not supported by lcjit yet");
-      if (x->kind != Expr::Modification) {
+      if (x->kind == Expr::Modification) {
+        (geometryOnly(*x->adjustment) ? geometric : mods).push_back({x->adjustment.get(), nullptr});
+        continue;
+      }
+      Value v = probe(*x);
+      if (!v.adjustment) {
         symmetric = true;
         continue;
       }
-      (geometryOnly(*x->adjustment) ? geometric : mods).push_back(x->adjustment.get());
+      if (!v.constant) fail(x->at, "Wrong type");
+      constexpr int kGeometry = 1 | 4;  // as geometryOnly
+      ((v.info.classes & ~kGeometry) == 0 ? geometric : mods).push_back({nullptr, x});
     }
     std::string outer = temp(), transforms = temp(), count = temp(), clone = temp(), child = temp(), k = temp();
     line("{");
@@ -1270,17 +1285,22 @@ class Translator {
       line("__cf_State " + transforms + "[" + std::to_string(geometric.size() + 1) + "];");
       line("int " + count + " = 0;");
     }
-    for (const Adjustment* a : geometric) {
+    for (const Copy& copy : geometric) {
       std::string m = temp();
       line("{");
       ++indent_;
       line("__cf_State " + m + ";");
       line("__cf_identity(&" + m + ");");
-      auto terms = prepare(*a);
-      if (!a->ordered) terms = canonical(std::move(terms));
+      if (copy.value) expr(*copy.value).apply(m, true);
+      const Adjustment* a = copy.literal;
+      auto terms = a ? prepare(*a) : std::vector<PreparedTerm>{};
+      if (a && !a->ordered) terms = canonical(std::move(terms));
       for (const auto& t : terms) {
         Value v = termValue(t);
-        if (v.adjustment) fail(t.at, "adjustment values in a transform statement are not supported by lcjit yet");
+        if (v.adjustment) {
+          v.apply(m, true);
+          continue;
+        }
         std::string list;
         for (auto& p : v.parts) list += p + ", ";
         std::string args = temp();
@@ -1301,7 +1321,8 @@ class Translator {
       for (size_t i = 0; i < mods.size(); ++i) {
         line("case " + std::to_string(i) + ": {");
         ++indent_;
-        applyAdjustment(*mods[i], prepare(*mods[i]), child);
+        if (mods[i].literal) applyAdjustment(*mods[i].literal, prepare(*mods[i].literal), child);
+        else expr(*mods[i].value).apply(child, false);
         line("break;");
         --indent_;
         line("}");
@@ -1907,6 +1928,7 @@ class Translator {
         line("const double " + values + "[] = {" + state + ".sx, " + state + ".shy, " + state + ".shx, " + state + ".sy, " +
              state + ".tx, " + state + ".ty};");
       } else {
+        if (probe(*x).adjustment) fail(x->at, "adjustment values with symmetry flags are not supported by lcjit yet");
         std::vector<std::string> v = emitted(numbers(*x));
         kind = "__cf_SymmetryNumbers";
         count = std::to_string(v.size());
