@@ -709,6 +709,24 @@ class Translator {
           if (item >= a.items.size() || a.adjustment[item]) fail(e.at, "function '" + f + "' takes numbers here");
       }
       if (item != a.items.size()) fail(e.at, "function '" + f + "' is given too many values");
+      if (fn.type == "adjustment") {
+        // Context Free applies (or merges) the function's adjustment where it is called.
+        Value v;
+        v.parts.clear();
+        v.adjustment = true;
+        v.constant = false;
+        v.pure = false;
+        std::string cpp = b->cpp;
+        v.apply = [this, &e, cpp](const std::string& state, bool merge) {
+          std::vector<Value> values;
+          for (const auto& a : e.args) values.push_back(expr(*a));
+          Arguments a = arguments(values, true);
+          std::string call = cpp + "(c, &" + state + ", " + (merge ? "1" : "0");
+          for (auto& item : a.items) call += ", " + item;
+          line("{ " + a.pre + call + "); }");
+        };
+        return v;
+      }
       std::string combine = b->cpp + "(c";
       for (size_t k = 0; k < a.items.size(); ++k) combine += ", $" + std::to_string(k);
       combine += ")";
@@ -1987,9 +2005,12 @@ Translation Translator::run() {
       code_.clear();
       indent_ = 1;
       scopes_.emplace_back();
-      if (def.type == "adjustment") fail(def.at, "functions of type adjustment are not supported by lcjit yet");
+      const bool adjustment = def.type == "adjustment";
       const int width = functionWidth(def);
-      std::string signature = (width == 1 ? "double " : "__cf_V<" + std::to_string(width) + "> ") + name + "(__cf_Ctx* c";
+      // An adjustment function applies its adjustment to `state` (or merges it in).
+      std::string signature = adjustment ? "void " + name + "(__cf_Ctx* c, __cf_State* state, int merge"
+                                         : (width == 1 ? "double " : "__cf_V<" + std::to_string(width) + "> ") + name +
+                                               "(__cf_Ctx* c";
       for (const auto& p : def.params) {
         // A number, or a vector's numbers one by one (gathered in an array), or an adjustment.
         std::string pn = "a_" + identifier(p.name);
@@ -2008,6 +2029,18 @@ Translation Translator::run() {
           line("const double " + pn + "[" + std::to_string(p.width) + "] = {" + list + "};");
         }
         scopes_.back()[p.name] = bound;
+      }
+      if (adjustment) {
+        Value v = expr(*def.value);
+        if (!v.adjustment) fail(def.at, "Mismatch between declared and defined type of user function");
+        line("if (merge) {");
+        v.apply("(*state)", true);
+        line("} else {");
+        v.apply("(*state)", false);
+        line("}");
+        scopes_.pop_back();
+        unit += signature + ") {\n  (void)c;\n" + code_ + "}\n";
+        continue;
       }
       Value v = numbers(*def.value);
       if (int(v.parts.size()) != width)
