@@ -809,6 +809,15 @@ class Translator {
       v.parts = {x(1, 2, 2, 1), x(2, 0, 0, 2), x(0, 1, 1, 0)};
       return v;
     }
+    if (f == "hsb2rgb" || f == "rgb2hsb") {
+      if (n != 3) fail(e.at, "RGB/HSB conversion function takes 3 arguments");
+      Value v = joined(args, true);
+      std::string in = temp(), out = temp();
+      v.pre += "const double " + in + "[3] = {" + v.parts[0] + ", " + v.parts[1] + ", " + v.parts[2] + "}; double " + out +
+               "[3]; __cf_colour(" + (f == "hsb2rgb" ? "1" : "0") + ", " + in + ", " + out + "); ";
+      v.parts = {out + "[0]", out + "[1]", out + "[2]"};
+      return v;
+    }
     if (f == "vec") {
       // vec(n, a…): n numbers, a… repeated.
       if (e.args.size() < 2) fail(e.at, "vec() function at least two arguments");

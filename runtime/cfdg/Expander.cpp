@@ -1005,6 +1005,31 @@ double __cf_randint(__cf_Ctx* c, double a, double b) {
 }
 double __cf_pow(double a, double b) { return std::pow(a, b); }
 
+void __cf_colour(int toRgb, const double* in, double* out) {
+  if (toRgb) {
+    const double hsba[4] = {in[0], in[1], in[2], 1.0};
+    double rgba[4];
+    rgbOf(hsba, rgba);
+    out[0] = rgba[0], out[1] = rgba[1], out[2] = rgba[2];
+    return;
+  }
+  // Value is the largest channel, saturation its share the smallest lacks, hue by the largest
+  // (none below 1e-5 of difference).
+  const double r = in[0], g = in[1], b = in[2];
+  const double lo = r < (g < b ? g : b) ? r : (g < b ? g : b);
+  const double hi = r > (g > b ? g : b) ? r : (g > b ? g : b);
+  const double delta = hi - lo;
+  out[2] = hi;
+  if (delta < 0.00001) {
+    out[0] = out[1] = 0.0;
+    return;
+  }
+  out[1] = delta / hi;
+  double h = r == hi ? (g - b) / delta : g == hi ? 2 + (b - r) / delta : 4 + (r - g) / delta;
+  h *= 60;
+  out[0] = h < 0.0 ? std::fmod(h + 360.0, 360.0) : std::fmod(h, 360.0);
+}
+
 void __cf_fold(__cf_State* m, int kind, int count, const double* v) {
   // Geometry folds as it applies; colour terms are merged: hue values add, the others are set.
   double args[6] = {0, 0, 0, 0, 0, 0};
@@ -1114,6 +1139,7 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randpm", reinterpret_cast<void*>(&__cf_randpm)},
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
+      {"__cf_colour", reinterpret_cast<void*>(&__cf_colour)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
       {"__cf_fail_at", reinterpret_cast<void*>(&__cf_fail_at)},
       {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},

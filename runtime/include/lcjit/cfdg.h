@@ -150,6 +150,8 @@ double __cf_rand(struct __cf_Ctx* c, double a, double b);     // rand(a, b), a..
 double __cf_randpm(struct __cf_Ctx* c, double a, double b);   // a +/- b
 double __cf_randint(struct __cf_Ctx* c, double a, double b);
 double __cf_pow(double a, double b);
+// hsb2rgb (toRgb) and rgb2hsb: three numbers to three, by Context Free's colour conversions.
+void __cf_colour(int toRgb, const double* in, double* out);
 // A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
 void __cf_fail(struct __cf_Ctx* c, const char* message);
 // The same at a place of the design ("file:line:col").
