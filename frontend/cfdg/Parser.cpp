@@ -390,6 +390,19 @@ class Parser {
       s.name = name.text;
       s.at = name.at;
       if (is("(")) s.params = params();
+      if (is("=")) {  // shape NAME(params) = value: a function giving a shape
+        next();
+        Definition def;
+        def.name = s.name;
+        def.at = s.at;
+        def.type = "shape";
+        def.isFunction = true;
+        def.params = std::move(s.params);
+        def.value = exp2();
+        def.commandLine = commandLine_;
+        d.definitions.push_back(std::move(def));
+        return;
+      }
       // A shape declared again takes more rules (its parameters must be the same).
       size_t existing = 0;
       while (existing < d.shapes.size() && d.shapes[existing].name != s.name) ++existing;

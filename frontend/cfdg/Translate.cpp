@@ -693,55 +693,7 @@ class Translator {
       for (size_t k = 0; k < args.size(); ++k)
         if (args[k].adjustment) fail(e.args[k]->at, f + "() takes numbers");
     };
-    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) {
-      const Definition& fn = *b->function;
-      Arguments a = arguments(args);
-      // Numbers fill the parameters in order (a vector parameter takes as many), an adjustment
-      // the adjustment parameter.
-      size_t item = 0;
-      for (const auto& p : fn.params) {
-        if (p.type == "adjustment") {
-          if (item >= a.items.size() || !a.adjustment[item]) fail(e.at, "function '" + f + "' takes an adjustment here");
-          ++item;
-          continue;
-        }
-        for (int k = 0; k < p.width; ++k, ++item)
-          if (item >= a.items.size() || a.adjustment[item]) fail(e.at, "function '" + f + "' takes numbers here");
-      }
-      if (item != a.items.size()) fail(e.at, "function '" + f + "' is given too many values");
-      if (fn.type == "adjustment") {
-        // Context Free applies (or merges) the function's adjustment where it is called.
-        Value v;
-        v.parts.clear();
-        v.adjustment = true;
-        v.constant = false;
-        v.pure = false;
-        std::string cpp = b->cpp;
-        v.apply = [this, &e, cpp](const std::string& state, bool merge) {
-          std::vector<Value> values;
-          for (const auto& a : e.args) values.push_back(expr(*a));
-          Arguments a = arguments(values, true);
-          std::string call = cpp + "(c, &" + state + ", " + (merge ? "1" : "0");
-          for (auto& item : a.items) call += ", " + item;
-          line("{ " + a.pre + call + "); }");
-        };
-        return v;
-      }
-      std::string combine = b->cpp + "(c";
-      for (size_t k = 0; k < a.items.size(); ++k) combine += ", $" + std::to_string(k);
-      combine += ")";
-      const int width = functionWidth(fn);
-      if (width == 1) return {{combined(a, combine)}, false, pure && b->constant};
-      // A vector: the call once, its numbers named.
-      Value v;
-      v.constant = false;
-      v.pure = pure && b->constant;
-      std::string t = temp();
-      v.pre = a.pre + "const __cf_V<" + std::to_string(width) + "> " + t + " = " +
-              ordered(a.items, combine, a.pure || a.settled) + "; ";
-      for (int k = 0; k < width; ++k) v.parts.push_back(t + ".v[" + std::to_string(k) + "]");
-      return v;
-    }
+    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) return userCall(*b, std::move(args), e.args, e.at);
     if (auto id = shapeIds_.find(f); id != shapeIds_.end()) {
       // A shape with its parameters bound: a shape value (for a parameter or variable of type
       // shape).
@@ -838,6 +790,62 @@ class Translator {
       return wrap(ord(all.parts, "__cf_fn2(c, " + it->second + ", $0, $1)"));
     }
     fail(e.at, "'" + f + "' is not a function lcjit knows");
+  }
+
+  // A call of function `b` of the design with the arguments `exprs` (their values `args`).
+  Value userCall(const Binding& fb, std::vector<Value> args, const std::vector<ExprP>& exprs, const Place& at) {
+    const Binding* b = &fb;
+    const Definition& fn = *b->function;
+    const std::string& f = fn.name;
+    bool pure = true;
+    for (const auto& v : args) pure &= v.pure;
+    Arguments a = arguments(args);
+    // Numbers fill the parameters in order (a vector parameter takes as many), an adjustment
+    // the adjustment parameter.
+    size_t item = 0;
+    for (const auto& p : fn.params) {
+      if (p.type == "adjustment") {
+        if (item >= a.items.size() || !a.adjustment[item]) fail(at, "function '" + f + "' takes an adjustment here");
+        ++item;
+        continue;
+      }
+      for (int k = 0; k < p.width; ++k, ++item)
+        if (item >= a.items.size() || a.adjustment[item]) fail(at, "function '" + f + "' takes numbers here");
+    }
+    if (item != a.items.size()) fail(at, "function '" + f + "' is given too many values");
+    if (fn.type == "adjustment") {
+      // Context Free applies (or merges) the function's adjustment where it is called.
+      Value v;
+      v.parts.clear();
+      v.adjustment = true;
+      v.constant = false;
+      v.pure = false;
+      std::string cpp = b->cpp;
+      const std::vector<ExprP>* given = &exprs;
+      v.apply = [this, given, cpp](const std::string& state, bool merge) {
+        std::vector<Value> values;
+        for (const auto& a : *given) values.push_back(expr(*a));
+        Arguments a = arguments(values, true);
+        std::string call = cpp + "(c, &" + state + ", " + (merge ? "1" : "0");
+        for (auto& item : a.items) call += ", " + item;
+        line("{ " + a.pre + call + "); }");
+      };
+      return v;
+    }
+    std::string combine = b->cpp + "(c";
+    for (size_t k = 0; k < a.items.size(); ++k) combine += ", $" + std::to_string(k);
+    combine += ")";
+    const int width = functionWidth(fn);
+    if (width == 1) return {{combined(a, combine)}, false, pure && b->constant};
+    // A vector: the call once, its numbers named.
+    Value v;
+    v.constant = false;
+    v.pure = pure && b->constant;
+    std::string t = temp();
+    v.pre = a.pre + "const __cf_V<" + std::to_string(width) + "> " + t + " = " +
+            ordered(a.items, combine, a.pure || a.settled) + "; ";
+    for (int k = 0; k < width; ++k) v.parts.push_back(t + ".v[" + std::to_string(k) + "]");
+    return v;
   }
 
   // The numbers a function of the design gives: its type's (vectorN: N), 1 for a number.
@@ -1467,9 +1475,18 @@ class Translator {
     std::string params = "nullptr";
     int paramCount = 0;
     const Binding* named = e.shapeExpr ? nullptr : lookup(e.shape);
-    if (named && named->kind == Binding::Function) named = nullptr;
+    const Binding* function = named && named->kind == Binding::Function ? named : nullptr;
+    if (function) named = nullptr;
     std::string value;  // a shape value (a parameter or variable of type shape, if(), select())
-    if (e.shapeExpr) {
+    if (function) {
+      // A function giving a shape: its name, then the call's bytes (arguments and name again).
+      if (function->function->type != "shape") fail(e.shapeAt, "Function does not return a shape");
+      std::vector<Value> args;
+      for (const auto& a : e.args) args.push_back(expr(*a));
+      value = temp();
+      line("double " + value + " = " + single(userCall(*function, std::move(args), e.args, e.shapeAt)).parts[0] + ";");
+      spec = e.shape + (e.args.empty() ? std::string() : argBytes(e.args)) + e.shape;
+    } else if (e.shapeExpr) {
       Value s = scalar(*e.shapeExpr);
       value = temp();
       line("double " + value + " = " + s.parts[0] + ";");
