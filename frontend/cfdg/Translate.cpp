@@ -528,13 +528,9 @@ class Translator {
         Value val = expr(*e.args[k]);
         std::string name = "v_" + identifier(e.names[k]) + "_" + std::to_string(temp_++);
         Binding bound{Binding::Local, name, int(val.parts.size()), val.constant};
-        if (val.adjustment) {
-          code += "const __cf_State " + name + " = " + adjustmentState(val) + "; ";
-          bound.adjustment = true;
-          bound.width = __cf_StateDoubles;
-          bound.info = val.info;
-          bound.info.seed = seedOf(kSeedBase, e.names[k]);
-        } else if (val.parts.size() == 1) {
+        if (val.adjustment)  // Context Free keeps no value for it
+          fail(e.args[k]->at, "an adjustment defined in let() is not supported by lcjit");
+        if (val.parts.size() == 1) {
           code += "const double " + name + " = " + single(val).parts[0] + "; ";
         } else {
           code += val.pre + "const double " + name + "[" + std::to_string(val.parts.size()) + "] = {";
@@ -1062,6 +1058,16 @@ class Translator {
     return terms;
   }
 
+  // A constant adjustment value merged into `state` as Context Free folds one (into an
+  // adjustment, or a constant variable): its folded part only, without the terms it keeps for the
+  // run (a colour value set twice).
+  bool foldedOnly_ = false;
+  void foldedValue(const Value& v, const std::string& state) {
+    foldedOnly_ = true;
+    v.apply(state, true);
+    foldedOnly_ = false;
+  }
+
   // The value of a prepared term's arguments: numbers, or (`trans a`) an adjustment.
   Value termValue(const PreparedTerm& t) {
     if (t.kind == "trans" && t.args.size() == 1) {
@@ -1090,6 +1096,8 @@ class Translator {
   // the adjustment values folded in bring to the element's.
   uint64_t applyAdjustment(const Adjustment& a, std::vector<PreparedTerm> terms, const std::string& state,
                            bool merge = false) {
+    const bool foldedOnly = foldedOnly_;
+    foldedOnly_ = false;
     if (!a.ordered) terms = canonical(std::move(terms));
     int nonConstant = 0;
     std::string folded = temp();
@@ -1112,7 +1120,7 @@ class Translator {
         }
         colourSet |= v.info.colours;
         seed ^= v.info.seed;
-        foldCode += "{ " + captured([&] { v.apply("m", true); }) + "} ";
+        foldCode += "{ " + captured([&] { foldedValue(v, "m"); }) + "} ";
         literalsOnly = false;
         anyFolded = true;
         continue;
@@ -1153,6 +1161,7 @@ class Translator {
       line(std::string(merge ? "__cf_merge(&" : "__cf_apply(&") + state + ", &" + folded + ");");
     }
     for (auto& [t, v] : runtime) {
+      if (foldedOnly) break;
       if (v.adjustment) {
         v.apply(state, merge);
         continue;
@@ -1447,7 +1456,8 @@ class Translator {
       if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
       line("__cf_State " + name + ";");
       line("__cf_identity(&" + name + ");");
-      v.apply(name, true);
+      if (v.constant) foldedValue(v, name);
+      else v.apply(name, true);
       Binding b{Binding::Local, name, __cf_StateDoubles, v.constant};
       b.adjustment = true;
       b.info = v.info;
@@ -2094,7 +2104,8 @@ Translation Translator::run() {
         fail(def.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
       unit += "__cf_State " + name + ";\n";
       line("__cf_identity(&" + name + ");");
-      v.apply(name, true);
+      if (v.constant) foldedValue(v, name);
+      else v.apply(name, true);
       Binding b{Binding::Global, name, __cf_StateDoubles, v.constant};
       b.adjustment = true;
       b.info = v.info;
