@@ -1969,25 +1969,32 @@ class Translator {
         kind = "__cf_SymmetryFlag";
         count = "1";
         line("static const double " + values + "[] = {" + flag(*x) + "};");
-      } else if (x->kind == Expr::Modification) {
-        if (!geometryOnly(*x->adjustment)) {
+      } else if (Value v = probe(*x); x->kind == Expr::Modification || v.adjustment) {
+        // [ … ], or a constant adjustment variable: a transform when it only moves, turns, sizes.
+        constexpr int kGeometry = 1 | 4;  // as geometryOnly
+        if (x->kind != Expr::Modification && !v.constant) fail(x->at, "Wrong type");
+        if (x->kind == Expr::Modification ? !geometryOnly(*x->adjustment) : (v.info.classes & ~kGeometry) != 0) {
           if (statement) continue;
           fail(x->at, "At least one term was invalid");
         }
         std::string state = temp();
         line("__cf_State " + state + ";");
-        settingAdjustment(*x, "CF::Symmetry", state);
+        if (x->kind == Expr::Modification) {
+          settingAdjustment(*x, "CF::Symmetry", state);
+        } else {
+          line("__cf_identity(&" + state + ");");
+          foldedValue(v, state);
+        }
         kind = "__cf_SymmetryTransform";
         count = "6";
         line("const double " + values + "[] = {" + state + ".sx, " + state + ".shy, " + state + ".shx, " + state + ".sy, " +
              state + ".tx, " + state + ".ty};");
       } else {
-        if (probe(*x).adjustment) fail(x->at, "adjustment values with symmetry flags are not supported by lcjit yet");
-        std::vector<std::string> v = emitted(numbers(*x));
+        std::vector<std::string> numbers = emitted(this->numbers(*x));
         kind = "__cf_SymmetryNumbers";
-        count = std::to_string(v.size());
+        count = std::to_string(numbers.size());
         std::string parts;
-        for (auto& p : v) parts += p + ", ";
+        for (auto& p : numbers) parts += p + ", ";
         line("const double " + values + "[] = {" + parts + "};");
       }
       items.push_back("{" + kind + ", " + count + ", " + values + ", " + placeString(x->at) + "}");
