@@ -23,6 +23,7 @@
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
 #if LCJIT_HAVE_WINDOW
+#include "app/cfdg/DesignWindow.h"
 #include "app/window/WindowMode.h"
 #endif
 
@@ -165,8 +166,14 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
 
   const std::string cacheDir = app::settleOptions(options);
   if (const app::Language* language = app::languageOf(app::modelOf(options.inputs));
-      language && language->engine == app::EngineKind::ShapeExpansion)
+      language && language->engine == app::EngineKind::ShapeExpansion) {
+#if LCJIT_HAVE_WINDOW
+    if (app::opensWindow(options))
+      return app::runDesignWindow(app::designRunOptions(options, cacheDir), app::windowOptions(options),
+                                  app::interactiveOptions(options, app::compileTiers(options, true)));
+#endif
     return app::runDesign(app::designRunOptions(options, cacheDir));
+  }
   const bool labWindow = app::labWindow(options);
   // --lab with a display where bubblewrap does not work: the window and the REPL in this process.
   if (labWindow && !options.sandbox && !app::sandboxUnavailable().empty()) {

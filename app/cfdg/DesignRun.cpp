@@ -80,19 +80,16 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("output", o.outs, "output file");
 }
 
-namespace {
-
 namespace cf = runtime::cfdg;
 
-// A design compiled and loaded: its code, its table and what its translation says of it.
-struct LoadedDesign {
-  std::unique_ptr<jit::ModelCode> code;
-  const __cf_Design* table = nullptr;
-  frontend::cfdg::Translation unit;
-  std::vector<std::string> files;  // the design and what it imports
-  double parseMs = 0, compileMs = 0;
-  bool fromCache = false;
-};
+llvm::Expected<std::unique_ptr<jit::Compiler>> designCompiler(const std::string& cacheDir) {
+  jit::CompilerConfig config;
+  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
+  config.cacheDir = cacheDir;
+  config.prebuiltDir = prebuiltDir();
+  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
+  return jit::Compiler::create(std::move(config));
+}
 
 llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& o) {
   const auto start = support::Clock::now();
@@ -129,10 +126,9 @@ uint64_t chooseVariation(const std::string& code) {
   return std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
 }
 
-// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
-int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
-  const auto start = support::Clock::now();
-  cf::ExpandOptions eo;
+DesignExpansion expandDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  DesignExpansion x;
+  cf::ExpandOptions& eo = x.options;
   eo.width = o.width;
   eo.height = o.height;
   eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
@@ -146,8 +142,18 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   std::vector<double> statics;
   uint64_t s = eo.variation;
   for (int k = 0; k < d.unit.randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
+  x.expansion = cf::expand(*d.table, eo, statics);
+  return x;
+}
 
-  cf::Expansion e = cf::expand(*d.table, eo, statics);
+namespace {
+
+// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
+int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  const auto start = support::Clock::now();
+  DesignExpansion x = expandDesign(d, o, variation);
+  const cf::ExpandOptions& eo = x.options;
+  const cf::Expansion& e = x.expansion;
   const double expandMs = support::msSince(start);
   if (!e.error.empty()) {
     std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
@@ -240,12 +246,7 @@ int runDesign(const DesignRunOptions& given) {
     return 0;
   }
 
-  jit::CompilerConfig config;
-  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
-  config.cacheDir = o.cacheDir;
-  config.prebuiltDir = prebuiltDir();
-  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
-  auto compiler = jit::Compiler::create(std::move(config));
+  auto compiler = designCompiler(o.cacheDir);
   if (!compiler) return failed(compiler.takeError());
 
   auto loaded = loadDesign(**compiler, o);

@@ -4,12 +4,22 @@
 // line) end here.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "frontend/cfdg/Translate.h"
+#include "runtime/cfdg/Expander.h"
+#include <llvm/Support/Error.h>
 
 namespace CLI {
 class App;
 }
+
+namespace lcjit::jit {
+class Compiler;
+class ModelCode;
+}  // namespace lcjit::jit
 
 namespace lcjit::app {
 
@@ -42,5 +52,35 @@ void declareCfdgOptions(CLI::App& command, DesignRunOptions& into);
 
 // 0 when every picture was written; errors are printed (file:line:col: error: …) and give 1.
 int runDesign(const DesignRunOptions& options);
+
+// The pieces of a run that the window's host of designs (DesignWindow.h) shares.
+
+// The JIT set up for designs: the host functions their code calls linked in.
+llvm::Expected<std::unique_ptr<jit::Compiler>> designCompiler(const std::string& cacheDir);
+
+// A design compiled and loaded: its code, its table and what its translation says of it.
+struct LoadedDesign {
+  std::unique_ptr<jit::ModelCode> code;
+  const __cf_Design* table = nullptr;
+  frontend::cfdg::Translation unit;
+  std::vector<std::string> files;  // the design and what it imports
+  double parseMs = 0, compileMs = 0;
+  bool fromCache = false;
+};
+// Reads, translates and compiles `options.design` (with its -D definitions); errors at
+// file:line:col.
+llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& options);
+
+// The variation a code names (Context Free's letters or a number), or a random one for "";
+// 0 when the code is neither.
+uint64_t chooseVariation(const std::string& code);
+
+// One expansion of a loaded design at a variation, with the options it ran with (the settings
+// of the design and of the command line, merged as cfdg merges them).
+struct DesignExpansion {
+  runtime::cfdg::ExpandOptions options;
+  runtime::cfdg::Expansion expansion;
+};
+DesignExpansion expandDesign(const LoadedDesign& design, const DesignRunOptions& options, uint64_t variation);
 
 }  // namespace lcjit::app
