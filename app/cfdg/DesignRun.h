@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,8 @@ struct DesignRunOptions {
   bool crop = false;    // -c (cfdg's): only the fitted block (not for tiled or frieze designs)
   bool watch = false;   // --watch: draw again when the design is saved
   std::vector<std::string> defines;  // -D NAME=VALUE
+  std::optional<uint64_t> seed;      // --seed N: variation N (a sweep's runs)
+  std::string runRecord;             // --run-record: the run's JSON record, whatever happens
   std::string cacheDir;
 };
 
