@@ -299,6 +299,7 @@ int runDesign(const DesignRunOptions& given) {
   int status = 1;
   std::vector<std::string> watched = {o.design};
   if (loaded) {
+    if (o.loaded) o.loaded(loaded->files);
     status = drawDesign(*loaded, o, variation);
     watched = loaded->files;
   } else {

@@ -4,6 +4,7 @@
 // line) end here.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,6 +45,9 @@ struct DesignRunOptions {
   std::vector<std::string> defines;  // -D NAME=VALUE
   std::optional<uint64_t> seed;      // --seed N: variation N (a sweep's runs)
   std::string runRecord;             // --run-record: the run's JSON record, whatever happens
+  // Told the files each load read (the design and what it imports): a sandboxed run's child
+  // reports them to its parent, which watches them.
+  std::function<void(const std::vector<std::string>&)> loaded;
   std::string cacheDir;
 };
 
