@@ -15,8 +15,8 @@
 #include "app/common/RunRecord.h"
 #include "app/session/FileMonitor.h"
 #include "app/session/Session.h"  // runtimeIncludeDir, prebuiltDir
-#include "frontend/cfdg/Parser.h"
-#include "frontend/cfdg/Translate.h"
+#include "app/session/Languages.h"
+#include "frontend/cfdg/ReadDesign.h"
 #include "jit/Compiler.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/cfdg/DesignGeometry.h"
@@ -86,6 +86,18 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
 
 namespace cf = runtime::cfdg;
 
+namespace {
+
+// The front end of the design's language (Languages.h); `lcjit cfdg` reads any file as CFDG, as
+// cfdg does.
+ReadDesign designFrontEnd(const std::string& path) {
+  const Language* language = languageOf(path);
+  if (!language || !language->readDesign) language = languageNamed("CFDG");
+  return language->readDesign;
+}
+
+}  // namespace
+
 llvm::Expected<std::unique_ptr<jit::Compiler>> designCompiler(const std::string& cacheDir) {
   jit::CompilerConfig config;
   config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
@@ -99,26 +111,24 @@ llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRun
   const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
   if (!text) return llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message());
-  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
-  if (!design) return design.takeError();
-  auto unit = frontend::cfdg::translateDesign(*design);
+  auto unit = designFrontEnd(o.design)((*text)->getBuffer(), o.design, o.defines);
   if (!unit) return unit.takeError();
   LoadedDesign d;
   d.files = {o.design};
-  d.files.insert(d.files.end(), design->imports.begin(), design->imports.end());
+  d.files.insert(d.files.end(), unit->imports.begin(), unit->imports.end());
   d.parseMs = support::msSince(start);
   jit::CompileOptions co;
   co.optLevel = o.optLevel;
   co.plainUnit = true;
   co.bufferName = o.design + ".cpp";
   jit::CompileStats stats;
-  auto code = compiler.compile(unit->cpp, co, &stats);
+  auto code = compiler.compile(unit->translation.cpp, co, &stats);
   if (!code) return code.takeError();
   auto table = (*code)->lookup("__cf_design");
   if (!table) return table.takeError();
   d.code = std::move(*code);
   d.table = static_cast<const __cf_Design*>(*table);
-  d.unit = std::move(*unit);
+  d.unit = std::move(unit->translation);
   d.compileMs = support::msSince(start) - d.parseMs;
   d.fromCache = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   return d;
@@ -284,11 +294,9 @@ int runDesign(const DesignRunOptions& given) {
   if (o.emitCpp) {
     auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
     if (!text) return failed(llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message()));
-    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
-    if (!design) return failed(design.takeError());
-    auto unit = frontend::cfdg::translateDesign(*design);
+    auto unit = designFrontEnd(o.design)((*text)->getBuffer(), o.design, o.defines);
     if (!unit) return failed(unit.takeError());
-    std::fputs(unit->cpp.c_str(), stdout);
+    std::fputs(unit->translation.cpp.c_str(), stdout);
     return 0;
   }
 
