@@ -129,6 +129,7 @@ llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRun
   d.code = std::move(*code);
   d.table = static_cast<const __cf_Design*>(*table);
   d.unit = std::move(unit->translation);
+  d.variables = std::move(unit->variables);
   d.compileMs = support::msSince(start) - d.parseMs;
   d.fromCache = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   return d;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "frontend/cfdg/Translate.h"
+#include "frontend/cfdg/ReadDesign.h"
 #include "runtime/cfdg/Expander.h"
 #include <llvm/Support/Error.h>
 
@@ -71,6 +71,7 @@ struct LoadedDesign {
   const __cf_Design* table = nullptr;
   frontend::cfdg::Translation unit;
   std::vector<std::string> files;  // the design and what it imports
+  std::vector<frontend::cfdg::DesignVariable> variables;  // its constant numbers (ReadDesign.h)
   double parseMs = 0, compileMs = 0;
   bool fromCache = false;
 };

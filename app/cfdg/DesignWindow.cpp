@@ -1,10 +1,12 @@
 // A Context Free design in the window (DesignWindow.h).
 #include "app/cfdg/DesignWindow.h"
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <future>
+#include <map>
 #include <optional>
 
 #include "app/common/Background.h"
@@ -99,7 +101,7 @@ class DesignHost final : public ModelHost {
       case Action::NewModel:
       case Action::NewLsystem:
         news_.resetView = news_.resetView || a == Action::NewModel;
-        compile_.start([this] { return compile(compiler_, options_); });
+        compile_.start([this, o = withMoved()] { return compile(compiler_, o); });
         break;
       case Action::NewRun: news_.rerun = true; break;
       case Action::NewView:
@@ -128,11 +130,46 @@ class DesignHost final : public ModelHost {
       news_.rerun = true;
     };
     a.interrupt = [this] { interrupt(); };
+    if (design_ && !design_->variables.empty()) a.panels.push_back(parameters());
     const std::filesystem::path design(options_.design);
     a.saveName = (design.parent_path() / design.stem()).string() + ".png";
     a.saveAs = [this](const std::string& path) { save(path); };
   }
   bool records() const override { return false; }
+
+  // The Parameters panel: a slider for each constant number the design defines (`turn = 10`),
+  // from 0 to twice its value as first read (-1 to 1 for 0). A move compiles the design again
+  // with NAME=VALUE as -D gives it (the design's own definition gives way) and draws it anew.
+  viewer::Panel parameters() {
+    viewer::Panel p;
+    p.title = "Parameters";
+    for (const frontend::cfdg::DesignVariable& v : design_->variables) {
+      const std::pair<double, double> first = v.value > 0   ? std::pair(0.0, 2 * v.value)
+                                              : v.value < 0 ? std::pair(2 * v.value, 0.0)
+                                                            : std::pair(-1.0, 1.0);
+      const auto range = ranges_.try_emplace(v.name, first).first->second;
+      viewer::PanelControl c;
+      c.label = v.name;
+      c.value = float(v.value);
+      c.min = float(range.first), c.max = float(range.second);
+      c.tooltip = v.line ? options_.design + ":" + std::to_string(v.line) : "-D " + v.name;
+      p.controls.push_back(c);
+    }
+    p.changed = [this, names = p.controls](size_t control, float value) {
+      char text[32];
+      auto end = std::to_chars(text, text + sizeof text, value).ptr;
+      moved_[names[control].label] = std::string(text, end);
+      compile_.start([this, o = withMoved()] { return compile(compiler_, o); });
+    };
+    return p;
+  }
+  // The options a compile takes: the command line's, with the values moved in the panel.
+  DesignRunOptions withMoved() const {
+    DesignRunOptions o = options_;
+    std::erase_if(o.defines, [this](const std::string& d) { return moved_.count(d.substr(0, d.find('='))) != 0; });
+    for (const auto& [name, shown] : moved_) o.defines.push_back(name + "=" + shown);
+    return o;
+  }
 
   static Compiled compile(jit::Compiler& compiler, const DesignRunOptions& o) {
     Compiled c;
@@ -216,6 +253,10 @@ class DesignHost final : public ModelHost {
   viewer::Window& window_;
   bool quiet_;
   std::optional<LoadedDesign> design_;  // the last good design
+  // The Parameters panel: each variable's slider range (from its first value) and the values
+  // moved there (what -D NAME=VALUE the next compiles add).
+  std::map<std::string, std::pair<double, double>> ranges_;
+  std::map<std::string, std::string> moved_;
   std::optional<Compiled> waiting_;     // a recompile waiting for the worker to finish
   std::future<Drawn> work_;
   // What the window shows: its geometry, the expansion it came from (for Save as…), and the

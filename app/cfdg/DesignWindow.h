@@ -3,7 +3,8 @@
 // expanded on a worker thread and shown as flat coloured shapes on the picture plane (2D: pan and
 // zoom); New model re-reads and recompiles it (a broken edit keeps the last good picture, the
 // error over it), New run expands it again, Next variation (Ctrl+N) expands the next variation,
-// and -rmode cont does New model at every save of the design or a file it imports.
+// and -rmode cont does New model at every save of the design or a file it imports. The Parameters
+// panel moves the design's constant numbers (as -D would set them) and draws it again.
 #pragma once
 #include "app/cfdg/DesignRun.h"
 

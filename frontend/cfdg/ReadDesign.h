@@ -11,9 +11,18 @@
 
 namespace lcjit::frontend::cfdg {
 
+// A global number a design defines as a plain constant (`turn = 10`, `n = -2.5`): what a -D
+// NAME=VALUE replaces, and what the window's Parameters panel offers to change.
+struct DesignVariable {
+  std::string name;
+  double value = 0;
+  int line = 0;  // of its definition in the design (or 0: given with -D)
+};
+
 struct DesignUnit {
   Translation translation;
   std::vector<std::string> imports;  // the files imported or included, as read
+  std::vector<DesignVariable> variables;  // in the order the design defines them
 };
 
 // Parses (with the -D NAME=VALUE `defines`, Parser.h) and translates; errors at file:line:col.
