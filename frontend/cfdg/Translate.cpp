@@ -400,8 +400,9 @@ class Translator {
     return it->second;
   }
 
-  // A call of the design's function `b` with `argExprs`.
-  Value userFunction(const Binding& b, const std::vector<ExprP>& argExprs) {
+  // A call of the design's function `b` with `argExprs`, written at `at`; Context Free's errors
+  // for a wrong number of arguments.
+  Value userFunction(const Binding& b, const std::vector<ExprP>& argExprs, const Place& at) {
     std::vector<std::string> parts;
     bool pure = true;
     for (const auto& a : argExprs) {
@@ -409,6 +410,11 @@ class Translator {
       parts.insert(parts.end(), v.parts.begin(), v.parts.end());
       pure &= v.pure;
     }
+    const size_t wanted = b.function->params.size();
+    if (wanted == 0 && !parts.empty()) fail(argExprs[0]->at, "Arguments are not expected.");
+    if (wanted > 0 && argExprs.empty()) fail(at, "Arguments are expected.");
+    if (parts.size() > wanted) fail(argExprs[0]->at, "Too many arguments");
+    if (parts.size() < wanted) fail(argExprs[0]->at, "Not enough arguments.");
     std::string combine = b.cpp + "(c";
     for (size_t k = 0; k < parts.size(); ++k) combine += ", $" + std::to_string(k);
     combine += ")";
@@ -417,7 +423,7 @@ class Translator {
 
   Value call(const Expr& e) {
     const std::string& f = e.text;
-    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) return userFunction(*b, e.args);
+    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) return userFunction(*b, e.args, e.at);
     std::vector<Value> args;
     bool constant = true, pure = true;
     for (const auto& a : e.args) {
@@ -918,7 +924,7 @@ class Translator {
       // `f(args) [adj]`: the shape a shape-valued function gives.
       if (named->function->type != "shape") fail(e.args.empty() ? e.shapeAt : e.args[0]->at, "Function does not return a shape");
       if (e.reuseParams) fail(e.shapeAt, "a function's arguments cannot be the shape's own parameters");
-      Value s = userFunction(*named, e.args);
+      Value s = userFunction(*named, e.args, e.shapeAt);
       value = temp();
       line("double " + value + " = " + s.parts[0] + ";");
       spec = asWritten(e.shape, e.shapeWritten) + functionBytes(*named->function, e.args);
