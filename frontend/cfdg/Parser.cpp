@@ -133,6 +133,7 @@ class Parser {
       def.name = word.text == "background" ? "CF::Background" : word.text == "tile" ? "CF::Tile"
                  : word.text == "time" ? "CF::Time" : "CF::Size";
       def.at = word.at;
+      def.depth = depth_;
       def.config = true;
       auto e = make(Expr::Modification, peek().at);
       e->adjustment = std::make_shared<Adjustment>(modification2());
