@@ -58,7 +58,7 @@ const std::map<std::string, std::string> kFunctions1 = {
     {"asinh", "__cf_Asinh"}, {"atanh", "__cf_Atanh"}, {"log", "__cf_Log"}, {"log10", "__cf_Log10"},
     {"sqrt", "__cf_Sqrt"}, {"exp", "__cf_Exp"}, {"abs", "__cf_Abs"}, {"floor", "__cf_Floor"},
     {"ceiling", "__cf_Ceiling"}, {"infinity", "__cf_Infinity"}, {"factorial", "__cf_Factorial"},
-    {"sg", "__cf_Sg"}, {"isNatural", "__cf_IsNatural"}, {"bitnot", "__cf_BitNot"}};
+    {"sg", "__cf_Sg"}, {"bitnot", "__cf_BitNot"}};
 const std::map<std::string, std::string> kFunctions2 = {
     {"atan2", "__cf_Atan2"}, {"mod", "__cf_Mod"}, {"divides", "__cf_Divides"}, {"div", "__cf_Div"},
     {"bitor", "__cf_BitOr"}, {"bitand", "__cf_BitAnd"}, {"bitxor", "__cf_BitXor"},
@@ -77,6 +77,11 @@ std::string identifier(const std::string& name) {
     }
   }
   return out;
+}
+
+// A name as written (its seed bytes), given the name and Ast.h's `written` field.
+const std::string& asWritten(const std::string& name, const std::string& written) {
+  return written.empty() ? name : written;
 }
 
 std::string hex64(uint64_t v) {
@@ -103,6 +108,8 @@ class Translator {
   int statics_ = 0;
   bool usesSat_ = false;    // a sat term: the picture is in colour
   bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
+  double maxNatural_ = 1000;  // CF::MaxNatural
+  bool impure_ = false;       // CF::Impure
   const Expr* background_ = nullptr;  // CF::Background
   bool inPath_ = false;      // translating a path's body
   size_t currentRule_ = 0;   // the rule being translated (its index in the design)
@@ -149,12 +156,18 @@ class Translator {
     return b + hotbits("cons");
   }
 
+  // A call of the design's function `fn`: its arguments (none: nothing), then its name as its
+  // definition writes it.
+  std::string functionBytes(const Definition& fn, const std::vector<ExprP>& args) {
+    return (args.empty() ? std::string() : argBytes(args)) + asWritten(fn.name, fn.written);
+  }
+
   std::string bytes(const Expr& e) {
     switch (e.kind) {
       case Expr::Number: return e.text;
       case Expr::Name:
         if (e.text.rfind("CF::", 0) == 0) return {};  // flags and ∞ are textless numbers
-        return e.text;
+        return asWritten(e.text, e.written);
       case Expr::Unary:
         return bytes(*e.args[0]) + hotbits(e.text == "-" ? "N" : e.text == "+" ? "P" : "!");
       case Expr::Binary:
@@ -167,7 +180,7 @@ class Translator {
         for (const auto& a : e.args) b += bytes(*a);
         return b + hotbits("cons");
       }
-      case Expr::Index: return e.text + bytes(*e.args[0]);
+      case Expr::Index: return asWritten(e.text, e.written) + bytes(*e.args[0]);
       case Expr::Call: {
         const std::string& f = e.text;
         if (f == "if" || f == "select") {
@@ -176,8 +189,10 @@ class Translator {
           return b + hotbits("cons") + hotbits("select");
         }
         const Binding* bnd = lookup(f);
-        if (bnd && bnd->kind == Binding::Function) return argBytes(e.args) + f;
-        if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? f : f + argBytes(e.args);
+        // A user function: its name as its definition writes it.
+        if (bnd && bnd->kind == Binding::Function) return functionBytes(*bnd->function, e.args);
+        const std::string& name = asWritten(f, e.written);
+        if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? name : name + argBytes(e.args);
         std::string h = hotbits(f);
         if (h.empty()) return argBytes(e.args) + f;
         // Functions with default arguments get them before their bytes are taken; the inserted
@@ -205,12 +220,17 @@ class Translator {
   // 3. Expressions → C++
   // -------------------------------------------------------------------------------------------
 
-  static std::string number(const std::string& text) {
+  // A number as written: a trailing % divides it by 100.
+  static double numberValue(const std::string& text) {
     std::string t = text;
     bool percent = !t.empty() && t.back() == '%';
     if (percent) t.pop_back();
     double v = std::strtod(t.c_str(), nullptr);
     if (percent) v /= 100.0;
+    return v;
+  }
+  static std::string number(const std::string& text) { return literal(numberValue(text)); }
+  static std::string literal(double v) {
     char b[64];
     std::snprintf(b, sizeof b, "%a", v);
     return std::string("(") + b + ")";
@@ -358,6 +378,8 @@ class Translator {
     return v;
   }
 
+  double settingNumber(const Definition& def);
+
   std::string flag(const Expr& e) { return number(std::to_string(flagNumber(e))); }
 
   int flagNumber(const Expr& e) {
@@ -378,8 +400,30 @@ class Translator {
     return it->second;
   }
 
+  // A call of the design's function `b` with `argExprs`, written at `at`; Context Free's errors
+  // for a wrong number of arguments.
+  Value userFunction(const Binding& b, const std::vector<ExprP>& argExprs, const Place& at) {
+    std::vector<std::string> parts;
+    bool pure = true;
+    for (const auto& a : argExprs) {
+      Value v = expr(*a);
+      parts.insert(parts.end(), v.parts.begin(), v.parts.end());
+      pure &= v.pure;
+    }
+    const size_t wanted = b.function->params.size();
+    if (wanted == 0 && !parts.empty()) fail(argExprs[0]->at, "Arguments are not expected.");
+    if (wanted > 0 && argExprs.empty()) fail(at, "Arguments are expected.");
+    if (parts.size() > wanted) fail(argExprs[0]->at, "Too many arguments");
+    if (parts.size() < wanted) fail(argExprs[0]->at, "Not enough arguments.");
+    std::string combine = b.cpp + "(c";
+    for (size_t k = 0; k < parts.size(); ++k) combine += ", $" + std::to_string(k);
+    combine += ")";
+    return {{ordered(parts, combine, pure)}, false, false};
+  }
+
   Value call(const Expr& e) {
     const std::string& f = e.text;
+    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) return userFunction(*b, e.args, e.at);
     std::vector<Value> args;
     bool constant = true, pure = true;
     for (const auto& a : e.args) {
@@ -391,16 +435,6 @@ class Translator {
       if (k >= args.size() || args[k].parts.size() != 1) fail(e.at, f + "() takes numbers");
       return args[k].parts[0];
     };
-    if (const Binding* b = lookup(f); b && b->kind == Binding::Function) {
-      const Definition& fn = *b->function;
-      std::vector<std::string> parts;
-      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
-      std::string combine = b->cpp + "(c";
-      for (size_t k = 0; k < parts.size(); ++k) combine += ", $" + std::to_string(k);
-      combine += ")";
-      (void)fn;
-      return {{ordered(parts, combine, pure)}, false, pure && b->constant};
-    }
     if (f == "if" || f == "select") {
       if (f == "if" && args.size() != 3) fail(e.at, "if() takes a condition and two values");
       std::string r = one(0);
@@ -435,6 +469,23 @@ class Translator {
         combine = "__cf_fn2(c, " + std::string(f == "min" ? "__cf_Min" : "__cf_Max") + ", " + combine + ", $" +
                   std::to_string(k) + ")";
       return {{ordered(parts, combine, pure)}, constant, pure};
+    }
+    if (f == "hsb2rgb" || f == "rgb2hsb") {
+      // A colour's three values (three numbers, or a vector of three) in the other model.
+      std::vector<std::string> parts;
+      for (auto& a : args) parts.insert(parts.end(), a.parts.begin(), a.parts.end());
+      if (parts.size() != 3) fail(e.at, f + "() takes three numbers or a vector of three");
+      std::string in = temp(), out = temp();
+      line("double " + out + "[3];");
+      line("{ const double " + in + "[3] = {" + parts[0] + ", " + parts[1] + ", " + parts[2] + "}; __cf_" + f + "(" + in +
+           ", " + out + "); }");
+      return {{out + "[0]", out + "[1]", out + "[2]"}, constant, pure};
+    }
+    if (f == "isNatural") {
+      // An integer from 0 to CF::MaxNatural; anything is natural in an impure design.
+      if (args.size() != 1) fail(e.at, f + "() takes one number");
+      if (impure_) return {{"((void)(" + one(0) + "), 1.0)"}, constant, pure};
+      return {{"__cf_fn2(c, __cf_IsNatural, " + one(0) + ", " + literal(maxNatural_) + ")"}, constant, pure};
     }
     if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
       if (args.size() != 1 && f != "infinity") fail(e.at, f + "() takes one number");
@@ -849,7 +900,7 @@ class Translator {
   void define(const Element& e) {
     Value v = expr(*e.value);
     std::string name = "v_" + identifier(e.name) + "_" + std::to_string(temp_++);
-    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
+    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
     if (v.parts.size() == 1) {
       line("double " + name + " = " + v.parts[0] + ";");
     } else {
@@ -868,9 +919,16 @@ class Translator {
     std::string params = "nullptr";
     int paramCount = 0;
     const Binding* named = e.shapeExpr ? nullptr : lookup(e.shape);
-    if (named && named->kind == Binding::Function) named = nullptr;
     std::string value;  // a shape value (a parameter or variable of type shape, if(), select())
-    if (e.shapeExpr) {
+    if (named && named->kind == Binding::Function) {
+      // `f(args) [adj]`: the shape a shape-valued function gives.
+      if (named->function->type != "shape") fail(e.args.empty() ? e.shapeAt : e.args[0]->at, "Function does not return a shape");
+      if (e.reuseParams) fail(e.shapeAt, "a function's arguments cannot be the shape's own parameters");
+      Value s = userFunction(*named, e.args, e.shapeAt);
+      value = temp();
+      line("double " + value + " = " + s.parts[0] + ";");
+      spec = asWritten(e.shape, e.shapeWritten) + functionBytes(*named->function, e.args);
+    } else if (e.shapeExpr) {
       Value s = scalar(*e.shapeExpr);
       value = temp();
       line("double " + value + " = " + s.parts[0] + ";");
@@ -883,13 +941,13 @@ class Translator {
       name.text = e.shape;
       value = temp();
       line("double " + value + " = " + scalar(name).parts[0] + ";");
-      spec = e.shape;
+      spec = asWritten(e.shape, e.shapeWritten);
     } else {
       int id = shapeId(e.shape, e.shapeAt);
       shapeCode = std::to_string(id);
       const ShapeDecl* decl = id >= 4 ? &decls_[size_t(id - 4)] : nullptr;
       for (const auto& p : decl ? decl->params : std::vector<Param>{}) paramCount += p.width;
-      spec = e.shape;
+      spec = asWritten(e.shape, e.shapeWritten);
       if (e.reuseParams) {
         params = "p";
       } else if (e.hasArgs && !e.args.empty()) {
@@ -933,7 +991,7 @@ class Translator {
     else args.push_back(e.value.get());
     if (args.size() > 3) fail(e.at, "loop takes a count, or a start and an end, and a step");
     auto terms = prepare(e.adjustment);
-    std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : e.name;
+    std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : asWritten(e.name, e.nameWritten);
     uint64_t seed = seedOf(kSeedBase, indexName + bytes(*e.value)) ^ seedOf(kSeedBase, adjustmentBytes(terms));
     if (e.v2Loop)  // CFDG 2: the terms' bytes twice (as written, then in the order they apply), then the count
       seed = seedOf(0, adjustmentBytes(terms) + adjustmentBytes(e.adjustment.ordered ? terms : canonical(terms)) +
@@ -964,7 +1022,11 @@ class Translator {
     if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
     body(e.body);
     scopes_.pop_back();
+    // The loop's adjustment sees the index (`loop i = 1, 5 [x i]`), as it is in this pass.
+    scopes_.emplace_back();
+    if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
     applyAdjustment(e.adjustment, terms, frame);
+    scopes_.pop_back();
     line(index + " += " + step + ";");
     --indent_;
     line("}");
@@ -1172,7 +1234,7 @@ class Translator {
     if (e.shapeExpr) fail(e.shapeAt, "a sub-path must name a path");
     std::string shapeCode;
     std::string params = "nullptr";
-    std::string spec = e.shape;
+    std::string spec = asWritten(e.shape, e.shapeWritten);
     const int kind = subpathKind(e);
     line("{");
     ++indent_;
@@ -1394,6 +1456,16 @@ class Translator {
 // 6. The unit
 // ---------------------------------------------------------------------------------------------
 
+// A setting's number, read when the design is read: a literal, or a negated one.
+double Translator::settingNumber(const Definition& def) {
+  const Expr* e = def.value.get();
+  bool negative = e->kind == Expr::Unary && e->text == "-";
+  if (e->kind == Expr::Unary && (e->text == "-" || e->text == "+")) e = e->args[0].get();
+  if (e->kind != Expr::Number) fail(def.at, def.name + " must be a number lcjit can read here");
+  double v = numberValue(e->text);
+  return negative ? -v : v;
+}
+
 Translation Translator::run() {
   out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
   for (int k = 0; k < 4; ++k) shapeIds_[out_.shapes[size_t(k)]] = k;
@@ -1405,11 +1477,54 @@ Translation Translator::run() {
     shapeIds_[s.name] = int(out_.shapes.size());
     out_.shapes.push_back(s.name);
   }
+  // Context Free's predefined constants: π, and symbols that name the primitives (● ■ ▲ …).
+  globals_["\xCF\x80"] = {Binding::Global, literal(M_PI), 1, true};
+  const std::pair<int, std::vector<const char*>> kSymbols[] = {
+      {0, {"\xE2\x9A\xAB", "\xE2\x97\x8F", "\xE2\xAC\xA4"}},
+      {1, {"\xE2\xAC\x9B", "\xE2\x97\xBC", "\xE2\x97\xBE", "\xEF\xBF\xAD", "\xE2\x96\xA0"}},
+      {2, {"\xE2\x96\xB2", "\xE2\x96\xB4"}}};
+  for (const auto& [primitive, names] : kSymbols)
+    for (const char* name : names) globals_[name] = {Binding::Global, std::to_string(primitive) + ".0", 1, true};
   std::string unit = "// Generated by lcjit from " + d_.file + "\n#include \"lcjit/cfdg.h\"\nnamespace {\n";
   std::string start;
 
+  // Of a setting written more than once, the one written least deep in imports counts, the first
+  // of those; CF::Impure is the last one read (Context Free's rules).
+  std::map<std::string, const Definition*> counting;
+  const Definition* impure = nullptr;
+  for (const auto& def : d_.definitions) {
+    if (!def.config) continue;
+    const Definition*& first = counting[def.name];
+    if (!first || def.depth < first->depth) first = &def;
+    if (def.name == "CF::Impure") impure = &def;
+  }
+  const Definition* maxNatural = counting.count("CF::MaxNatural") ? counting.at("CF::MaxNatural") : nullptr;
+  if (maxNatural) {
+    maxNatural_ = settingNumber(*maxNatural);
+    if (maxNatural_ < 1) fail(maxNatural->value->at, "CF::MaxNatural must be >= 1");
+    if (maxNatural_ >= 9007199254740992.0) fail(maxNatural->value->at, "CF::MaxNatural must be < 9007199254740992");
+  }
+  if (impure) impure_ = settingNumber(*impure) != 0;
+
+  // Functions may call functions written after them: all are known, and declared, first.
+  for (const auto& def : d_.definitions) {
+    if (!def.isFunction) continue;
+    Binding b{Binding::Function, "f_" + identifier(def.name), 1, false};
+    b.function = &def;
+    globals_[def.name] = b;
+    unit += "double " + b.cpp + "(__cf_Ctx* c";
+    for (size_t k = 0; k < def.params.size(); ++k) unit += ", double";
+    unit += ");\n";
+  }
+
   // Globals and functions, in file order.
   for (const auto& def : d_.definitions) {
+    if (def.config && counting.at(def.name) != &def) {
+      // Not read, but a sat term in it still makes the picture colour, as Context Free's reading does.
+      if (def.value->kind == Expr::Modification)
+        for (const Term& t : def.value->adjustment->terms) usesSat_ |= t.word == "sat";
+      continue;
+    }
     if (def.config && pictureSetting(def)) continue;  // section 8
     if (def.config && def.name == "CF::Background") {
       background_ = def.value.get();  // the picture's background: drawn by the canvas
@@ -1417,10 +1532,7 @@ Translation Translator::run() {
     }
     if (def.config) {
       // Settings are constants read at translation time.
-      if (def.value->kind != Expr::Number && !(def.value->kind == Expr::Unary && def.value->args[0]->kind == Expr::Number))
-        fail(def.at, def.name + " must be a number lcjit can read here");
-      double v = std::strtod((def.value->kind == Expr::Number ? def.value->text : def.value->args[0]->text).c_str(), nullptr);
-      if (def.value->kind == Expr::Unary && def.value->text == "-") v = -v;
+      double v = settingNumber(def);
       if (def.name == "CF::MinimumSize") out_.settings.minimumSize = v;
       else if (def.name == "CF::MaxShapes") out_.settings.maxShapes = v;
       else if (def.name == "CF::AllowOverlap" || def.name == "CF::Impure" || def.name == "CF::MaxNatural") {
@@ -1428,10 +1540,8 @@ Translation Translator::run() {
       continue;
     }
     if (def.isFunction) {
-      std::string name = "f_" + identifier(def.name);
-      Binding b{Binding::Function, name, 1, false};
-      b.function = &def;
-      globals_[def.name] = b;
+      if (def.type == "adjustment") fail(def.at, "functions whose value is an adjustment are not supported by lcjit yet");
+      std::string name = globals_.at(def.name).cpp;
       code_.clear();
       indent_ = 1;
       scopes_.emplace_back();
@@ -1456,7 +1566,7 @@ Translation Translator::run() {
     Binding b{Binding::Global, name, int(v.parts.size()), v.constant};
     unit += "double " + name + (v.parts.size() > 1 ? "[" + std::to_string(v.parts.size()) + "]" : "") + ";\n";
     start += code_;
-    if (!v.constant) start += "  c->cur ^= " + hex64(seedOf(kSeedBase, def.name)) + ";\n";
+    if (!v.constant) start += "  c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(def.name, def.written))) + ";\n";
     for (size_t k = 0; k < v.parts.size(); ++k)
       start += "  " + name + (v.parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + v.parts[k] + ";\n";
     globals_[def.name] = b;

@@ -983,6 +983,29 @@ double __cf_randint(__cf_Ctx* c, double a, double b) {
 }
 double __cf_pow(double a, double b) { return std::pow(a, b); }
 
+void __cf_hsb2rgb(const double* in, double* out) {
+  const double hsba[4] = {in[0], in[1], in[2], 1.0};
+  double rgba[4];
+  rgbOf(hsba, rgba);
+  out[0] = rgba[0], out[1] = rgba[1], out[2] = rgba[2];
+}
+
+void __cf_rgb2hsb(const double* in, double* out) {
+  // Context Free's HSB of an RGB colour: grey (under 1e-5 between the extremes) has hue and
+  // saturation 0; the hue is measured from the largest channel's side of the hexcone.
+  const double r = in[0], g = in[1], b = in[2];
+  const double low = r < (g < b ? g : b) ? r : (g < b ? g : b);
+  const double high = r > (g > b ? g : b) ? r : (g > b ? g : b);
+  const double delta = high - low;
+  out[0] = out[1] = 0.0;
+  out[2] = high;
+  if (delta < 0.00001) return;
+  out[1] = delta / high;
+  double hue = r == high ? (g - b) / delta : g == high ? 2 + (b - r) / delta : 4 + (r - g) / delta;
+  hue *= 60;
+  out[0] = hue < 0.0 ? std::fmod(hue + 360.0, 360.0) : std::fmod(hue, 360.0);
+}
+
 void __cf_fold(__cf_State* m, int kind, int count, const double* v) {
   // Geometry folds as it applies; colour terms are merged: hue values add, the others are set.
   double args[6] = {0, 0, 0, 0, 0, 0};
@@ -1048,7 +1071,6 @@ double __cf_fn1(__cf_Ctx*, int fn, double a) {
       return r;
     }
     case __cf_Sg: return a == 0.0 ? 0.0 : 1.0;
-    case __cf_IsNatural: return a >= 0 && a == std::floor(a) ? 1.0 : 0.0;
     case __cf_BitNot: return double(~uint64_t(a) & 0xFFFFFFFFFFFFFull);
   }
   return 0;
@@ -1061,6 +1083,7 @@ double __cf_fn2(__cf_Ctx*, int fn, double a, double b) {
     case __cf_Divides: return uint64_t(b) != 0 && uint64_t(a) % uint64_t(b) == 0 ? 1.0 : 0.0;
     case __cf_Div: return uint64_t(b) != 0 ? double(uint64_t(a) / uint64_t(b)) : 0.0;
     case __cf_Abs2: return std::fabs(a - b);
+    case __cf_IsNatural: return a >= 0 && a <= b && a == std::floor(a) ? 1.0 : 0.0;  // b: CF::MaxNatural
     case __cf_BitOr: return double((uint64_t(a) | uint64_t(b)) & 0xFFFFFFFFFFFFFull);
     case __cf_BitAnd: return double((uint64_t(a) & uint64_t(b)) & 0xFFFFFFFFFFFFFull);
     case __cf_BitXor: return double((uint64_t(a) ^ uint64_t(b)) & 0xFFFFFFFFFFFFFull);
@@ -1091,6 +1114,8 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randpm", reinterpret_cast<void*>(&__cf_randpm)},
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
+      {"__cf_hsb2rgb", reinterpret_cast<void*>(&__cf_hsb2rgb)},
+      {"__cf_rgb2hsb", reinterpret_cast<void*>(&__cf_rgb2hsb)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
       {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},
       {"__cf_replace_value", reinterpret_cast<void*>(&__cf_replace_value)},

@@ -127,6 +127,9 @@ double __cf_rand(struct __cf_Ctx* c, double a, double b);     // rand(a, b), a..
 double __cf_randpm(struct __cf_Ctx* c, double a, double b);   // a +/- b
 double __cf_randint(struct __cf_Ctx* c, double a, double b);
 double __cf_pow(double a, double b);
+// hsb2rgb() and rgb2hsb(): a colour's three values in another model (Context Free's conversions).
+void __cf_hsb2rgb(const double* in, double* out);
+void __cf_rgb2hsb(const double* in, double* out);
 // A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
 void __cf_fail(struct __cf_Ctx* c, const char* message);
 
@@ -157,6 +160,7 @@ void __cf_pathLeaveOps(struct __cf_Ctx* c, int saved);
 // parameters; `body` what the element was compiled to expect (__cf_PathBody).
 void __cf_subpath(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params, int body);
 
+// __cf_IsNatural is a two-argument function: the number, and CF::MaxNatural.
 enum __cf_Function {
   __cf_Cos, __cf_Sin, __cf_Tan, __cf_Cot, __cf_Acos, __cf_Asin, __cf_Atan, __cf_Acot, __cf_Cosh,
   __cf_Sinh, __cf_Tanh, __cf_Acosh, __cf_Asinh, __cf_Atanh, __cf_Log, __cf_Log10, __cf_Sqrt,
