@@ -23,6 +23,7 @@
 #include "runtime/ModelGuard.h"
 #include "runtime/Termination.h"
 #if LCJIT_HAVE_WINDOW
+#include "app/cfdg/DesignWindow.h"
 #include "app/window/WindowMode.h"
 #endif
 
@@ -69,10 +70,30 @@ void declareSweep(CLI::App& sweep, app::SweepCommand& command) {
   collect->add_option("dir", command.dir, "the sweep's folder")->required();
 }
 
+bool isDesign(const app::Options& options) {
+  const app::Language* language = app::languageOf(app::modelOf(options.inputs));
+  return language && language->engine == app::EngineKind::ShapeExpansion;
+}
+
+// A Context Free design in this process: in the window, or written (batch, --watch, a sandboxed
+// run's child).
+int runDesignHere(const app::Options& options, const std::string& cacheDir) {
+  app::DesignRunOptions design = app::designRunOptions(options, cacheDir);
+  if (options.reportFd >= 0)
+    design.loaded = [fd = options.reportFd](const std::vector<std::string>& files) { app::reportLoadedFiles(fd, files); };
+#if LCJIT_HAVE_WINDOW
+  if (app::opensWindow(options))
+    return app::runDesignWindow(design, app::windowOptions(options),
+                                app::interactiveOptions(options, app::compileTiers(options, true)));
+#endif
+  return app::runDesign(design);
+}
+
 // A run of the model in this process: in batch mode, in the window, or as a sandboxed run's child.
 int runHere(app::Options& options, std::string cacheDir) {
   if (options.reportFd >= 0)
     if (auto e = app::startSandboxChild(options, cacheDir)) return failed(std::move(e));
+  if (isDesign(options)) return runDesignHere(options, cacheDir);
   // Ctrl-C interrupts model code (a model in an endless loop) rather than lcjit; SIGTERM and
   // SIGHUP clean up (environmental programs, lpfg.mak's make) before lcjit ends. Before anything
   // compiles: LLVM's handlers then come second (runtime/ModelGuard.cpp, claim); before the
@@ -164,9 +185,13 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   }
 
   const std::string cacheDir = app::settleOptions(options);
-  if (const app::Language* language = app::languageOf(app::modelOf(options.inputs));
-      language && language->engine == app::EngineKind::ShapeExpansion)
-    return app::runDesign(app::designRunOptions(options, cacheDir));
+  if (isDesign(options)) {
+    if (options.lab) {  // --lab's window and REPL are an L-system's
+      std::fprintf(stderr, "lcjit: --lab runs L-systems; a design runs with --watch (and --sandbox)\n");
+      return 1;
+    }
+    if (!options.sandbox && options.reportFd < 0) return runDesignHere(options, cacheDir);
+  }
   const bool labWindow = app::labWindow(options);
   // --lab with a display where bubblewrap does not work: the window and the REPL in this process.
   if (labWindow && !options.sandbox && !app::sandboxUnavailable().empty()) {

@@ -14,6 +14,8 @@
 #   watch        --watch re-runs sandboxed, and a save stops a run that is out of date
 #   home         a model folder that is the home folder is refused
 #   unavailable  without bwrap: --sandbox is an error, --lab warns and runs
+#   design       a Context Free design runs sandboxed: the same picture as without, a file it
+#                imports from outside its folder unreadable, --watch redraws a saved edit
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox.
 set -u
 lcjit=$1 dir=$2 case=$3
@@ -163,6 +165,31 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
       awk '/^step 5 of 5: /{s=NR} /^window open/{w=NR} END{exit !(s && w && s < w)}' out.txt ||
         fail "--lab's window did not open on the model derived to its end: $(cat out.txt)"
     fi ;;
+  design)
+    mkdir -m 700 "$work/home/.ssh"
+    printf 'shape SECRETKEY4711 { SQUARE [] }\n' > "$work/home/.ssh/shapes.cfdg"
+    printf 'startshape Tree\nshape Tree\nrule { CIRCLE [] Tree [y 0.8 s 0.8 r 10] }\nrule { SQUARE [] Tree [y 0.8 s 0.8 r -10] }\n' > d.cfdg
+    "$lcjit" -b -out free.png --variation ABC d.cfdg > out.txt 2> err.txt || fail "the design does not run without the sandbox"
+    "$lcjit" --sandbox -b -out boxed.png --variation ABC d.cfdg > out.txt 2> err.txt; status=$?
+    [ "$status" = 0 ] || fail "exit status $status"
+    cmp free.png boxed.png || fail "the sandboxed picture differs"
+    [ -d .lcjit-cache ] || fail "the sandboxed run kept no cache in the design's folder"
+    # A design that imports a file outside its folder: read without the sandbox, not within.
+    { printf 'import "%s"\n' "$work/home/.ssh/shapes.cfdg"; cat d.cfdg; } > i.cfdg
+    "$lcjit" -b -out i.png i.cfdg > out.txt 2> err.txt || fail "the import does not work without the sandbox"
+    rm -f i.png
+    "$lcjit" --sandbox -b -out i.png i.cfdg > out.txt 2> err.txt; status=$?
+    expect 1 "i.cfdg:1:"
+    [ ! -e i.png ] || fail "a picture was written"
+    ! grep -q "SECRETKEY" out.txt err.txt || fail "the imported file's text shows"
+    # --watch: a saved edit is drawn again, sandboxed.
+    "$lcjit" --sandbox --watch -out w.png d.cfdg > out.txt 2> err.txt &
+    pid=$!
+    for _ in $(seq 1 2400); do [ -s w.png ] && break; sleep 0.05; done
+    [ -s w.png ] || fail "no first picture under --watch"
+    sed 's/r 10/r 30/' d.cfdg > tmp.cfdg && mv tmp.cfdg d.cfdg
+    for _ in $(seq 1 2400); do grep -q "reload 1" err.txt && break; sleep 0.05; done
+    grep -q "reload 1 (d.cfdg)" err.txt || fail "no reload after the save" ;;
   *) echo "unknown case $case"; exit 1 ;;
 esac
 echo "ok: $case"

@@ -9,6 +9,9 @@
 #   run      20 runs (2 STEPS × 10 seeds) through GNU parallel -j2; a rerun runs nothing; equal
 #            seeds give equal strings, different ones different strings; a division by zero in
 #            model code and a run killed outright are rows with status error and the reason
+#   design   a Context Free design's runs: a -D value × 3 seeds (variations 1-3) through GNU
+#            parallel, each row's shape count cfdg's for the same variation and definition (cfdg
+#            run here); a string output refused
 # Usage: run_sweep.sh LCJIT TESTS_SWEEP_DIR CASE
 # No timings are checked: the suite runs on a busy 2-core machine.
 set -u
@@ -16,7 +19,7 @@ lcjit=$1 src=$2 case=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-cp "$src/branch.l" "$src/killed.l" .
+cp "$src/branch.l" "$src/killed.l" "$src/garden.cfdg" .
 fail() { echo "FAIL: $*"; exit 1; }
 
 case $case in
@@ -224,6 +227,30 @@ assert "lcjit was killed by signal 9 (Killed) and wrote no record" in rows[0]["e
 PY
   ;;
 
+design)
+  command -v cfdg >/dev/null || { echo "cfdg (contextfree) is not installed: skipped"; exit 77; }
+  printf 'model: garden.cfdg\nparameters:\n  turn: [10, 25]\nseeds: 3\noutputs: [picture]\n' > garden.yaml
+  "$lcjit" sweep run garden.yaml -j2 > out.txt 2> err.txt || { cat out.txt err.txt; fail "sweep run failed"; }
+  grep -q "results.csv: 6 runs: 6 ok, 0 failed, 0 missing" out.txt || { cat out.txt err.txt; fail "not 6 ok runs"; }
+  for turn in 10 25; do for v in 1 2 3; do
+    cfdg -q -V -s 500 -v $v -D turn=$turn garden.cfdg ref.svg || fail "cfdg failed"
+    echo "$turn $v $(grep -c '<rect\|<circle' ref.svg)"
+  done; done > expected.txt
+  python3 - <<'PY' || fail "results.csv is not cfdg's shapes"
+import csv
+rows = list(csv.DictReader(open("garden-runs/results.csv", newline="")))
+expected = [line.split() for line in open("expected.txt")]
+assert len(rows) == 6 == len(expected), (rows, expected)
+for row, (turn, v, shapes) in zip(rows, expected):
+    assert row["turn"] == turn and row["seed"] == v and row["status"] == "ok", row
+    assert row["variation"] == "ABC"[int(v) - 1] and row["shapes"] == shapes, (row, shapes)
+assert len({r["shapes"] for r in rows}) > 1, "every run drew as many shapes"
+PY
+  for d in garden-runs/runs/*; do [ -s $d/out.png ] || fail "$d lacks out.png"; done
+  printf 'model: garden.cfdg\noutputs: [string]\n' > strings.yaml
+  "$lcjit" sweep plan strings.yaml > out.txt 2> err.txt && fail "a design's string output was planned"
+  grep -q "strings.yaml:2:11: error: a Context Free design has no string" err.txt || { cat err.txt; fail "no error for a design's string"; }
+  ;;
 *) fail "unknown case $case" ;;
 esac
 echo "ok: sweep $case"

@@ -188,6 +188,7 @@ llvm::Expected<std::unique_ptr<Window>> Window::create(const WindowOptions& o) {
   if (!win) return llvm::createStringError("cannot open a window: " + glfwLastError());
   auto impl = std::make_unique<Impl>();
   impl->window = win;
+  impl->flat = o.flat;
   glfwMakeContextCurrent(win);
   if (epoxy_gl_version() < 33) {
     std::string v = std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10);

@@ -45,6 +45,9 @@ struct WindowOptions {
   std::string title = "lcjit";
   bool vsync = true;    // glfwSwapInterval(1); benchmarks turn it off
   bool visible = true;  // tests may create a hidden window (it still draws)
+  // A flat picture (a Context Free design): the left button pans, as a 2D view's does, and
+  // nothing turns the picture out of its plane.
+  bool flat = false;
 };
 
 // A panel beside the view (the Parameters panel, the profiler): data the caller owns and rebuilds
@@ -124,6 +127,9 @@ struct MenuActions {
   // a choice calls userChoice with the item's code.
   std::vector<std::pair<std::string, int>> userMenu;
   std::function<void(int code)> userChoice;
+  // A design's next variation (Context Free's Next Variation), Ctrl+N; empty: not offered (an
+  // L-system has none).
+  std::function<void()> nextVariation;
   // Esc (outside the Save as… dialog): interrupt the model code running now (docs/faults.md).
   std::function<void()> interrupt;
   // The panels the Panels submenu offers (none: no submenu).

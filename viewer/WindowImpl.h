@@ -89,6 +89,7 @@ struct Window::Impl {
   double clickX = 0, clickY = 0;
   int insert = 0;  // the module the last combination push asks for (Pointer::insert)
   Task task = Task::Idle;
+  bool flat = false;  // WindowOptions::flat
   double lastX = 0, lastY = 0;
   int pressMods = 0;  // the modifiers of the last button press (a curve's Ctrl+click adds a point)
 

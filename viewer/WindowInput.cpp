@@ -185,7 +185,7 @@ void Window::Impl::onButton(int button, int action, int mods) {
     // lpfg GLWidget::LBDown; Ctrl+Shift, Shift+Alt and Ctrl+Alt are lpfg's mouse insertion
     // and mouse status (model interaction), not view manipulation.
     if ((ctrl && shift) || (shift && alt) || (ctrl && alt)) task = Task::Idle;
-    else if (shift) task = Task::Pan;
+    else if (shift || flat) task = Task::Pan;
     else if (ctrl || alt) task = Task::Zoom;
     else task = Task::Rotate;
   } else {  // middle: GLWidget::MBDown

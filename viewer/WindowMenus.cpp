@@ -115,6 +115,7 @@ void drawMenus(Window::Impl& m, const MenuActions& actions, Window& self, MenuCh
     m.menuItem("New run", actions.newRun, chosen);
     m.menuItem("New view", actions.newView, chosen);
     m.menuItem("New rendering", actions.newRendering, chosen);
+    if (actions.nextVariation) m.menuItem("Next variation", actions.nextVariation, chosen, "Ctrl+N");
     ImGui::Separator();
     std::function<void()> save, saveAs, exit;
     const std::string saveName = actions.saveName;
@@ -197,6 +198,7 @@ void drawMenus(Window::Impl& m, const MenuActions& actions, Window& self, MenuCh
                                                                     : nullptr;
     if (byKey && *byKey) chosen = *byKey;
   }
+  if (m.shortcut == GLFW_KEY_N && actions.nextVariation && !m.saveIsOpen) chosen = actions.nextVariation;
   m.shortcut = 0;
   if (m.escape && !m.saveIsOpen && !chosen && actions.interrupt) chosen = actions.interrupt;
   m.escape = false;

@@ -8,13 +8,15 @@
 #include <random>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
+#include "app/common/RunRecord.h"
 #include "app/session/FileMonitor.h"
 #include "app/session/Session.h"  // runtimeIncludeDir, prebuiltDir
-#include "frontend/cfdg/Parser.h"
-#include "frontend/cfdg/Translate.h"
+#include "app/session/Languages.h"
+#include "frontend/cfdg/ReadDesign.h"
 #include "jit/Compiler.h"
 #include "runtime/ModelGuard.h"
 #include "runtime/cfdg/DesignGeometry.h"
@@ -48,6 +50,8 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.watch = options.watch;
   d.defines = options.overrides;
   d.maxMemory = options.maxMemory;
+  d.seed = options.seed;
+  d.runRecord = options.runRecord;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -80,44 +84,52 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("output", o.outs, "output file");
 }
 
-namespace {
-
 namespace cf = runtime::cfdg;
 
-// A design compiled and loaded: its code, its table and what its translation says of it.
-struct LoadedDesign {
-  std::unique_ptr<jit::ModelCode> code;
-  const __cf_Design* table = nullptr;
-  frontend::cfdg::Translation unit;
-  std::vector<std::string> files;  // the design and what it imports
-  double parseMs = 0, compileMs = 0;
-  bool fromCache = false;
-};
+namespace {
+
+// The front end of the design's language (Languages.h); `lcjit cfdg` reads any file as CFDG, as
+// cfdg does.
+ReadDesign designFrontEnd(const std::string& path) {
+  const Language* language = languageOf(path);
+  if (!language || !language->readDesign) language = languageNamed("CFDG");
+  return language->readDesign;
+}
+
+}  // namespace
+
+llvm::Expected<std::unique_ptr<jit::Compiler>> designCompiler(const std::string& cacheDir) {
+  jit::CompilerConfig config;
+  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
+  config.cacheDir = cacheDir;
+  config.prebuiltDir = prebuiltDir();
+  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
+  return jit::Compiler::create(std::move(config));
+}
 
 llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& o) {
   const auto start = support::Clock::now();
   auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
   if (!text) return llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message());
-  auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
-  if (!design) return design.takeError();
-  auto unit = frontend::cfdg::translateDesign(*design);
+  auto unit = designFrontEnd(o.design)((*text)->getBuffer(), o.design, o.defines);
   if (!unit) return unit.takeError();
   LoadedDesign d;
   d.files = {o.design};
-  d.files.insert(d.files.end(), design->imports.begin(), design->imports.end());
+  d.files.insert(d.files.end(), unit->imports.begin(), unit->imports.end());
   d.parseMs = support::msSince(start);
   jit::CompileOptions co;
   co.optLevel = o.optLevel;
   co.plainUnit = true;
   co.bufferName = o.design + ".cpp";
   jit::CompileStats stats;
-  auto code = compiler.compile(unit->cpp, co, &stats);
+  auto code = compiler.compile(unit->translation.cpp, co, &stats);
   if (!code) return code.takeError();
   auto table = (*code)->lookup("__cf_design");
   if (!table) return table.takeError();
   d.code = std::move(*code);
   d.table = static_cast<const __cf_Design*>(*table);
-  d.unit = std::move(*unit);
+  d.unit = std::move(unit->translation);
+  d.variables = std::move(unit->variables);
   d.compileMs = support::msSince(start) - d.parseMs;
   d.fromCache = stats.object != jit::CompileStats::ObjectFrom::Compiled;
   return d;
@@ -129,10 +141,9 @@ uint64_t chooseVariation(const std::string& code) {
   return std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
 }
 
-// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
-int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
-  const auto start = support::Clock::now();
-  cf::ExpandOptions eo;
+DesignExpansion expandDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  DesignExpansion x;
+  cf::ExpandOptions& eo = x.options;
   eo.width = o.width;
   eo.height = o.height;
   eo.minimumSize = d.unit.settings.minimumSize > 0 ? d.unit.settings.minimumSize : o.minimumSize;
@@ -146,13 +157,57 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   std::vector<double> statics;
   uint64_t s = eo.variation;
   for (int k = 0; k < d.unit.randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
+  x.expansion = cf::expand(*d.table, eo, statics);
+  return x;
+}
 
-  cf::Expansion e = cf::expand(*d.table, eo, statics);
-  const double expandMs = support::msSince(start);
-  if (!e.error.empty()) {
-    std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
-    return 1;
+namespace {
+
+// --run-record (docs/sweeps.md): a design's run as one row of a sweep's table. Its identity as an
+// L-system run's (lcjit's version, the design and the files it imports with their BLAKE3, the -D
+// values, the seed: the variation), how it ended, and what it made: the shapes drawn, the rules
+// expanded, the variation's code and the shapes' bounding box.
+void writeRecord(const DesignRunOptions& o, const std::vector<std::string>& imports, uint64_t variation,
+                 const cf::Expansion* e, const std::string& error) {
+  if (o.runRecord.empty() || o.watch) return;
+  ModelFiles files;
+  files.lsystem = o.design;
+  files.other = imports;
+  for (const std::string& d : o.defines) {
+    const size_t eq = d.find('=');
+    files.overrides.emplace_back(d.substr(0, eq), eq == std::string::npos ? "" : d.substr(eq + 1));
   }
+  nlohmann::ordered_json r;
+  addRunIdentity(r, files, nullptr, o.seed);
+  r["status"] = error.empty() ? "ok" : "error";
+  if (!error.empty()) r["error"] = error;
+  r["steps"] = e ? 1 : 0;
+  if (e && error.empty()) {
+    nlohmann::ordered_json m;
+    m["variation"] = cf::variationName(variation);
+    m["shapes"] = e->shapes.size();
+    m["expanded"] = e->expanded;
+    if (e->bounds.valid()) m["bbox"] = {e->bounds.minX, e->bounds.minY, 0.0, e->bounds.maxX, e->bounds.maxY, 0.0};
+    r["measures"] = m;
+  }
+  if (auto err = support::writeWholeFile(o.runRecord, r.dump(2) + "\n"))
+    std::fprintf(stderr, "%s\n", llvm::toString(std::move(err)).c_str());
+}
+
+// Expands a loaded design and writes the pictures. 0, or 1 after printing why.
+int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
+  const auto start = support::Clock::now();
+  DesignExpansion x = expandDesign(d, o, variation);
+  const cf::ExpandOptions& eo = x.options;
+  const cf::Expansion& e = x.expansion;
+  const double expandMs = support::msSince(start);
+  const std::vector<std::string> imports(d.files.begin() + 1, d.files.end());
+  auto fail = [&](const std::string& why) {
+    std::fprintf(stderr, "%s\n", why.c_str());
+    writeRecord(o, imports, variation, &e, why);
+    return 1;
+  };
+  if (!e.error.empty()) return fail((e.errorAt.empty() ? o.design : e.errorAt) + ": error: " + e.error);
   if (!e.stopped.empty())
     std::fprintf(stderr, "lcjit: %s: stopped: %s; drawing the %zu shapes made so far\n", o.design.c_str(),
                  e.stopped.c_str(), e.shapes.size());
@@ -165,11 +220,11 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   const cf::PixelRect block{int(f.offsetX), f.height - f.fit.height - int(f.offsetY), f.fit.width, f.fit.height};
   for (const std::string& out : o.outs) {
     if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
-      if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return failed(std::move(err));
+      if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return fail(llvm::toString(std::move(err)));
     } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
       cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
       if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
-        return failed(std::move(err));
+        return fail(llvm::toString(std::move(err)));
     } else if (auto format = runtime::exportFormatFor(out)) {
       // The other formats lcjit exports: the shapes as flat coloured triangles.
       runtime::Geometry geometry = cf::geometryOf(e, f, eo);
@@ -177,10 +232,9 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
       in.geometry = &geometry;
       in.width = f.width;
       in.height = f.height;
-      if (auto err = runtime::exportGeometry(out, *format, in)) return failed(std::move(err));
+      if (auto err = runtime::exportGeometry(out, *format, in)) return fail(llvm::toString(std::move(err)));
     } else {
-      std::fprintf(stderr, "lcjit: %s: not a picture or export lcjit writes\n", out.c_str());
-      return 1;
+      return fail("lcjit: " + out + ": not a picture or export lcjit writes");
     }
   }
   if (!o.quiet)
@@ -189,6 +243,7 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   // A limit of memory or an interrupt cut the design short: its picture is written, and the run
   // fails; the shape limit is an end the user chose (as in Context Free).
   const int status = !e.stopped.empty() && !e.shapeLimit ? 1 : 0;
+  writeRecord(o, imports, variation, &e, status ? "stopped: " + e.stopped : "");
   if (o.timing)
     std::fprintf(stderr,
                  "lcjit: parse and translate %.1f ms, compile %.1f ms (%s), expand %.1f ms (%llu rules run), "
@@ -207,7 +262,15 @@ int runDesign(const DesignRunOptions& given) {
     o.outs = {(std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string() + ".png"};
     if (!o.quiet) std::fprintf(stderr, "lcjit: writing %s\n", o.outs[0].c_str());
   }
-  const uint64_t variation = chooseVariation(o.variation);
+  if (o.seed && !o.variation.empty()) {
+    std::fprintf(stderr, "lcjit: give --variation or --seed, not both (--seed N is variation N)\n");
+    return 1;
+  }
+  if (o.seed && *o.seed == 0) {
+    std::fprintf(stderr, "lcjit: --seed 0: a design's variations are numbered from 1\n");
+    return 1;
+  }
+  const uint64_t variation = o.seed ? *o.seed : chooseVariation(o.variation);
   if (variation == 0) {
     std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
     return 1;
@@ -232,30 +295,26 @@ int runDesign(const DesignRunOptions& given) {
   if (o.emitCpp) {
     auto text = support::readInputFile(o.design, /*nullTerminated=*/false);
     if (!text) return failed(llvm::createStringError("lcjit: " + o.design + ": " + text.getError().message()));
-    auto design = frontend::cfdg::parseDesign((*text)->getBuffer(), o.design, o.defines);
-    if (!design) return failed(design.takeError());
-    auto unit = frontend::cfdg::translateDesign(*design);
+    auto unit = designFrontEnd(o.design)((*text)->getBuffer(), o.design, o.defines);
     if (!unit) return failed(unit.takeError());
-    std::fputs(unit->cpp.c_str(), stdout);
+    std::fputs(unit->translation.cpp.c_str(), stdout);
     return 0;
   }
 
-  jit::CompilerConfig config;
-  config.runtimeHeader = runtimeIncludeDir() + "/lpfgall.h";
-  config.cacheDir = o.cacheDir;
-  config.prebuiltDir = prebuiltDir();
-  for (auto& [name, address] : cf::hostSymbols()) config.hostSymbols.push_back({name, address});
-  auto compiler = jit::Compiler::create(std::move(config));
+  auto compiler = designCompiler(o.cacheDir);
   if (!compiler) return failed(compiler.takeError());
 
   auto loaded = loadDesign(**compiler, o);
   int status = 1;
   std::vector<std::string> watched = {o.design};
   if (loaded) {
+    if (o.loaded) o.loaded(loaded->files);
     status = drawDesign(*loaded, o, variation);
     watched = loaded->files;
   } else {
-    std::fprintf(stderr, "%s\n", llvm::toString(loaded.takeError()).c_str());
+    const std::string why = llvm::toString(loaded.takeError());
+    std::fprintf(stderr, "%s\n", why.c_str());
+    writeRecord(o, {}, variation, nullptr, why);
   }
   if (!o.watch) return status;
 

@@ -4,12 +4,24 @@
 // line) end here.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "frontend/cfdg/ReadDesign.h"
+#include "runtime/cfdg/Expander.h"
+#include <llvm/Support/Error.h>
 
 namespace CLI {
 class App;
 }
+
+namespace lcjit::jit {
+class Compiler;
+class ModelCode;
+}  // namespace lcjit::jit
 
 namespace lcjit::app {
 
@@ -31,6 +43,11 @@ struct DesignRunOptions {
   bool crop = false;    // -c (cfdg's): only the fitted block (not for tiled or frieze designs)
   bool watch = false;   // --watch: draw again when the design is saved
   std::vector<std::string> defines;  // -D NAME=VALUE
+  std::optional<uint64_t> seed;      // --seed N: variation N (a sweep's runs)
+  std::string runRecord;             // --run-record: the run's JSON record, whatever happens
+  // Told the files each load read (the design and what it imports): a sandboxed run's child
+  // reports them to its parent, which watches them.
+  std::function<void(const std::vector<std::string>&)> loaded;
   std::string cacheDir;
 };
 
@@ -42,5 +59,36 @@ void declareCfdgOptions(CLI::App& command, DesignRunOptions& into);
 
 // 0 when every picture was written; errors are printed (file:line:col: error: …) and give 1.
 int runDesign(const DesignRunOptions& options);
+
+// The pieces of a run that the window's host of designs (DesignWindow.h) shares.
+
+// The JIT set up for designs: the host functions their code calls linked in.
+llvm::Expected<std::unique_ptr<jit::Compiler>> designCompiler(const std::string& cacheDir);
+
+// A design compiled and loaded: its code, its table and what its translation says of it.
+struct LoadedDesign {
+  std::unique_ptr<jit::ModelCode> code;
+  const __cf_Design* table = nullptr;
+  frontend::cfdg::Translation unit;
+  std::vector<std::string> files;  // the design and what it imports
+  std::vector<frontend::cfdg::DesignVariable> variables;  // its constant numbers (ReadDesign.h)
+  double parseMs = 0, compileMs = 0;
+  bool fromCache = false;
+};
+// Reads, translates and compiles `options.design` (with its -D definitions); errors at
+// file:line:col.
+llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRunOptions& options);
+
+// The variation a code names (Context Free's letters or a number), or a random one for "";
+// 0 when the code is neither.
+uint64_t chooseVariation(const std::string& code);
+
+// One expansion of a loaded design at a variation, with the options it ran with (the settings
+// of the design and of the command line, merged as cfdg merges them).
+struct DesignExpansion {
+  runtime::cfdg::ExpandOptions options;
+  runtime::cfdg::Expansion expansion;
+};
+DesignExpansion expandDesign(const LoadedDesign& design, const DesignRunOptions& options, uint64_t variation);
 
 }  // namespace lcjit::app

@@ -37,6 +37,11 @@ int runSandboxed(Options o, bool labWindow) {
   }
   const bool window = opensWindow(o);
   const std::string model = modelOf(o.inputs);
+  if (const Language* language = languageOf(model); window && language && language->engine != EngineKind::LSystem) {
+    std::fprintf(stderr, "lcjit: the window over sandboxed runs shows L-systems; a %s runs sandboxed in batch "
+                         "mode or with --watch (-b, -out)\n", std::string(language->model).c_str());
+    return 1;
+  }
   if (!o.batch && o.outs.empty() && !o.emitCpp && !o.compileOnly && !window) {
     o.outs = {shownIn(model.empty() ? o.inputs.back() : model)};
     if (!o.quiet) std::fprintf(stderr, "lcjit: no display; writing %s\n", o.outs[0].c_str());
@@ -137,10 +142,13 @@ llvm::Error startSandboxChild(Options& o, std::string& cacheDir) {
 }
 
 void reportLoadedInputs(int reportFd, const Session& session, const ModelFiles& files) {
-  endOnSignals(SIGXFSZ);
   const runtime::DrawingFiles none;
-  for (const std::string& f : watchedFiles(files, session.loaded() ? session.drawing() : none))
-    reportInput(reportFd, f);
+  reportLoadedFiles(reportFd, watchedFiles(files, session.loaded() ? session.drawing() : none));
+}
+
+void reportLoadedFiles(int reportFd, const std::vector<std::string>& files) {
+  endOnSignals(SIGXFSZ);
+  for (const std::string& f : files) reportInput(reportFd, f);
 }
 
 std::function<void(int step)> childProgress(const Options& o) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <llvm/Support/Error.h>
 
@@ -27,6 +28,8 @@ llvm::Error startSandboxChild(Options& options, std::string& cacheDir);
 // The child's side after the load: a file past --max-file-size now ends the run, and the files
 // the load read are reported (the parent's --watch watches them).
 void reportLoadedInputs(int reportFd, const Session& session, const ModelFiles& files);
+// The same for a run that read `files` (a Context Free design and what it imports).
+void reportLoadedFiles(int reportFd, const std::vector<std::string>& files);
 // The child's reports of its derivation's steps (BatchOptions::progress), none outside a sandbox.
 std::function<void(int step)> childProgress(const Options& options);
 // What a sandboxed window's run answers with (answerWindow), as its command line says.

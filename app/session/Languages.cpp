@@ -2,6 +2,8 @@
 #include "app/session/Languages.h"
 
 #include "app/session/InputKinds.h"
+#include "frontend/cfdg/ReadDesign.h"
+#include "frontend/lc/Rewriter.h"
 
 #include <vector>
 
@@ -14,9 +16,9 @@ constexpr std::string_view kCfdg[] = {"cfdg"};
 
 constexpr Language kLanguages[] = {
     // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
-    {"L+C", "L-system", kLplusC, EngineKind::LSystem},
+    {"L+C", "L-system", kLplusC, EngineKind::LSystem, &frontend::rewrite},
     // Context Free's CFDG: frontend/cfdg/ on the shape-expansion engine.
-    {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion},
+    {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion, nullptr, &frontend::cfdg::readDesign},
 };
 
 }  // namespace
@@ -29,6 +31,12 @@ const Language* languageOf(std::string_view path) {
   for (const Language& language : kLanguages)
     for (std::string_view e : language.extensions)
       if (e == ext) return &language;
+  return nullptr;
+}
+
+const Language* languageNamed(std::string_view name) {
+  for (const Language& language : kLanguages)
+    if (language.name == name) return &language;
   return nullptr;
 }
 

@@ -5,11 +5,22 @@
 //
 // A language is a front end (frontend/<language>/: its text → the C++ the JIT compiles and the
 // tables that describe the model) and the engine its models run on (runtime/). Adding one is its
-// own folder and one row of kLanguages in Languages.cpp; docs/architecture.md draws the seam.
+// own folder and one row of kLanguages in Languages.cpp, which names its front end; the engine's
+// modes call the front end the row names. docs/architecture.md draws the seam.
 #pragma once
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include <llvm/Support/Error.h>
+
+namespace lcjit::frontend {
+struct Rewritten;
+namespace cfdg {
+struct DesignUnit;
+}
+}  // namespace lcjit::frontend
 
 namespace lcjit::app {
 
@@ -24,11 +35,26 @@ enum class EngineKind {
   ShapeExpansion,
 };
 
+// The front ends, one kind per engine: what the engine's session hands the language's text to.
+// The L-system engine's (app/session/Session): the model as the C preprocessor left it (GNU line
+// markers, frontend/lc/Preprocess.h) → the C++ of its modules and productions and the tables the
+// engine reads (frontend/lc/Rewriter.h's contract); errors at FILE:LINE:COL.
+using RewriteModel = llvm::Expected<frontend::Rewritten> (*)(const std::string& preprocessed,
+                                                             const std::string& mainFile);
+// The shape-expansion engine's (app/cfdg/DesignRun): a design's text and its -D NAME=VALUE
+// definitions → the C++ unit the Expander runs (lcjit/cfdg.h's contract), with the files it
+// imported (frontend/cfdg/ReadDesign.h).
+using ReadDesign = llvm::Expected<frontend::cfdg::DesignUnit> (*)(std::string_view text, const std::string& file,
+                                                                  const std::vector<std::string>& defines);
+
 struct Language {
   std::string_view name;   // as its users call it: "L+C"
   std::string_view model;  // what one of its model files is called in messages: "L-system"
   std::span<const std::string_view> extensions;  // of its model files, without the dot
   EngineKind engine;
+  // Its front end: the one its engine calls (the other is null).
+  RewriteModel rewrite = nullptr;
+  ReadDesign readDesign = nullptr;
 };
 
 // Every language, in the order messages list them.
@@ -36,6 +62,8 @@ std::span<const Language> languages();
 // The language whose model files end in `path`'s extension; nullptr for none. Extensions are
 // case-sensitive, as lpfg's command line is.
 const Language* languageOf(std::string_view path);
+// The language called `name` ("CFDG"); nullptr for none. `lcjit cfdg` reads any file as CFDG.
+const Language* languageNamed(std::string_view name);
 // ".l": the model files' extensions, in the form messages give them ("a .l or .cfdg file").
 std::string modelExtensions(const Language& language);
 

@@ -369,6 +369,9 @@ class SweepReader {
         if (kind == kinds.end())
           return error(outputs.IsSequence() ? outputs[i] : outputs,
                        "unknown output '" + (*list)[i] + "' (the outputs are string, picture, mesh)");
+        if (kind->first == "string" && languageOf(s.model)->engine != EngineKind::LSystem)
+          return error(outputs.IsSequence() ? outputs[i] : outputs,
+                       "a " + std::string(languageOf(s.model)->model) + " has no string (its outputs are picture, mesh)");
         if (std::find(s.outputs.begin(), s.outputs.end(), kind->second) == s.outputs.end())
           s.outputs.push_back(kind->second);
       }

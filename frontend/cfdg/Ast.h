@@ -28,7 +28,8 @@ struct Expr {
     Modification // an adjustment used as a value: [ … ]
   } kind;
   Place at;
-  std::string text;
+  std::string text;     // a name: with the namespace of the file it is written in (`ns::NAME`)
+  std::string written;  // a name as written (its seed bytes), when that differs from text
   std::vector<ExprP> args;
   std::vector<std::string> names;  // Let: the defined names, in order
   std::shared_ptr<Adjustment> adjustment;
@@ -62,7 +63,8 @@ struct Element {
   enum Kind { Replace, Define, Loop, If, Switch, Transform, Clone, PathOp, PathCommand } kind;
   Place at;
   // Replace: `shape(args) [adj]`; or `if(...)`/`select(...)`/`let` choosing the shape (shapeExpr).
-  std::string shape;
+  std::string shape;         // with the file's namespace, as Expr::text
+  std::string shapeWritten;  // as written, when that differs
   Place shapeAt;
   std::vector<ExprP> args;
   bool hasArgs = false;
@@ -70,7 +72,8 @@ struct Element {
   ExprP shapeExpr;
   Adjustment adjustment;
   // Define: name = value.  Loop: index name ("" if none), args = value, adjustment, body, finally.
-  std::string name;
+  std::string name;         // with the file's namespace, as Expr::text
+  std::string nameWritten;  // as written, when that differs
   ExprP value;
   Body body, otherwise;  // loop body and finally / if's then and else / transform's body
   // Switch.
@@ -105,7 +108,8 @@ struct ShapeDecl {
 };
 
 struct Definition {
-  std::string name;
+  std::string name;     // with the file's namespace, as Expr::text
+  std::string written;  // as written, when that differs
   std::string type;  // "" for plain `name = value`
   Place at;
   std::vector<Param> params;  // a function's
@@ -113,6 +117,7 @@ struct Definition {
   ExprP value;
   bool config = false;  // CF::Name = …
   bool commandLine = false;  // -D NAME=VALUE: the design's own definition of NAME is dropped
+  int depth = 0;  // how deep in imports it is written (-D: -1): of two settings the shallower counts
 };
 
 struct Design {

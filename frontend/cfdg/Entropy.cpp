@@ -16,26 +16,9 @@ std::string bytesOf(std::string_view hex) {
   return out;
 }
 
-}  // namespace
-
-std::string hotbits(std::string_view what) {
+// Context Free's built-in functions, by name, and their bytes ("rand2": `+/-`).
+const std::map<std::string_view, std::string_view>& functionHex() {
   static const std::map<std::string_view, std::string_view> kHex = {
-      // adjustment words
-      {"x", "95E7485ECC06"}, {"y", "842BF3BB9359"}, {"z", "C83A12323671"}, {"xyz", "6C31CABF8D89"},
-      {"trans", "889054C5D320"}, {"s", "64EC5B4BEE2B"}, {"sizexyz", "B031D51E7A5A"},
-      {"zsize", "64EC5B4BEE2B"}, {"r", "84B0922659E2"}, {"skew", "FF2D8401A00A"}, {"f", "435A17EA1205"},
-      {"blend", "BE9F5F7F4A7E"}, {"h", "02DE2B2C25A1"}, {"sat", "184FCF043FE5"}, {"b", "1F3FEBA2A27E"},
-      {"a", "B4FF9E45EE7E"}, {"h|", "AFE5583320F8"}, {"sat|", "9880ED442FF2"}, {"b|", "68D6CB8A9620"},
-      {"a|", "244CCC4109C7"}, {"|h", "DB3FA1DAE745"}, {"|sat", "DA7513D330EA"}, {"|b", "8F012B75C325"},
-      {"|a", "E7CD5EE388F4"}, {"time", "20C6E802ED27"}, {"timescale", "788EC82C1C96"},
-      // operators
-      {"*", "2E32D92C41FE"}, {"/", "6B1523419EEB"}, {"+", "D7B1B03933C8"}, {"-", "5DE7F094C413"},
-      {"^", "023C6836C5A0"}, {"N", "55895146DB84"}, {"P", "8EAC294B0EDC"}, {"!", "193A3E5314EA"},
-      {"<", "BEDBC4A64EAD"}, {">", "C7D95732D687"}, {"<=", "E3567E445780"}, {">=", "B12D2ACC2C40"},
-      {"==", "7848C295A9E2"}, {"<>", "36CC013B2FAD"}, {"&&", "289BFB7FDB9C"}, {"||", "2E401B44157C"},
-      {"^^", "A72B92FAFCF9"}, {"--", "602F10AD10FF"}, {"cons", "C560A5C5C874"}, {"paren", "E8E9F67E1AF1"},
-      {"select", "B5A24A74A9DF"},
-      // functions
       {"cos", "A1E79C1AAF7D"}, {"sin", "AF58FE2CD453"}, {"tan", "95FF59110302"}, {"cot", "77F5B6358CF0"},
       {"acos", "3ACD793EADB4"}, {"asin", "1D750BBC5F52"}, {"atan", "0BC889ABF8B7"}, {"acot", "697CC71AF67B"},
       {"cosh", "484343356281"}, {"sinh", "5162FB76ED9C"}, {"tanh", "BB9154A96384"}, {"acosh", "4F284820B75C"},
@@ -56,9 +39,35 @@ std::string hotbits(std::string_view what) {
       {"randint::binomial", "6A699A94366C"}, {"randint::negbinomial", "ED31469CA6AD"},
       {"randint::poisson", "0989F377AE67"}, {"randint::discrete", "17698D61FF2A"},
       {"randint::geometric", "D5102EA503B4"}};
-  auto it = kHex.find(what);
-  return it == kHex.end() ? std::string() : bytesOf(it->second);
+  return kHex;
 }
+
+}  // namespace
+
+std::string hotbits(std::string_view what) {
+  static const std::map<std::string_view, std::string_view> kHex = {
+      // adjustment words
+      {"x", "95E7485ECC06"}, {"y", "842BF3BB9359"}, {"z", "C83A12323671"}, {"xyz", "6C31CABF8D89"},
+      {"trans", "889054C5D320"}, {"s", "64EC5B4BEE2B"}, {"sizexyz", "B031D51E7A5A"},
+      {"zsize", "64EC5B4BEE2B"}, {"r", "84B0922659E2"}, {"skew", "FF2D8401A00A"}, {"f", "435A17EA1205"},
+      {"blend", "BE9F5F7F4A7E"}, {"h", "02DE2B2C25A1"}, {"sat", "184FCF043FE5"}, {"b", "1F3FEBA2A27E"},
+      {"a", "B4FF9E45EE7E"}, {"h|", "AFE5583320F8"}, {"sat|", "9880ED442FF2"}, {"b|", "68D6CB8A9620"},
+      {"a|", "244CCC4109C7"}, {"|h", "DB3FA1DAE745"}, {"|sat", "DA7513D330EA"}, {"|b", "8F012B75C325"},
+      {"|a", "E7CD5EE388F4"}, {"time", "20C6E802ED27"}, {"timescale", "788EC82C1C96"},
+      // operators
+      {"*", "2E32D92C41FE"}, {"/", "6B1523419EEB"}, {"+", "D7B1B03933C8"}, {"-", "5DE7F094C413"},
+      {"^", "023C6836C5A0"}, {"N", "55895146DB84"}, {"P", "8EAC294B0EDC"}, {"!", "193A3E5314EA"},
+      {"<", "BEDBC4A64EAD"}, {">", "C7D95732D687"}, {"<=", "E3567E445780"}, {">=", "B12D2ACC2C40"},
+      {"==", "7848C295A9E2"}, {"<>", "36CC013B2FAD"}, {"&&", "289BFB7FDB9C"}, {"||", "2E401B44157C"},
+      {"^^", "A72B92FAFCF9"}, {"--", "602F10AD10FF"}, {"cons", "C560A5C5C874"}, {"paren", "E8E9F67E1AF1"},
+      {"select", "B5A24A74A9DF"}};
+  auto it = kHex.find(what);
+  if (it != kHex.end()) return bytesOf(it->second);
+  auto f = functionHex().find(what);
+  return f == functionHex().end() ? std::string() : bytesOf(f->second);
+}
+
+bool builtinFunction(std::string_view name) { return name != "rand2" && functionHex().count(name) != 0; }
 
 uint64_t mixBytes(uint64_t s, std::string_view bytes, int& i) {
   for (char ch : bytes) {

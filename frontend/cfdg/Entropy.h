@@ -15,6 +15,9 @@ namespace lcjit::frontend::cfdg {
 // adjustment word ("x", "xyz", "s", "sizexyz", "zsize", "r", "trans" …). Empty when it has none.
 std::string hotbits(std::string_view what);
 
+// Whether `name` is one of Context Free's built-in functions (cos, rand, rand::normal …).
+bool builtinFunction(std::string_view name);
+
 // Mixes `bytes` into `state`, continuing at byte position `position` (0…7), which it advances.
 // Bytes are taken as a C string: a zero byte ends them.
 uint64_t mixBytes(uint64_t state, std::string_view bytes, int& position);

@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include "frontend/cfdg/Entropy.h"  // builtinFunction
 #include "runtime/cfdg/Paths.h"  // Context Free's path flags
 #include "runtime/include/lcjit/cfdg.h"  // __cf_StateDoubles
 #include "support/InputFile.h"
@@ -39,10 +40,14 @@ constexpr const char* kContextFreeExamples = "/usr/share/doc/contextfree/example
 
 class Parser {
  public:
-  Parser(std::vector<Token> tokens, const std::string& file, std::set<std::string>& open)
-      : t_(std::move(tokens)), file_(file), open_(open) {}
+  // `space`: the namespace the file's names are put in ("ns::", or "" for none); `depth`: how deep
+  // in imports the file is.
+  Parser(std::vector<Token> tokens, const std::string& file, std::set<std::string>& open, std::string space = {},
+         int depth = 0)
+      : t_(std::move(tokens)), file_(file), open_(open), space_(std::move(space)), depth_(depth) {}
 
   void parseInto(Design& d, bool imported, bool forceVersion3 = false, bool commandLine = false) {
+    design_ = &d;
     imported_ = imported;
     commandLine_ = commandLine;
     v2_ = !forceVersion3 && isVersion2();
@@ -61,6 +66,28 @@ class Parser {
   bool commandLine_ = false;  // reading -D definitions
   bool inPath_ = false;  // reading a path's body: FILL and STROKE are its commands
   bool v2Command_ = false;  // reading a CFDG 2 path command's adjustment (width and p words)
+  std::string space_;  // the namespace of an `import @ns` file: "ns::"
+  int depth_ = 0;      // of imports
+  Design* design_ = nullptr;
+
+  // A name written in a file imported with a namespace (`import @ns file`) is that namespace's,
+  // `ns::NAME`, as Context Free names it: shapes, paths, functions, variables and parameters
+  // alike, but not CF:: names, built-in functions, nor a primitive while the namespace declares
+  // no shape of its name. The seeds take the name as written.
+  std::string qualify(const std::string& name) const {
+    if (space_.empty() || name.rfind("CF::", 0) == 0) return name;
+    if (name == "CIRCLE" || name == "SQUARE" || name == "TRIANGLE" || name == "FILL") {
+      bool declared = false;
+      for (const ShapeDecl& s : design_->shapes) declared |= s.name == space_ + name;
+      if (!declared) return name;
+    }
+    return space_ + name;
+  }
+  // The name and, when it differs, the name as written (Ast.h's `written` fields).
+  void qualify(const std::string& name, std::string& qualified, std::string& written) const {
+    qualified = qualify(name);
+    written = qualified == name ? std::string() : name;
+  }
 
   // CFDG 2 writes `rule NAME {`; CFDG 3 declares shapes with `shape NAME`.
   bool isVersion2() const {
@@ -107,6 +134,7 @@ class Parser {
       def.name = word.text == "background" ? "CF::Background" : word.text == "tile" ? "CF::Tile"
                  : word.text == "time" ? "CF::Time" : "CF::Size";
       def.at = word.at;
+      def.depth = depth_;
       def.config = true;
       auto e = make(Expr::Modification, peek().at);
       e->adjustment = std::make_shared<Adjustment>(modification2());
@@ -304,7 +332,8 @@ class Parser {
     return a;
   }
 
-  void importFile(const Token& name, Design& d) {
+  // `space`: the namespace the imported file's names go in (within this file's own).
+  void importFile(const Token& name, Design& d, const std::string& space = {}) {
     namespace fs = std::filesystem;
     fs::path beside = fs::path(file_).parent_path() / name.text;
     fs::path path = fs::exists(beside) ? beside : fs::path(kContextFreeExamples) / fs::path(name.text).filename();
@@ -319,7 +348,7 @@ class Parser {
     }
     open_.insert(key);
     d.imports.push_back(path.string());
-    Parser inner(std::move(*tokens), path.string(), open_);
+    Parser inner(std::move(*tokens), path.string(), open_, space_ + space, depth_ + 1);
     inner.parseInto(d, true);
   }
 
@@ -376,39 +405,33 @@ class Parser {
     }
     if (t.text == "import" || t.text == "include") {
       next();
-      if (accept("@")) expectName("a namespace");
+      std::string space;
+      const Place at = peek().at;
+      if (accept("@")) {
+        Token ns = expectName("a namespace");
+        if (ns.text == "CF") fail(at, "CF namespace is reserved");
+        space = ns.text + "::";
+      }
       const Token& f = peek();
       if (f.kind != Tok::FileName && f.kind != Tok::String) unexpected("a file name");
       Token name = next();
-      importFile(name, d);
+      importFile(name, d, space);
       return;
     }
-    if (t.text == "shape") {
+    if (t.text == "shape" && !shapeFunction()) {
       next();
       ShapeDecl s;
       Token name = expectName("a shape name");
-      s.name = name.text;
+      s.name = qualify(name.text);
       s.at = name.at;
       if (is("(")) s.params = params();
-      if (is("=")) {  // shape NAME(params) = value: a function giving a shape
-        next();
-        Definition def;
-        def.name = s.name;
-        def.at = s.at;
-        def.type = "shape";
-        def.isFunction = true;
-        def.params = std::move(s.params);
-        def.value = exp2();
-        def.commandLine = commandLine_;
-        d.definitions.push_back(std::move(def));
-        return;
-      }
-      // A shape declared again takes more rules (its parameters must be the same).
+      // A shape declared again takes more rules, and the parameters it was first declared with.
       size_t existing = 0;
       while (existing < d.shapes.size() && d.shapes[existing].name != s.name) ++existing;
       if (existing < d.shapes.size()) {
-        if (d.shapes[existing].params.size() != s.params.size())
-          fail(s.at, "shape '" + s.name + "' is declared again with other parameters");
+        if (!s.params.empty())
+          fail(s.at, "Shape has already been declared. Parameter declaration must be on the first shape declaration only.");
+        if (d.shapes[existing].isPath) fail(s.at, "Shape name already in use by another rule or path");
       } else {
         d.shapes.push_back(std::move(s));
       }
@@ -446,13 +469,13 @@ class Parser {
       next();
       ShapeDecl s;
       Token name = expectName("a path name");
-      s.name = name.text;
+      s.name = qualify(name.text);
       s.at = name.at;
       s.isPath = true;
       if (is("(")) s.params = params();
-      d.shapes.push_back(std::move(s));
       Rule r;
-      r.shape = name.text;
+      r.shape = s.name;
+      d.shapes.push_back(std::move(s));
       r.at = name.at;
       r.isPath = true;
       inPath_ = true;
@@ -465,8 +488,9 @@ class Parser {
     Definition def;
     if (isType(t.text) && peek(1).kind == Tok::Name) def.type = next().text;
     Token name = expectName("a definition");
-    def.name = name.text;
+    qualify(name.text, def.name, def.written);
     def.at = name.at;
+    def.depth = commandLine_ ? -1 : depth_;
     def.config = def.name.rfind("CF::", 0) == 0;
     if (is("(")) {
       def.isFunction = true;
@@ -478,6 +502,19 @@ class Parser {
     for (const Definition& given : d.definitions)
       if (given.commandLine && given.name == def.name && !commandLine_) return;  // -D's value wins
     d.definitions.push_back(std::move(def));
+  }
+
+  // `shape NAME(params) = …`: a function whose value is a shape, not a shape's declaration.
+  bool shapeFunction() const {
+    if (!is("(", 2)) return false;
+    int depth = 0;
+    for (size_t k = 2; i_ + k < t_.size(); ++k) {
+      const Token& t = peek(k);
+      if (t.kind == Tok::End) return false;
+      if (t.kind == Tok::Punct && t.text == "(") ++depth;
+      if (t.kind == Tok::Punct && t.text == ")" && --depth == 0) return is("=", k + 1);
+    }
+    return false;
   }
 
   void weight(const Token& w, Rule& r) {
@@ -501,10 +538,10 @@ class Parser {
       Token first = expectName("a parameter");
       if (isType(first.text) && peek().kind == Tok::Name) {
         p.type = first.text;
-        p.name = next().text;
+        p.name = qualify(next().text);
       } else {
         p.type = "number";
-        p.name = first.text;
+        p.name = qualify(first.text);
       }
       if (p.type.rfind("vector", 0) == 0) p.width = std::atoi(p.type.c_str() + 6);
       if (p.type == "adjustment") p.width = __cf_StateDoubles;  // the room a __cf_State takes
@@ -548,7 +585,7 @@ class Parser {
       next();
       e->kind = Element::Loop;
       if (peek().kind == Tok::Name && is("=", 1)) {
-        e->name = next().text;
+        qualify(next().text, e->name, e->nameWritten);
         next();
       }
       e->value = exp2();
@@ -597,7 +634,7 @@ class Parser {
     }
     if (t.kind == Tok::Name && is("=", 1)) {
       e->kind = Element::Define;
-      e->name = next().text;
+      qualify(next().text, e->name, e->nameWritten);
       next();
       e->value = exp2();
       return e;
@@ -622,7 +659,7 @@ class Parser {
     }
     e->kind = Element::Replace;
     Token name = expectName("a shape name");
-    e->shape = name.text;
+    qualify(name.text, e->shape, e->shapeWritten);
     e->shapeAt = name.at;
     if (is("(")) {
       e->hasArgs = true;
@@ -847,6 +884,7 @@ class Parser {
       Token n = next();
       expect("[");
       auto e = make(Expr::Index, n.at, n.text);
+      qualify(n.text, e->text, e->written);
       e->args.push_back(exp2());
       expect("]");
       return e;
@@ -858,7 +896,7 @@ class Parser {
         expect("(");
         for (;;) {
           if (peek().kind == Tok::Name && is("=", 1)) {
-            e->names.push_back(next().text);
+            e->names.push_back(qualify(next().text));
             next();
             e->args.push_back(exp2());
             expect(";");
@@ -872,10 +910,13 @@ class Parser {
       }
       if (is("(")) {
         auto e = make(Expr::Call, n.at, n.text);
+        if (!builtinFunction(n.text) && n.text != "if" && n.text != "select") qualify(n.text, e->text, e->written);
         e->args = argList(&e->reuseParams);
         return e;
       }
-      return make(Expr::Name, n.at, n.text);
+      auto e = make(Expr::Name, n.at, n.text);
+      qualify(n.text, e->text, e->written);
+      return e;
     }
     unexpected("an expression");
   }

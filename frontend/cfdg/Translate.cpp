@@ -79,7 +79,7 @@ const std::map<std::string, std::string> kFunctions1 = {
     {"asinh", "__cf_Asinh"}, {"atanh", "__cf_Atanh"}, {"log", "__cf_Log"}, {"log10", "__cf_Log10"},
     {"sqrt", "__cf_Sqrt"}, {"exp", "__cf_Exp"}, {"abs", "__cf_Abs"}, {"floor", "__cf_Floor"},
     {"ceiling", "__cf_Ceiling"}, {"infinity", "__cf_Infinity"}, {"factorial", "__cf_Factorial"},
-    {"sg", "__cf_Sg"}, {"isNatural", "__cf_IsNatural"}, {"bitnot", "__cf_BitNot"}};
+    {"sg", "__cf_Sg"}, {"bitnot", "__cf_BitNot"}};
 const std::map<std::string, std::string> kFunctions2 = {
     {"atan2", "__cf_Atan2"}, {"mod", "__cf_Mod"}, {"divides", "__cf_Divides"}, {"div", "__cf_Div"},
     {"bitor", "__cf_BitOr"}, {"bitand", "__cf_BitAnd"}, {"bitxor", "__cf_BitXor"},
@@ -98,6 +98,11 @@ std::string identifier(const std::string& name) {
     }
   }
   return out;
+}
+
+// A name as written (its seed bytes), given the name and Ast.h's `written` field.
+const std::string& asWritten(const std::string& name, const std::string& written) {
+  return written.empty() ? name : written;
 }
 
 std::string hex64(uint64_t v) {
@@ -125,6 +130,8 @@ class Translator {
   std::map<const Expr*, int> staticIndex_;  // each rand_static()'s number, in the order first met
   bool usesSat_ = false;    // a sat term: the picture is in colour
   bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
+  double maxNatural_ = 1000;  // CF::MaxNatural
+  bool impure_ = false;       // CF::Impure
   const Expr* background_ = nullptr;  // CF::Background
   bool inPath_ = false;      // translating a path's body
   size_t currentRule_ = 0;   // the rule being translated (its index in the design)
@@ -171,12 +178,18 @@ class Translator {
     return b + hotbits("cons");
   }
 
+  // A call of the design's function `fn`: its arguments (none: nothing), then its name as its
+  // definition writes it.
+  std::string functionBytes(const Definition& fn, const std::vector<ExprP>& args) {
+    return (args.empty() ? std::string() : argBytes(args)) + asWritten(fn.name, fn.written);
+  }
+
   std::string bytes(const Expr& e) {
     switch (e.kind) {
       case Expr::Number: return e.text;
       case Expr::Name:
         if (e.text.rfind("CF::", 0) == 0) return {};  // flags and ∞ are textless numbers
-        return e.text;
+        return asWritten(e.text, e.written);
       case Expr::Unary:
         return bytes(*e.args[0]) + hotbits(e.text == "-" ? "N" : e.text == "+" ? "P" : "!");
       case Expr::Binary:
@@ -189,7 +202,7 @@ class Translator {
         for (const auto& a : e.args) b += bytes(*a);
         return b + hotbits("cons");
       }
-      case Expr::Index: return e.text + bytes(*e.args[0]);
+      case Expr::Index: return asWritten(e.text, e.written) + bytes(*e.args[0]);
       case Expr::Call: {
         const std::string& f = e.text;
         if (f == "if" || f == "select") {
@@ -199,8 +212,10 @@ class Translator {
           return b + hotbits("cons") + hotbits("select");
         }
         const Binding* bnd = lookup(f);
-        if (bnd && bnd->kind == Binding::Function) return (e.args.empty() ? std::string() : argBytes(e.args)) + f;
-        if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? f : f + argBytes(e.args);
+        // A user function: its name as its definition writes it.
+        if (bnd && bnd->kind == Binding::Function) return functionBytes(*bnd->function, e.args);
+        const std::string& name = asWritten(f, e.written);
+        if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? name : name + argBytes(e.args);
         std::string h = hotbits(f);
         if (h.empty()) return argBytes(e.args) + f;
         // Functions with default arguments get them before their bytes are taken; the inserted
@@ -239,12 +254,17 @@ class Translator {
   // 3. Expressions → C++
   // -------------------------------------------------------------------------------------------
 
-  static std::string number(const std::string& text) {
+  // A number as written: a trailing % divides it by 100.
+  static double numberValue(const std::string& text) {
     std::string t = text;
     bool percent = !t.empty() && t.back() == '%';
     if (percent) t.pop_back();
     double v = std::strtod(t.c_str(), nullptr);
     if (percent) v /= 100.0;
+    return v;
+  }
+  static std::string number(const std::string& text) { return literal(numberValue(text)); }
+  static std::string literal(double v) {
     char b[64];
     std::snprintf(b, sizeof b, "%a", v);
     return std::string("(") + b + ")";
@@ -599,6 +619,8 @@ class Translator {
     return v;
   }
 
+  double settingNumber(const Definition& def);
+
   std::string flag(const Expr& e) { return number(std::to_string(flagNumber(e))); }
 
   int flagNumber(const Expr& e) {
@@ -777,6 +799,12 @@ class Translator {
       for (int k = 0; k < length; ++k) v.parts.push_back(from[size_t(k) % from.size()]);
       return v;
     }
+    if (f == "isNatural") {
+      // An integer from 0 to CF::MaxNatural; anything is natural in an impure design.
+      if (n != 1) fail(e.at, f + "() takes one number");
+      if (impure_) return wrap("((void)(" + all.parts[0] + "), 1.0)");
+      return wrap("__cf_fn2(c, __cf_IsNatural, " + all.parts[0] + ", " + literal(maxNatural_) + ")");
+    }
     if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
       if (n != 1 && !(f == "infinity" && n == 0)) fail(e.at, f + "() takes one number");
       return wrap("__cf_fn1(c, " + it->second + ", " + (n == 0 ? std::string("1.0") : all.parts[0]) + ")");
@@ -796,19 +824,23 @@ class Translator {
     bool pure = true;
     for (const auto& v : args) pure &= v.pure;
     Arguments a = arguments(args);
+    // Context Free's errors for a wrong number of arguments.
+    if (fn.params.empty() && !exprs.empty()) fail(exprs[0]->at, "Arguments are not expected.");
+    if (!fn.params.empty() && exprs.empty()) fail(at, "Arguments are expected.");
     // Numbers fill the parameters in order (a vector parameter takes as many), an adjustment
     // the adjustment parameter.
     size_t item = 0;
     for (const auto& p : fn.params) {
+      if (item >= a.items.size()) fail(exprs[0]->at, "Not enough arguments.");
       if (p.type == "adjustment") {
-        if (item >= a.items.size() || !a.adjustment[item]) fail(at, "function '" + f + "' takes an adjustment here");
+        if (!a.adjustment[item]) fail(at, "function '" + f + "' takes an adjustment here");
         ++item;
         continue;
       }
       for (int k = 0; k < p.width; ++k, ++item)
         if (item >= a.items.size() || a.adjustment[item]) fail(at, "function '" + f + "' takes numbers here");
     }
-    if (item != a.items.size()) fail(at, "function '" + f + "' is given too many values");
+    if (item != a.items.size()) fail(exprs[0]->at, "Too many arguments");
     if (fn.type == "adjustment") {
       // Context Free applies (or merges) the function's adjustment where it is called.
       Value v;
@@ -848,6 +880,27 @@ class Translator {
   int functionWidth(const Definition& fn) {
     if (fn.type.rfind("vector", 0) == 0) return std::atoi(fn.type.c_str() + 6);
     return 1;
+  }
+
+  // The C++ signature of a function of the design, without its closing parenthesis: a number's
+  // or a vector's function returns it; an adjustment's applies its adjustment to `state` (or
+  // merges it in). A parameter is a number, a vector's numbers one by one, or an adjustment.
+  std::string functionSignature(const Definition& fn, const std::string& name) {
+    const int width = functionWidth(fn);
+    std::string signature = fn.type == "adjustment" ? "void " + name + "(__cf_Ctx* c, __cf_State* state, int merge"
+                                                     : (width == 1 ? "double " : "__cf_V<" + std::to_string(width) + "> ") +
+                                                           name + "(__cf_Ctx* c";
+    for (const auto& p : fn.params) {
+      std::string pn = "a_" + identifier(p.name);
+      if (p.type == "adjustment") {
+        signature += ", __cf_State " + pn;
+      } else if (p.width == 1) {
+        signature += ", double " + pn;
+      } else {
+        for (int k = 0; k < p.width; ++k) signature += ", double " + pn + "_" + std::to_string(k);
+      }
+    }
+    return signature;
   }
 
   // if(c, a, b) and select(i, a, b, …): the value chosen (only it is evaluated), numbers (all of
@@ -1453,7 +1506,7 @@ class Translator {
       // constant.
       if (e.value->kind != Expr::Modification && !v.constant)
         fail(e.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
-      if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
+      if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
       line("__cf_State " + name + ";");
       line("__cf_identity(&" + name + ");");
       if (v.constant) foldedValue(v, name);
@@ -1461,11 +1514,11 @@ class Translator {
       Binding b{Binding::Local, name, __cf_StateDoubles, v.constant};
       b.adjustment = true;
       b.info = v.info;
-      b.info.seed = seedOf(kSeedBase, e.name);  // a definition's seed is its name's
+      b.info.seed = seedOf(kSeedBase, asWritten(e.name, e.nameWritten));  // a definition's seed is its name's
       scopes_.back()[e.name] = b;
       return;
     }
-    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, e.name)) + ";");
+    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
     std::vector<std::string> parts = emitted(v);
     if (parts.size() == 1) {
       line("double " + name + " = " + parts[0] + ";");
@@ -1489,13 +1542,16 @@ class Translator {
     if (function) named = nullptr;
     std::string value;  // a shape value (a parameter or variable of type shape, if(), select())
     if (function) {
-      // A function giving a shape: its name, then the call's bytes (arguments and name again).
-      if (function->function->type != "shape") fail(e.shapeAt, "Function does not return a shape");
+      // `f(args) [adj]`: the shape a shape-valued function gives. Its bytes: the name, then the
+      // call's (arguments and name again).
+      if (function->function->type != "shape")
+        fail(e.args.empty() ? e.shapeAt : e.args[0]->at, "Function does not return a shape");
+      if (e.reuseParams) fail(e.shapeAt, "a function's arguments cannot be the shape's own parameters");
       std::vector<Value> args;
       for (const auto& a : e.args) args.push_back(expr(*a));
       value = temp();
       line("double " + value + " = " + single(userCall(*function, std::move(args), e.args, e.shapeAt)).parts[0] + ";");
-      spec = e.shape + (e.args.empty() ? std::string() : argBytes(e.args)) + e.shape;
+      spec = asWritten(e.shape, e.shapeWritten) + functionBytes(*function->function, e.args);
     } else if (e.shapeExpr) {
       Value s = scalar(*e.shapeExpr);
       value = temp();
@@ -1509,13 +1565,13 @@ class Translator {
       name.text = e.shape;
       value = temp();
       line("double " + value + " = " + scalar(name).parts[0] + ";");
-      spec = e.shape;
+      spec = asWritten(e.shape, e.shapeWritten);
     } else {
       int id = shapeId(e.shape, e.shapeAt);
       shapeCode = std::to_string(id);
       const ShapeDecl* decl = id >= 4 ? &decls_[size_t(id - 4)] : nullptr;
       for (const auto& p : decl ? decl->params : std::vector<Param>{}) paramCount += p.width;
-      spec = e.shape;
+      spec = asWritten(e.shape, e.shapeWritten);
       if (e.reuseParams) {
         params = "p";
       } else if (e.hasArgs && !e.args.empty()) {
@@ -1546,7 +1602,7 @@ class Translator {
     if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, "0.0", 1, false};
     auto terms = prepare(e.adjustment);
     scopes_.pop_back();
-    std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : e.name;
+    std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : asWritten(e.name, e.nameWritten);
     uint64_t seed = seedOf(kSeedBase, indexName + bytes(*e.value)) ^ seedOf(kSeedBase, adjustmentBytes(terms));
     if (e.v2Loop)  // CFDG 2: the terms' bytes twice (as written, then in the order they apply), then the count
       seed = seedOf(0, adjustmentBytes(terms) + adjustmentBytes(e.adjustment.ordered ? terms : canonical(terms)) +
@@ -1577,7 +1633,12 @@ class Translator {
     scopes_.emplace_back();
     if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
     body(e.body);
-    patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, terms, frame));  // with the index
+    scopes_.pop_back();
+    // The loop's adjustment sees the index (`loop i = 1, 5 [x i]`), as it is in this pass, but
+    // not the body's names.
+    scopes_.emplace_back();
+    if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+    patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, terms, frame));
     scopes_.pop_back();
     line(index + " += " + step + ";");
     --indent_;
@@ -1786,7 +1847,7 @@ class Translator {
     if (e.shapeExpr) fail(e.shapeAt, "a sub-path must name a path");
     std::string shapeCode;
     std::string params = "nullptr";
-    std::string spec = e.shape;
+    std::string spec = asWritten(e.shape, e.shapeWritten);
     const int kind = subpathKind(e);
     line("{");
     ++indent_;
@@ -2007,6 +2068,16 @@ class Translator {
 // 6. The unit
 // ---------------------------------------------------------------------------------------------
 
+// A setting's number, read when the design is read: a literal, or a negated one.
+double Translator::settingNumber(const Definition& def) {
+  const Expr* e = def.value.get();
+  bool negative = e->kind == Expr::Unary && e->text == "-";
+  if (e->kind == Expr::Unary && (e->text == "-" || e->text == "+")) e = e->args[0].get();
+  if (e->kind != Expr::Number) fail(def.at, def.name + " must be a number lcjit can read here");
+  double v = numberValue(e->text);
+  return negative ? -v : v;
+}
+
 Translation Translator::run() {
   out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
   for (int k = 0; k < 4; ++k) shapeIds_[out_.shapes[size_t(k)]] = k;
@@ -2018,11 +2089,52 @@ Translation Translator::run() {
     shapeIds_[s.name] = int(out_.shapes.size());
     out_.shapes.push_back(s.name);
   }
+  // Context Free's predefined constants: π, and symbols that name the primitives (● ■ ▲ …).
+  globals_["\xCF\x80"] = {Binding::Global, literal(M_PI), 1, true};
+  const std::pair<int, std::vector<const char*>> kSymbols[] = {
+      {0, {"\xE2\x9A\xAB", "\xE2\x97\x8F", "\xE2\xAC\xA4"}},
+      {1, {"\xE2\xAC\x9B", "\xE2\x97\xBC", "\xE2\x97\xBE", "\xEF\xBF\xAD", "\xE2\x96\xA0"}},
+      {2, {"\xE2\x96\xB2", "\xE2\x96\xB4"}}};
+  for (const auto& [primitive, names] : kSymbols)
+    for (const char* name : names) globals_[name] = {Binding::Global, std::to_string(primitive) + ".0", 1, true};
   std::string unit = "// Generated by lcjit from " + d_.file + "\n#include \"lcjit/cfdg.h\"\nnamespace {\n";
   std::string start;
 
+  // Of a setting written more than once, the one written least deep in imports counts, the first
+  // of those; CF::Impure is the last one read (Context Free's rules).
+  std::map<std::string, const Definition*> counting;
+  const Definition* impure = nullptr;
+  for (const auto& def : d_.definitions) {
+    if (!def.config) continue;
+    const Definition*& first = counting[def.name];
+    if (!first || def.depth < first->depth) first = &def;
+    if (def.name == "CF::Impure") impure = &def;
+  }
+  const Definition* maxNatural = counting.count("CF::MaxNatural") ? counting.at("CF::MaxNatural") : nullptr;
+  if (maxNatural) {
+    maxNatural_ = settingNumber(*maxNatural);
+    if (maxNatural_ < 1) fail(maxNatural->value->at, "CF::MaxNatural must be >= 1");
+    if (maxNatural_ >= 9007199254740992.0) fail(maxNatural->value->at, "CF::MaxNatural must be < 9007199254740992");
+  }
+  if (impure) impure_ = settingNumber(*impure) != 0;
+
+  // Functions may call functions written after them: all are known, and declared, first.
+  for (const auto& def : d_.definitions) {
+    if (!def.isFunction) continue;
+    Binding b{Binding::Function, "f_" + identifier(def.name), 1, false};
+    b.function = &def;
+    globals_[def.name] = b;
+    unit += functionSignature(def, b.cpp) + ");\n";
+  }
+
   // Globals and functions, in file order.
   for (const auto& def : d_.definitions) {
+    if (def.config && counting.at(def.name) != &def) {
+      // Not read, but a sat term in it still makes the picture colour, as Context Free's reading does.
+      if (def.value->kind == Expr::Modification)
+        for (const Term& t : def.value->adjustment->terms) usesSat_ |= t.word == "sat";
+      continue;
+    }
     if (def.config && pictureSetting(def)) continue;  // section 8
     if (def.config && def.name == "CF::Background") {
       background_ = def.value.get();  // the picture's background: drawn by the canvas
@@ -2030,10 +2142,7 @@ Translation Translator::run() {
     }
     if (def.config) {
       // Settings are constants read at translation time.
-      if (def.value->kind != Expr::Number && !(def.value->kind == Expr::Unary && def.value->args[0]->kind == Expr::Number))
-        fail(def.at, def.name + " must be a number lcjit can read here");
-      double v = std::strtod((def.value->kind == Expr::Number ? def.value->text : def.value->args[0]->text).c_str(), nullptr);
-      if (def.value->kind == Expr::Unary && def.value->text == "-") v = -v;
+      double v = settingNumber(def);
       if (def.name == "CF::MinimumSize") out_.settings.minimumSize = v;
       else if (def.name == "CF::MaxShapes") out_.settings.maxShapes = v;
       else if (def.name == "CF::AllowOverlap" || def.name == "CF::Impure" || def.name == "CF::MaxNatural") {
@@ -2041,34 +2150,21 @@ Translation Translator::run() {
       continue;
     }
     if (def.isFunction) {
-      std::string name = "f_" + identifier(def.name);
-      Binding b{Binding::Function, name, 1, false};
-      b.function = &def;
-      globals_[def.name] = b;
+      std::string name = globals_.at(def.name).cpp;
       code_.clear();
       indent_ = 1;
       scopes_.emplace_back();
       const bool adjustment = def.type == "adjustment";
       const int width = functionWidth(def);
-      // An adjustment function applies its adjustment to `state` (or merges it in).
-      std::string signature = adjustment ? "void " + name + "(__cf_Ctx* c, __cf_State* state, int merge"
-                                         : (width == 1 ? "double " : "__cf_V<" + std::to_string(width) + "> ") + name +
-                                               "(__cf_Ctx* c";
+      std::string signature = functionSignature(def, name);
       for (const auto& p : def.params) {
-        // A number, or a vector's numbers one by one (gathered in an array), or an adjustment.
+        // A vector's numbers, passed one by one, are gathered in an array.
         std::string pn = "a_" + identifier(p.name);
         Binding bound{Binding::Local, pn, p.width, false};
-        if (p.type == "adjustment") {
-          signature += ", __cf_State " + pn;
-          bound.adjustment = true;
-        } else if (p.width == 1) {
-          signature += ", double " + pn;
-        } else {
+        bound.adjustment = p.type == "adjustment";
+        if (!bound.adjustment && p.width > 1) {
           std::string list;
-          for (int k = 0; k < p.width; ++k) {
-            signature += ", double " + pn + "_" + std::to_string(k);
-            list += pn + "_" + std::to_string(k) + ", ";
-          }
+          for (int k = 0; k < p.width; ++k) list += pn + "_" + std::to_string(k) + ", ";
           line("const double " + pn + "[" + std::to_string(p.width) + "] = {" + list + "};");
         }
         scopes_.back()[p.name] = bound;
@@ -2103,7 +2199,7 @@ Translation Translator::run() {
     indent_ = 1;
     Value v = expr(*def.value);
     std::string name = "g_" + identifier(def.name);
-    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, def.name)) + ";");
+    if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(def.name, def.written))) + ";");
     if (v.adjustment) {
       // Context Free keeps `name = [ … ]` as the adjustment; another expression only when it is
       // constant.
@@ -2116,7 +2212,7 @@ Translation Translator::run() {
       Binding b{Binding::Global, name, __cf_StateDoubles, v.constant};
       b.adjustment = true;
       b.info = v.info;
-      b.info.seed = seedOf(kSeedBase, def.name);  // a definition's seed is its name's
+      b.info.seed = seedOf(kSeedBase, asWritten(def.name, def.written));  // a definition's seed is its name's
       globals_[def.name] = b;
       start += code_;
       continue;

@@ -1095,7 +1095,6 @@ double __cf_fn1(__cf_Ctx*, int fn, double a) {
       return r;
     }
     case __cf_Sg: return a == 0.0 ? 0.0 : 1.0;
-    case __cf_IsNatural: return a >= 0 && a == std::floor(a) ? 1.0 : 0.0;
     case __cf_BitNot: return double(~uint64_t(a) & 0xFFFFFFFFFFFFFull);
   }
   return 0;
@@ -1108,6 +1107,7 @@ double __cf_fn2(__cf_Ctx*, int fn, double a, double b) {
     case __cf_Divides: return uint64_t(b) != 0 && uint64_t(a) % uint64_t(b) == 0 ? 1.0 : 0.0;
     case __cf_Div: return uint64_t(b) != 0 ? double(uint64_t(a) / uint64_t(b)) : 0.0;
     case __cf_Abs2: return std::fabs(a - b);
+    case __cf_IsNatural: return a >= 0 && a <= b && a == std::floor(a) ? 1.0 : 0.0;  // b: CF::MaxNatural
     case __cf_BitOr: return double((uint64_t(a) | uint64_t(b)) & 0xFFFFFFFFFFFFFull);
     case __cf_BitAnd: return double((uint64_t(a) & uint64_t(b)) & 0xFFFFFFFFFFFFFull);
     case __cf_BitXor: return double((uint64_t(a) ^ uint64_t(b)) & 0xFFFFFFFFFFFFFull);

@@ -7,6 +7,7 @@
   suite's image_diff tool, run with --exact).
 
 usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--define N=V] [--list FILE] DESIGN...
+       compare_cfdg.py --svg REF GOT   (two pictures already written: cfdg's -V and one of lcjit's)
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
 
@@ -68,6 +69,12 @@ def compare(ref, got):
     return None
 
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == '--svg':
+        ref, got = (open(f).read() for f in sys.argv[2:])
+        why = None if same_text(ref, got) else compare(shapes(ref), shapes(got))
+        if not why and size(ref) != size(got): why = f'picture {size(got)}, cfdg {size(ref)}'
+        print(f'{sys.argv[3]}: {"DIFFERENT: " + why if why else "equal"}')
+        return 1 if why else 0
     ap = argparse.ArgumentParser()
     ap.add_argument('--lcjit', required=True)
     ap.add_argument('--size', type=int, default=400)

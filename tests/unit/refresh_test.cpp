@@ -14,6 +14,7 @@
 
 #include "app/session/FileMonitor.h"
 #include "app/session/Languages.h"
+#include "frontend/cfdg/ReadDesign.h"
 
 using namespace lcjit;
 using namespace lcjit::app;
@@ -85,6 +86,27 @@ TEST(Languages, ByExtension) {
     models += row.kind == FK::Model;
   }
   EXPECT_EQ(models, modelRows);
+}
+
+// Each row names the front end its engine calls, and only that one (Languages.h): the L-system
+// engine's session rewrites with `rewrite`, the shape-expansion engine's runs read with
+// `readDesign`. CFDG's reads a design into the unit the Expander runs, with its imports.
+TEST(Languages, FrontEndOfItsEngine) {
+  for (const Language& language : languages()) {
+    EXPECT_EQ(language.rewrite != nullptr, language.engine == EngineKind::LSystem) << language.name;
+    EXPECT_EQ(language.readDesign != nullptr, language.engine == EngineKind::ShapeExpansion) << language.name;
+  }
+  const Language* cfdg = languageNamed("CFDG");
+  ASSERT_NE(cfdg, nullptr);
+  EXPECT_EQ(languageOf("garden.cfdg"), cfdg);
+  auto unit = cfdg->readDesign("startshape A\nshape A { SQUARE [] }\n", "garden.cfdg", {});
+  ASSERT_TRUE(bool(unit)) << llvm::toString(unit.takeError());
+  EXPECT_NE(unit->translation.cpp.find("__cf_design"), std::string::npos);
+  EXPECT_TRUE(unit->imports.empty());
+  auto bad = cfdg->readDesign("startshape A\nshape A { SQUARE [x oops] }\n", "garden.cfdg", {});
+  ASSERT_FALSE(bool(bad));
+  EXPECT_NE(llvm::toString(bad.takeError()).find("garden.cfdg:2:"), std::string::npos);
+  EXPECT_EQ(languageNamed("Logo"), nullptr);
 }
 
 // The same table says which files name others (a set) and which the command line takes: lpfg's

@@ -184,6 +184,7 @@ void __cf_pathLeaveOps(struct __cf_Ctx* c, int saved);
 // parameters; `body` what the element was compiled to expect (__cf_PathBody).
 void __cf_subpath(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params, int body);
 
+// __cf_IsNatural is a two-argument function: the number, and CF::MaxNatural.
 enum __cf_Function {
   __cf_Cos, __cf_Sin, __cf_Tan, __cf_Cot, __cf_Acos, __cf_Asin, __cf_Atan, __cf_Acot, __cf_Cosh,
   __cf_Sinh, __cf_Tanh, __cf_Acosh, __cf_Asinh, __cf_Atanh, __cf_Log, __cf_Log10, __cf_Sqrt,
