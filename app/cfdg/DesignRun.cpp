@@ -2,6 +2,8 @@
 #include "app/cfdg/DesignRun.h"
 
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <cstdio>
 #include <cctype>
@@ -70,14 +72,30 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_option("-x", o.minimumSize, "minimum size of a shape in pixels (default 0.3)");
   c.add_option("-m", o.maxShapes, "maximum number of shapes");
   c.add_option("-b", o.border, "border: -1 to 2 (default 2)");
-  c.add_option("-o", o.outs, "output file: %v and %V are the variation (lower, upper case), %% a percent sign");
+  c.add_option("-o", o.outs,
+               "output file: %v and %V are the variation (lower, upper case), %f the animation's frame, %% a percent sign");
   c.add_option("-D", o.defines, "NAME=VALUE: a definition read before the design's (its own NAME is dropped)")
       ->allow_extra_args(false);
   c.add_flag("-q", o.quiet, "quiet");
   c.add_flag("-c", o.crop, "crop the picture to the fitted block (not for tiled or frieze designs)");
   c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
+  c.add_option_function<std::string>(
+      "-a",
+      [&o](const std::string& value) {
+        // N frames, or TIMExFPS (TIME seconds at FPS frames a second).
+        size_t x = value.find('x');
+        try {
+          o.frames = x == std::string::npos ? std::stoi(value) : std::stoi(value.substr(0, x)) * std::stoi(value.substr(x + 1));
+        } catch (std::exception&) {
+          throw CLI::ValidationError("-a", "expected a number of frames, or TIMExFPS: " + value);
+        }
+        if (o.frames < 1) throw CLI::ValidationError("-a", "an animation has at least one frame");
+      },
+      "an animation: NUM frames, or TIMExFPS; one PNG a frame (_%f is added before the extension of the output file)");
+  c.add_option("-f", o.frame, "only this frame of the animation (1 …)");
+  c.add_flag("-z", o.zoom, "zoom during the animation (not done by lcjit)");
   c.add_option("design", o.design, "the design (.cfdg)")->required();
-  c.add_option("output", o.outs, "output file");
+  c.add_option("output", o.output, "output file (a name as it is: % is no code)");
 }
 
 namespace {
@@ -129,6 +147,129 @@ uint64_t chooseVariation(const std::string& code) {
   return std::uniform_int_distribution<uint64_t>(1, 321272406)(device);
 }
 
+// An output name as cfdg makes one from a template: %v / %V the variation in lower / upper case,
+// %f the animation's frame (zero-padded to the digits of the frame count; 0 for one picture), %%
+// a percent sign; another code is written as cfdg writes it.
+std::string outputName(const std::string& form, int frame, int frames, uint64_t variation) {
+  int digits = 0;
+  for (int n = frames; n > 0; n /= 10) ++digits;
+  std::string named;
+  for (size_t i = 0; i < form.size(); ++i) {
+    if (form[i] != '%' || i + 1 == form.size()) {
+      named += form[i];
+      continue;
+    }
+    char c = form[++i];
+    std::string v = cf::variationName(variation);
+    if (c == 'V') named += v;
+    else if (c == 'v') for (char ch : v) named += char(std::tolower(static_cast<unsigned char>(ch)));
+    else if (c == 'f') {
+      std::string number = std::to_string(frame);
+      named += std::string(number.size() < size_t(digits) ? size_t(digits) - number.size() : 0, '0') + number;
+    } else if (c == '%') named += '%';
+    else named += std::string("_Unknown_format_code_") + c + "_";
+  }
+  return named;
+}
+
+bool endsWith(const std::string& s, const char* tail) {
+  const size_t n = std::strlen(tail);
+  return s.size() > n && s.compare(s.size() - n, n, tail) == 0;
+}
+
+// Writes one expansion's pictures to `outs` (names made). 0, or 1 after printing why.
+int writePictures(const LoadedDesign& d, const DesignRunOptions& o, const cf::Expansion& e, const cf::Framing& f,
+                  const cf::ExpandOptions& eo, const std::vector<std::string>& outs) {
+  // -c: the fitted block alone, as cfdg crops: the SVG is the block's size, the PNG the block's
+  // rows counted from the picture's top by the block's offset from its bottom (as cfdg reads them).
+  const bool crop = o.crop && !e.picture.tiled && !e.picture.frieze;
+  cf::Framing cropped = f;
+  cropped.width = f.fit.width, cropped.height = f.fit.height;
+  const cf::PixelRect block{int(f.offsetX), f.height - f.fit.height - int(f.offsetY), f.fit.width, f.fit.height};
+  for (const std::string& out : outs) {
+    if (endsWith(out, ".svg")) {
+      if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return failed(std::move(err));
+    } else if (endsWith(out, ".png")) {
+      cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
+      if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
+        return failed(std::move(err));
+    } else if (auto format = runtime::exportFormatFor(out)) {
+      // The other formats lcjit exports: the shapes as flat coloured triangles.
+      runtime::Geometry geometry = cf::geometryOf(e, f, eo);
+      runtime::ExportInput in;
+      in.geometry = &geometry;
+      in.width = f.width;
+      in.height = f.height;
+      if (auto err = runtime::exportGeometry(out, *format, in)) return failed(std::move(err));
+    } else {
+      std::fprintf(stderr, "lcjit: %s: not a picture or export lcjit writes\n", out.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+// A run that failed prints its error (0 when it did not).
+int runError(const cf::Expansion& e, const DesignRunOptions& o) {
+  if (e.error.empty()) return 0;
+  std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
+  return 1;
+}
+
+// -a: an animation's frames, as cfdg makes them. The frames divide the animation's time (CF::Time,
+// else the time the shapes span, else the picture's area: the shapes then appear in the order they
+// were made) into equal windows; a frame draws the shapes whose time overlaps its window. A design
+// that uses ftime() or frame() is expanded again for each frame, with ftime() the window's middle
+// and frame() its place (0 … 1), and keeps only those shapes; another is expanded once. With -f K
+// only frame K is made, and its window starts where the animation starts (as in cfdg).
+int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOptions eo, const cf::DesignTiming& timing,
+                  const std::vector<double>& statics, uint64_t variation) {
+  const bool perFrame = d.table->usesFrameTime != 0;
+  cf::TimeSpan time = timing.hasTime ? timing.time : cf::TimeSpan{};
+  cf::Expansion once;
+  cf::Framing onceFraming;
+  if (!perFrame) {
+    eo.keepTimes = true;
+    once = cf::expand(*d.table, eo, statics);
+    if (runError(once, o)) return 1;
+    if (!timing.hasTime) time = once.timeBounds;
+    onceFraming = cf::frame(once, eo);
+  }
+  const double step = (time.end - time.begin) / o.frames;
+  double windowEnd = time.begin;
+  int written = 0;
+  size_t shapes = 0;
+  for (int k = 1; k <= o.frames; ++k) {
+    if (o.frame && k != o.frame) continue;
+    const cf::TimeSpan window{windowEnd, time.begin + step * k};
+    windowEnd = window.end;
+    std::vector<std::string> names;
+    ++written;
+    for (const std::string& out : o.outs) names.push_back(outputName(out, written, o.frames, variation));
+    if (perFrame) {
+      eo.frameTime = (window.begin + window.end) * 0.5;
+      eo.frame = (k - 1.0) / (o.frames - 1.0);
+      eo.window = window;
+      cf::Expansion e = cf::expand(*d.table, eo, statics);
+      if (runError(e, o)) return 1;
+      if (!timing.hasTime) time = e.timeBounds;
+      if (writePictures(d, o, e, cf::frame(e, eo), eo, names)) return 1;
+      shapes += e.shapes.size();
+    } else {
+      cf::Framing f = onceFraming;
+      f.times = &once.times;
+      f.window = window;
+      if (writePictures(d, o, once, f, eo, names)) return 1;
+      shapes = once.shapes.size();
+    }
+  }
+  if (!o.quiet)
+    std::fprintf(stderr, "lcjit: %s: variation %s, %d frame%s, %zu shapes%s\n", o.design.c_str(),
+                 cf::variationName(variation).c_str(), written, written == 1 ? "" : "s", shapes,
+                 perFrame ? " in all" : "");
+  return 0;
+}
+
 // Expands a loaded design and writes the pictures. 0, or 1 after printing why.
 int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
   const auto start = support::Clock::now();
@@ -146,43 +287,29 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   std::vector<double> statics;
   uint64_t s = eo.variation;
   for (int k = 0; k < d.unit.randStaticCount; ++k) statics.push_back(cf::drawDouble(s));
+  // The time settings: CF::Time must be a time that passes; CF::FrameTime and CF::Frame are what
+  // ftime() and frame() give outside an animation (Context Free reads them before it works one
+  // out from the other, so a design that sets only one gets 0 from the other function).
+  const cf::DesignTiming timing = cf::timingOf(*d.table);
+  if (timing.hasTime && !(timing.time.end > timing.time.begin && std::isfinite(timing.time.begin) &&
+                          std::isfinite(timing.time.end) && std::isfinite(timing.timeScale))) {
+    std::fprintf(stderr, "%s: error: Illegal CF::Time specification\n", timing.timeAt.c_str());
+    return 1;
+  }
+  if (timing.hasFrameTime) eo.frameTime = timing.frameTime;
+  if (timing.hasFrame) eo.frame = timing.frame;
+  if (o.frames > 0) return animateDesign(d, o, eo, timing, statics, variation);
 
   cf::Expansion e = cf::expand(*d.table, eo, statics);
   const double expandMs = support::msSince(start);
-  if (!e.error.empty()) {
-    std::fprintf(stderr, "%s: error: %s\n", e.errorAt.empty() ? o.design.c_str() : e.errorAt.c_str(), e.error.c_str());
-    return 1;
-  }
+  if (runError(e, o)) return 1;
   if (!e.stopped.empty())
     std::fprintf(stderr, "lcjit: %s: stopped: %s; drawing the %zu shapes made so far\n", o.design.c_str(),
                  e.stopped.c_str(), e.shapes.size());
   cf::Framing f = cf::frame(e, eo);
-  // -c: the fitted block alone, as cfdg crops: the SVG is the block's size, the PNG the block's
-  // rows counted from the picture's top by the block's offset from its bottom (as cfdg reads them).
-  const bool crop = o.crop && !e.picture.tiled && !e.picture.frieze;
-  cf::Framing cropped = f;
-  cropped.width = f.fit.width, cropped.height = f.fit.height;
-  const cf::PixelRect block{int(f.offsetX), f.height - f.fit.height - int(f.offsetY), f.fit.width, f.fit.height};
-  for (const std::string& out : o.outs) {
-    if (out.size() > 4 && out.substr(out.size() - 4) == ".svg") {
-      if (auto err = support::writeWholeFile(out, cf::svgOf(e, crop ? cropped : f, eo))) return failed(std::move(err));
-    } else if (out.size() > 4 && out.substr(out.size() - 4) == ".png") {
-      cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
-      if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
-        return failed(std::move(err));
-    } else if (auto format = runtime::exportFormatFor(out)) {
-      // The other formats lcjit exports: the shapes as flat coloured triangles.
-      runtime::Geometry geometry = cf::geometryOf(e, f, eo);
-      runtime::ExportInput in;
-      in.geometry = &geometry;
-      in.width = f.width;
-      in.height = f.height;
-      if (auto err = runtime::exportGeometry(out, *format, in)) return failed(std::move(err));
-    } else {
-      std::fprintf(stderr, "lcjit: %s: not a picture or export lcjit writes\n", out.c_str());
-      return 1;
-    }
-  }
+  std::vector<std::string> names;
+  for (const std::string& out : o.outs) names.push_back(outputName(out, 0, 0, variation));
+  if (writePictures(d, o, e, f, eo, names)) return 1;
   if (!o.quiet)
     std::fprintf(stderr, "lcjit: %s: variation %s, %zu shapes\n", o.design.c_str(), cf::variationName(eo.variation).c_str(),
                  e.shapes.size());
@@ -203,31 +330,46 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
 int runDesign(const DesignRunOptions& given) {
   DesignRunOptions o = given;
   runtime::interruptModelCodeOnSigint();  // Ctrl-C stops the expansion, and the shapes made are drawn
+  // cfdg's checks of an animation's options, with its words.
+  const char* wrong = o.frames && o.crop                ? "Animation cannot output cropped files."
+                      : !o.frames && o.frame            ? "Animation frame can only be rendered when animating."
+                      : !o.frames && o.zoom             ? "Zoomed output is only available when animating."
+                      : o.frames && o.frame < 0         ? "Animation frame must be a positive integer."
+                      : o.frames && o.frame > o.frames  ? "Animation frame is after the end of the animation."
+                      : o.zoom                          ? "lcjit does not zoom animations (-z) yet."
+                      : !o.output.empty() && !o.outs.empty() ? "Two output files specified."
+                                                              : nullptr;
+  for (const std::string& out : o.outs)
+    if (o.frames && !endsWith(out, ".png")) wrong = "Animation cannot output to SVG files: an animation is written as PNG frames.";
+  if (!o.output.empty() && o.frames && !endsWith(o.output, ".png"))
+    wrong = "Animation cannot output to SVG files: an animation is written as PNG frames.";
+  if (wrong) {
+    std::fprintf(stderr, "lcjit: %s\n", wrong);
+    return 1;
+  }
+  if (!o.output.empty()) {
+    // cfdg's output file: its name as it is; in an animation (not one frame) the frame's number
+    // goes before the extension.
+    std::string form;
+    for (char c : o.output) form.append(c == '%' ? 2 : 1, c);
+    if (o.frames && !o.frame) {
+      const size_t dot = form.find_last_of('.'), slash = form.find_last_of('/');
+      if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) form.insert(dot, "_%f");
+      else form += "_%f";
+    }
+    o.outs.push_back(form);
+  }
   if (o.outs.empty()) {  // as lcjit does for a model without a display: the picture beside it
-    o.outs = {(std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string() + ".png"};
+    std::string beside;
+    for (char c : (std::filesystem::path(o.design).parent_path() / std::filesystem::path(o.design).stem()).string())
+      beside.append(c == '%' ? 2 : 1, c);
+    o.outs = {beside + (o.frames && !o.frame ? "_%f.png" : ".png")};
     if (!o.quiet) std::fprintf(stderr, "lcjit: writing %s\n", o.outs[0].c_str());
   }
   const uint64_t variation = chooseVariation(o.variation);
   if (variation == 0) {
     std::fprintf(stderr, "lcjit: '%s' is not a variation (letters, or a number)\n", o.variation.c_str());
     return 1;
-  }
-  // Output names as cfdg's -o takes them: %v / %V the variation in lower / upper case.
-  for (std::string& out : o.outs) {
-    std::string named;
-    for (size_t i = 0; i < out.size(); ++i) {
-      if (out[i] != '%' || i + 1 == out.size()) {
-        named += out[i];
-        continue;
-      }
-      char c = out[++i];
-      std::string v = cf::variationName(variation);
-      if (c == 'V') named += v;
-      else if (c == 'v') for (char ch : v) named += char(std::tolower(static_cast<unsigned char>(ch)));
-      else if (c == '%') named += '%';
-      else named += std::string("%") + c;
-    }
-    out = named;
   }
   if (o.emitCpp) {
     auto text = support::readInputFile(o.design, /*nullTerminated=*/false);

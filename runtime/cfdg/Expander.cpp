@@ -7,6 +7,7 @@
 #include "runtime/cfdg/Expander.h"
 
 #include "runtime/ModelGuard.h"
+#include "runtime/cfdg/Distributions.h"
 #include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Symmetry.h"
 #include "runtime/cfdg/Tiling.h"
@@ -406,7 +407,25 @@ struct Engine {
       if (keepBoxes) result.boxes.emplace_back();
     }
     f.order = ++finishedCount;
+    if (!keepInTime(s))
+      return;
     result.shapes.push_back(f);
+  }
+
+  // A finished shape's time, as Context Free gives it one: its own when the design has time
+  // terms, else from the picture's area so far onward (an animation then shows the shapes in the
+  // order they were made). It widens the time the shapes span; a design that uses ftime() or
+  // frame() keeps the shape only when its time overlaps the frame's window.
+  bool keepInTime(const __cf_State& s) {
+    TimeSpan t{s.tbegin, s.tend};
+    if (!design.usesTime) t = {totalArea, kForever};
+    TimeSpan& all = result.timeBounds;
+    if (t.begin < all.begin && std::isfinite(t.begin)) all.begin = t.begin;
+    if (t.begin > all.end && std::isfinite(t.begin)) all.end = t.begin;
+    if (t.end > all.end && std::isfinite(t.end)) all.end = t.end;
+    if (t.end < all.begin && std::isfinite(t.end)) all.begin = t.end;
+    if (options.keepTimes) result.times.push_back(t);
+    return !design.usesFrameTime || t.overlaps(options.window);
   }
 
   // A path is finished by running its body, measuring each command's outline; it is drawn by
@@ -428,6 +447,8 @@ struct Engine {
     f.boxArea = area;
     f.path = int(result.paths.size());
     f.order = ++finishedCount;
+    if (!keepInTime(s))
+      return;
     FinishedPath p;
     p.shape = shape;
     p.seed = seed;
@@ -569,8 +590,10 @@ struct Engine {
     return true;
   }
 
-  // The start shape, moved by CF::Tile's or CF::Size's translation.
-  __cf_State startState(const __cf_State& s) const {
+  // The start shape, moved by CF::Tile's or CF::Size's translation. Its time is where the time
+  // the shapes span starts.
+  __cf_State startState(const __cf_State& s) {
+    result.timeBounds = {s.tbegin, s.tend};
     __cf_State moved = s;
     moved.tx += startX;
     moved.ty += startY;
@@ -584,6 +607,8 @@ struct Engine {
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
     ctx.statics = statics.data();
+    ctx.time[0] = result.frameTime = options.frameTime;
+    ctx.time[1] = result.frame = options.frame;
     design.start(&ctx);
     while (!heap.empty()) {
       ModelGuard::checkpoint();
@@ -615,6 +640,7 @@ struct Engine {
       slots[slot].params.reset();
       freeSlots.push_back(slot);
     }
+    if (!design.usesTime) result.timeBounds = {0.0, totalArea};
   }
 
   void sortForDrawing() {
@@ -659,6 +685,20 @@ Expansion expand(const __cf_Design& design, const ExpandOptions& options, const 
   return std::move(engine.result);
 }
 
+DesignTiming timingOf(const __cf_Design& design) {
+  DesignTiming t;
+  if (!design.timing) return t;
+  __cf_Timing read{};
+  __cf_Ctx ctx{};
+  design.timing(&ctx, &read);
+  t.hasTime = read.hasTime, t.hasFrameTime = read.hasFrameTime, t.hasFrame = read.hasFrame;
+  t.time = {read.timeBegin, read.timeEnd};
+  t.timeScale = read.timeScale;
+  t.timeAt = read.timeAt ? read.timeAt : "";
+  t.frameTime = read.frameTime, t.frame = read.frame;
+  return t;
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. Framing and the -V picture
 // ---------------------------------------------------------------------------------------------
@@ -686,6 +726,8 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
 }
 
 bool drawn(const FinishedShape& s, const Framing& f, const ExpandOptions& o) {
+  if (f.times && !(*f.times)[size_t(s.order - 1)].overlaps(f.window))
+    return false;
   if (s.shape == 3)
     return true;
   double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
@@ -765,7 +807,7 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
   for (const FinishedShape& s : e.shapes) {
     if (s.shape == kPathShape && drawn(s, f, o)) {
       if (!paths) paths = std::make_unique<PathEngine>(*e.design);
-      out += paths->svg(e.paths[size_t(s.path)], e.statics, f, copyOffsets(e, f, s), toSvg, nextPathId, precision);
+      out += paths->svg(e.paths[size_t(s.path)], e, f, copyOffsets(e, f, s), toSvg, nextPathId, precision);
       continue;
     }
     if (s.shape == 3 || !drawn(s, f, o))
@@ -982,6 +1024,10 @@ double __cf_randint(__cf_Ctx* c, double a, double b) {
   return std::floor(drawDouble(c->cur) * std::fabs(b - a) + std::fmin(a, b));
 }
 double __cf_pow(double a, double b) { return std::pow(a, b); }
+double __cf_distribution(__cf_Ctx* c, int kind, int count, const double* args) {
+  return distribution(c->cur, kind, count, args);
+}
+double __cf_time(__cf_Ctx* c, int which) { return c->time[which != 0]; }
 
 void __cf_fold(__cf_State* m, int kind, int count, const double* v) {
   // Geometry folds as it applies; colour terms are merged: hue values add, the others are set.
@@ -1091,6 +1137,8 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randpm", reinterpret_cast<void*>(&__cf_randpm)},
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
+      {"__cf_distribution", reinterpret_cast<void*>(&__cf_distribution)},
+      {"__cf_time", reinterpret_cast<void*>(&__cf_time)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
       {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},
       {"__cf_replace_value", reinterpret_cast<void*>(&__cf_replace_value)},

@@ -358,22 +358,24 @@ void PathEngine::primitiveMeasured(double determinant) {
   measure_->curved.angle_tolerance(0.1 * std::sqrt(std::fabs(determinant)) > 1.0 ? 0.2 : 0.0);
 }
 
-void PathEngine::paint(const FinishedPath& p, const std::vector<double>& statics, const PathPainter& painter) {
+void PathEngine::paint(const FinishedPath& p, const Expansion& e, const PathPainter& painter) {
   Run run(*this);
   run.painter = &painter;
   __cf_Ctx ctx{};
   ctx.cur = p.seed;
-  ctx.statics = statics.data();
+  ctx.statics = e.statics.data();
+  ctx.time[0] = e.frameTime;
+  ctx.time[1] = e.frame;
   run.run(&ctx, p.shape, p.state, p.params.get());
 }
 
-std::string PathEngine::svg(const FinishedPath& p, const std::vector<double>& statics, const Framing& f,
+std::string PathEngine::svg(const FinishedPath& p, const Expansion& e, const Framing& f,
                             const std::vector<std::pair<double, double>>& copies, const Affine& toSvg, int& nextId,
                             int& precision) {
   std::string out;
   int lastId = 0;
   unsigned lastIndex = ~0u;
-  paint(p, statics, [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info, const __cf_State& s) {
+  paint(p, e, [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info, const __cf_State& s) {
     // Each command once per copy of a tiled picture (Tiling.h), all copies before the next command.
     forEachCopy(Affine{s.sx, s.shy, s.shx, s.sy, s.tx, s.ty}, copies, f, toSvg, [&](const Affine& m) {
       double rgba[4];

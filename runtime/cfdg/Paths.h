@@ -56,15 +56,16 @@ class PathEngine {
   // cfdg measures primitives with the converters it measures paths with, whose curve angle
   // tolerance (set by strokes, used by fills) carries over.
   void primitiveMeasured(double determinant);
-  // Runs finished path `p`'s body again, giving each command to `paint`.
-  void paint(const FinishedPath& p, const std::vector<double>& statics, const PathPainter& paint);
+  // Runs finished path `p` of expansion `e` again (with its rand_static() values and its frame's
+  // time), giving each command to `paint`.
+  void paint(const FinishedPath& p, const Expansion& e, const PathPainter& paint);
   // Context Free's `-V` picture of finished path `p`: per command (and per copy of a tiled
   // picture, `copies`: Tiling.h), a group with its paint and its transform (the path's state, the
   // fit `f`, the copy's offset, `toSvg`) holding its outline, an SVG path (numbered from
   // `nextId`), or a use of the previous one when a command paints the same outline again.
   // Numbers have `precision` significant digits: cfdg's stream writes 6 until its first
   // transform, 8 from then on.
-  std::string svg(const FinishedPath& p, const std::vector<double>& statics, const Framing& f,
+  std::string svg(const FinishedPath& p, const Expansion& e, const Framing& f,
                   const std::vector<std::pair<double, double>>& copies, const Affine& toSvg, int& nextId,
                   int& precision);
 

@@ -75,7 +75,7 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
       continue;
     if (s.shape == kPathShape) {
       copies = copyOffsets(e, f, s);
-      paths.paint(e.paths[size_t(s.path)], e.statics, paint);
+      paths.paint(e.paths[size_t(s.path)], e, paint);
       continue;
     }
     CanvasShape c;
