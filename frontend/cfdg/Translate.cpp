@@ -190,7 +190,8 @@ class Translator {
           return b + hotbits("cons") + hotbits("select");
         }
         const Binding* bnd = lookup(f);
-        if (bnd && bnd->kind == Binding::Function) return argBytes(e.args) + f;
+        // A user function's arguments (none: no list at all), then its name.
+        if (bnd && bnd->kind == Binding::Function) return (e.args.empty() ? std::string() : argBytes(e.args)) + f;
         if (shapeIds_.count(f)) return e.reuseParams || e.args.empty() ? f : f + argBytes(e.args);
         std::string h = hotbits(f);
         if (h.empty()) return argBytes(e.args) + f;
