@@ -1218,7 +1218,7 @@ class Translator {
     if (variable) {
       if (variable->kind == Binding::Function || variable->width != 1)
         fail(e.shapeAt, "'" + e.shape + "' is not a shape");
-      shapeCode = "(int)(" + (variable->kind == Binding::Param ? "p[" + variable->cpp + "]" : variable->cpp) + ")";
+      shapeCode = variable->kind == Binding::Param ? "p[" + variable->cpp + "]" : variable->cpp;
     } else {
       int id = shapeId(e.shape, e.shapeAt);
       if (id == 3) fail(e.shapeAt, "FILL cannot be a subpath");
@@ -1259,7 +1259,10 @@ class Translator {
       line("int " + saved + " = __cf_pathEnterOps(c, &s);");
     }
     applyAdjustment(e.adjustment, std::move(terms), "s");
-    line("__cf_subpath(c, " + shapeCode + ", &s, " + params + ", " + std::to_string(kind) + ");");
+    if (variable && params == "nullptr")  // the shape and parameters the value holds
+      line("__cf_subpath_value(c, " + shapeCode + ", &s, " + std::to_string(kind) + ");");
+    else
+      line("__cf_subpath(c, (int)(" + shapeCode + "), &s, " + params + ", " + std::to_string(kind) + ");");
     leavePathOps(saved);
     --indent_;
     line("}");

@@ -210,7 +210,7 @@ struct Engine {
   uint64_t finishedCount = 0;
   std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
-  PathEngine paths{design};
+  PathEngine paths{design, &result.bound};
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
       : design(d), options(o), statics(s) {
@@ -244,27 +244,20 @@ struct Engine {
     result.picture.borderX = result.picture.borderY = fixedBorder;
   }
 
-  // Shape values with bound parameters: a value is shape + kBoundStride · (index + 1).
-  static constexpr double kBoundStride = 1048576.0;
-  std::deque<std::vector<double>> bound;
-  std::vector<int> boundShape;
-
+  // Shape values with bound parameters (ShapeValue), kept in the result: a path drawn again may
+  // run a sub-path of one.
   double bind(int shape, const double* params) {
     int n = design.shapes[shape].paramCount;
     if (n == 0) return double(shape);
-    bound.emplace_back(params, params + n);
-    boundShape.push_back(shape);
-    return double(shape) + kBoundStride * double(bound.size());
+    result.bound.emplace_back(params, params + n);
+    return double(shape) + kBoundStride * double(result.bound.size());
   }
   void replaceValue(__cf_Ctx* c, double value, const __cf_State& s, bool start = false) {
-    double index = std::floor(value / kBoundStride);
-    int shape = int(value - index * kBoundStride);
-    if (!(value >= 0) || shape >= design.shapeCount || index > double(bound.size()))
-      fail(c, "a shape value that is no shape");
-    const double* params = index > 0 ? bound[size_t(index) - 1].data() : nullptr;
-    if (!params && design.shapes[shape].paramCount > 0)
-      fail(c, std::string("shape ") + design.shapes[shape].name + " needs parameters");
-    process(c, shape, s, params, start ? c->cur : stepSeed(c->cur));
+    const ShapeValue v = shapeValue(design, result.bound, value);
+    if (v.shape < 0) fail(c, "a shape value that is no shape");
+    if (!v.params && design.shapes[v.shape].paramCount > 0)
+      fail(c, std::string("shape ") + design.shapes[v.shape].name + " needs parameters");
+    process(c, v.shape, s, v.params, start ? c->cur : stepSeed(c->cur));
   }
 
   bool hasRules(int shape) const { return shape >= 4 && !rulesOf[size_t(shape)].empty(); }
@@ -663,6 +656,13 @@ struct Stop {
 [[noreturn]] void fail(__cf_Ctx*, const std::string& message) { throw Stop{message}; }
 
 }  // namespace
+
+ShapeValue shapeValue(const __cf_Design& design, const std::deque<std::vector<double>>& bound, double value) {
+  const double index = std::floor(value / kBoundStride);
+  const int shape = int(value - index * kBoundStride);
+  if (!(value >= 0) || shape >= design.shapeCount || index > double(bound.size())) return {};
+  return {shape, index > 0 ? bound[size_t(index) - 1].data() : nullptr};
+}
 
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
   Engine engine(design, options, statics);

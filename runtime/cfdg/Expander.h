@@ -104,6 +104,9 @@ struct Expansion {
   const __cf_Design* design = nullptr; // what was expanded, its rand_static() values and the frame's
   std::vector<double> statics;         // time (ftime(), frame()): a path's body runs again to be drawn
   double frameTime = 0, frame = 0;
+  // The parameters of shape values made in the run (`foo(0.5)` for a parameter of type shape),
+  // by a value's index (ShapeValue): a path that takes one draws it again.
+  std::deque<std::vector<double>> bound;
   Bounds bounds;
   uint64_t expanded = 0;               // rule shapes expanded
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
@@ -133,6 +136,16 @@ struct DesignTiming {
   double frameTime = 0, frame = 0;
 };
 DesignTiming timingOf(const __cf_Design& design);
+
+// A shape value: the shape, and its parameters bound by the run (null for none). The value is
+// shape + kBoundStride · (index + 1) for bound parameters, the shape's number without.
+constexpr double kBoundStride = 1048576.0;
+struct ShapeValue {
+  int shape = -1;
+  const double* params = nullptr;
+};
+// What `value` holds, or shape -1 when it is no shape of `design`.
+ShapeValue shapeValue(const __cf_Design& design, const std::deque<std::vector<double>>& bound, double value);
 
 // Expands `design` with `options`. `statics` are its rand_static() values.
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics);

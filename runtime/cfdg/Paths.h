@@ -39,7 +39,8 @@ using PathPainter =
 
 class PathEngine {
  public:
-  explicit PathEngine(const __cf_Design& design);
+  // `bound`: the run's shape values, which a sub-path element may name (null: none yet).
+  explicit PathEngine(const __cf_Design& design, const std::deque<std::vector<double>>* bound = nullptr);
   ~PathEngine();
   PathEngine(const PathEngine&) = delete;
   PathEngine& operator=(const PathEngine&) = delete;
@@ -74,6 +75,7 @@ class PathEngine {
 
  private:
   const __cf_Design& design_;
+  const std::deque<std::vector<double>>* bound_;
   std::vector<int> firstRule_;  // per shape: its first rule (a path's body), -1 for none
   std::unique_ptr<Measure> measure_;
 };

@@ -186,6 +186,9 @@ void __cf_pathLeaveOps(struct __cf_Ctx* c, int saved);
 // A sub-path element (`path NAME(args) [adj]`): path or primitive `shape` with state `s` and
 // parameters; `body` what the element was compiled to expect (__cf_PathBody).
 void __cf_subpath(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params, int body);
+// A sub-path element naming a shape value (a parameter or variable of type shape): the path (or
+// primitive) and parameters it holds.
+void __cf_subpath_value(struct __cf_Ctx* c, double value, const struct __cf_State* s, int body);
 
 enum __cf_Function {
   __cf_Cos, __cf_Sin, __cf_Tan, __cf_Cot, __cf_Acos, __cf_Asin, __cf_Atan, __cf_Acot, __cf_Cosh,
