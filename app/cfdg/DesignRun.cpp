@@ -13,6 +13,7 @@
 
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
+#include "app/common/FrameSequence.h"
 #include "app/session/FileMonitor.h"
 #include "app/session/Session.h"  // runtimeIncludeDir, prebuiltDir
 #include "frontend/cfdg/Parser.h"
@@ -50,11 +51,14 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.watch = options.watch;
   d.defines = options.overrides;
   d.maxMemory = options.maxMemory;
+  d.frames = options.frames;
+  d.fps = options.fps;
   d.cacheDir = cacheDir;
   return d;
 }
 
 void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
+  o.cfdgNames = true;
   // cfdg's -h is the height: help is --help only.
   c.set_help_flag("--help", "Context Free's options, as cfdg 3.4 takes them");
   c.add_option("-w", o.width, "width in pixels (default 500)");
@@ -221,7 +225,8 @@ int runError(const cf::Expansion& e, const DesignRunOptions& o) {
 // were made) into equal windows; a frame draws the shapes whose time overlaps its window. A design
 // that uses ftime() or frame() is expanded again for each frame, with ftime() the window's middle
 // and frame() its place (0 … 1), and keeps only those shapes; another is expanded once. With -f K
-// only frame K is made, and its window starts where the animation starts (as in cfdg).
+// only frame K is made, and its window starts where the animation starts (as in cfdg). lcjit's own
+// command line (--frames) also writes numbered files (frame%03d.png) and videos, one frame each.
 int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOptions eo, const cf::DesignTiming& timing,
                   const std::vector<double>& statics, uint64_t variation) {
   const bool perFrame = d.table->usesFrameTime != 0;
@@ -235,6 +240,14 @@ int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOp
     if (!timing.hasTime) time = once.timeBounds;
     onceFraming = cf::frame(once, eo);
   }
+  // lcjit's own outputs of many frames (not cfdg's names): numbered files and videos.
+  std::vector<std::unique_ptr<FrameSequence>> sequences(o.outs.size());
+  for (size_t i = 0; i < o.outs.size(); ++i) {
+    if (o.cfdgNames || !isFrameSequence(o.outs[i])) continue;
+    auto sequence = FrameSequence::open(o.outs[i], o.fps);
+    if (!sequence) return failed(sequence.takeError());
+    sequences[i] = std::move(*sequence);
+  }
   const double step = (time.end - time.begin) / o.frames;
   double windowEnd = time.begin;
   int written = 0;
@@ -243,26 +256,44 @@ int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOp
     if (o.frame && k != o.frame) continue;
     const cf::TimeSpan window{windowEnd, time.begin + step * k};
     windowEnd = window.end;
-    std::vector<std::string> names;
     ++written;
-    for (const std::string& out : o.outs) names.push_back(outputName(out, written, o.frames, variation));
+    cf::Expansion frameRun;
+    const cf::Expansion* e = &once;
+    cf::Framing f = onceFraming;
     if (perFrame) {
       eo.frameTime = (window.begin + window.end) * 0.5;
       eo.frame = (k - 1.0) / (o.frames - 1.0);
       eo.window = window;
-      cf::Expansion e = cf::expand(*d.table, eo, statics);
-      if (runError(e, o)) return 1;
-      if (!timing.hasTime) time = e.timeBounds;
-      if (writePictures(d, o, e, cf::frame(e, eo), eo, names)) return 1;
-      shapes += e.shapes.size();
+      frameRun = cf::expand(*d.table, eo, statics);
+      if (runError(frameRun, o)) return 1;
+      if (!timing.hasTime) time = frameRun.timeBounds;
+      e = &frameRun;
+      f = cf::frame(frameRun, eo);
+      shapes += frameRun.shapes.size();
     } else {
-      cf::Framing f = onceFraming;
       f.times = &once.times;
       f.window = window;
-      if (writePictures(d, o, once, f, eo, names)) return 1;
       shapes = once.shapes.size();
     }
+    for (size_t i = 0; i < o.outs.size(); ++i) {
+      if (!sequences[i]) {
+        if (writePictures(d, o, *e, f, eo, {outputName(o.outs[i], written, o.frames, variation)})) return 1;
+        continue;
+      }
+      FrameSource source;
+      source.writeFile = [&](const std::string& path) -> llvm::Error {
+        if (writePictures(d, o, *e, f, eo, {path})) return llvm::createStringError("lcjit: " + path + ": not written");
+        return llvm::Error::success();
+      };
+      source.picture = [&]() -> llvm::Expected<runtime::Image> {
+        return cf::imageOf(cf::drawExpansion(*d.table, *e, f, eo));
+      };
+      if (auto err = sequences[i]->add(written, source)) return failed(std::move(err));
+    }
   }
+  for (auto& sequence : sequences)
+    if (sequence)
+      if (auto err = sequence->finish()) return failed(std::move(err));
   if (!o.quiet)
     std::fprintf(stderr, "lcjit: %s: variation %s, %d frame%s, %zu shapes%s\n", o.design.c_str(),
                  cf::variationName(variation).c_str(), written, written == 1 ? "" : "s", shapes,
@@ -340,7 +371,9 @@ int runDesign(const DesignRunOptions& given) {
                       : !o.output.empty() && !o.outs.empty() ? "Two output files specified."
                                                               : nullptr;
   for (const std::string& out : o.outs)
-    if (o.frames && !endsWith(out, ".png")) wrong = "Animation cannot output to SVG files: an animation is written as PNG frames.";
+    if (o.frames && !endsWith(out, ".png") && (o.cfdgNames || !isFrameSequence(out)))
+      wrong = o.cfdgNames ? "Animation cannot output to SVG files: an animation is written as PNG frames."
+                          : "--frames writes PNG files, numbered files (frame%03d.svg) or a video (movie.mp4)";
   if (!o.output.empty() && o.frames && !endsWith(o.output, ".png"))
     wrong = "Animation cannot output to SVG files: an animation is written as PNG frames.";
   if (wrong) {

@@ -33,6 +33,8 @@ struct DesignRunOptions {
   bool watch = false;   // --watch: draw again when the design is saved
   int frames = 0;       // -a (cfdg's): an animation of this many frames (PNG each), 0: one picture
   int frame = 0;        // -f (cfdg's): only this frame of the animation (1 …)
+  int fps = 25;         // --fps: a video's frames a second (lcjit's -out movie.mp4)
+  bool cfdgNames = false;  // output names as cfdg makes them (%f …), not lcjit's numbered files and videos
   bool zoom = false;    // -z (cfdg's): not done by lcjit
   std::vector<std::string> defines;  // -D NAME=VALUE
   std::string cacheDir;

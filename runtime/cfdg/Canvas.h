@@ -17,6 +17,7 @@
 
 #include "runtime/cfdg/Affine.h"
 #include "runtime/cfdg/PathVertex.h"
+#include "runtime/files/Images.h"
 
 namespace lcjit::runtime::cfdg {
 
@@ -143,5 +144,7 @@ struct PixelRect {
 // (cfdg's). With `crop` (cfdg -c: the fitted block) only that part, clipped to the canvas.
 // Errors: "PATH: error: cannot write file: WHY".
 llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop = std::nullopt);
+// The picture as lcjit's RGBA image (a video's frame): 8 bits a channel, not premultiplied.
+runtime::Image imageOf(const Canvas& canvas);
 
 }  // namespace lcjit::runtime::cfdg

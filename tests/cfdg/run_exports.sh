@@ -26,6 +26,11 @@ grep -q 'expand .* ms' err.txt || fail "-t printed no phases: $(cat err.txt)"
 [ -s anim_01.png ] && [ -s anim_10.png ] && [ ! -e anim_11.png ] || fail "-a 10 anim.png: frames not anim_01 … anim_10: $(ls)"
 "$lcjit" cfdg -q -s 50 -v A -a 10 -f 3 -o 'one_%f.png' two.cfdg || fail "lcjit cfdg -a 10 -f 3 failed"
 [ -s one_01.png ] || fail "-a 10 -f 3 -o one_%f.png: not written as one_01.png (cfdg counts the frames it writes): $(ls)"
+# lcjit's own options: --frames N with a numbered -out writes the frames lcjit cfdg -a N writes.
+"$lcjit" two.cfdg --variation A -w 50 50 --frames 10 -out 'own%02d.png' 2> err.txt || { cat err.txt; fail "--frames failed"; }
+for k in 01 03 10; do
+  cmp -s "own$k.png" "anim_$k.png" || fail "--frames 10 -out own%02d.png: own$k.png is not lcjit cfdg -a 10's anim_$k.png"
+done
 # What cfdg refuses in an animation, lcjit refuses with its words.
 "$lcjit" cfdg -q -a 5 two.cfdg x.svg 2> err.txt && fail "-a with an SVG output was accepted"
 grep -q 'Animation cannot output to SVG' err.txt || fail "-a with .svg: $(cat err.txt)"
