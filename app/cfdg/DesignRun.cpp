@@ -97,7 +97,7 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
       },
       "an animation: NUM frames, or TIMExFPS; one PNG a frame (_%f is added before the extension of the output file)");
   c.add_option("-f", o.frame, "only this frame of the animation (1 …)");
-  c.add_flag("-z", o.zoom, "zoom during the animation (not done by lcjit)");
+  c.add_flag("-z", o.zoom, "zoom during the animation (each frame fitted to its shapes; not a design using ftime())");
   c.add_option("design", o.design, "the design (.cfdg)")->required();
   c.add_option("output", o.output, "output file (a name as it is: % is no code)");
 }
@@ -249,6 +249,28 @@ int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOp
     sequences[i] = std::move(*sequence);
   }
   const double step = (time.end - time.begin) / o.frames;
+  // -z (a design expanded once): each frame fitted to the boxes of the shapes whose time reaches
+  // into it, smoothed backwards in time (each frame's bounds move 0.5^(1/10) of the way to the next
+  // one's); a frame without such bounds keeps the framing before it (as cfdg's OutputBounds).
+  std::vector<cf::Bounds> zoom;
+  if (o.zoom && !perFrame) {
+    zoom.resize(size_t(o.frames));
+    const double perTime = double(o.frames) / (time.end - time.begin);
+    for (const cf::FinishedShape& s : once.shapes) {
+      const cf::TimeSpan& t = once.times[size_t(s.order - 1)];
+      const double b = (t.begin - time.begin) * perTime, e = (t.end - time.begin) * perTime;
+      int first = b < o.frames ? int(std::floor(b)) : o.frames - 1, last = e < o.frames ? int(std::floor(e)) : o.frames - 1;
+      first = std::max(first, 0), last = std::max(last, 0);
+      for (int k = first; k <= last; ++k) zoom[size_t(k)].merge(once.boxes[size_t(s.order - 1)]);
+    }
+    const double alpha = std::pow(0.5, 1.0 / 10.0), beta = 1.0 - alpha;
+    for (size_t k = zoom.size() - 1; k-- > 0;) {
+      const cf::Bounds now = zoom[k], next = zoom[k + 1];
+      zoom[k] = now.valid() && next.valid() ? cf::Bounds{beta * now.minX + alpha * next.minX, beta * now.minY + alpha * next.minY,
+                                                          beta * now.maxX + alpha * next.maxX, beta * now.maxY + alpha * next.maxY}
+                                            : cf::Bounds{};
+    }
+  }
   double windowEnd = time.begin;
   int written = 0;
   size_t shapes = 0;
@@ -271,6 +293,8 @@ int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOp
       f = cf::frame(frameRun, eo);
       shapes += frameRun.shapes.size();
     } else {
+      if (!zoom.empty() && zoom[size_t(k - 1)].valid()) onceFraming = cf::frame(once, eo, &zoom[size_t(k - 1)]);
+      f = onceFraming;
       f.times = &once.times;
       f.window = window;
       shapes = once.shapes.size();
@@ -367,7 +391,6 @@ int runDesign(const DesignRunOptions& given) {
                       : !o.frames && o.zoom             ? "Zoomed output is only available when animating."
                       : o.frames && o.frame < 0         ? "Animation frame must be a positive integer."
                       : o.frames && o.frame > o.frames  ? "Animation frame is after the end of the animation."
-                      : o.zoom                          ? "lcjit does not zoom animations (-z) yet."
                       : !o.output.empty() && !o.outs.empty() ? "Two output files specified."
                                                               : nullptr;
   for (const std::string& out : o.outs)

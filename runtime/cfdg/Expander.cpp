@@ -527,7 +527,7 @@ struct Engine {
     if (p.frieze == 2) fixedBorderY = 0.0;
     if (p.frieze == 1) fixedBorder = 0.0;
     p.borderX = fixedBorder, p.borderY = fixedBorderY;
-    keepBoxes = p.tiled || p.frieze;
+    keepBoxes = p.tiled || p.frieze || options.keepTimes;  // and an animation's frames zoomed to theirs
   }
 
   void background(__cf_Ctx* c) {
@@ -703,7 +703,8 @@ DesignTiming timingOf(const __cf_Design& design) {
 // 4. Framing and the -V picture
 // ---------------------------------------------------------------------------------------------
 
-Framing frame(const Expansion& e, const ExpandOptions& o) {
+Framing frame(const Expansion& e, const ExpandOptions& o, const Bounds* fitTo) {
+  const Bounds& bounds = fitTo ? *fitTo : e.bounds;
   const PictureSettings& p = e.picture;
   Framing f;
   f.width = o.width;
@@ -712,11 +713,11 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
   // final bounds. Their fits are exact (no change of parity to keep the picture centred).
   const bool exact = p.tiled || p.sized || p.frieze;
   if (p.tiled || p.sized) f.width = p.width, f.height = p.height;
-  if (p.frieze && e.bounds.valid()) {
-    Fit once = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, true);
+  if (p.frieze && bounds.valid()) {
+    Fit once = fitBounds(bounds, f.width, f.height, p.borderX, p.borderY, true);
     f.width = once.width, f.height = once.height;
   }
-  f.fit = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, exact);
+  f.fit = fitBounds(bounds, f.width, f.height, p.borderX, p.borderY, exact);
   f.offsetX = double((f.width - f.fit.width) / 2);
   f.offsetY = double((f.height - f.fit.height) / 2);
   f.toPixels = f.fit.toBlock;

@@ -117,8 +117,9 @@ struct Expansion {
   std::string stopped;
   bool shapeLimit = false;  // it was the shape limit (-m, CF::MaxShapes): an end, not a failure
   PictureSettings picture;
-  // Tiled and frieze designs: each finished shape's box (world units, unstroked by the border),
-  // by its order - 1 (FILL's invalid), from which its copies around the lattice are found.
+  // Tiled and frieze designs (and with ExpandOptions::keepTimes): each finished shape's box (world
+  // units, unstroked by the border), by its order - 1 (FILL's invalid), from which its copies
+  // around the lattice are found (and a zoomed animation's frames their bounds).
   std::deque<Bounds> boxes;
   // The time the shapes span (from the start shape's), the picture's area when the design has no
   // time terms; with ExpandOptions::keepTimes each finished shape's time, by its order - 1.
@@ -165,7 +166,8 @@ struct Framing {
   const std::deque<TimeSpan>* times = nullptr;
   TimeSpan window{-kForever, kForever};
 };
-Framing frame(const Expansion& expansion, const ExpandOptions& options);
+// `fitTo`: other bounds to fit (a zoomed animation's frame), else the expansion's.
+Framing frame(const Expansion& expansion, const ExpandOptions& options, const Bounds* fitTo = nullptr);
 bool drawn(const FinishedShape& shape, const Framing& framing, const ExpandOptions& options);
 
 // Context Free's `-V` picture: SVG with each shape's matrix (8 significant digits) and colour.

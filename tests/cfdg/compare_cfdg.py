@@ -6,10 +6,11 @@
 - the PNGs, decoded: the same size, channels, bit depth and every sample (with --image-diff, the
   suite's image_diff tool, run with --exact);
 - with --frames N (and --image-diff), an animation instead: the N PNG frames of `-a N`, frame by
-  frame, and the frame of `-a N -f K` for each K given by --frame (cfdg writes no SVG of a frame).
+  frame, and the frame of `-a N -f K` for each K given by --frame (cfdg writes no SVG of a frame);
+  --zoom adds -z.
 
 usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--define N=V] [--list FILE]
-                       [--frames N [--frame K]...] DESIGN...
+                       [--frames N [--frame K]... [--zoom]] DESIGN...
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
 
@@ -72,7 +73,7 @@ def compare(ref, got):
 
 # An animation: each frame's PNG, and each single frame (-f K), sample for sample.
 def compare_frames(a, design, v, work):
-    options = [x for d in a.define for x in ('-D', d)] + ['-s', str(a.size), '-v', v]
+    options = [x for d in a.define for x in ('-D', d)] + ['-s', str(a.size), '-v', v] + (['-z'] if a.zoom else [])
     for frame in [0] + a.frame:
         for f in os.listdir(work):
             if f.endswith('.png'): os.remove(os.path.join(work, f))
@@ -105,6 +106,7 @@ def main():
     ap.add_argument('--part', default='1/1', help='K/N: every Nth design from the Kth (the suite runs parts in parallel)')
     ap.add_argument('--frames', type=int, default=0, help='compare the PNG frames of an animation of N frames')
     ap.add_argument('--frame', type=int, action='append', default=[], help='with --frames: also -f K alone')
+    ap.add_argument('--zoom', action='store_true', help='with --frames: both with -z (each frame fitted to its shapes)')
     ap.add_argument('designs', nargs='*')
     a = ap.parse_args()
     if a.list:
