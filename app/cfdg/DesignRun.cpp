@@ -230,6 +230,7 @@ int runError(const cf::Expansion& e, const DesignRunOptions& o) {
 int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOptions eo, const cf::DesignTiming& timing,
                   const std::vector<double>& statics, uint64_t variation) {
   const bool perFrame = d.table->usesFrameTime != 0;
+  eo.animation = true;
   cf::TimeSpan time = timing.hasTime ? timing.time : cf::TimeSpan{};
   cf::Expansion once;
   cf::Framing onceFraming;

@@ -123,6 +123,7 @@ class Canvas {
   // The pixels as drawn: rows top first (the picture's top row is AGG's y = height - 1),
   // channels R, G, B, A (or grey), premultiplied, 16-bit values in native byte order.
   const std::vector<uint8_t>& pixels() const { return pixels_; }
+  std::vector<uint8_t>& pixels() { return pixels_; }
   size_t rowBytes() const { return size_t(width_) * channelCount(format_) * bytesPerChannel(format_); }
 
   struct Surface;  // the AGG pixel format drawing into pixels_ (AggCanvas.cpp)

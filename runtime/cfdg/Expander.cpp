@@ -713,7 +713,7 @@ Framing frame(const Expansion& e, const ExpandOptions& o, const Bounds* fitTo) {
   // final bounds. Their fits are exact (no change of parity to keep the picture centred).
   const bool exact = p.tiled || p.sized || p.frieze;
   if (p.tiled || p.sized) f.width = p.width, f.height = p.height;
-  if (p.frieze && bounds.valid()) {
+  if (p.frieze && bounds.valid() && !o.animation) {
     Fit once = fitBounds(bounds, f.width, f.height, p.borderX, p.borderY, true);
     f.width = once.width, f.height = once.height;
   }

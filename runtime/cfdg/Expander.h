@@ -55,6 +55,9 @@ struct ExpandOptions {
   double frameTime = 0, frame = 0;
   TimeSpan window{-kForever, kForever};
   bool keepTimes = false;  // keep each finished shape's time (Expansion::times): frames drawn from one run
+  // A frame of an animation: a frieze keeps the picture's size (repeated across it), as cfdg's
+  // animation canvas is made before the frieze's final size is known.
+  bool animation = false;
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
