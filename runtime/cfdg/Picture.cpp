@@ -58,6 +58,30 @@ PixelFormat pixelFormat(const __cf_Design& design, const PictureSettings& p) {
   return format;
 }
 
+namespace {
+// An animation's frame of a frieze: cfdg makes the canvas at the picture's size before it knows the
+// frieze's (a fitted block narrower or lower than the picture), and when the frame is drawn it
+// copies the picture onto itself one block further along the frieze, in place, row by row from its
+// bottom, pixel by pixel from the left: everything past the first block repeats the picture's
+// first block's width (or height) of pixels, margins and all.
+void repeatFrieze(Canvas& canvas, const Framing& f, const PictureSettings& p) {
+  std::vector<uint8_t>& pixels = canvas.pixels();
+  const size_t row = canvas.rowBytes(), pixel = row / size_t(canvas.width());
+  if (p.frieze == 1 && f.fit.width < canvas.width()) {
+    const size_t shift = size_t(f.fit.width) * pixel;
+    for (int y = 0; y < canvas.height(); ++y)
+      for (size_t x = shift; x < row; ++x) pixels[size_t(y) * row + x] = pixels[size_t(y) * row + x - shift];
+  }
+  if (p.frieze == 2 && f.fit.height < canvas.height()) {
+    // cfdg's rows count from the bottom; the canvas's from the top.
+    for (int y = f.fit.height; y < canvas.height(); ++y) {
+      uint8_t* to = pixels.data() + size_t(canvas.height() - 1 - y) * row;
+      std::copy_n(pixels.data() + size_t(canvas.height() - 1 - (y - f.fit.height)) * row, row, to);
+    }
+  }
+}
+}  // namespace
+
 Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framing& f, const ExpandOptions& o) {
   Canvas canvas(f.width, f.height, pixelFormat(design, e.picture), deviceColour(e.background));
   if (e.paths.empty() && f.tiling == 0) {
@@ -72,10 +96,12 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
       return true;
     };
     canvas.drawEach(e.shapes.size(), shapeAt, std::max(1u, std::thread::hardware_concurrency()));
+    if (o.animation) repeatFrieze(canvas, f, e.picture);
     return canvas;
   }
   CanvasPainter painter(canvas);
   paintShapes(design, e, f, o, painter);
+  if (o.animation) repeatFrieze(canvas, f, e.picture);
   return canvas;
 }
 
@@ -104,7 +130,7 @@ void paintShapes(const __cf_Design& design, const Expansion& e, const Framing& f
     if (s.shape == kPathShape) {
       if (!paths) paths = std::make_unique<PathEngine>(design);
       copies = copyOffsets(e, f, s);
-      paths->paint(e.paths[size_t(s.path)], e.statics, paint);
+      paths->paint(e.paths[size_t(s.path)], e, paint);
       continue;
     }
     CanvasShape c;
