@@ -29,7 +29,8 @@ struct Options;
 
 struct DesignRunOptions {
   std::string design;
-  std::vector<std::string> outs;  // .svg (Context Free's -V picture) or .png
+  std::vector<std::string> outs;  // .svg (Context Free's -V picture) or .png; names with %v %V %f %%
+  std::string output;             // cfdg's output file argument: a name as it is (no % codes)
   int width = 500, height = 500;
   std::string variation;          // a code as Context Free takes one ("A", "ABC", "17"); "" = random
   double minimumSize = 0.3;
@@ -42,6 +43,11 @@ struct DesignRunOptions {
   bool timing = false;  // -t (cfdg's) / -v: where the time went, on stderr
   bool crop = false;    // -c (cfdg's): only the fitted block (not for tiled or frieze designs)
   bool watch = false;   // --watch: draw again when the design is saved
+  int frames = 0;       // -a (cfdg's): an animation of this many frames (PNG each), 0: one picture
+  int frame = 0;        // -f (cfdg's): only this frame of the animation (1 …)
+  int fps = 25;         // --fps: a video's frames a second (lcjit's -out movie.mp4)
+  bool cfdgNames = false;  // output names as cfdg makes them (%f …), not lcjit's numbered files and videos
+  bool zoom = false;    // -z (cfdg's): not done by lcjit
   std::vector<std::string> defines;  // -D NAME=VALUE
   std::optional<uint64_t> seed;      // --seed N: variation N (a sweep's runs)
   std::string runRecord;             // --run-record: the run's JSON record, whatever happens

@@ -269,6 +269,11 @@ void declare(Table& t) {
   t.option("--variation", &O::variation,
            "a Context Free design's variation: letters (A, ZZT) or a number, as Context Free's -v takes "
            "them (default: a random one, printed)", takes);
+  t.option("--frames", &O::frames,
+           "a Context Free design's animation of N frames (Context Free's -a N; 0: one picture): -out "
+           "with a number in its name (frame%03d.png) writes each frame, -out movie.mp4 a video "
+           "(docs/cfdg.md)", takes)
+      ->check(CLI::NonNegativeNumber);
   // Refused with --sandbox (the run writes its -out alone).
   t.option("--run-record", &O::runRecord,
            "batch mode: write what the run was run with and how it ended (the -D values, the seed, the "

@@ -59,6 +59,7 @@ struct Options {
   std::vector<std::string> overrides;    // -D NAME=VALUE, as given
   std::optional<uint64_t> seed;          // --seed
   std::string variation;                 // --variation: a Context Free design's variation code
+  int frames = 0;                        // --frames: a Context Free design's animation of N frames
   bool cleanEA20 = false;                // -cleanEA20
   double environmentTimeout = 60;        // --environment-timeout
   // The limits of every derivation (runtime::EngineLimits, whose defaults they start from).

@@ -85,6 +85,17 @@ const std::map<std::string, std::string> kFunctions2 = {
     {"bitor", "__cf_BitOr"}, {"bitand", "__cf_BitAnd"}, {"bitxor", "__cf_BitXor"},
     {"bitleft", "__cf_BitLeft"}, {"bitright", "__cf_BitRight"}};
 
+// Context Free's distributions: the engine's number and how many arguments (-1: one or more).
+const std::map<std::string, std::pair<std::string, int>> kDistributions = {
+    {"rand::exponential", {"__cf_RandExponential", 1}}, {"rand::gamma", {"__cf_RandGamma", 2}},
+    {"rand::weibull", {"__cf_RandWeibull", 2}}, {"rand::extremeV", {"__cf_RandExtremeValue", 2}},
+    {"rand::normal", {"__cf_RandNormal", 2}}, {"rand::lognormal", {"__cf_RandLogNormal", 2}},
+    {"rand::chisquared", {"__cf_RandChiSquared", 1}}, {"rand::cauchy", {"__cf_RandCauchy", 2}},
+    {"rand::fisherF", {"__cf_RandFisherF", 2}}, {"rand::studentT", {"__cf_RandStudentT", 1}},
+    {"randint::bernoulli", {"__cf_RandBernoulli", 1}}, {"randint::binomial", {"__cf_RandBinomial", 2}},
+    {"randint::negbinomial", {"__cf_RandNegBinomial", 2}}, {"randint::poisson", {"__cf_RandPoisson", 1}},
+    {"randint::geometric", {"__cf_RandGeometric", 1}}, {"randint::discrete", {"__cf_RandDiscrete", -1}}};
+
 // A design's name as a C++ identifier: names may hold any UTF-8 letter and `::`.
 std::string identifier(const std::string& name) {
   std::string out;
@@ -132,6 +143,9 @@ class Translator {
   bool usesBlend_ = false;  // a blend term: the picture is drawn with compositing operators
   double maxNatural_ = 1000;  // CF::MaxNatural
   bool impure_ = false;       // CF::Impure
+  bool usesTime_ = false;       // a time term: shapes have their own times in an animation
+  bool usesFrameTime_ = false;  // ftime() or frame(): an animation expands the design per frame
+  std::map<std::string, const Definition*> timing_;  // CF::Time, CF::FrameTime, CF::Frame
   const Expr* background_ = nullptr;  // CF::Background
   bool inPath_ = false;      // translating a path's body
   size_t currentRule_ = 0;   // the rule being translated (its index in the design)
@@ -225,7 +239,8 @@ class Translator {
           for (const auto& a : e.args) b += bytes(*a) + hotbits("paren");
           return b + hotbits("cons") + h;
         }
-        if ((f == "ftime" || f == "frame") && e.args.empty()) return hotbits("cons") + h;
+        // ftime(), frame() and infinity() are given one textless argument (not a list).
+        if ((f == "ftime" || f == "frame" || f == "infinity") && e.args.empty()) return h;
         if (e.args.size() == 1) return bytes(*e.args[0]) + hotbits("paren") + hotbits("cons") + h;
         return argBytes(e.args) + h;
       }
@@ -602,6 +617,7 @@ class Translator {
     v.info.classes = 0;
     for (const auto& t : terms) {
       if (t.kind == "sat") usesSat_ = true;
+      if (t.kind == "time") usesTime_ = true;
       if (t.kind == "blend") usesBlend_ = true;
       Value x = termValue(t);
       v.constant &= x.constant;
@@ -744,6 +760,25 @@ class Translator {
         return wrap(r);
       }
       Value v = wrap(ord({lo, hi}, std::string(f == "rand" ? "__cf_rand" : "__cf_randint") + "(c, $0, $1)"));
+      v.constant = v.pure = false;
+      return v;
+    }
+    if (f == "ftime" || f == "frame") {
+      // The frame's time, or its place in the animation: known when the design runs.
+      if (!args.empty()) fail(e.at, "ftime()/frame() functions takes no arguments");
+      usesFrameTime_ = true;
+      return {{"__cf_time(c, " + std::string(f == "ftime" ? "0" : "1") + ")"}, false, true};
+    }
+    if (auto it = kDistributions.find(f); it != kDistributions.end()) {
+      // Arguments left to right, then the draws the distribution takes from the running state.
+      const int arity = it->second.second;
+      if (arity < 0 && n == 0) fail(e.at, "Function takes at least one arguments");
+      if (arity == 1 && n != 1) fail(e.at, "Function takes one argument");
+      if (arity == 2 && n != 2) fail(e.at, "Function takes two arguments");
+      std::string combine = "({ const double _d[] = {";
+      for (size_t k = 0; k < n; ++k) combine += "$" + std::to_string(k) + ", ";
+      combine += "}; __cf_distribution(c, " + it->second.first + ", " + std::to_string(n) + ", _d); })";
+      Value v = wrap(ord(all.parts, combine));
       v.constant = v.pure = false;
       return v;
     }
@@ -1179,6 +1214,7 @@ class Translator {
         continue;
       }
       if (t.kind == "sat") usesSat_ = true;
+      if (t.kind == "time") usesTime_ = true;
       if (t.kind == "blend") usesBlend_ = true;
       int mc = termClass(t.kind);
       if (t.kind == "s" && v.constant && v.parts.size() == 2 && v.parts[0] == "(0x1p+0)" && v.parts[1] == "(0x1p+0)")
@@ -1857,7 +1893,7 @@ class Translator {
     if (variable) {
       if (variable->kind == Binding::Function || variable->width != 1)
         fail(e.shapeAt, "'" + e.shape + "' is not a shape");
-      shapeCode = "(int)(" + (variable->kind == Binding::Param ? "p[" + variable->cpp + "]" : variable->cpp) + ")";
+      shapeCode = variable->kind == Binding::Param ? "p[" + variable->cpp + "]" : variable->cpp;
     } else {
       int id = shapeId(e.shape, e.shapeAt);
       if (id == 3) fail(e.shapeAt, "FILL cannot be a subpath");
@@ -1889,7 +1925,10 @@ class Translator {
       line("int " + saved + " = __cf_pathEnterOps(c, &s);");
     }
     patchSeed(seedAt, seedOf(0, adjustmentBytes(terms) + spec) ^ applyAdjustment(e.adjustment, std::move(terms), "s"));
-    line("__cf_subpath(c, " + shapeCode + ", &s, " + params + ", " + std::to_string(kind) + ");");
+    if (variable && params == "nullptr")  // the shape and parameters the value holds
+      line("__cf_subpath_value(c, " + shapeCode + ", &s, " + std::to_string(kind) + ");");
+    else
+      line("__cf_subpath(c, (int)(" + shapeCode + "), &s, " + params + ", " + std::to_string(kind) + ");");
     leavePathOps(saved);
     --indent_;
     line("}");
@@ -2140,6 +2179,10 @@ Translation Translator::run() {
       background_ = def.value.get();  // the picture's background: drawn by the canvas
       continue;
     }
+    if (def.config && (def.name == "CF::Time" || def.name == "CF::FrameTime" || def.name == "CF::Frame")) {
+      timing_[def.name] = &def;  // the timing function, below
+      continue;
+    }
     if (def.config) {
       // Settings are constants read at translation time.
       double v = settingNumber(def);
@@ -2344,6 +2387,40 @@ Translation Translator::run() {
     backgroundFn = "background";
   }
 
+  // The time settings: constants, read before the run (Context Free reads them when it makes
+  // its renderer).
+  std::string timingFn = "nullptr";
+  if (!timing_.empty()) {
+    code_.clear();
+    indent_ = 1;
+    scopes_.clear();
+    scopes_.emplace_back();
+    line("(void)c;");
+    if (auto it = timing_.find("CF::Time"); it != timing_.end()) {
+      const Expr& e = *it->second->value;
+      if (e.kind != Expr::Modification) fail(e.at, "CF::Time must be an adjustment: [time BEGIN END]");
+      if (!constantExpr(e)) fail(e.at, "This expression must be constant");
+      line("__cf_State _time;");
+      settingAdjustment(e, "CF::Time", "_time");
+      line("t->hasTime = 1;");
+      line("t->timeBegin = _time.tbegin; t->timeEnd = _time.tend; t->timeScale = _time.tsc;");
+      line("t->timeAt = " + placeString(e.at) + ";");
+    }
+    for (const char* name : {"CF::FrameTime", "CF::Frame"}) {
+      auto it = timing_.find(name);
+      if (it == timing_.end()) continue;
+      const Expr& e = *it->second->value;
+      if (!constantExpr(e)) fail(e.at, "This expression must be constant");
+      Value v = scalar(e);
+      const std::string field = std::string(name) == "CF::Frame" ? "Frame" : "FrameTime";
+      line("t->has" + field + " = 1;");
+      line("t->" + std::string(field == "Frame" ? "frame" : "frameTime") + " = " + v.parts[0] + ";");
+    }
+    scopes_.clear();
+    unit += "void timing(__cf_Ctx* c, __cf_Timing* t) {\n" + code_ + "}\n";
+    timingFn = "timing";
+  }
+
   // The table.
   unit += "const __cf_Shape shapes[] = {\n";
   for (size_t k = 0; k < out_.shapes.size(); ++k) {
@@ -2366,8 +2443,8 @@ Translation Translator::run() {
   bool colour = usesSat_;
   unit += "extern \"C\" const __cf_Design __cf_design = {__cf_AbiVersion, " + std::to_string(out_.shapes.size()) +
           ", shapes, " + std::to_string(d_.rules.size()) + ", rules, start, " + std::to_string(statics_) + ", " +
-          (colour ? "1" : "0") + ", 0, " + backgroundFn + ", " + (usesBlend_ ? "1" : "0") + ", " +
-          (backgroundAlpha ? "1" : "0") + "};\n";
+          (colour ? "1" : "0") + ", " + (usesTime_ ? "1" : "0") + ", " + backgroundFn + ", " + (usesBlend_ ? "1" : "0") +
+          ", " + (backgroundAlpha ? "1" : "0") + ", " + (usesFrameTime_ ? "1" : "0") + ", " + timingFn + "};\n";
   out_.cpp = std::move(unit);
   out_.randStaticCount = statics_;
   return std::move(out_);

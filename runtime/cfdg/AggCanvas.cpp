@@ -510,6 +510,21 @@ std::vector<uint8_t> fileRows(const Canvas& canvas) {
 
 }  // namespace
 
+runtime::Image imageOf(const Canvas& canvas) {
+  const std::vector<uint8_t> bytes = fileRows(canvas);
+  const int channels = channelCount(canvas.format()), depth = bytesPerChannel(canvas.format());
+  runtime::Image image;
+  image.width = canvas.width(), image.height = canvas.height();
+  image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  for (size_t i = 0, n = size_t(image.width) * size_t(image.height); i < n; ++i) {
+    const uint8_t* p = bytes.data() + i * size_t(channels * depth);  // a 16-bit value's high byte first
+    uint8_t* q = image.rgba.data() + i * 4;
+    for (int k = 0; k < 3; ++k) q[k] = p[(channels == 1 ? 0 : k) * depth];
+    q[3] = channels == 4 ? p[3 * depth] : 255;
+  }
+  return image;
+}
+
 llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop) {
   PixelRect r{0, 0, canvas.width(), canvas.height()};
   if (crop) {

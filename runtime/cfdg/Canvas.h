@@ -17,6 +17,7 @@
 
 #include "runtime/cfdg/Affine.h"
 #include "runtime/cfdg/PathVertex.h"
+#include "runtime/files/Images.h"
 
 namespace lcjit::runtime::cfdg {
 
@@ -122,6 +123,7 @@ class Canvas {
   // The pixels as drawn: rows top first (the picture's top row is AGG's y = height - 1),
   // channels R, G, B, A (or grey), premultiplied, 16-bit values in native byte order.
   const std::vector<uint8_t>& pixels() const { return pixels_; }
+  std::vector<uint8_t>& pixels() { return pixels_; }
   size_t rowBytes() const { return size_t(width_) * channelCount(format_) * bytesPerChannel(format_); }
 
   struct Surface;  // the AGG pixel format drawing into pixels_ (AggCanvas.cpp)
@@ -143,5 +145,7 @@ struct PixelRect {
 // (cfdg's). With `crop` (cfdg -c: the fitted block) only that part, clipped to the canvas.
 // Errors: "PATH: error: cannot write file: WHY".
 llvm::Error writePng(const Canvas& canvas, const std::string& path, std::optional<PixelRect> crop = std::nullopt);
+// The picture as lcjit's RGBA image (a video's frame): 8 bits a channel, not premultiplied.
+runtime::Image imageOf(const Canvas& canvas);
 
 }  // namespace lcjit::runtime::cfdg

@@ -7,6 +7,7 @@
 #include "runtime/cfdg/Expander.h"
 
 #include "runtime/ModelGuard.h"
+#include "runtime/cfdg/Distributions.h"
 #include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Symmetry.h"
 #include "runtime/cfdg/Tiling.h"
@@ -209,7 +210,7 @@ struct Engine {
   uint64_t finishedCount = 0;
   std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
-  PathEngine paths{design};
+  PathEngine paths{design, &result.bound};
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
       : design(d), options(o), statics(s) {
@@ -243,27 +244,20 @@ struct Engine {
     result.picture.borderX = result.picture.borderY = fixedBorder;
   }
 
-  // Shape values with bound parameters: a value is shape + kBoundStride · (index + 1).
-  static constexpr double kBoundStride = 1048576.0;
-  std::deque<std::vector<double>> bound;
-  std::vector<int> boundShape;
-
+  // Shape values with bound parameters (ShapeValue), kept in the result: a path drawn again may
+  // run a sub-path of one.
   double bind(int shape, const double* params) {
     int n = design.shapes[shape].paramCount;
     if (n == 0) return double(shape);
-    bound.emplace_back(params, params + n);
-    boundShape.push_back(shape);
-    return double(shape) + kBoundStride * double(bound.size());
+    result.bound.emplace_back(params, params + n);
+    return double(shape) + kBoundStride * double(result.bound.size());
   }
   void replaceValue(__cf_Ctx* c, double value, const __cf_State& s, bool start = false) {
-    double index = std::floor(value / kBoundStride);
-    int shape = int(value - index * kBoundStride);
-    if (!(value >= 0) || shape >= design.shapeCount || index > double(bound.size()))
-      fail(c, "a shape value that is no shape");
-    const double* params = index > 0 ? bound[size_t(index) - 1].data() : nullptr;
-    if (!params && design.shapes[shape].paramCount > 0)
-      fail(c, std::string("shape ") + design.shapes[shape].name + " needs parameters");
-    process(c, shape, s, params, start ? c->cur : stepSeed(c->cur));
+    const ShapeValue v = shapeValue(design, result.bound, value);
+    if (v.shape < 0) fail(c, "a shape value that is no shape");
+    if (!v.params && design.shapes[v.shape].paramCount > 0)
+      fail(c, std::string("shape ") + design.shapes[v.shape].name + " needs parameters");
+    process(c, v.shape, s, v.params, start ? c->cur : stepSeed(c->cur));
   }
 
   bool hasRules(int shape) const { return shape >= 4 && !rulesOf[size_t(shape)].empty(); }
@@ -406,7 +400,25 @@ struct Engine {
       if (keepBoxes) result.boxes.emplace_back();
     }
     f.order = ++finishedCount;
+    if (!keepInTime(s))
+      return;
     result.shapes.push_back(f);
+  }
+
+  // A finished shape's time, as Context Free gives it one: its own when the design has time
+  // terms, else from the picture's area so far onward (an animation then shows the shapes in the
+  // order they were made). It widens the time the shapes span; a design that uses ftime() or
+  // frame() keeps the shape only when its time overlaps the frame's window.
+  bool keepInTime(const __cf_State& s) {
+    TimeSpan t{s.tbegin, s.tend};
+    if (!design.usesTime) t = {totalArea, kForever};
+    TimeSpan& all = result.timeBounds;
+    if (t.begin < all.begin && std::isfinite(t.begin)) all.begin = t.begin;
+    if (t.begin > all.end && std::isfinite(t.begin)) all.end = t.begin;
+    if (t.end > all.end && std::isfinite(t.end)) all.end = t.end;
+    if (t.end < all.begin && std::isfinite(t.end)) all.begin = t.end;
+    if (options.keepTimes) result.times.push_back(t);
+    return !design.usesFrameTime || t.overlaps(options.window);
   }
 
   // A path is finished by running its body, measuring each command's outline; it is drawn by
@@ -428,6 +440,8 @@ struct Engine {
     f.boxArea = area;
     f.path = int(result.paths.size());
     f.order = ++finishedCount;
+    if (!keepInTime(s))
+      return;
     FinishedPath p;
     p.shape = shape;
     p.seed = seed;
@@ -513,7 +527,7 @@ struct Engine {
     if (p.frieze == 2) fixedBorderY = 0.0;
     if (p.frieze == 1) fixedBorder = 0.0;
     p.borderX = fixedBorder, p.borderY = fixedBorderY;
-    keepBoxes = p.tiled || p.frieze;
+    keepBoxes = p.tiled || p.frieze || options.keepTimes;  // and an animation's frames zoomed to theirs
   }
 
   void background(__cf_Ctx* c) {
@@ -569,8 +583,10 @@ struct Engine {
     return true;
   }
 
-  // The start shape, moved by CF::Tile's or CF::Size's translation.
-  __cf_State startState(const __cf_State& s) const {
+  // The start shape, moved by CF::Tile's or CF::Size's translation. Its time is where the time
+  // the shapes span starts.
+  __cf_State startState(const __cf_State& s) {
+    result.timeBounds = {s.tbegin, s.tend};
     __cf_State moved = s;
     moved.tx += startX;
     moved.ty += startY;
@@ -584,6 +600,8 @@ struct Engine {
     ctx.cur = stepSeed(options.variation == 0 ? kSeedBase : options.variation);
     ctx.engine = this;
     ctx.statics = statics.data();
+    ctx.time[0] = result.frameTime = options.frameTime;
+    ctx.time[1] = result.frame = options.frame;
     design.start(&ctx);
     while (!heap.empty()) {
       ModelGuard::checkpoint();
@@ -615,6 +633,7 @@ struct Engine {
       slots[slot].params.reset();
       freeSlots.push_back(slot);
     }
+    if (!design.usesTime) result.timeBounds = {0.0, totalArea};
   }
 
   void sortForDrawing() {
@@ -638,6 +657,13 @@ struct Stop {
 
 }  // namespace
 
+ShapeValue shapeValue(const __cf_Design& design, const std::deque<std::vector<double>>& bound, double value) {
+  const double index = std::floor(value / kBoundStride);
+  const int shape = int(value - index * kBoundStride);
+  if (!(value >= 0) || shape >= design.shapeCount || index > double(bound.size())) return {};
+  return {shape, index > 0 ? bound[size_t(index) - 1].data() : nullptr};
+}
+
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
   Engine engine(design, options, statics);
   // Design code runs behind the fault guard: a crash or an exception in it is an error, not the
@@ -659,11 +685,26 @@ Expansion expand(const __cf_Design& design, const ExpandOptions& options, const 
   return std::move(engine.result);
 }
 
+DesignTiming timingOf(const __cf_Design& design) {
+  DesignTiming t;
+  if (!design.timing) return t;
+  __cf_Timing read{};
+  __cf_Ctx ctx{};
+  design.timing(&ctx, &read);
+  t.hasTime = read.hasTime, t.hasFrameTime = read.hasFrameTime, t.hasFrame = read.hasFrame;
+  t.time = {read.timeBegin, read.timeEnd};
+  t.timeScale = read.timeScale;
+  t.timeAt = read.timeAt ? read.timeAt : "";
+  t.frameTime = read.frameTime, t.frame = read.frame;
+  return t;
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. Framing and the -V picture
 // ---------------------------------------------------------------------------------------------
 
-Framing frame(const Expansion& e, const ExpandOptions& o) {
+Framing frame(const Expansion& e, const ExpandOptions& o, const Bounds* fitTo) {
+  const Bounds& bounds = fitTo ? *fitTo : e.bounds;
   const PictureSettings& p = e.picture;
   Framing f;
   f.width = o.width;
@@ -672,11 +713,11 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
   // final bounds. Their fits are exact (no change of parity to keep the picture centred).
   const bool exact = p.tiled || p.sized || p.frieze;
   if (p.tiled || p.sized) f.width = p.width, f.height = p.height;
-  if (p.frieze && e.bounds.valid()) {
-    Fit once = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, true);
+  if (p.frieze && bounds.valid() && !o.animation) {
+    Fit once = fitBounds(bounds, f.width, f.height, p.borderX, p.borderY, true);
     f.width = once.width, f.height = once.height;
   }
-  f.fit = fitBounds(e.bounds, f.width, f.height, p.borderX, p.borderY, exact);
+  f.fit = fitBounds(bounds, f.width, f.height, p.borderX, p.borderY, exact);
   f.offsetX = double((f.width - f.fit.width) / 2);
   f.offsetY = double((f.height - f.fit.height) / 2);
   f.toPixels = f.fit.toBlock;
@@ -686,6 +727,8 @@ Framing frame(const Expansion& e, const ExpandOptions& o) {
 }
 
 bool drawn(const FinishedShape& s, const Framing& f, const ExpandOptions& o) {
+  if (f.times && !(*f.times)[size_t(s.order - 1)].overlaps(f.window))
+    return false;
   if (s.shape == 3)
     return true;
   double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
@@ -765,7 +808,7 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
   for (const FinishedShape& s : e.shapes) {
     if (s.shape == kPathShape && drawn(s, f, o)) {
       if (!paths) paths = std::make_unique<PathEngine>(*e.design);
-      out += paths->svg(e.paths[size_t(s.path)], e.statics, f, copyOffsets(e, f, s), toSvg, nextPathId, precision);
+      out += paths->svg(e.paths[size_t(s.path)], e, f, copyOffsets(e, f, s), toSvg, nextPathId, precision);
       continue;
     }
     if (s.shape == 3 || !drawn(s, f, o))
@@ -1004,6 +1047,10 @@ double __cf_randint(__cf_Ctx* c, double a, double b) {
   return std::floor(drawDouble(c->cur) * std::fabs(b - a) + std::fmin(a, b));
 }
 double __cf_pow(double a, double b) { return std::pow(a, b); }
+double __cf_distribution(__cf_Ctx* c, int kind, int count, const double* args) {
+  return distribution(c->cur, kind, count, args);
+}
+double __cf_time(__cf_Ctx* c, int which) { return c->time[which != 0]; }
 
 void __cf_colour(int toRgb, const double* in, double* out) {
   if (toRgb) {
@@ -1140,6 +1187,8 @@ std::vector<std::pair<std::string, void*>> hostSymbols() {
       {"__cf_randint", reinterpret_cast<void*>(&__cf_randint)},
       {"__cf_pow", reinterpret_cast<void*>(&__cf_pow)},
       {"__cf_colour", reinterpret_cast<void*>(&__cf_colour)},
+      {"__cf_distribution", reinterpret_cast<void*>(&__cf_distribution)},
+      {"__cf_time", reinterpret_cast<void*>(&__cf_time)},
       {"__cf_fail", reinterpret_cast<void*>(&__cf_fail)},
       {"__cf_fail_at", reinterpret_cast<void*>(&__cf_fail_at)},
       {"__cf_bind", reinterpret_cast<void*>(&__cf_bind)},

@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -35,6 +36,13 @@ Fit fitBounds(const Bounds& bounds, int width, int height, double border, bool e
 // With different borders left and right (x) and top and bottom (y), as a frieze has.
 Fit fitBounds(const Bounds& bounds, int width, int height, double borderX, double borderY, bool exact);
 
+// A time interval (Context Free's animation time: a shape's, a frame's, the picture's).
+struct TimeSpan {
+  double begin = 0, end = 0;
+  bool overlaps(const TimeSpan& t) const { return !(t.begin > end || t.end < begin); }
+};
+constexpr double kForever = std::numeric_limits<double>::infinity();
+
 struct ExpandOptions {
   int width = 500, height = 500;
   double minimumSize = 0.3;  // pixels; `-x`
@@ -42,6 +50,14 @@ struct ExpandOptions {
   uint64_t variation = 1;
   uint64_t maxShapes = 500'000'000;
   size_t maxMemory = 0;  // bytes of the whole process; 0: half the physical memory (--max-memory)
+  // Time: what ftime() and frame() give, and the frame's window, of which a design that uses
+  // them keeps only the shapes whose time overlaps it (a single picture's is all time).
+  double frameTime = 0, frame = 0;
+  TimeSpan window{-kForever, kForever};
+  bool keepTimes = false;  // keep each finished shape's time (Expansion::times): frames drawn from one run
+  // A frame of an animation: a frieze keeps the picture's size (repeated across it), as cfdg's
+  // animation canvas is made before the frieze's final size is known.
+  bool animation = false;
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
@@ -88,8 +104,12 @@ struct Expansion {
   // copying (or holding twice) what is there.
   std::deque<FinishedShape> shapes;
   std::deque<FinishedPath> paths;      // the paths among them (FinishedShape::path)
-  const __cf_Design* design = nullptr; // what was expanded, and its rand_static() values: a path's
-  std::vector<double> statics;         // body runs again to be drawn
+  const __cf_Design* design = nullptr; // what was expanded, its rand_static() values and the frame's
+  std::vector<double> statics;         // time (ftime(), frame()): a path's body runs again to be drawn
+  double frameTime = 0, frame = 0;
+  // The parameters of shape values made in the run (`foo(0.5)` for a parameter of type shape),
+  // by a value's index (ShapeValue): a path that takes one draws it again.
+  std::deque<std::vector<double>> bound;
   Bounds bounds;
   uint64_t expanded = 0;               // rule shapes expanded
   double background[4] = {0, 0, 1, 1}; // HSBA: white, changed by CF::Background
@@ -100,10 +120,36 @@ struct Expansion {
   std::string stopped;
   bool shapeLimit = false;  // it was the shape limit (-m, CF::MaxShapes): an end, not a failure
   PictureSettings picture;
-  // Tiled and frieze designs: each finished shape's box (world units, unstroked by the border),
-  // by its order - 1 (FILL's invalid), from which its copies around the lattice are found.
+  // Tiled and frieze designs (and with ExpandOptions::keepTimes): each finished shape's box (world
+  // units, unstroked by the border), by its order - 1 (FILL's invalid), from which its copies
+  // around the lattice are found (and a zoomed animation's frames their bounds).
   std::deque<Bounds> boxes;
+  // The time the shapes span (from the start shape's), the picture's area when the design has no
+  // time terms; with ExpandOptions::keepTimes each finished shape's time, by its order - 1.
+  TimeSpan timeBounds;
+  std::deque<TimeSpan> times;
 };
+
+// A design's time settings (CF::Time, CF::FrameTime, CF::Frame), read as Context Free reads them
+// before the run.
+struct DesignTiming {
+  bool hasTime = false, hasFrameTime = false, hasFrame = false;
+  TimeSpan time;
+  double timeScale = 1;
+  std::string timeAt;
+  double frameTime = 0, frame = 0;
+};
+DesignTiming timingOf(const __cf_Design& design);
+
+// A shape value: the shape, and its parameters bound by the run (null for none). The value is
+// shape + kBoundStride · (index + 1) for bound parameters, the shape's number without.
+constexpr double kBoundStride = 1048576.0;
+struct ShapeValue {
+  int shape = -1;
+  const double* params = nullptr;
+};
+// What `value` holds, or shape -1 when it is no shape of `design`.
+ShapeValue shapeValue(const __cf_Design& design, const std::deque<std::vector<double>>& bound, double value);
 
 // Expands `design` with `options`. `statics` are its rand_static() values.
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics);
@@ -118,8 +164,13 @@ struct Framing {
   // Tiled and frieze designs: the lattice in pixels, and its inverse (a frieze's: per axis).
   int tiling = 0;                   // 0 none, 1 tiled, 2 frieze
   Affine lattice, latticeInverse;
+  // A frame of an animation drawn from one expansion: only shapes whose time (Expansion::times)
+  // overlaps the window are drawn.
+  const std::deque<TimeSpan>* times = nullptr;
+  TimeSpan window{-kForever, kForever};
 };
-Framing frame(const Expansion& expansion, const ExpandOptions& options);
+// `fitTo`: other bounds to fit (a zoomed animation's frame), else the expansion's.
+Framing frame(const Expansion& expansion, const ExpandOptions& options, const Bounds* fitTo = nullptr);
 bool drawn(const FinishedShape& shape, const Framing& framing, const ExpandOptions& options);
 
 // Context Free's `-V` picture: SVG with each shape's matrix (8 significant digits) and colour.

@@ -124,8 +124,9 @@ struct PathEngine::Run {
   double scale = 0;
   Bounds bounds;
   const PathPainter* painter = nullptr;
+  const std::deque<std::vector<double>>* bound;  // the run's shape values (a sub-path may be one)
 
-  explicit Run(PathEngine& e) : engine(e) {}
+  explicit Run(PathEngine& e) : engine(e), bound(e.bound_) {}
 
   void op(__cf_Ctx* c, int op, int flags, int count, double* d) {
     const agg::trans_affine tr = transformOf(*c->frame);
@@ -316,6 +317,13 @@ struct PathEngine::Run {
     }
     opsOnly = outerOpsOnly;
   }
+  // A sub-path element naming a shape value (a parameter or variable of type shape).
+  void subpath(__cf_Ctx* c, double value, const __cf_State& s, int body) {
+    static const std::deque<std::vector<double>> none;
+    const ShapeValue v = shapeValue(engine.design_, bound ? *bound : none, value);
+    if (v.shape < 0) __cf_fail(c, "a shape value that is no shape");
+    subpath(c, v.shape, s, v.params, body);
+  }
 
   // The whole body of path `shape`, then the implicit FILL if operations are left uncovered.
   void run(__cf_Ctx* c, int shape, const __cf_State& s, const double* params) {
@@ -336,8 +344,8 @@ struct PathEngine::Run {
 // 3. Finishing and painting a path
 // ---------------------------------------------------------------------------------------------
 
-PathEngine::PathEngine(const __cf_Design& design)
-    : design_(design), firstRule_(size_t(design.shapeCount), -1), measure_(std::make_unique<Measure>()) {
+PathEngine::PathEngine(const __cf_Design& design, const std::deque<std::vector<double>>* bound)
+    : design_(design), bound_(bound), firstRule_(size_t(design.shapeCount), -1), measure_(std::make_unique<Measure>()) {
   for (int r = design.ruleCount - 1; r >= 0; --r) firstRule_[size_t(design.rules[r].shape)] = r;
 }
 
@@ -358,22 +366,25 @@ void PathEngine::primitiveMeasured(double determinant) {
   measure_->curved.angle_tolerance(0.1 * std::sqrt(std::fabs(determinant)) > 1.0 ? 0.2 : 0.0);
 }
 
-void PathEngine::paint(const FinishedPath& p, const std::vector<double>& statics, const PathPainter& painter) {
+void PathEngine::paint(const FinishedPath& p, const Expansion& e, const PathPainter& painter) {
   Run run(*this);
   run.painter = &painter;
+  run.bound = &e.bound;
   __cf_Ctx ctx{};
   ctx.cur = p.seed;
-  ctx.statics = statics.data();
+  ctx.statics = e.statics.data();
+  ctx.time[0] = e.frameTime;
+  ctx.time[1] = e.frame;
   run.run(&ctx, p.shape, p.state, p.params.get());
 }
 
-std::string PathEngine::svg(const FinishedPath& p, const std::vector<double>& statics, const Framing& f,
+std::string PathEngine::svg(const FinishedPath& p, const Expansion& e, const Framing& f,
                             const std::vector<std::pair<double, double>>& copies, const Affine& toSvg, int& nextId,
                             int& precision) {
   std::string out;
   int lastId = 0;
   unsigned lastIndex = ~0u;
-  paint(p, statics, [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info, const __cf_State& s) {
+  paint(p, e, [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info, const __cf_State& s) {
     // Each command once per copy of a tiled picture (Tiling.h), all copies before the next command.
     forEachCopy(Affine{s.sx, s.shy, s.shx, s.sy, s.tx, s.ty}, copies, f, toSvg, [&](const Affine& m) {
       double rgba[4];
@@ -486,6 +497,10 @@ void __cf_subpath(__cf_Ctx* c, int shape, const __cf_State* s, const double* par
   runOf(c).subpath(c, shape, *s, params, body);
 }
 
+void __cf_subpath_value(__cf_Ctx* c, double value, const __cf_State* s, int body) {
+  runOf(c).subpath(c, value, *s, body);
+}
+
 }  // extern "C"
 
 namespace lcjit::runtime::cfdg {
@@ -496,6 +511,7 @@ std::vector<std::pair<std::string, void*>> pathHostSymbols() {
       {"__cf_pathEnterOps", reinterpret_cast<void*>(&__cf_pathEnterOps)},
       {"__cf_pathLeaveOps", reinterpret_cast<void*>(&__cf_pathLeaveOps)},
       {"__cf_subpath", reinterpret_cast<void*>(&__cf_subpath)},
+      {"__cf_subpath_value", reinterpret_cast<void*>(&__cf_subpath_value)},
   };
 }
 }  // namespace lcjit::runtime::cfdg

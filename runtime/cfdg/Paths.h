@@ -39,7 +39,8 @@ using PathPainter =
 
 class PathEngine {
  public:
-  explicit PathEngine(const __cf_Design& design);
+  // `bound`: the run's shape values, which a sub-path element may name (null: none yet).
+  explicit PathEngine(const __cf_Design& design, const std::deque<std::vector<double>>* bound = nullptr);
   ~PathEngine();
   PathEngine(const PathEngine&) = delete;
   PathEngine& operator=(const PathEngine&) = delete;
@@ -56,15 +57,16 @@ class PathEngine {
   // cfdg measures primitives with the converters it measures paths with, whose curve angle
   // tolerance (set by strokes, used by fills) carries over.
   void primitiveMeasured(double determinant);
-  // Runs finished path `p`'s body again, giving each command to `paint`.
-  void paint(const FinishedPath& p, const std::vector<double>& statics, const PathPainter& paint);
+  // Runs finished path `p` of expansion `e` again (with its rand_static() values and its frame's
+  // time), giving each command to `paint`.
+  void paint(const FinishedPath& p, const Expansion& e, const PathPainter& paint);
   // Context Free's `-V` picture of finished path `p`: per command (and per copy of a tiled
   // picture, `copies`: Tiling.h), a group with its paint and its transform (the path's state, the
   // fit `f`, the copy's offset, `toSvg`) holding its outline, an SVG path (numbered from
   // `nextId`), or a use of the previous one when a command paints the same outline again.
   // Numbers have `precision` significant digits: cfdg's stream writes 6 until its first
   // transform, 8 from then on.
-  std::string svg(const FinishedPath& p, const std::vector<double>& statics, const Framing& f,
+  std::string svg(const FinishedPath& p, const Expansion& e, const Framing& f,
                   const std::vector<std::pair<double, double>>& copies, const Affine& toSvg, int& nextId,
                   int& precision);
 
@@ -73,6 +75,7 @@ class PathEngine {
 
  private:
   const __cf_Design& design_;
+  const std::deque<std::vector<double>>* bound_;
   std::vector<int> firstRule_;  // per shape: its first rule (a path's body), -1 for none
   std::unique_ptr<Measure> measure_;
 };

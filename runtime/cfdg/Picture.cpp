@@ -2,6 +2,7 @@
 #include "runtime/cfdg/Picture.h"
 
 #include <algorithm>
+#include <memory>
 #include <thread>
 
 #include "runtime/cfdg/Paths.h"
@@ -9,12 +10,39 @@
 
 namespace lcjit::runtime::cfdg {
 
-namespace {
 Rgba deviceColour(const double hsba[4]) {
   double rgba[4];
   rgbOf(hsba, rgba);
   return {rgba[0], rgba[1], rgba[2], rgba[3]};
 }
+
+namespace {
+
+// A shape's transform to pixels, multiplied in cfdg's order: its state's, the fit, (on a tiled
+// picture, the copy's offset,) the fitted block's place in the picture (Tiling.h).
+Affine blockOffset(const Framing& f) { return Affine::translation(f.offsetX, f.offsetY); }
+
+void primitiveOf(const FinishedShape& s, CanvasShape& c) {
+  c.primitive = Primitive(s.shape);
+  c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
+  // A blend flag carries AGG's compositing operator above bit 21.
+  c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
+}
+
+// The AGG canvas as a painter.
+class CanvasPainter final : public ShapePainter {
+ public:
+  explicit CanvasPainter(Canvas& canvas) : canvas_(canvas) {}
+  void draw(const CanvasShape& shape) override { canvas_.draw(shape); }
+  void drawPath(const std::vector<PathVertex>& outline, const PathStyle& style, const Affine& toPixels,
+                const Rgba& colour, int blend) override {
+    canvas_.drawPath(outline, style, toPixels, colour, blend);
+  }
+
+ private:
+  Canvas& canvas_;
+};
+
 }  // namespace
 
 PixelFormat pixelFormat(const __cf_Design& design, const PictureSettings& p) {
@@ -30,31 +58,57 @@ PixelFormat pixelFormat(const __cf_Design& design, const PictureSettings& p) {
   return format;
 }
 
+namespace {
+// An animation's frame of a frieze: cfdg makes the canvas at the picture's size before it knows the
+// frieze's (a fitted block narrower or lower than the picture), and when the frame is drawn it
+// copies the picture onto itself one block further along the frieze, in place, row by row from its
+// bottom, pixel by pixel from the left: everything past the first block repeats the picture's
+// first block's width (or height) of pixels, margins and all.
+void repeatFrieze(Canvas& canvas, const Framing& f, const PictureSettings& p) {
+  std::vector<uint8_t>& pixels = canvas.pixels();
+  const size_t row = canvas.rowBytes(), pixel = row / size_t(canvas.width());
+  if (p.frieze == 1 && f.fit.width < canvas.width()) {
+    const size_t shift = size_t(f.fit.width) * pixel;
+    for (int y = 0; y < canvas.height(); ++y)
+      for (size_t x = shift; x < row; ++x) pixels[size_t(y) * row + x] = pixels[size_t(y) * row + x - shift];
+  }
+  if (p.frieze == 2 && f.fit.height < canvas.height()) {
+    // cfdg's rows count from the bottom; the canvas's from the top.
+    for (int y = f.fit.height; y < canvas.height(); ++y) {
+      uint8_t* to = pixels.data() + size_t(canvas.height() - 1 - y) * row;
+      std::copy_n(pixels.data() + size_t(canvas.height() - 1 - (y - f.fit.height)) * row, row, to);
+    }
+  }
+}
+}  // namespace
+
 Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framing& f, const ExpandOptions& o) {
   Canvas canvas(f.width, f.height, pixelFormat(design, e.picture), deviceColour(e.background));
-  // A shape's transform to pixels, multiplied in cfdg's order: its state's, the fit, (on a tiled
-  // picture, the copy's offset,) the fitted block's place in the picture (Tiling.h).
-  const Affine offset = Affine::translation(f.offsetX, f.offsetY);
-  auto primitive = [&](const FinishedShape& s, CanvasShape& c) {
-    c.primitive = Primitive(s.shape);
-    c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
-    // A blend flag carries AGG's compositing operator above bit 21.
-    c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
-  };
   if (e.paths.empty() && f.tiling == 0) {
     // Primitives only, each drawn once: drawn in bands of rows on every core (Canvas::drawEach).
+    const Affine offset = blockOffset(f);
     auto shapeAt = [&](size_t i, CanvasShape& c) {
       const FinishedShape& s = e.shapes[i];
       if (!drawn(s, f, o))
         return false;
-      primitive(s, c);
+      primitiveOf(s, c);
       forEachCopy(e, f, s, offset, [&](const Affine& toPixels) { c.toPixels = toPixels; });
       return true;
     };
     canvas.drawEach(e.shapes.size(), shapeAt, std::max(1u, std::thread::hardware_concurrency()));
+    if (o.animation) repeatFrieze(canvas, f, e.picture);
     return canvas;
   }
-  PathEngine paths(design);
+  CanvasPainter painter(canvas);
+  paintShapes(design, e, f, o, painter);
+  if (o.animation) repeatFrieze(canvas, f, e.picture);
+  return canvas;
+}
+
+void paintShapes(const __cf_Design& design, const Expansion& e, const Framing& f, const ExpandOptions& o,
+                 ShapePainter& painter) {
+  const Affine offset = blockOffset(f);
+  std::unique_ptr<PathEngine> paths;
   std::vector<std::pair<double, double>> copies;  // of the path being painted, on a tiled picture
   const PathPainter paint = [&](const std::vector<PathVertex>& outline, const PathCommandInfo& info,
                                 const __cf_State& state) {
@@ -68,24 +122,24 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
     style.miterLimit = info.miterLimit;
     const int blend = (info.flags & kBlendPresent) ? (info.flags >> 21) & 31 : kBlendSourceOver;
     forEachCopy(Affine{state.sx, state.shy, state.shx, state.sy, state.tx, state.ty}, copies, f, offset,
-                [&](const Affine& toPixels) { canvas.drawPath(outline, style, toPixels, deviceColour(state.colour), blend); });
+                [&](const Affine& toPixels) { painter.drawPath(outline, style, toPixels, deviceColour(state.colour), blend); });
   };
   for (const FinishedShape& s : e.shapes) {
     if (!drawn(s, f, o))
       continue;
     if (s.shape == kPathShape) {
+      if (!paths) paths = std::make_unique<PathEngine>(design);
       copies = copyOffsets(e, f, s);
-      paths.paint(e.paths[size_t(s.path)], e.statics, paint);
+      paths->paint(e.paths[size_t(s.path)], e, paint);
       continue;
     }
     CanvasShape c;
-    primitive(s, c);
+    primitiveOf(s, c);
     forEachCopy(e, f, s, offset, [&](const Affine& toPixels) {
       c.toPixels = toPixels;
-      canvas.draw(c);
+      painter.draw(c);
     });
   }
-  return canvas;
 }
 
 }  // namespace lcjit::runtime::cfdg

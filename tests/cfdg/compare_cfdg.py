@@ -4,9 +4,13 @@
   colour and opacity and the same matrix (within what 8 significant digits can say); a path's
   commands each with the same paint (fill or stroke, colour, rule, width, cap, join) and outline;
 - the PNGs, decoded: the same size, channels, bit depth and every sample (with --image-diff, the
-  suite's image_diff tool, run with --exact).
+  suite's image_diff tool, run with --exact);
+- with --frames N (and --image-diff), an animation instead: the N PNG frames of `-a N`, frame by
+  frame, and the frame of `-a N -f K` for each K given by --frame (cfdg writes no SVG of a frame);
+  --zoom adds -z.
 
-usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--define N=V] [--list FILE] DESIGN...
+usage: compare_cfdg.py --lcjit BIN [--size N] [--variations A,B,C] [--crop] [--define N=V] [--list FILE]
+                       [--frames N [--frame K]... [--zoom]] DESIGN...
        compare_cfdg.py --svg REF GOT   (two pictures already written: cfdg's -V and one of lcjit's)
 Exit status 0 when every design that lcjit runs matches, 1 otherwise; a summary per design."""
 import argparse, os, re, subprocess, sys, tempfile
@@ -68,6 +72,28 @@ def compare(ref, got):
             return f'shape {i + 1}: matrix {g[3]}, cfdg {r[3]}'
     return None
 
+# An animation: each frame's PNG, and each single frame (-f K), sample for sample.
+def compare_frames(a, design, v, work):
+    options = [x for d in a.define for x in ('-D', d)] + ['-s', str(a.size), '-v', v] + (['-z'] if a.zoom else [])
+    for frame in [0] + a.frame:
+        for f in os.listdir(work):
+            if f.endswith('.png'): os.remove(os.path.join(work, f))
+        only = ['-f', str(frame)] if frame else []
+        r = subprocess.run(['cfdg', '-q', '-a', str(a.frames)] + only + options + ['-o', os.path.join(work, 'ref_%f.png'), design],
+                           capture_output=True, text=True)
+        if r.returncode != 0: return f'cfdg failed ({r.returncode})'
+        g = subprocess.run([a.lcjit, 'cfdg', '-q', '-a', str(a.frames)] + only + options + ['-o', os.path.join(work, 'got_%f.png'), design],
+                           capture_output=True, text=True)
+        if g.returncode != 0: return f'lcjit failed: {g.stderr.strip()[:300]}'
+        refs = sorted(f for f in os.listdir(work) if f.startswith('ref_'))
+        gots = sorted(f for f in os.listdir(work) if f.startswith('got_'))
+        if [f[4:] for f in refs] != [f[4:] for f in gots]: return f'frames {gots}, cfdg wrote {refs}'
+        for ref in refs:
+            d = subprocess.run([a.image_diff, os.path.join(work, ref), os.path.join(work, 'got_' + ref[4:]), '--exact'],
+                               capture_output=True, text=True)
+            if d.returncode: return f'{"-f " + str(frame) + " " if frame else ""}frame {ref[4:-4]}: {d.stdout.strip()}'
+    return None
+
 def main():
     if len(sys.argv) == 4 and sys.argv[1] == '--svg':
         ref, got = (open(f).read() for f in sys.argv[2:])
@@ -85,6 +111,9 @@ def main():
     ap.add_argument('--image-diff', help='the image_diff tool: compare the PNGs too')
     ap.add_argument('--list', help='a file naming designs, one per line (# comments)')
     ap.add_argument('--part', default='1/1', help='K/N: every Nth design from the Kth (the suite runs parts in parallel)')
+    ap.add_argument('--frames', type=int, default=0, help='compare the PNG frames of an animation of N frames')
+    ap.add_argument('--frame', type=int, action='append', default=[], help='with --frames: also -f K alone')
+    ap.add_argument('--zoom', action='store_true', help='with --frames: both with -z (each frame fitted to its shapes)')
     ap.add_argument('designs', nargs='*')
     a = ap.parse_args()
     if a.list:
@@ -101,6 +130,12 @@ def main():
         design, _, own = entry.partition(' -v ')
         name = os.path.basename(design)
         for v in (own.strip() or a.variations).split(','):
+            if a.frames:
+                why = compare_frames(a, design, v, work)
+                if why:
+                    print(f'{name} {v}: DIFFERENT: {why}'); failures += 1; break
+                print(f'{name} {v}: equal ({a.frames} frames{", frames " + ",".join(map(str, a.frame)) if a.frame else ""})')
+                continue
             ref_svg, got_svg = os.path.join(work, 'ref.svg'), os.path.join(work, 'got.svg')
             for f in (ref_svg, got_svg):
                 if os.path.exists(f): os.remove(f)

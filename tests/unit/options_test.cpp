@@ -44,8 +44,8 @@ const std::vector<std::string> kEveryOption = {
     "--tier-after", "100", "--panel", "Parameters", "--panel", "Profile", "--lab", "--sandbox", "--max-cpu", "30",
     "--max-file-size", "2M", "--max-threads", "64", "--sandboxed", "5", "--reply-fd", "6", "--to-step=-2",
     "--plain-errors", "--watch", "--emit-cpp", "--max-modules", "1000", "--max-memory", "1G", "--time-limit",
-    "1.5e-3", "-D", "A=1", "-D", "B=x y", "--seed", "18446744073709551615", "--variation", "ABC", "--run-record", "r.json",
-    "--debugger", "-I", "inc", "-I", "/abs/inc", "plant.v", "plant.l"};
+    "1.5e-3", "-D", "A=1", "-D", "B=x y", "--seed", "18446744073709551615", "--variation", "ABC", "--frames", "12",
+    "--run-record", "r.json", "--debugger", "-I", "inc", "-I", "/abs/inc", "plant.v", "plant.l"};
 
 TEST(Options, EveryOptionIsOnTheTestsCommandLine) {
   std::unique_ptr<CLI::App> app;

@@ -52,6 +52,7 @@ inline void __cf_state_to(double* p, const struct __cf_State& s) { __builtin_mem
 #endif
 
 struct __cf_Ctx;
+struct __cf_Timing;
 typedef void (*__cf_Body)(struct __cf_Ctx*, const double* params);
 
 struct __cf_Rule {
@@ -85,6 +86,21 @@ struct __cf_Design {
   void (*background)(struct __cf_Ctx*, struct __cf_State*);
   int usesBlend;        // a blend term: drawn with compositing operators
   int backgroundAlpha;  // the background has an alpha term: the picture has alpha
+  // ftime() or frame() appears: an animation expands the design again for each frame.
+  int usesFrameTime;
+  // Writes CF::Time, CF::FrameTime and CF::Frame (constants) into a __cf_Timing; null when the
+  // design sets none of them.
+  void (*timing)(struct __cf_Ctx*, struct __cf_Timing*);
+};
+
+// A design's time settings: CF::Time's interval (the animation's time), CF::FrameTime and
+// CF::Frame (what ftime() and frame() give outside an animation).
+struct __cf_Timing {
+  int hasTime;
+  double timeBegin, timeEnd, timeScale;
+  const char* timeAt;  // "file:line:col" of CF::Time, for errors
+  int hasFrameTime, hasFrame;
+  double frameTime, frame;
 };
 
 #ifdef __cplusplus
@@ -100,6 +116,7 @@ struct __cf_Ctx {
   const double* statics;            // rand_static() values
   void* engine;
   void* path;  // the path whose body is running (its outline and commands), else null
+  double time[2];  // what ftime() and frame() give
 };
 
 uint64_t __cf_step(uint64_t s);
@@ -152,10 +169,23 @@ double __cf_randint(struct __cf_Ctx* c, double a, double b);
 double __cf_pow(double a, double b);
 // hsb2rgb (toRgb) and rgb2hsb: three numbers to three, by Context Free's colour conversions.
 void __cf_colour(int toRgb, const double* in, double* out);
+// The rand::… and randint::… distributions (a __cf_Distribution) with `count` arguments, drawn
+// from ctx->cur as Context Free draws them.
+double __cf_distribution(struct __cf_Ctx* c, int kind, int count, const double* args);
+// ftime() (which 0) and frame() (which 1): the frame's time and place in an animation, else the
+// design's CF::FrameTime and CF::Frame (0 when it sets none).
+double __cf_time(struct __cf_Ctx* c, int which);
 // A runtime error in the design's terms ("file:line:col: error: …"), which stops the run.
 void __cf_fail(struct __cf_Ctx* c, const char* message);
 // The same at a place of the design ("file:line:col").
 void __cf_fail_at(struct __cf_Ctx* c, const char* at, const char* message);
+
+enum __cf_Distribution {
+  __cf_RandExponential, __cf_RandGamma, __cf_RandWeibull, __cf_RandExtremeValue, __cf_RandNormal,
+  __cf_RandLogNormal, __cf_RandChiSquared, __cf_RandCauchy, __cf_RandFisherF, __cf_RandStudentT,
+  __cf_RandBernoulli, __cf_RandBinomial, __cf_RandNegBinomial, __cf_RandPoisson, __cf_RandGeometric,
+  __cf_RandDiscrete
+};
 
 // ---- Paths ----
 // A path's body runs once when the path is finished (its commands measured) and again when it is
@@ -183,6 +213,9 @@ void __cf_pathLeaveOps(struct __cf_Ctx* c, int saved);
 // A sub-path element (`path NAME(args) [adj]`): path or primitive `shape` with state `s` and
 // parameters; `body` what the element was compiled to expect (__cf_PathBody).
 void __cf_subpath(struct __cf_Ctx* c, int shape, const struct __cf_State* s, const double* params, int body);
+// A sub-path element naming a shape value (a parameter or variable of type shape): the path (or
+// primitive) and parameters it holds.
+void __cf_subpath_value(struct __cf_Ctx* c, double value, const struct __cf_State* s, int body);
 
 // __cf_IsNatural is a two-argument function: the number, and CF::MaxNatural.
 enum __cf_Function {
