@@ -129,6 +129,8 @@ def main():
     for entry in a.designs:
         design, _, own = entry.partition(' -v ')
         name = os.path.basename(design)
+        if not os.path.exists(design):  # a listed design that is not there is no pass
+            print(f'{name}: no such design'); failures += 1; continue
         for v in (own.strip() or a.variations).split(','):
             if a.frames:
                 why = compare_frames(a, design, v, work)
