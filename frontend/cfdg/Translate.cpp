@@ -382,16 +382,12 @@ class Translator {
   }
 
   // A number written as a constant where Context Free needs one when it reads the design.
-  double literal(const Expr& e, const std::string& what) {
-    if (e.kind == Expr::Paren) return literal(*e.args[0], what);
-    if (e.kind == Expr::Unary && e.text == "-") return -literal(*e.args[0], what);
-    if (e.kind == Expr::Unary && e.text == "+") return literal(*e.args[0], what);
+  double constantNumber(const Expr& e, const std::string& what) {
+    if (e.kind == Expr::Paren) return constantNumber(*e.args[0], what);
+    if (e.kind == Expr::Unary && e.text == "-") return -constantNumber(*e.args[0], what);
+    if (e.kind == Expr::Unary && e.text == "+") return constantNumber(*e.args[0], what);
     if (e.kind != Expr::Number) fail(e.at, what + " must be a number written here for lcjit");
-    std::string t = e.text;
-    bool percent = !t.empty() && t.back() == '%';
-    if (percent) t.pop_back();
-    double v = std::strtod(t.c_str(), nullptr);
-    return percent ? v / 100.0 : v;
+    return numberValue(e.text);
   }
 
   // An adjustment variable or parameter: its value applied or merged.
@@ -527,7 +523,7 @@ class Translator {
     int length = 1, stride = 1;
     for (size_t k = items.size() - 1; k > 0; --k) {  // Context Free reads them from the last
       stride = length;
-      length = int(literal(*items[k], "Vector stride/length"));
+      length = int(constantNumber(*items[k], "Vector stride/length"));
     }
     if (stride < 0 || length < 0) fail(e.at, "Vector length & stride arguments must be positive");
     if (stride * (length - 1) >= b->width) fail(e.at, "Vector length & stride arguments too large for source");
@@ -826,7 +822,7 @@ class Translator {
     if (f == "vec") {
       // vec(n, a…): n numbers, a… repeated.
       if (e.args.size() < 2) fail(e.at, "vec() function at least two arguments");
-      const int length = int(std::floor(literal(*e.args[0], "vec()'s length")));
+      const int length = int(std::floor(constantNumber(*e.args[0], "vec()'s length")));
       if (length < 2 || length > 99) fail(e.args[0]->at, "vec() function length argument must be >= 2 and <= 99");
       Value v = joined(args, true);
       std::vector<std::string> from(v.parts.begin() + 1, v.parts.end());
@@ -2107,15 +2103,8 @@ class Translator {
 // 6. The unit
 // ---------------------------------------------------------------------------------------------
 
-// A setting's number, read when the design is read: a literal, or a negated one.
-double Translator::settingNumber(const Definition& def) {
-  const Expr* e = def.value.get();
-  bool negative = e->kind == Expr::Unary && e->text == "-";
-  if (e->kind == Expr::Unary && (e->text == "-" || e->text == "+")) e = e->args[0].get();
-  if (e->kind != Expr::Number) fail(def.at, def.name + " must be a number lcjit can read here");
-  double v = numberValue(e->text);
-  return negative ? -v : v;
-}
+// A setting's number, read when the design is read: a number written as a constant.
+double Translator::settingNumber(const Definition& def) { return constantNumber(*def.value, def.name); }
 
 Translation Translator::run() {
   out_.shapes = {"CIRCLE", "SQUARE", "TRIANGLE", "FILL"};
