@@ -28,6 +28,7 @@ packages=(
   imagemagick  # import: tests/run_sandbox_window.sh's screenshots (without it its 7 tests are skipped)
   gdb  # tests/run_debugger.sh: lcjit --debugger under gdb
   contextfree  # Context Free's cfdg: the oracle of the CFDG tests (tests/cfdg); it brings libagg2
+  ghostscript  # gs: tests/cfdg/run_pages.sh renders designs' PDF and PostScript pages to compare them with cfdg's PNG
 )
 missing=()
 for p in "${packages[@]}"; do

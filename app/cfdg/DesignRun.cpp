@@ -26,6 +26,7 @@
 #include "runtime/cfdg/Expander.h"
 #include "runtime/export/Export.h"
 #include "runtime/cfdg/Picture.h"
+#include "runtime/cfdg/VectorPage.h"
 #include "support/Elapsed.h"
 #include "support/InputFile.h"
 #include "support/ReplacingFile.h"
@@ -267,6 +268,16 @@ bool endsWith(const std::string& s, const char* tail) {
   return s.size() > n && s.compare(s.size() - n, n, tail) == 0;
 }
 
+}  // namespace
+
+std::optional<cf::PageFormat> pageFormatFor(const std::string& path) {
+  if (endsWith(path, ".pdf")) return cf::PageFormat::Pdf;
+  if (endsWith(path, ".ps") || endsWith(path, ".eps")) return cf::PageFormat::PostScript;
+  return std::nullopt;
+}
+
+namespace {
+
 // Writes one expansion's pictures to `outs` (names made). 0, or 1 after printing why.
 int writePictures(const LoadedDesign& d, const DesignRunOptions& o, const cf::Expansion& e, const cf::Framing& f,
                   const cf::ExpandOptions& eo, const std::vector<std::string>& outs) {
@@ -282,6 +293,9 @@ int writePictures(const LoadedDesign& d, const DesignRunOptions& o, const cf::Ex
     } else if (endsWith(out, ".png")) {
       cf::Canvas canvas = cf::drawExpansion(*d.table, e, f, eo);
       if (auto err = cf::writePng(canvas, out, crop ? std::optional<cf::PixelRect>(block) : std::nullopt))
+        return failed(std::move(err));
+    } else if (auto page = pageFormatFor(out)) {
+      if (auto err = support::writeWholeFile(out, cf::vectorPage(*d.table, e, crop ? cropped : f, eo, *page)))
         return failed(std::move(err));
     } else if (auto format = runtime::exportFormatFor(out)) {
       // The other formats lcjit exports: the shapes as flat coloured triangles.

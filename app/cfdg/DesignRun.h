@@ -12,6 +12,7 @@
 
 #include "frontend/cfdg/ReadDesign.h"
 #include "runtime/cfdg/Expander.h"
+#include "runtime/cfdg/VectorPage.h"
 #include <llvm/Support/Error.h>
 
 namespace CLI {
@@ -96,5 +97,8 @@ struct DesignExpansion {
   runtime::cfdg::Expansion expansion;
 };
 DesignExpansion expandDesign(const LoadedDesign& design, const DesignRunOptions& options, uint64_t variation);
+
+// The vector page a file name asks for (.pdf; .ps, .eps), written by runtime/cfdg/VectorPage.
+std::optional<runtime::cfdg::PageFormat> pageFormatFor(const std::string& path);
 
 }  // namespace lcjit::app

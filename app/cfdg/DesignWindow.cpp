@@ -33,6 +33,7 @@ struct Compiled {
 
 // An expansion as the window shows it, made on the worker.
 struct Drawn {
+  std::shared_ptr<const LoadedDesign> design;  // what was expanded (its code draws its paths)
   std::shared_ptr<const DesignExpansion> expansion;
   cf::Framing framing;
   runtime::Geometry geometry;
@@ -54,10 +55,11 @@ class DesignHost final : public ModelHost {
 
   void derive(RunTarget) override {
     if (busy() || !design_) return;
-    // The worker reads design_ until it is done: a recompile waits for it (poll).
-    work_ = std::async(std::launch::async, [this, variation = variation_] {
+    // The worker has its own reference to the design it expands.
+    work_ = std::async(std::launch::async, [this, design = design_, variation = variation_] {
       Drawn d;
-      auto x = std::make_shared<DesignExpansion>(expandDesign(*design_, options_, variation));
+      d.design = design;
+      auto x = std::make_shared<DesignExpansion>(expandDesign(*design, options_, variation));
       const cf::Expansion& e = x->expansion;
       if (!e.error.empty()) {
         d.error = (e.errorAt.empty() ? options_.design : e.errorAt) + ": error: " + e.error;
@@ -188,7 +190,7 @@ class DesignHost final : public ModelHost {
       window_.setMessage(c.error + "\n(the last good design is shown; save a fix to reload)");
       return false;
     }
-    design_ = std::move(c.design);
+    design_ = std::make_shared<const LoadedDesign>(std::move(*c.design));
     window_.setMessage("");
     return true;
   }
@@ -211,6 +213,7 @@ class DesignHost final : public ModelHost {
     palette_.color[0] = {float(rgba[0]), float(rgba[1]), float(rgba[2]), 1.f};
     geometry_ = std::move(d.geometry);
     shown_ = std::move(d.expansion);
+    shownDesign_ = std::move(d.design);
     framing_ = d.framing;
     window_.setStatus("variation " + cf::variationName(variation_) + ": " + std::to_string(e.shapes.size()) + " shapes");
     news_.run = end();
@@ -231,6 +234,8 @@ class DesignHost final : public ModelHost {
     llvm::Error e = llvm::Error::success();
     if (path.size() > 4 && path.substr(path.size() - 4) == ".svg") {
       e = support::writeWholeFile(path, cf::svgOf(shown_->expansion, framing_, shown_->options));
+    } else if (auto page = pageFormatFor(path)) {
+      e = support::writeWholeFile(path, cf::vectorPage(*shownDesign_->table, shown_->expansion, framing_, shown_->options, *page));
     } else if (auto format = runtime::exportFormatFor(path)) {
       runtime::ExportInput in;
       in.geometry = &geometry_;
@@ -252,7 +257,7 @@ class DesignHost final : public ModelHost {
   uint64_t variation_;
   viewer::Window& window_;
   bool quiet_;
-  std::optional<LoadedDesign> design_;  // the last good design
+  std::shared_ptr<const LoadedDesign> design_;  // the last good design
   // The Parameters panel: each variable's slider range (from its first value) and the values
   // moved there (what -D NAME=VALUE the next compiles add).
   std::map<std::string, std::pair<double, double>> ranges_;
@@ -262,6 +267,7 @@ class DesignHost final : public ModelHost {
   // What the window shows: its geometry, the expansion it came from (for Save as…), and the
   // plain view and palette of a flat picture (colour 0: CF::Background).
   std::shared_ptr<const DesignExpansion> shown_;
+  std::shared_ptr<const LoadedDesign> shownDesign_;  // its design, kept while it is shown
   cf::Framing framing_;
   runtime::Geometry geometry_;
   const std::vector<viewer::ViewPane> panes_;

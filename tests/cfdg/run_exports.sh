@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# A design exported as lcjit's other formats, and cfdg's output names: its drawn shapes as flat coloured triangles (a
-# square two, a triangle one), each in its colour. Usage: run_exports.sh LCJIT
+# A design exported as lcjit's 3D formats, and cfdg's output names: its drawn shapes as flat
+# coloured triangles (a square two, a triangle one), each in its colour; its PDF a page (drawn
+# like the PNG: cfdg.pages). Usage: run_exports.sh LCJIT
 set -u
 lcjit=$1
 work=$(mktemp -d)
