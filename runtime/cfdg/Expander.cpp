@@ -864,14 +864,18 @@ void __cf_identity(__cf_State* m) {
   m->tsc = 1;
 }
 
+// `m`'s transform, z and time applied to `s`: m first, then s's own.
+static void applyPlacement(__cf_State& s, const __cf_State& m) {
+  premultiplyState(s, affineOf(m));
+  s.ztz = m.ztz * s.zsz + s.ztz;
+  s.zsz = m.zsz * s.zsz;
+  s.tbegin = m.tbegin * s.tsc + s.tbegin;
+  s.tend = m.tend * s.tsc + s.tend;
+  s.tsc = m.tsc * s.tsc;
+}
+
 void __cf_apply(__cf_State* s, const __cf_State* m) {
-  premultiplyState(*s, affineOf(*m));
-  // z and time: m first, then the shape's.
-  s->ztz = m->ztz * s->zsz + s->ztz;
-  s->zsz = m->zsz * s->zsz;
-  s->tbegin = m->tbegin * s->tsc + s->tbegin;
-  s->tend = m->tend * s->tsc + s->tend;
-  s->tsc = m->tsc * s->tsc;
+  applyPlacement(*s, *m);
   applyColour(*s, *m);
   if (m->blend) s->blend = m->blend;
 }
@@ -883,12 +887,7 @@ void __cf_merge(__cf_State* m, const __cf_State* v) {
     return;
   for (int k = 1; k < 4; ++k)
     if (m->colour[k] != 0.0 && v->colour[k] != 0.0) return;
-  premultiplyState(*m, affineOf(*v));
-  m->ztz = v->ztz * m->zsz + m->ztz;
-  m->zsz = v->zsz * m->zsz;
-  m->tbegin = v->tbegin * m->tsc + m->tbegin;
-  m->tend = v->tend * m->tsc + m->tend;
-  m->tsc = v->tsc * m->tsc;
+  applyPlacement(*m, *v);
   if (v->blend) m->blend = v->blend;
   for (int k = 0; k < 4; ++k) {
     m->target[k] += v->target[k];
