@@ -88,7 +88,7 @@ class DesignHost final : public ModelHost {
     if (work_.valid() && work_.wait_for(std::chrono::milliseconds(waitMs)) == std::future_status::ready)
       show(work_.get());
     if (waiting_ && !busy()) {
-      // A recompile installs once the worker is done with the design it replaces.
+      // A recompile replaces the design once the run in progress has been shown, and runs.
       const bool loaded = install(std::move(*waiting_));
       waiting_.reset();
       if (loaded) news_.rerun = true;

@@ -25,17 +25,11 @@
 namespace lcjit::app {
 namespace {
 
-// The model's language (Languages.h) as the L-system engine reads it: the rewriter its table
-// names is its front end. A file of no language is read as L+C; a model of a language on another
-// engine (a Context Free design given to the REPL) is an error, before anything reads it.
-llvm::Expected<const Language*> lsystemLanguage(const ModelFiles& files) {
-  const Language* language = files.language ? files.language : languageOf(files.lsystem);
-  if (!language) language = languageNamed("L+C");
-  if (!language->rewrite)
-    return llvm::createStringError(files.lsystem + ": error: a " + std::string(language->model) +
-                                   " is not an L-system, and this mode runs L-systems (lcjit " + files.lsystem +
-                                   " draws it)");
-  return language;
+// The model's language (Languages.h), whose rewriter is the L-system engine's front end: the
+// one given, else its extension's; a file of no language is read as L+C.
+const Language& lsystemLanguage(const Language* given, const std::string& path) {
+  const Language* language = given ? given : languageOf(path);
+  return language ? *language : *languageNamed("L+C");
 }
 
 // A file named in the view file: relative to the view file's folder, else as given (lpfg runs in
@@ -524,8 +518,13 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   for (size_t id = 0; id < drawing->shapes.surfaces.size(); ++id) defineId(drawing->shapes.surfaces[id].surface.name, id);
   // Multi-view (§7.3): each `window:` name is its view id, for UseView and `vgroup`.
   for (size_t id = 0; id < drawing->view.windows.size(); ++id) defineId(drawing->view.windows[id].name, id);
-  auto language = lsystemLanguage(files);
-  if (!language) return language.takeError();
+  // A model of a language on another engine (a Context Free design given to the REPL) is an
+  // error, before anything reads it as an L-system.
+  const Language& language = lsystemLanguage(files.language, files.lsystem);
+  if (!language.rewrite)
+    return llvm::createStringError(files.lsystem + ": error: a " + std::string(language.model) +
+                                   " is not an L-system, and this mode runs L-systems (lcjit " + files.lsystem +
+                                   " draws it)");
   auto text = frontend::preprocess(files.lsystem, pp);
   if (!text) return text.takeError();
   p.preprocess = pp;
@@ -533,7 +532,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   times.preprocessMs = support::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
-  auto cpp = (*language)->rewrite(*text, files.lsystem);
+  auto cpp = language.rewrite(*text, files.lsystem);
   p.columns = std::make_shared<frontend::OriginalColumns>(std::move(*text));
   // The rewriter's and the compile's errors count columns in the preprocessed text.
   auto asWritten = [&](llvm::Error e) {
@@ -867,9 +866,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
       continue;
     }
     // The running model's language, which its load checked.
-    ModelFiles running;
-    running.lsystem = lsystem_;
-    auto cpp = (*lsystemLanguage(running))->rewrite(*preprocessed, unitName);
+    auto cpp = lsystemLanguage(nullptr, lsystem_).rewrite(*preprocessed, unitName);
     auto columns = std::make_shared<frontend::OriginalColumns>(std::move(*preprocessed));
     if (!cpp) {
       errors.push_back(columns->diagnostics(llvm::toString(cpp.takeError())));

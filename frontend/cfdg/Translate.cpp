@@ -1152,6 +1152,24 @@ class Translator {
     foldedOnly_ = false;
   }
 
+  // An adjustment variable `name` (its __cf_State declared by the caller) given adjustment value
+  // `v`, written `value`: made from the identity here (a constant value folded, another applied),
+  // and bound. Context Free keeps `name = [ … ]` as the adjustment; another expression only when
+  // it is constant. A definition's seed is its name's as written.
+  Binding adjustmentVariable(const Value& v, const Expr& value, const std::string& name, Binding::Kind kind,
+                             uint64_t seed) {
+    if (value.kind != Expr::Modification && !v.constant)
+      fail(value.at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
+    line("__cf_identity(&" + name + ");");
+    if (v.constant) foldedValue(v, name);
+    else v.apply(name, true);
+    Binding b{kind, name, __cf_StateDoubles, v.constant};
+    b.adjustment = true;
+    b.info = v.info;
+    b.info.seed = seed;
+    return b;
+  }
+
   // The value of a prepared term's arguments: numbers, or (`trans a`) an adjustment.
   Value termValue(const PreparedTerm& t) {
     if (t.kind == "trans" && t.args.size() == 1) {
@@ -1534,20 +1552,10 @@ class Translator {
     Value v = expr(*e.value);
     std::string name = "v_" + identifier(e.name) + "_" + std::to_string(temp_++);
     if (v.adjustment) {
-      // Context Free keeps `name = [ … ]` as the adjustment; another expression only when it is
-      // constant.
-      if (e.value->kind != Expr::Modification && !v.constant)
-        fail(e.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
-      if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
+      const uint64_t seed = seedOf(kSeedBase, asWritten(e.name, e.nameWritten));
+      if (!v.constant) line("c->cur ^= " + hex64(seed) + ";");
       line("__cf_State " + name + ";");
-      line("__cf_identity(&" + name + ");");
-      if (v.constant) foldedValue(v, name);
-      else v.apply(name, true);
-      Binding b{Binding::Local, name, __cf_StateDoubles, v.constant};
-      b.adjustment = true;
-      b.info = v.info;
-      b.info.seed = seedOf(kSeedBase, asWritten(e.name, e.nameWritten));  // a definition's seed is its name's
-      scopes_.back()[e.name] = b;
+      scopes_.back()[e.name] = adjustmentVariable(v, *e.value, name, Binding::Local, seed);
       return;
     }
     if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
@@ -2233,19 +2241,9 @@ Translation Translator::run() {
     std::string name = "g_" + identifier(def.name);
     if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(def.name, def.written))) + ";");
     if (v.adjustment) {
-      // Context Free keeps `name = [ … ]` as the adjustment; another expression only when it is
-      // constant.
-      if (def.value->kind != Expr::Modification && !v.constant)
-        fail(def.value->at, "an adjustment variable defined by other than [ … ] is not supported by lcjit yet");
       unit += "__cf_State " + name + ";\n";
-      line("__cf_identity(&" + name + ");");
-      if (v.constant) foldedValue(v, name);
-      else v.apply(name, true);
-      Binding b{Binding::Global, name, __cf_StateDoubles, v.constant};
-      b.adjustment = true;
-      b.info = v.info;
-      b.info.seed = seedOf(kSeedBase, asWritten(def.name, def.written));  // a definition's seed is its name's
-      globals_[def.name] = b;
+      globals_[def.name] =
+          adjustmentVariable(v, *def.value, name, Binding::Global, seedOf(kSeedBase, asWritten(def.name, def.written)));
       start += code_;
       continue;
     }
