@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # What the modes do with a Context Free design where they run L-systems only: each says so (exit
-# 1, a message naming the design), and nothing reads it as an L-system. The modes that run
+# 1, a message naming the design), and nothing reads it as an L-system. Also what a batch run
+# refuses of --seed for a design, and the run record of a design that fails. The modes that run
 # designs are tested beside it (cfdg.*, interactive.design, sweep.design, sandbox.design).
 # Usage: run_modes.sh LCJIT DESIGN
 set -u
@@ -27,4 +28,18 @@ expect "lcjit: --lab runs L-systems; a design runs with --watch (and --sandbox)"
 # A string output.
 "$lcjit" -b -out x.str d.cfdg > out.txt 2> err.txt; status=$?
 expect "lcjit: x.str: not a picture or export lcjit writes"
+# --seed N is variation N (a sweep's runs): there is no variation 0, and a run takes one or the other.
+"$lcjit" -b --seed 0 -out x.png d.cfdg > out.txt 2> err.txt; status=$?
+expect "lcjit: --seed 0: a design's variations are numbered from 1"
+"$lcjit" -b --seed 2 --variation A -out x.png d.cfdg > out.txt 2> err.txt; status=$?
+expect "lcjit: give --variation or --seed, not both"
+# A design that fails has a run record all the same: status error, the error at its place.
+printf 'startshape A\nshape A { SQUARE [x oops] }\n' > bad.cfdg
+"$lcjit" -b --seed 1 --run-record r.json -out x.png bad.cfdg > out.txt 2> err.txt; status=$?
+expect "bad.cfdg:2:"
+python3 - <<'PY' || fail "the failed run's record: $(cat r.json)"
+import json
+r = json.load(open("r.json"))
+assert r["status"] == "error" and "bad.cfdg:2:" in r["error"] and r["seed"] == 1 and "measures" not in r, r
+PY
 echo "ok"
