@@ -56,6 +56,8 @@ struct GuardInternals {
   static std::atomic<int>& stopsThrownAtStop(ModelGuard& g) { return g.stopsThrownAtStop_; }
   static std::atomic<bool>& running(ModelGuard& g) { return g.running_; }
   static int64_t& forceSince(ModelGuard& g) { return g.forceSinceNs_; }
+  static int64_t& entered(ModelGuard& g) { return g.enteredNs_; }
+  static int64_t& waitAtEnter(ModelGuard& g) { return g.waitAtEnterNs_; }
   static std::atomic<size_t>& observed(ModelGuard& g) { return g.observedBytes_; }
   static const GuardLimits& limits(const ModelGuard& g) { return g.limits_; }
 };
@@ -96,6 +98,22 @@ int64_t nsOf(clockid_t clock) {
   return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
 }
 int64_t nowNs() { return nsOf(CLOCK_MONOTONIC); }
+
+// How long thread `tid` of this process (0: the calling thread) has waited for a processor, in
+// ns: the second field of its schedstat (Linux's scheduler statistics); -1 where there are none.
+int64_t runQueueWaitNs(int tid) {
+  char path[64], buf[128];
+  if (tid) std::snprintf(path, sizeof path, "/proc/self/task/%d/schedstat", tid);
+  else std::snprintf(path, sizeof path, "/proc/thread-self/schedstat");
+  int fd = open(path, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return -1;
+  ssize_t n = read(fd, buf, sizeof buf - 1);
+  close(fd);
+  if (n <= 0) return -1;
+  buf[n] = 0;
+  unsigned long long onCpu = 0, waited = 0;
+  return std::sscanf(buf, "%llu %llu", &onCpu, &waited) == 2 ? int64_t(waited) : -1;
+}
 
 // Whether thread `tid` of this process is asleep or waiting ('S', 'D', …), not running or
 // runnable ('R'): /proc/self/task/TID/stat's state field.
@@ -452,6 +470,8 @@ class Watchdog {
       GI::running(g).store(true);
       double t = GI::limits(g).timeSeconds;
       GI::deadline(g) = t > 0 ? now + int64_t(t * 1e9) : 0;
+      GI::entered(g) = now;
+      GI::waitAtEnter(g) = t > 0 ? runQueueWaitNs(0) : -1;  // read only when there is a limit
       guards_.push_back(&g);
       active_.fetch_add(1);
       wake = sleeping_;
@@ -535,6 +555,21 @@ class Watchdog {
     }
   }
 
+  // At the deadline on the clock: whether the run has used less of its time limit than that,
+  // having waited for a processor meanwhile (on a busy machine, or one thread among many: the
+  // waiting is not the run's), and then the new deadline, the earliest the limit can be reached.
+  // So a limit means the same on a loaded cluster node as on an idle machine.
+  static bool postponeDeadline(ModelGuard& g, int64_t now) {
+    if (GI::waitAtEnter(g) < 0) return false;
+    const int64_t waited = runQueueWaitNs(GI::tid(g)) - GI::waitAtEnter(g);
+    if (waited <= 0) return false;
+    const int64_t charged = now - GI::entered(g) - waited;
+    const int64_t limit = int64_t(GI::limits(g).timeSeconds * 1e9);
+    if (charged >= limit) return false;
+    GI::deadline(g) = now + (limit - charged);
+    return true;
+  }
+
   // Whether the grace of a stopped run is over (see kGraceNs).
   static bool graceOver(ModelGuard& g, int64_t since, int64_t now) {
     int64_t cpu = nsOf(GI::cpuClock(g)) - GI::stopCpu(g).load();
@@ -560,7 +595,8 @@ class Watchdog {
         size_t rss = 0;
         bool forcing = false;
         for (ModelGuard* g : guards_) {
-          if (GI::deadline(*g) && now >= GI::deadline(*g)) requestStop(*g, FaultKind::TimeLimit, now);
+          if (GI::deadline(*g) && now >= GI::deadline(*g) && !postponeDeadline(*g, now))
+            requestStop(*g, FaultKind::TimeLimit, now);
           size_t limit = GI::limits(*g).memoryBytes;
           if (limit && !GI::stop(*g).load()) {
             if (!rss) rss = residentBytes();

@@ -148,6 +148,9 @@ class ModelGuard {
   const StopCounts* stops_ = nullptr;  // its ModelStops
   std::atomic<int> stopsThrownAtStop_{-1};  // how many it had thrown when the watchdog saw stop_
   int64_t deadlineNs_ = 0, forceSinceNs_ = 0;
+  // The time limit counts the time the run ran or slept, not the time it waited for a processor
+  // (a busy machine's): when it began, and the thread's run-queue wait then (-1: not known).
+  int64_t enteredNs_ = 0, waitAtEnterNs_ = -1;
   std::atomic<size_t> observedBytes_{0};  // the resident memory that tripped the memory limit
 };
 

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <future>
 #include <thread>
+#include <vector>
 
 #include "runtime/Engine.h"
 #include "runtime/ModelGuard.h"
@@ -232,6 +233,45 @@ TEST_F(Faults, EndlessLoopStoppedByTheTimeLimit) {
   double perRun = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / kRuns;
   std::printf("%.1f ms per run (time limit 5 ms)\n", perRun * 1e3);
   EXPECT_LT(perRun, 0.5);
+  goodModelRuns();
+}
+
+// The time limit counts the time a step runs (or sleeps), not the time it waits for a processor:
+// here the model's thread shares one processor with eight threads that spin, so its step of
+// 30 ms of CPU time takes about nine times as long on the clock, past the 0.2 s limit, and is not
+// stopped. (Where the kernel keeps no scheduler statistics the limit is on the clock.)
+TEST_F(Faults, TheTimeLimitDoesNotCountWaitingForAProcessor) {
+  if (access("/proc/thread-self/schedstat", R_OK) != 0) GTEST_SKIP() << "no /proc/thread-self/schedstat";
+  load("f", "#include <lpfgall.h>\n#include <time.h>\nderivation length: 1;\nmodule A(int);\naxiom: A(0);\n"
+            "static double cpuMs() { timespec t; clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t); "
+            "return t.tv_sec * 1e3 + t.tv_nsec / 1e6; }\n"
+            "A(n) : { double t0 = cpuMs(); while (cpuMs() - t0 < 30) {} produce A(n + 1); }\n");
+  withTimeLimit(0.2);
+  cpu_set_t before, one;
+  ASSERT_EQ(pthread_getaffinity_np(pthread_self(), sizeof before, &before), 0);
+  CPU_ZERO(&one);
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &before)) {
+      CPU_SET(c, &one);
+      break;
+    }
+  ASSERT_EQ(pthread_setaffinity_np(pthread_self(), sizeof one, &one), 0);
+  std::atomic<bool> done{false};
+  std::vector<std::thread> spinners;
+  for (int i = 0; i < 8; ++i)
+    spinners.emplace_back([&] {
+      pthread_setaffinity_np(pthread_self(), sizeof one, &one);
+      while (!done.load(std::memory_order_relaxed)) {
+      }
+    });
+  auto t0 = std::chrono::steady_clock::now();
+  llvm::Error e = engine().run();
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  done = true;
+  for (std::thread& t : spinners) t.join();
+  pthread_setaffinity_np(pthread_self(), sizeof before, &before);
+  EXPECT_FALSE(bool(e)) << llvm::toString(std::move(e));
+  EXPECT_GT(wall, 0.2) << "the step did not wait for the processor: nothing was tested";
   goodModelRuns();
 }
 
