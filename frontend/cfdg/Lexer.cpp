@@ -2,6 +2,7 @@
 #include "frontend/cfdg/Lexer.h"
 
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 
 namespace lcjit::frontend::cfdg {
@@ -176,6 +177,15 @@ llvm::Expected<std::vector<Token>> tokenize(std::string_view src, const std::str
   end.at = place(i);
   out.push_back(end);
   return out;
+}
+
+double numberValue(const std::string& text) {
+  std::string t = text;
+  bool percent = !t.empty() && t.back() == '%';
+  if (percent) t.pop_back();
+  double v = std::strtod(t.c_str(), nullptr);
+  if (percent) v /= 100.0;
+  return v;
 }
 
 }  // namespace lcjit::frontend::cfdg

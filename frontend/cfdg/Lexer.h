@@ -35,4 +35,7 @@ struct Token {
 // `file` names the source in errors.
 llvm::Expected<std::vector<Token>> tokenize(std::string_view source, const std::string& file);
 
+// The value of a Number token's text: a trailing % divides by 100 (`50%` is 0.5).
+double numberValue(const std::string& text);
+
 }  // namespace lcjit::frontend::cfdg

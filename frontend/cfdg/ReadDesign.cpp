@@ -24,7 +24,7 @@ llvm::Expected<DesignUnit> readDesign(std::string_view text, const std::string& 
       e = e->args[0].get();
     }
     if (e->kind != Expr::Number) continue;
-    unit.variables.push_back({d.name, sign * std::strtod(e->text.c_str(), nullptr), d.commandLine ? 0 : d.at.line});
+    unit.variables.push_back({d.name, sign * numberValue(e->text), d.commandLine ? 0 : d.at.line});
   }
   return unit;
 }

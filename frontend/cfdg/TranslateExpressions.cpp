@@ -128,16 +128,7 @@ std::string Translator::bytes(const Expr& e) {
 // 3. Expressions → C++
 // ---------------------------------------------------------------------------------------------
 
-// A number as written: a trailing % divides it by 100.
-double Translator::numberValue(const std::string& text) {
-  std::string t = text;
-  bool percent = !t.empty() && t.back() == '%';
-  if (percent) t.pop_back();
-  double v = std::strtod(t.c_str(), nullptr);
-  if (percent) v /= 100.0;
-  return v;
-}
-
+// A number as a C++ literal that keeps every bit (hexadecimal floating point).
 std::string Translator::literal(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%a", v);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "frontend/cfdg/Ast.h"
+#include "frontend/cfdg/Lexer.h"  // numberValue
 #include "frontend/cfdg/Translate.h"
 
 namespace lcjit::frontend::cfdg::translate {
@@ -132,7 +133,6 @@ class Translator {
   // 3. Expressions → C++
   // -------------------------------------------------------------------------------------------
 
-  static double numberValue(const std::string& text);
   static std::string number(const std::string& text) { return literal(numberValue(text)); }
   static std::string literal(double v);
 

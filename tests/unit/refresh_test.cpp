@@ -109,6 +109,25 @@ TEST(Languages, FrontEndOfItsEngine) {
   EXPECT_EQ(languageNamed("Logo"), nullptr);
 }
 
+// A design's constant numbers are its variables (the window's Parameters panel): the value as
+// Context Free reads it (a trailing % divides by 100, a sign before the number counts), the line
+// it is written on; a computed value, a vector or a function is not one.
+TEST(Languages, DesignVariablesAsContextFreeReadsThem) {
+  const Language* cfdg = languageNamed("CFDG");
+  ASSERT_NE(cfdg, nullptr);
+  auto unit = cfdg->readDesign("startshape A\nshare = 50%\nturn = -12.5\ntwice = 2 * share\npair = (1, 2)\n"
+                               "shape A { SQUARE [s share r turn] }\n",
+                               "garden.cfdg", {});
+  ASSERT_TRUE(bool(unit)) << llvm::toString(unit.takeError());
+  ASSERT_EQ(unit->variables.size(), 2u);
+  EXPECT_EQ(unit->variables[0].name, "share");
+  EXPECT_EQ(unit->variables[0].value, 0.5);
+  EXPECT_EQ(unit->variables[0].line, 2);
+  EXPECT_EQ(unit->variables[1].name, "turn");
+  EXPECT_EQ(unit->variables[1].value, -12.5);
+  EXPECT_EQ(unit->variables[1].line, 3);
+}
+
 // The same table says which files name others (a set) and which the command line takes: lpfg's
 // command line takes a .fset or .cset as a set, and no texture (the view file names those).
 TEST(FileKinds, SetsAndTheCommandLine) {
