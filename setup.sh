@@ -7,6 +7,7 @@ cd "$(dirname "$0")"
 
 packages=(
   cmake ninja-build g++ pkg-config
+  ccache  # CMakeLists.txt: a second configuration or a rebuild compiles only what changed
   llvm-19-dev libclang-19-dev libclang-cpp19-dev clang-19 libclang-common-19-dev
   libpolly-19-dev  # LLVM's static libraries name Polly's: lcjit links them statically (start-up, CMakeLists.txt)
   hyperfine  # bench/vs_lpfg.py, bench/reload.py: paired timings (not used by the tests)
