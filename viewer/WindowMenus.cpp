@@ -65,7 +65,8 @@ bool Window::Impl::beginMenu(const char* label) {
 // The layout file
 
 // LCJIT_WINDOW_LAYOUT=FILE: where the menu's items and the panels' controls are, one per line
-// ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL"; setMessage's text as "message/FIRST LINE",
+// ("LABEL<tab>x0 y0 x1 y1", a panel's as "TITLE/LABEL", a row of its table as "TITLE/CELL | CELL …"
+// and its status line as "TITLE/TEXT"; setMessage's text as "message/FIRST LINE",
 // setStatus's as "status/TEXT"; a menu item greyed out has a third field, "greyed", so that a
 // script waits for it to be usable instead of clicking it for nothing), rewritten when it changes. Scripts that
 // drive the window from outside (xdotool, tests/interactive) click what they name, not a guess.

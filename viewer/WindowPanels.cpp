@@ -309,10 +309,13 @@ void Window::Impl::drawPanel(const Panel& p, float& top, std::vector<std::functi
       ImGui::TableHeadersRow();
       for (const auto& row : p.rows) {
         ImGui::TableNextRow();
+        std::string cells;  // the row in the layout file: its cells joined by " | "
         for (size_t k = 0; k < row.size() && k < p.columns.size(); ++k) {
           ImGui::TableSetColumnIndex(int(k));
           ImGui::TextUnformatted(row[k].c_str());
+          cells += (k ? " | " : "") + row[k];
         }
+        notePanelItem(p.title, cells);
       }
       ImGui::EndTable();
     }
@@ -322,7 +325,10 @@ void Window::Impl::drawPanel(const Panel& p, float& top, std::vector<std::functi
       notePanelItem(p.title, p.buttons[b]);
       if (pressed && p.pressed) chosen.push_back([f = p.pressed, b] { f(b); });
     }
-    if (!p.status.empty()) ImGui::TextWrapped("%s", p.status.c_str());
+    if (!p.status.empty()) {
+      ImGui::TextWrapped("%s", p.status.c_str());
+      notePanelItem(p.title, p.status);
+    }
   }
   top = ImGui::GetWindowPos().y + ImGui::GetWindowSize().y + 8;
   // A panel whose contents grew or shrank resizes (and, hanging from the right edge, moves) over

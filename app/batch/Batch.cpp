@@ -294,7 +294,11 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     if (error && error->empty()) *error = "the final string is not the one VerifyString states";
     return 1;
   }
-  if (!options.profile.empty())
+  if (options.profile == "-") {
+    const std::vector<ProfileRow> rows = profileRows(*engine.profile(), engine.model());
+    std::fputs(profileTable(rows, rows.size()).c_str(), stdout);
+    std::fflush(stdout);
+  } else if (!options.profile.empty())
     if (auto e = support::writeWholeFile(options.profile,
                                          profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs))) {
       llvm::consumeError(std::move(e));

@@ -40,7 +40,7 @@ struct BatchOptions {
   // then runs the rules once more per picture, as the window's drawing does.
   bool outputFrames = false;
   // --profile: per-rule counts and times (ProfileReport.h) written as JSON to this file after
-  // the run and its outputs (their interpretation included).
+  // the run and its outputs (their interpretation included); "-": as a table on stdout.
   std::string profile;
   // --run-record FILE (RunRecord.h): written after the run whatever happened, with its first
   // error; `seed` is --seed's, for the record.

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "app/cfdg/DesignProfile.h"
 #include "app/cli/Modes.h"
 #include "app/cli/Options.h"
 #include "app/common/FrameSequence.h"
@@ -58,6 +59,7 @@ DesignRunOptions designRunOptions(const Options& options, const std::string& cac
   d.fps = options.fps;
   d.seed = options.seed;
   d.runRecord = options.runRecord;
+  d.profile = options.profile;
   d.cacheDir = cacheDir;
   return d;
 }
@@ -88,6 +90,9 @@ void declareCfdgOptions(CLI::App& c, DesignRunOptions& o) {
   c.add_flag("-q", o.quiet, "quiet");
   c.add_flag("-c", o.crop, "crop the picture to the fitted block (not for tiled or frieze designs)");
   c.add_flag("-t", o.timing, "where the time went: parse, compile, expand, draw");
+  c.add_flag_callback("--profile", [&o] { o.profile = "-"; },
+                      "(lcjit's) how many times each rule ran and the time it took, hottest first, and the shapes "
+                      "finished by kind, on stdout");
   c.add_option_function<std::string>(
       "-a",
       [&o](const std::string& value) {
@@ -151,6 +156,7 @@ llvm::Expected<LoadedDesign> loadDesign(jit::Compiler& compiler, const DesignRun
   if (!table) return table.takeError();
   d.code = std::move(*code);
   d.table = static_cast<const __cf_Design*>(*table);
+  if (d.table->abiVersion != __cf_AbiVersion) return llvm::createStringError("internal error: design ABI version mismatch");
   d.unit = std::move(unit->translation);
   d.variables = std::move(unit->variables);
   d.compileMs = support::msSince(start) - d.parseMs;
@@ -179,6 +185,7 @@ cf::ExpandOptions expandOptions(const LoadedDesign& d, const DesignRunOptions& o
   else if (d.unit.settings.maxShapes > 1) eo.maxShapes = uint64_t(d.unit.settings.maxShapes);
   eo.maxMemory = o.maxMemory;
   eo.variation = variation;
+  eo.profile = !o.profile.empty();
   // CF::FrameTime and CF::Frame are what ftime() and frame() give outside an animation (Context
   // Free reads them before it works one out from the other, so a design that sets only one gets 0
   // from the other function).
@@ -430,6 +437,24 @@ int animateDesign(const LoadedDesign& d, const DesignRunOptions& o, cf::ExpandOp
   return 0;
 }
 
+// --profile: the counted expansion's rules as a table on stdout ("-"), or as JSON in a file. 0, or 1
+// after printing why.
+int writeProfile(const LoadedDesign& d, const DesignRunOptions& o, const cf::Expansion& e, uint64_t variation,
+                 double expandMs) {
+  if (o.profile.empty()) return 0;
+  if (o.profile == "-") {
+    std::fputs(designProfileTable(*d.table, e).c_str(), stdout);
+    std::fflush(stdout);
+    return 0;
+  }
+  if (auto err = support::writeWholeFile(o.profile, designProfileJson(*d.table, e, o.design, variation, expandMs))) {
+    llvm::consumeError(std::move(err));
+    std::fprintf(stderr, "%s: error: cannot write the profile\n", o.profile.c_str());
+    return 1;
+  }
+  return 0;
+}
+
 // Expands a loaded design and writes the pictures. 0, or 1 after printing why.
 int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variation) {
   const auto start = support::Clock::now();
@@ -446,6 +471,7 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
     return 1;
   }
   if (o.frames > 0) {
+    if (!o.profile.empty()) std::fprintf(stderr, "lcjit: --profile counts a single picture's expansion, not an animation's\n");
     const int status = animateDesign(d, o, eo, timing, statics, variation);
     writeRecord(o, imports, variation, nullptr, status ? "the animation was not written" : "");
     return status;
@@ -461,6 +487,10 @@ int drawDesign(const LoadedDesign& d, const DesignRunOptions& o, uint64_t variat
   if (!e.stopped.empty())
     std::fprintf(stderr, "lcjit: %s: stopped: %s; drawing the %zu shapes made so far\n", o.design.c_str(),
                  e.stopped.c_str(), e.shapes.size());
+  if (writeProfile(d, o, e, variation, expandMs)) {
+    writeRecord(o, imports, variation, &e, "the profile was not written");
+    return 1;
+  }
   cf::Framing f = cf::frame(e, eo);
   std::vector<std::string> names;
   for (const std::string& out : o.outs) names.push_back(outputName(out, 0, 0, variation));

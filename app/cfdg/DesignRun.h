@@ -52,6 +52,9 @@ struct DesignRunOptions {
   std::vector<std::string> defines;  // -D NAME=VALUE
   std::optional<uint64_t> seed;      // --seed N: variation N (a sweep's runs)
   std::string runRecord;             // --run-record: the run's JSON record, whatever happens
+  // --profile: each rule's runs and time (DesignProfile.h): "-" a table on stdout, else this JSON
+  // file; "" not counted.
+  std::string profile;
   // Told the files each load read (the design and what it imports): a sandboxed run's child
   // reports them to its parent, which watches them.
   std::function<void(const std::vector<std::string>&)> loaded;

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "app/cfdg/DesignProfile.h"
 #include "app/common/Background.h"
 #include "app/window/Interactive.h"
 #include "app/window/ModelHost.h"
@@ -55,11 +56,14 @@ class DesignHost final : public ModelHost {
 
   void derive(RunTarget) override {
     if (busy() || !design_) return;
-    // The worker has its own reference to the design it expands.
-    work_ = std::async(std::launch::async, [this, design = design_, variation = variation_] {
+    // The worker has its own reference to the design it expands; it counts while the Profile
+    // panel is open.
+    DesignRunOptions o = options_;
+    o.profile = window_.panelOpen(kProfileTitle) ? "-" : "";
+    work_ = std::async(std::launch::async, [this, design = design_, variation = variation_, o = std::move(o)] {
       Drawn d;
       d.design = design;
-      auto x = std::make_shared<DesignExpansion>(expandDesign(*design, options_, variation));
+      auto x = std::make_shared<DesignExpansion>(expandDesign(*design, o, variation));
       const cf::Expansion& e = x->expansion;
       if (!e.error.empty()) {
         d.error = (e.errorAt.empty() ? options_.design : e.errorAt) + ": error: " + e.error;
@@ -133,6 +137,7 @@ class DesignHost final : public ModelHost {
     };
     a.interrupt = [this] { interrupt(); };
     if (design_ && !design_->variables.empty()) a.panels.push_back(parameters());
+    a.panels.push_back(profilePanel());
     const std::filesystem::path design(options_.design);
     a.saveName = (design.parent_path() / design.stem()).string() + ".png";
     a.saveAs = [this](const std::string& path) { save(path); };
@@ -165,6 +170,36 @@ class DesignHost final : public ModelHost {
     };
     return p;
   }
+  // The Profile panel: the rules by time, from the last run shown, as the L-system's panel shows
+  // them (Interactive.cpp); counting is on while the panel is open: opening it counts from the
+  // next run (Run again).
+  static constexpr const char* kProfileTitle = "Profile";
+  viewer::Panel profilePanel() {
+    const bool open = window_.panelOpen(kProfileTitle);
+    if (open != profiling_) profileRows_.clear(), profileFinished_.clear();
+    profiling_ = open;
+    viewer::Panel p;
+    p.title = kProfileTitle;
+    p.columns = {"rule", "where", "applied", "ms"};
+    constexpr size_t kShown = 40;
+    for (size_t i = 0; i < profileRows_.size() && i < kShown; ++i) {
+      const ProfileRow& r = profileRows_[i];
+      char ms[32];
+      std::snprintf(ms, sizeof ms, "%.3f", r.ms);
+      std::string rule = r.kind + " " + r.rule;
+      if (rule.size() > 34) rule = rule.substr(0, 31) + "...";
+      p.rows.push_back({rule, r.where, std::to_string(r.applied), ms});
+    }
+    p.status = profileRows_.empty() ? "counting from the next run"
+                                    : std::to_string(profileRows_.size()) + " rules ran; finished: " + profileFinished_;
+    if (profileRows_.size() > kShown) p.status += " (the " + std::to_string(kShown) + " hottest shown)";
+    p.buttons = {"Run again"};
+    p.pressed = [this](size_t) {
+      if (!busy()) news_.rerun = true;
+    };
+    return p;
+  }
+
   // The options a compile takes: the command line's, with the values moved in the panel.
   DesignRunOptions withMoved() const {
     DesignRunOptions o = options_;
@@ -215,6 +250,10 @@ class DesignHost final : public ModelHost {
     shown_ = std::move(d.expansion);
     shownDesign_ = std::move(d.design);
     framing_ = d.framing;
+    if (!e.ruleRuns.empty()) {
+      profileRows_ = designProfileRows(*shownDesign_->table, e);
+      profileFinished_ = finishedText(finishedByKind(*shownDesign_->table, e));
+    }
     window_.setStatus("variation " + cf::variationName(variation_) + ": " + std::to_string(e.shapes.size()) + " shapes");
     news_.run = end();
   }
@@ -262,6 +301,10 @@ class DesignHost final : public ModelHost {
   // moved there (what -D NAME=VALUE the next compiles add).
   std::map<std::string, std::pair<double, double>> ranges_;
   std::map<std::string, std::string> moved_;
+  // The Profile panel: whether it was open (counting), and what the last counted run shown says.
+  bool profiling_ = false;
+  std::vector<ProfileRow> profileRows_;
+  std::string profileFinished_;
   std::optional<Compiled> waiting_;     // a recompile waiting for the worker to finish
   std::future<Drawn> work_;
   // What the window shows: its geometry, the expansion it came from (for Save as…), and the

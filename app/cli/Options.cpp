@@ -16,6 +16,7 @@
 
 #include "app/common/Frame.h"
 #include "app/common/FrameSequence.h"
+#include "app/session/InputKinds.h"
 #include "app/sweep/Sweep.h"
 
 namespace lcjit::app {
@@ -197,8 +198,11 @@ void declare(Table& t) {
   t.flag("--stats", &O::stats, "print a JSON object of phase timings on stderr", takes);
   // Not handed to a sandboxed run: its child writes no file but -out there.
   t.option("--profile", &O::profile,
-           "write how often each production, decomposition and interpretation rule ran and the time it took, "
-           "per step and in total, hottest first, to this JSON file (docs/studio.md)", no);
+           "write how often each rule (a production, decomposition or interpretation rule; a design's rule or "
+           "path) ran and the time it took, hottest first, to this JSON file (an L-system's per step too; "
+           "docs/studio.md, docs/cfdg.md); without a file, or with -, print them as a table on stdout", no)
+      ->expected(0, 1)
+      ->default_str("-");
   t.option("-O", &O::optLevel,
            "optimisation level of model code: 0, 1 or 2; without it, -O1 code first (-O0 live) and -O2 "
            "compiled in the background and swapped in when the run is long enough to gain (docs/performance.md)", takes)
@@ -332,6 +336,12 @@ llvm::Error checkOptions(const Options& o) {
     if (isFrameSequence(o.outs[i]) || isFrameSequence(o.outs[0]))
       return llvm::createStringError("lcjit: -out " + o.outs[i] +
                                      ": numbered files and videos are written step by step: give them as the only -out");
+  // --profile takes its file when one follows: never an input's (`--profile model.l` would write the
+  // profile over the model).
+  if (!o.profile.empty() && o.profile != "-" && fileKindOf(o.profile) != FileKind::Other)
+    return llvm::createStringError("lcjit: --profile " + o.profile +
+                                   ": that is an input file; the profile is written to a .json file, or printed "
+                                   "as a table with --profile alone (after the model's name, or before another option)");
   if (!o.record.empty() && !isFrameSequence(o.record))
     return llvm::createStringError("lcjit: --record " + o.record +
                                    ": frames go to a video (.mp4, .webm) or to numbered files (a name with one printf "

@@ -11,15 +11,18 @@
 #include "runtime/include/lcjit/abi.h"
 
 namespace lcjit::app {
+double profileMs(uint64_t ns) { return std::round(double(ns) / 1000.0) / 1000.0; }
+
+std::string profileWhere(const std::string& path, int line) {
+  std::string file = path;
+  if (size_t slash = file.rfind('/'); slash != std::string::npos) file = file.substr(slash + 1);
+  return file + ":" + std::to_string(line);
+}
+
 namespace {
 
-double ms(uint64_t ns) { return std::round(double(ns) / 1000.0) / 1000.0; }  // to the microsecond
-
-std::string where(const runtime::RuleSource& s) {
-  std::string file = s.file;
-  if (size_t slash = file.rfind('/'); slash != std::string::npos) file = file.substr(slash + 1);
-  return file + ":" + std::to_string(s.line);
-}
+double ms(uint64_t ns) { return profileMs(ns); }
+std::string where(const runtime::RuleSource& s) { return profileWhere(s.file, s.line); }
 
 }  // namespace
 

@@ -18,6 +18,12 @@ struct ProfileRow {
   double msLastStep = 0;
 };
 
+// A rule's place as the rows name it ("m.l:12": the file's name without its folder), and a time
+// in nanoseconds as their milliseconds (to the microsecond). Context Free designs' profiles
+// (app/cfdg/DesignProfile) make their rows with them.
+std::string profileWhere(const std::string& file, int line);
+double profileMs(uint64_t ns);
+
 // Hottest first; rules that never ran are left out. The *LastStep columns: the last step counted.
 std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_Model& model);
 
@@ -25,7 +31,7 @@ std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_
 // what each rule did in it (rules by their index in "rules").
 std::string profileJson(const runtime::Profile& profile, const __lc_Model& model, int stepsDone, double deriveMs);
 
-// The rows as aligned text (the REPL's :profile), at most `limit` rules.
+// The rows as aligned text (the REPL's :profile, a design's --profile), at most `limit` rules.
 std::string profileTable(const std::vector<ProfileRow>& rows, size_t limit);
 
 }  // namespace lcjit::app

@@ -92,6 +92,7 @@ struct Element {
 
 struct Rule {
   std::string shape;
+  std::string file;  // the file it is written in (the design, or one it imports)
   Place at;
   double weight = 1;
   bool percent = false;

@@ -162,7 +162,7 @@ class Parser {
         if (peek().kind == Tok::End) unexpected("'}'");
         r.body.push_back(replacement2());
       }
-      d.rules.push_back(std::move(r));
+      addRule(d, std::move(r));
       return;
     }
     if (t.text == "path") {
@@ -182,7 +182,7 @@ class Parser {
         if (peek().kind == Tok::End) unexpected("'}'");
         r.body.push_back(pathElement2());
       }
-      d.rules.push_back(std::move(r));
+      addRule(d, std::move(r));
       return;
     }
     unexpected("startshape, rule, path, include or background");
@@ -364,6 +364,11 @@ class Parser {
     return true;
   }
   [[noreturn]] void fail(const Place& at, const std::string& message) { throw ParseError{at, message}; }
+  // A rule (or a path's body) is the design's with the file it is written in.
+  void addRule(Design& d, Rule r) {
+    r.file = file_;
+    d.rules.push_back(std::move(r));
+  }
   [[noreturn]] void unexpected(const std::string& wanted) {
     const Token& t = peek();
     fail(t.at, t.kind == Tok::End ? "unexpected end of file, expected " + wanted
@@ -441,7 +446,7 @@ class Parser {
         r.shape = current_;
         r.at = peek().at;
         r.body = block();
-        d.rules.push_back(std::move(r));
+        addRule(d, std::move(r));
       } else {
         while (is("rule")) {
           Rule r;
@@ -449,7 +454,7 @@ class Parser {
           r.at = next().at;
           if (peek().kind == Tok::Number) weight(next(), r);
           r.body = block();
-          d.rules.push_back(std::move(r));
+          addRule(d, std::move(r));
         }
       }
       return;
@@ -462,7 +467,7 @@ class Parser {
       r.at = t.at;
       if (peek().kind == Tok::Number) weight(next(), r);
       r.body = block();
-      d.rules.push_back(std::move(r));
+      addRule(d, std::move(r));
       return;
     }
     if (t.text == "path") {
@@ -481,7 +486,7 @@ class Parser {
       inPath_ = true;
       r.body = block();
       inPath_ = false;
-      d.rules.push_back(std::move(r));
+      addRule(d, std::move(r));
       return;
     }
     // Definitions: NAME = e, CF::Name = e, [TYPE] NAME(params) = e.

@@ -242,7 +242,8 @@ Translation Translator::run() {
     unit += "void rule_" + std::to_string(r) + "(__cf_Ctx* c, const double* p) {\n  (void)p;\n" + code_ + "}\n";
     char w[64];
     std::snprintf(w, sizeof w, "%a", rule.weight);
-    rules += "  {" + std::to_string(id) + ", " + w + ", " + (rule.percent ? "1" : "0") + ", rule_" + std::to_string(r) + "},\n";
+    rules += "  {" + std::to_string(id) + ", " + w + ", " + (rule.percent ? "1" : "0") + ", rule_" + std::to_string(r) + ", " +
+             placeString(rule.at, rule.file.empty() ? d_.file : rule.file) + "},\n";
   }
 
   // The settings, then the start shape: named, or the first shape declared without parameters.
@@ -386,7 +387,7 @@ Translation Translator::run() {
     unit += "  {\"" + out_.shapes[k] + "\", " + std::to_string(count) + ", " + (path ? "1" : "0") + ", " + usedAt + ", " +
             std::to_string(pathBody) + "},\n";
   }
-  unit += "};\nconst __cf_Rule rules[] = {\n" + rules + "  {0, 0, 0, nullptr}\n};\n}  // namespace\n";
+  unit += "};\nconst __cf_Rule rules[] = {\n" + rules + "  {0, 0, 0, nullptr, nullptr}\n};\n}  // namespace\n";
   bool colour = usesSat_;
   unit += "extern \"C\" const __cf_Design __cf_design = {__cf_AbiVersion, " + std::to_string(out_.shapes.size()) +
           ", shapes, " + std::to_string(d_.rules.size()) + ", rules, start, " + std::to_string(statics_) + ", " +

@@ -25,8 +25,10 @@ const Expr* Translator::setting(const std::string& name) const {
   return it == settings_.end() ? nullptr : it->second->value.get();
 }
 
-std::string Translator::placeString(const Place& at) const {
-  std::string text = d_.file + ":" + std::to_string(at.line) + ":" + std::to_string(at.column), out = "\"";
+std::string Translator::placeString(const Place& at) const { return placeString(at, d_.file); }
+
+std::string Translator::placeString(const Place& at, const std::string& file) {
+  std::string text = file + ":" + std::to_string(at.line) + ":" + std::to_string(at.column), out = "\"";
   for (char ch : text) {
     if (ch == '"' || ch == '\\') out += '\\';
     out += ch;

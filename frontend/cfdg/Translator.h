@@ -302,6 +302,8 @@ class Translator {
   const Expr* setting(const std::string& name) const;
 
   std::string placeString(const Place& at) const;
+  // The same in `file` (a rule of an imported file).
+  static std::string placeString(const Place& at, const std::string& file);
 
   bool constantExpr(const Expr& e) const;
 

@@ -18,6 +18,7 @@
 #include <agg_trans_affine.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -153,6 +154,7 @@ struct Engine {
         cumulative[size_t(rules[k])] = k + 1 == rules.size() ? 1.0 : acc;
       }
     }
+    if (o.profile) result.ruleRuns.resize(size_t(d.ruleCount));
     double minSize = o.minimumSize <= 0 ? 0.3 : o.minimumSize;
     minArea = minSize * minSize;
     setBorders(nullptr, nullptr);
@@ -352,7 +354,8 @@ struct Engine {
     if (scale == 0.0)
       scale = (options.width + options.height) / std::sqrt(std::fabs(s.sx * s.sy - s.shy * s.shx));
     double area = 0;
-    Bounds b = paths.measure(c, shape, s, params, seed, scale, area);
+    Bounds b = options.profile ? measureCounted(c, shape, s, params, seed, area)
+                               : paths.measure(c, shape, s, params, seed, scale, area);
     if (!b.valid())
       return;  // it paints nothing
     if (!settle(b, area))
@@ -554,11 +557,36 @@ struct Engine {
       ctx.cur = u.seed;
       ctx.frame = &u.state;
       ++result.expanded;
-      design.rules[chosen].body(&ctx, u.params.get());
+      if (options.profile) runCounted(chosen, &ctx, u.params.get());
+      else design.rules[chosen].body(&ctx, u.params.get());
       slots[slot].params.reset();
       freeSlots.push_back(slot);
     }
     if (!design.usesTime) result.timeBounds = {0.0, totalArea};
+  }
+
+  // -------------------------------------------------------------------------------------------
+  // Profiling (ExpandOptions::profile): each rule's runs and its body's own time; a path finished
+  // inside a body is the path's time (pathNs: what the paths took so far), not the body's.
+  // -------------------------------------------------------------------------------------------
+
+  uint64_t pathNs = 0;
+  static uint64_t nowNs() {
+    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::steady_clock::now().time_since_epoch()).count());
+  }
+  void runCounted(int rule, __cf_Ctx* c, const double* params) {
+    const uint64_t paths0 = pathNs, start = nowNs();
+    design.rules[rule].body(c, params);
+    result.ruleRuns[size_t(rule)].add({1, 1, nowNs() - start - (pathNs - paths0)});
+  }
+  Bounds measureCounted(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed, double& area) {
+    const uint64_t start = nowNs();
+    Bounds b = paths.measure(c, shape, s, params, seed, scale, area);
+    const uint64_t ns = nowNs() - start;
+    result.ruleRuns[size_t(rulesOf[size_t(shape)].front())].add({1, 1, ns});
+    pathNs += ns;
+    return b;
   }
 
   void sortForDrawing() {

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "runtime/Profile.h"
 #include "runtime/cfdg/Affine.h"
 #include "runtime/include/lcjit/cfdg.h"
 
@@ -58,6 +59,9 @@ struct ExpandOptions {
   // A frame of an animation: a frieze keeps the picture's size (repeated across it), as cfdg's
   // animation canvas is made before the frieze's final size is known.
   bool animation = false;
+  // Count each rule's runs and time its body (Expansion::ruleRuns): two clock readings a rule
+  // run; off, nothing is counted.
+  bool profile = false;
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
@@ -128,6 +132,10 @@ struct Expansion {
   // time terms; with ExpandOptions::keepTimes each finished shape's time, by its order - 1.
   TimeSpan timeBounds;
   std::deque<TimeSpan> times;
+  // With ExpandOptions::profile: by rule (its index in design->rules), how many times its body
+  // ran (produced and ran: a rule always applies) and the time it took, its own: a path finished
+  // by a body is the path's rule's time, not the body's.
+  std::vector<runtime::RuleCounts> ruleRuns;
 };
 
 // A design's time settings (CF::Time, CF::FrameTime, CF::Frame), read as Context Free reads them

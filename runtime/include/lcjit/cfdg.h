@@ -16,7 +16,7 @@
 #include <stdint.h>
 #endif
 
-enum { __cf_AbiVersion = 1 };
+enum { __cf_AbiVersion = 2 };
 
 // A shape's state, and what an adjustment changes of it (Context Free's "modification"): the
 // 2-D transform (x' = sx·x + shx·y + tx, y' = shy·x + sy·y + ty), the 1-D z transform, the time
@@ -60,6 +60,7 @@ struct __cf_Rule {
   double weight;
   int percent;  // the weight was written with % (a share of the whole, not of the rest)
   __cf_Body body;
+  const char* at;  // "file:line:col" where the rule (a path: its name) is written: the profile names it
 };
 
 struct __cf_Shape {
