@@ -13,6 +13,7 @@
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <memory>
 #include <type_traits>
 
 #include <agg_basics.h>
@@ -92,35 +93,63 @@ const TrianglePoints kTriangle;
 // of π/n, starting just past π. Its cosines and sines come from one octant: the first n/8 angles
 // are computed and the rest of the quarter mirrored from them (so the table is symmetric to the
 // last bit), then each quadrant walks the quarter forwards or backwards with its signs.
-class Circle {
- public:
-  explicit Circle(unsigned n) : n_(n), quarter_(n / 4), c_(quarter_), s_(quarter_) {
+struct CircleTable {
+  unsigned n = 0, quarter = 0;
+  std::vector<double> c, s;
+  explicit CircleTable(unsigned count) : n(count), quarter(count / 4), c(quarter), s(quarter) {
     for (unsigned i = 0; i < n / 8; ++i) {
       const double theta = ((i + 0.5) / n) * 2 * kPi;
-      c_[i] = std::cos(theta);
-      s_[i] = std::sin(theta);
-      s_[quarter_ - 1 - i] = std::cos(theta);
-      c_[quarter_ - 1 - i] = std::sin(theta);
+      c[i] = std::cos(theta);
+      s[i] = std::sin(theta);
+      s[quarter - 1 - i] = std::cos(theta);
+      c[quarter - 1 - i] = std::sin(theta);
     }
   }
+};
+
+// The tables of the circles a surface draws, by vertex count: a design draws millions of small
+// circles with a few counts, and working out the table each time cost more than drawing one.
+class CircleTables {
+ public:
+  const CircleTable& of(unsigned n) {
+    const size_t k = n / 8;
+    if (k >= kKept) {
+      large_ = std::make_unique<CircleTable>(n);
+      return *large_;
+    }
+    if (k >= kept_.size()) kept_.resize(k + 1);
+    if (!kept_[k]) kept_[k] = std::make_unique<CircleTable>(n);
+    return *kept_[k];
+  }
+
+ private:
+  static constexpr size_t kKept = 512;  // up to 4,096 vertices: circles up to 16,000 pixels across
+  std::vector<std::unique_ptr<CircleTable>> kept_;
+  std::unique_ptr<CircleTable> large_;
+};
+
+// A circle of its table's count as an AGG vertex source.
+class Circle {
+ public:
+  explicit Circle(const CircleTable& t) : t_(t) {}
   void rewind(unsigned) { k_ = 0; }
   unsigned vertex(double* x, double* y) {
-    if (k_ < n_) {
+    if (k_ < t_.n) {
       static const double signX[] = {-1, 1, 1, -1}, signY[] = {-1, -1, 1, 1};
-      const unsigned q = k_ / quarter_;
-      unsigned j = k_ % quarter_;
-      if (q & 1) j = quarter_ - 1 - j;
-      *x = c_[j] * signX[q] * 0.5;
-      *y = s_[j] * signY[q] * 0.5;
+      const unsigned q = k_ / t_.quarter;
+      unsigned j = k_ % t_.quarter;
+      if (q & 1) j = t_.quarter - 1 - j;
+      *x = t_.c[j] * signX[q] * 0.5;
+      *y = t_.s[j] * signY[q] * 0.5;
       return k_++ == 0 ? agg::path_cmd_move_to : agg::path_cmd_line_to;
     }
-    if (k_++ == n_) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close) | unsigned(agg::path_flags_ccw);
+    if (k_++ == t_.n) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close) | unsigned(agg::path_flags_ccw);
     return agg::path_cmd_stop;
   }
 
  private:
-  unsigned n_, quarter_, k_ = 0;
-  std::vector<double> c_, s_;
+  const CircleTable& t_;
+  unsigned k_ = 0;
 };
 
 // ---- Colours ----
@@ -278,7 +307,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
         // Vertices: a quarter of the (ungrown) pixel diameter plus 8, rounded up to a multiple of 8.
         unsigned n = unsigned(int((sizeX + sizeY) / 4)) + 8;
         n = (n + 7) & ~7u;
-        render(Circle(n), tr);
+        render(Circle(circles_.of(n)), tr);
         break;
       }
       case Primitive::Fill: break;
@@ -318,6 +347,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   int bandY0_ = 0, bandY1_ = 0;
   bool banded_ = false;
   double angleTolerance_ = 0;  // the curve flattener's, as the last stroke left it
+  CircleTables circles_;
 };
 
 using PixfmtRgba32Blend =
