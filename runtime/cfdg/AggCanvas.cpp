@@ -7,13 +7,12 @@
 // is built from the same source).
 #include "runtime/cfdg/Canvas.h"
 
-#include <thread>
-
 #include <algorithm>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <memory>
+#include <thread>
 #include <type_traits>
 
 #include <agg_basics.h>
@@ -383,15 +382,16 @@ void Canvas::draw(const CanvasShape& shape) { surface_->draw(shape); }
 
 namespace {
 // The rows (AGG's y) a shape can touch: its unit box, a little larger than any primitive, through
-// the transform, and two pixels for antialiasing and the growth `draw` gives small shapes.
+// the transform, and two pixels for antialiasing and the growth `draw` gives small shapes. Clamped
+// to the picture, and all of it when the numbers are not (NaN).
 void rowsOf(const CanvasShape& shape, int height, int& low, int& high) {
-  if (shape.primitive == Primitive::Fill) {
-    low = 0, high = height - 1;
-    return;
-  }
+  low = 0, high = height - 1;
+  if (shape.primitive == Primitive::Fill) return;
   const Affine& a = shape.toPixels;
-  double reach = 0.6 * (std::fabs(a.shy) + std::fabs(a.sy)) + 2.0;
-  low = int(std::floor(a.ty - reach)), high = int(std::ceil(a.ty + reach));
+  const double reach = 0.6 * (std::fabs(a.shy) + std::fabs(a.sy)) + 2.0;
+  const double from = std::floor(a.ty - reach), to = std::ceil(a.ty + reach);
+  if (from > 0) low = from < height ? int(from) : height;
+  if (to < height - 1) high = to >= 0 ? int(to) : -1;
 }
 }  // namespace
 
@@ -402,13 +402,37 @@ void Canvas::drawEach(size_t count, const std::function<bool(size_t, CanvasShape
       if (shapeAt(i, shape)) surface_->draw(shape);
     return;
   }
-  // Bands of rows, one per thread; each draws, in order, the shapes that reach its rows. A pixel
-  // sees the same shapes in the same order as in one pass.
+  // A band of rows per thread, each drawing, in order, the shapes that reach its rows: a pixel
+  // sees the same shapes in the same order as in one pass. The bands are cut where they have as
+  // much work as each other (a triangle's base has more shapes than its tip), so that every core
+  // is busy to the end: the work of each row is estimated from a sample of the shapes (every
+  // shape would cost another pass over millions of them), a shape costing about as much as eight
+  // rows of one, plus its rows, spread over them.
+  std::vector<double> rowWork(size_t(height_) + 1);  // by differences: row y's is the sum up to y
+  const size_t stride = std::max<size_t>(1, count / 65536);
+  CanvasShape sample;
+  for (size_t i = 0; i < count; i += stride) {
+    int low = 0, high = -1;
+    if (shapeAt(i, sample)) rowsOf(sample, height_, low, high);
+    if (low > high) continue;
+    const double each = (8.0 + (high - low + 1)) / (high - low + 1);
+    rowWork[size_t(low)] += each;
+    rowWork[size_t(high) + 1] -= each;
+  }
+  double all = 0, running = 0;
+  for (int y = 0; y < height_; ++y) all += (running += rowWork[size_t(y)]);
+  std::vector<int> bandEnd;  // each band's last row: where the work so far passes its share
+  double sum = 0;
+  running = 0;
+  for (int y = 0; y < height_ && bandEnd.size() + 1 < threads; ++y) {
+    sum += (running += rowWork[size_t(y)]);
+    if (sum >= all * double(bandEnd.size() + 1) / threads) bandEnd.push_back(y);
+  }
+  bandEnd.push_back(height_ - 1);
   std::vector<std::thread> workers;
-  const int rows = (height_ + int(threads) - 1) / int(threads);
-  for (unsigned t = 0; t < threads; ++t) {
-    const int y0 = int(t) * rows, y1 = std::min(height_ - 1, y0 + rows - 1);
-    if (y0 > y1) break;
+  for (size_t b = 0; b < bandEnd.size(); ++b) {
+    const int y0 = b == 0 ? 0 : bandEnd[b - 1] + 1, y1 = bandEnd[b];
+    if (y0 > y1) continue;
     workers.emplace_back([this, y0, y1, count, &shapeAt] {
       std::unique_ptr<Surface> band = surface_->band(y0, y1);
       CanvasShape shape;
