@@ -7,12 +7,12 @@
 // is built from the same source).
 #include "runtime/cfdg/Canvas.h"
 
-#include <thread>
-
 #include <algorithm>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
+#include <memory>
+#include <thread>
 #include <type_traits>
 
 #include <agg_basics.h>
@@ -92,35 +92,63 @@ const TrianglePoints kTriangle;
 // of π/n, starting just past π. Its cosines and sines come from one octant: the first n/8 angles
 // are computed and the rest of the quarter mirrored from them (so the table is symmetric to the
 // last bit), then each quadrant walks the quarter forwards or backwards with its signs.
-class Circle {
- public:
-  explicit Circle(unsigned n) : n_(n), quarter_(n / 4), c_(quarter_), s_(quarter_) {
+struct CircleTable {
+  unsigned n = 0, quarter = 0;
+  std::vector<double> c, s;
+  explicit CircleTable(unsigned count) : n(count), quarter(count / 4), c(quarter), s(quarter) {
     for (unsigned i = 0; i < n / 8; ++i) {
       const double theta = ((i + 0.5) / n) * 2 * kPi;
-      c_[i] = std::cos(theta);
-      s_[i] = std::sin(theta);
-      s_[quarter_ - 1 - i] = std::cos(theta);
-      c_[quarter_ - 1 - i] = std::sin(theta);
+      c[i] = std::cos(theta);
+      s[i] = std::sin(theta);
+      s[quarter - 1 - i] = std::cos(theta);
+      c[quarter - 1 - i] = std::sin(theta);
     }
   }
+};
+
+// The tables of the circles a surface draws, by vertex count: a design draws millions of small
+// circles with a few counts, and working out the table each time cost more than drawing one.
+class CircleTables {
+ public:
+  const CircleTable& of(unsigned n) {
+    const size_t k = n / 8;
+    if (k >= kKept) {
+      large_ = std::make_unique<CircleTable>(n);
+      return *large_;
+    }
+    if (k >= kept_.size()) kept_.resize(k + 1);
+    if (!kept_[k]) kept_[k] = std::make_unique<CircleTable>(n);
+    return *kept_[k];
+  }
+
+ private:
+  static constexpr size_t kKept = 512;  // up to 4,096 vertices: circles up to 16,000 pixels across
+  std::vector<std::unique_ptr<CircleTable>> kept_;
+  std::unique_ptr<CircleTable> large_;
+};
+
+// A circle of its table's count as an AGG vertex source.
+class Circle {
+ public:
+  explicit Circle(const CircleTable& t) : t_(t) {}
   void rewind(unsigned) { k_ = 0; }
   unsigned vertex(double* x, double* y) {
-    if (k_ < n_) {
+    if (k_ < t_.n) {
       static const double signX[] = {-1, 1, 1, -1}, signY[] = {-1, -1, 1, 1};
-      const unsigned q = k_ / quarter_;
-      unsigned j = k_ % quarter_;
-      if (q & 1) j = quarter_ - 1 - j;
-      *x = c_[j] * signX[q] * 0.5;
-      *y = s_[j] * signY[q] * 0.5;
+      const unsigned q = k_ / t_.quarter;
+      unsigned j = k_ % t_.quarter;
+      if (q & 1) j = t_.quarter - 1 - j;
+      *x = t_.c[j] * signX[q] * 0.5;
+      *y = t_.s[j] * signY[q] * 0.5;
       return k_++ == 0 ? agg::path_cmd_move_to : agg::path_cmd_line_to;
     }
-    if (k_++ == n_) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close) | unsigned(agg::path_flags_ccw);
+    if (k_++ == t_.n) return unsigned(agg::path_cmd_end_poly) | unsigned(agg::path_flags_close) | unsigned(agg::path_flags_ccw);
     return agg::path_cmd_stop;
   }
 
  private:
-  unsigned n_, quarter_, k_ = 0;
-  std::vector<double> c_, s_;
+  const CircleTable& t_;
+  unsigned k_ = 0;
 };
 
 // ---- Colours ----
@@ -278,7 +306,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
         // Vertices: a quarter of the (ungrown) pixel diameter plus 8, rounded up to a multiple of 8.
         unsigned n = unsigned(int((sizeX + sizeY) / 4)) + 8;
         n = (n + 7) & ~7u;
-        render(Circle(n), tr);
+        render(Circle(circles_.of(n)), tr);
         break;
       }
       case Primitive::Fill: break;
@@ -318,6 +346,7 @@ template <class PixFmt> class AggSurface final : public Canvas::Surface {
   int bandY0_ = 0, bandY1_ = 0;
   bool banded_ = false;
   double angleTolerance_ = 0;  // the curve flattener's, as the last stroke left it
+  CircleTables circles_;
 };
 
 using PixfmtRgba32Blend =
@@ -353,15 +382,16 @@ void Canvas::draw(const CanvasShape& shape) { surface_->draw(shape); }
 
 namespace {
 // The rows (AGG's y) a shape can touch: its unit box, a little larger than any primitive, through
-// the transform, and two pixels for antialiasing and the growth `draw` gives small shapes.
+// the transform, and two pixels for antialiasing and the growth `draw` gives small shapes. Clamped
+// to the picture, and all of it when the numbers are not (NaN).
 void rowsOf(const CanvasShape& shape, int height, int& low, int& high) {
-  if (shape.primitive == Primitive::Fill) {
-    low = 0, high = height - 1;
-    return;
-  }
+  low = 0, high = height - 1;
+  if (shape.primitive == Primitive::Fill) return;
   const Affine& a = shape.toPixels;
-  double reach = 0.6 * (std::fabs(a.shy) + std::fabs(a.sy)) + 2.0;
-  low = int(std::floor(a.ty - reach)), high = int(std::ceil(a.ty + reach));
+  const double reach = 0.6 * (std::fabs(a.shy) + std::fabs(a.sy)) + 2.0;
+  const double from = std::floor(a.ty - reach), to = std::ceil(a.ty + reach);
+  if (from > 0) low = from < height ? int(from) : height;
+  if (to < height - 1) high = to >= 0 ? int(to) : -1;
 }
 }  // namespace
 
@@ -372,13 +402,37 @@ void Canvas::drawEach(size_t count, const std::function<bool(size_t, CanvasShape
       if (shapeAt(i, shape)) surface_->draw(shape);
     return;
   }
-  // Bands of rows, one per thread; each draws, in order, the shapes that reach its rows. A pixel
-  // sees the same shapes in the same order as in one pass.
+  // A band of rows per thread, each drawing, in order, the shapes that reach its rows: a pixel
+  // sees the same shapes in the same order as in one pass. The bands are cut where they have as
+  // much work as each other (a triangle's base has more shapes than its tip), so that every core
+  // is busy to the end: the work of each row is estimated from a sample of the shapes (every
+  // shape would cost another pass over millions of them), a shape costing about as much as eight
+  // rows of one, plus its rows, spread over them.
+  std::vector<double> rowWork(size_t(height_) + 1);  // by differences: row y's is the sum up to y
+  const size_t stride = std::max<size_t>(1, count / 65536);
+  CanvasShape sample;
+  for (size_t i = 0; i < count; i += stride) {
+    int low = 0, high = -1;
+    if (shapeAt(i, sample)) rowsOf(sample, height_, low, high);
+    if (low > high) continue;
+    const double each = (8.0 + (high - low + 1)) / (high - low + 1);
+    rowWork[size_t(low)] += each;
+    rowWork[size_t(high) + 1] -= each;
+  }
+  double all = 0, running = 0;
+  for (int y = 0; y < height_; ++y) all += (running += rowWork[size_t(y)]);
+  std::vector<int> bandEnd;  // each band's last row: where the work so far passes its share
+  double sum = 0;
+  running = 0;
+  for (int y = 0; y < height_ && bandEnd.size() + 1 < threads; ++y) {
+    sum += (running += rowWork[size_t(y)]);
+    if (sum >= all * double(bandEnd.size() + 1) / threads) bandEnd.push_back(y);
+  }
+  bandEnd.push_back(height_ - 1);
   std::vector<std::thread> workers;
-  const int rows = (height_ + int(threads) - 1) / int(threads);
-  for (unsigned t = 0; t < threads; ++t) {
-    const int y0 = int(t) * rows, y1 = std::min(height_ - 1, y0 + rows - 1);
-    if (y0 > y1) break;
+  for (size_t b = 0; b < bandEnd.size(); ++b) {
+    const int y0 = b == 0 ? 0 : bandEnd[b - 1] + 1, y1 = bandEnd[b];
+    if (y0 > y1) continue;
     workers.emplace_back([this, y0, y1, count, &shapeAt] {
       std::unique_ptr<Surface> band = surface_->band(y0, y1);
       CanvasShape shape;

@@ -21,7 +21,8 @@ Geometry geometryOf(const Expansion& e, const Framing& f, const ExpandOptions& o
   for (const FinishedShape& s : e.shapes) {
     if (s.shape == 3 || !drawn(s, f, o))
       continue;  // FILL covers the picture, not a place: not a shape of the scene
-    const int32_t colour = rgbColor(byte(s.rgba[0]), byte(s.rgba[1]), byte(s.rgba[2]));
+    const std::array<double, 4>& rgba = e.colours[s.colour];
+    const int32_t colour = rgbColor(byte(rgba[0]), byte(rgba[1]), byte(rgba[2]));
     const Affine& m = s.transform;
     // Counter-clockwise seen from +z: the front faces the default view.
     const bool flipped = m.determinant() < 0;

@@ -10,6 +10,7 @@
 #include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Symmetry.h"
 #include "runtime/cfdg/Tiling.h"
+#include "runtime/cfdg/UnfinishedShapes.h"
 
 #include <agg_conv_stroke.h>
 #include <agg_conv_transform.h>
@@ -18,6 +19,7 @@
 #include <agg_trans_affine.h>
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -83,14 +85,6 @@ Fit fitBounds(const Bounds& b, int width, int height, double borderX, double bor
 
 namespace {
 
-struct Unfinished {
-  double area;
-  int shape;
-  uint64_t seed;
-  __cf_State state;
-  std::unique_ptr<double[]> params;  // the shape's parameter block (null for none)
-};
-
 // The unit primitives' outlines, as paths (CIRCLE by eight points: its bounds are an octagon's).
 agg::path_storage primitivePath(int shape) {
   agg::path_storage p;
@@ -106,10 +100,14 @@ agg::path_storage primitivePath(int shape) {
 }
 
 // The points of a primitive's outline stroked 0.1 wide with miter joins and butt caps, in its own
-// units, as AGG's stroker makes them. Only round joins and caps depend on the approximation scale;
-// these inner joins are inside the outer outline, so the box of any transform of these points is
-// the box Context Free measures.
-std::vector<std::pair<double, double>> strokedOutline(int shape) {
+// units, as AGG's stroker makes them: the outer contour first, then the inner. Only round joins
+// and caps depend on the approximation scale; these inner joins are inside the outer outline, so
+// the box of any transform of these points is the box Context Free measures.
+struct StrokedOutline {
+  std::vector<std::pair<double, double>> points;
+  size_t outer = 0;  // the outer contour's points, first in `points`
+};
+StrokedOutline strokedOutline(int shape) {
   agg::path_storage path = primitivePath(shape);
   agg::conv_stroke<agg::path_storage> stroke(path);
   stroke.width(0.1);
@@ -117,13 +115,56 @@ std::vector<std::pair<double, double>> strokedOutline(int shape) {
   stroke.line_cap(agg::butt_cap);
   stroke.miter_limit(4.0);
   stroke.inner_join(agg::inner_round);
-  std::vector<std::pair<double, double>> points;
+  StrokedOutline out;
   stroke.rewind(0);
   double x, y;
-  for (unsigned cmd; !agg::is_stop(cmd = stroke.vertex(&x, &y));)
-    if (agg::is_vertex(cmd)) points.emplace_back(x, y);
-  return points;
+  for (unsigned cmd; !agg::is_stop(cmd = stroke.vertex(&x, &y));) {
+    if (agg::is_vertex(cmd)) out.points.emplace_back(x, y);
+    if (agg::is_end_poly(cmd) && out.outer == 0) out.outer = out.points.size();
+  }
+  return out;
 }
+
+// Whether the inner contour of a stroked outline can be left out of its box under this linear
+// part: an inner point is 0.1 inside the outer contour, so in any direction its coordinate is
+// short of the outer extreme by a tenth of the scale, far beyond rounding, unless a coefficient
+// is so small (subnormal products) that rounding is no longer relative.
+bool outerContourSuffices(const __cf_State& s) {
+  for (double v : {s.sx, s.shy, s.shx, s.sy})
+    if (v != 0.0 && !(std::fabs(v) >= 1e-280 && std::fabs(v) <= 1e280)) return false;
+  return true;
+}
+
+// Expansion::colours as it is filled: a colour equal (to the bit) to one of the last few kept is
+// not kept again. Most designs repeat a few colours over millions of shapes; a design whose shapes
+// all differ keeps a colour per shape, as before there was a table. A table of recent colours by
+// hash, not a complete index: looking up millions of colours in a large map cost more than it saved.
+class ColourTable {
+ public:
+  explicit ColourTable(std::deque<std::array<double, 4>>& colours) : colours_(colours) {}
+  uint32_t of(const std::array<double, 4>& rgba) {
+    const Bits key = std::bit_cast<Bits>(rgba);
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (uint64_t v : key) h = (h ^ v) * 0xFF51AFD7ED558CCDull;
+    // The colour is compared with the table's copy: the table stays in cache, the kept colours
+    // of a design with millions of them do not.
+    Recent& recent = recent_[(h >> 54) & (kRecent - 1)];
+    if (recent.index != UINT32_MAX && recent.key == key) return recent.index;
+    colours_.push_back(rgba);
+    recent.key = key;
+    return recent.index = uint32_t(colours_.size() - 1);
+  }
+
+ private:
+  using Bits = std::array<uint64_t, 4>;
+  struct Recent {
+    Bits key{};
+    uint32_t index = UINT32_MAX;
+  };
+  static constexpr size_t kRecent = 1024;
+  std::deque<std::array<double, 4>>& colours_;
+  std::vector<Recent> recent_ = std::vector<Recent>(kRecent);
+};
 
 struct Engine {
   const __cf_Design& design;
@@ -134,9 +175,10 @@ struct Engine {
   double scale = 0, scaleArea = 0, minArea = 0.09, totalArea = 0;
   double fixedBorder = 8, shapeBorder = 2, fixedBorderY = 8;
   uint64_t finishedCount = 0;
-  std::vector<std::pair<double, double>> outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
+  StrokedOutline outlines[3] = {strokedOutline(0), strokedOutline(1), strokedOutline(2)};
   const std::vector<double>& statics;
   PathEngine paths{design, &result.bound};
+  ColourTable colours{result.colours};
 
   Engine(const __cf_Design& d, const ExpandOptions& o, const std::vector<double>& s)
       : design(d), options(o), statics(s) {
@@ -196,20 +238,10 @@ struct Engine {
     uint32_t slot;
   };
   std::vector<Entry> heap;
-  std::deque<Unfinished> slots;  // a deque: a body adding shapes does not move its own
-  std::vector<uint32_t> freeSlots;
+  UnfinishedShapes slots;
 
-  void pushHeap(Unfinished&& u) {
-    uint32_t slot;
-    if (!freeSlots.empty()) {
-      slot = freeSlots.back();
-      freeSlots.pop_back();
-      slots[slot] = std::move(u);
-    } else {
-      slot = uint32_t(slots.size());
-      slots.push_back(std::move(u));
-    }
-    Entry value{slots[slot].area, slot};
+  void pushHeap(double area, int shape, uint64_t seed, const __cf_State& s, std::unique_ptr<double[]> params) {
+    Entry value{area, slots.add(shape, seed, s, std::move(params))};
     heap.push_back(value);
     siftUp(heap.size() - 1, value);
   }
@@ -231,8 +263,16 @@ struct Engine {
       heap[n - 1] = heap[0];
       size_t len = n - 1, hole = 0, child = 0;
       while (child < (len - 1) / 2) {
+        // The hole goes down to a leaf whatever the areas: the entries three levels below are
+        // asked for now, so a large heap's levels arrive together instead of one by one.
+        if (8 * child + 14 < len) {
+          __builtin_prefetch(&heap[8 * child + 7]);
+          __builtin_prefetch(&heap[8 * child + 11]);
+          __builtin_prefetch(&heap[8 * child + 14]);
+        }
         child = 2 * (child + 1);
-        if (heap[child].area < heap[child - 1].area) --child;
+        // Without a branch: which child is larger is a coin toss the predictor mostly loses.
+        child -= size_t(heap[child].area < heap[child - 1].area);
         heap[hole] = heap[child];
         hole = child;
       }
@@ -268,7 +308,7 @@ struct Engine {
           block.reset(new double[size_t(n)]);
           std::copy(params, params + n, block.get());
         }
-        pushHeap({area, shape, seed, s, std::move(block)});
+        pushHeap(area, shape, seed, s, std::move(block));
       }
       return;
     }
@@ -288,9 +328,9 @@ struct Engine {
     FinishedShape f;
     f.shape = uint8_t(shape);
     f.transform = affineOf(s);
-    double rgba[4];
-    rgbOf(s.colour, rgba);
-    for (int k = 0; k < 4; ++k) f.rgba[k] = rgba[k];
+    std::array<double, 4> rgba;
+    rgbOf(s.colour, rgba.data());
+    f.colour = colours.of(rgba);
     f.z = s.ztz;
     f.blend = s.blend;
     if (shape != 3) {
@@ -298,10 +338,13 @@ struct Engine {
       // The box of the outline stroked 0.1 wide (miter joins, butt caps), as Context Free
       // measures every shape, filled or not: the stroke is made in the shape's own units, so its
       // points are the same for every shape of a kind (outlines[]), transformed as AGG's
-      // conv_transform does.
+      // conv_transform does; the outer contour's box is the whole's (outerContourSuffices).
+      const StrokedOutline& outline = outlines[shape];
+      const size_t count = outerContourSuffices(s) ? outline.outer : outline.points.size();
       Bounds b;
       bool first = true;
-      for (const auto& [x0, y0] : outlines[shape]) {
+      for (size_t i = 0; i < count; ++i) {
+        const auto& [x0, y0] = outline.points[i];
         double x = x0, y = y0;
         double tmp = x;
         x = tmp * s.sx + y * s.shx + s.tx;
@@ -363,6 +406,7 @@ struct Engine {
     if (keepBoxes) result.boxes.push_back(b);
     FinishedShape f;
     f.shape = kPathShape;
+    f.colour = colours.of({0, 0, 0, 1});  // unused: a path's commands have their own
     f.transform = affineOf(s);
     f.z = s.ztz;
     f.boxArea = area;
@@ -539,13 +583,12 @@ struct Engine {
         break;
       }
       uint32_t slot = popHeap();
-      Unfinished& u = slots[slot];
+      UnfinishedShapes::Shape& u = slots[slot];
       // The next shape to expand is likely the heap's top now: its slot is somewhere in a large
       // pool, so ask for it while this body runs.
-      if (!heap.empty()) {
-        const char* next = reinterpret_cast<const char*>(&slots[heap[0].slot]);
-        for (size_t line = 0; line < sizeof(Unfinished); line += 64) __builtin_prefetch(next + line);
-      }
+      if (!heap.empty()) slots.prefetch(heap[0].slot);
+      __cf_State state;
+      slots.state(slot, state);
       double d = drawDouble(u.seed);
       const auto& rules = rulesOf[size_t(u.shape)];
       int chosen = rules.back();
@@ -555,12 +598,11 @@ struct Engine {
           break;
         }
       ctx.cur = u.seed;
-      ctx.frame = &u.state;
+      ctx.frame = &state;
       ++result.expanded;
       if (options.profile) runCounted(chosen, &ctx, u.params.get());
       else design.rules[chosen].body(&ctx, u.params.get());
-      slots[slot].params.reset();
-      freeSlots.push_back(slot);
+      slots.release(slot);
     }
     if (!design.usesTime) result.timeBounds = {0.0, totalArea};
   }

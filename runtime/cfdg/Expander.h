@@ -5,6 +5,7 @@
 // engine runs them, with Context Free 3.4's random numbers, queue order and size cut-off, so that
 // a variation gives the shapes Context Free gives, in its order, to the last bit.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <limits>
@@ -65,17 +66,18 @@ struct ExpandOptions {
 };
 
 // What is kept of a drawn shape: only what its picture needs (a big design keeps millions).
+// 80 bytes: the colour is kept once per run (Expansion::colours), the order and kind share a word.
 struct FinishedShape {
   Affine transform;                 // the unit shape into world units
-  double rgba[4] = {0, 0, 0, 1};    // device colour (Context Free's HSB → RGB), not premultiplied
   double z = 0;                     // drawing order first
   double boxArea = 0;               // of the stroked outline's box, world units
-  uint64_t order = 0;               // then the order shapes were finished in
+  uint64_t order : 56 = 0;          // then the order shapes were finished in
+  uint64_t shape : 8 = 0;           // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL; or kPathShape
+  uint32_t colour = 0;              // its device colour: Expansion::colours[colour]
   union {
     int blend = 0;  // a primitive's blend flag (CF::… with bit 20), 0 for src-over
     int path;       // a path's record in Expansion::paths (its commands have their own blend)
   };
-  uint8_t shape = 0;                // a primitive: 0 CIRCLE, 1 SQUARE, 2 TRIANGLE, 3 FILL; or kPathShape
 };
 constexpr uint8_t kPathShape = 4;
 
@@ -107,6 +109,10 @@ struct Expansion {
   // In drawing order: z, then the order they were made. A deque: a million shapes grow it without
   // copying (or holding twice) what is there.
   std::deque<FinishedShape> shapes;
+  // The finished shapes' device colours (Context Free's HSB → RGB, not premultiplied), each kept
+  // once: most designs use a few colours over millions of shapes (a deque: a design whose every
+  // shape has a colour of its own grows it without copying it).
+  std::deque<std::array<double, 4>> colours;
   std::deque<FinishedPath> paths;      // the paths among them (FinishedShape::path)
   const __cf_Design* design = nullptr; // what was expanded, its rand_static() values and the frame's
   std::vector<double> statics;         // time (ftime(), frame()): a path's body runs again to be drawn

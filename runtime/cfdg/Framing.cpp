@@ -77,9 +77,9 @@ namespace {
 
 // One shape of the -V picture, with its matrix into SVG's pixels. Its colour is rounded as the
 // picture's depth rounds it (16 bits: the fill shows the high byte).
-void svgShape(std::string& out, const FinishedShape& s, const Affine& m, bool depth16, int& precision) {
+void svgShape(std::string& out, const FinishedShape& s, const double* rgba, const Affine& m, bool depth16,
+              int& precision) {
   char line[512];
-  const double* rgba = s.rgba;
   const double top = depth16 ? 65535.0 : 255.0;
   auto level = [&](double v) { return unsigned(v * top + 0.5); };
   auto byte = [&](double v) { return depth16 ? level(v) >> 8 : level(v); };
@@ -128,7 +128,8 @@ std::string svgOf(const Expansion& e, const Framing& f, const ExpandOptions& o) 
     }
     if (s.shape == 3 || !drawn(s, f, o))
       continue;
-    forEachCopy(e, f, s, toSvg, [&](const Affine& m) { svgShape(out, s, m, e.picture.depth16, precision); });
+    const double* rgba = e.colours[s.colour].data();
+    forEachCopy(e, f, s, toSvg, [&](const Affine& m) { svgShape(out, s, rgba, m, e.picture.depth16, precision); });
   }
   out += "</svg>\n";
   return out;

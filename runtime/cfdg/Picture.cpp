@@ -22,9 +22,10 @@ namespace {
 // picture, the copy's offset,) the fitted block's place in the picture (Tiling.h).
 Affine blockOffset(const Framing& f) { return Affine::translation(f.offsetX, f.offsetY); }
 
-void primitiveOf(const FinishedShape& s, CanvasShape& c) {
+void primitiveOf(const Expansion& e, const FinishedShape& s, CanvasShape& c) {
   c.primitive = Primitive(s.shape);
-  c.colour = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
+  const std::array<double, 4>& rgba = e.colours[s.colour];
+  c.colour = {rgba[0], rgba[1], rgba[2], rgba[3]};
   // A blend flag carries AGG's compositing operator above bit 21.
   c.blend = (s.blend & (1 << 20)) ? (s.blend >> 21) & 31 : kBlendSourceOver;
 }
@@ -91,7 +92,7 @@ Canvas drawExpansion(const __cf_Design& design, const Expansion& e, const Framin
       const FinishedShape& s = e.shapes[i];
       if (!drawn(s, f, o))
         return false;
-      primitiveOf(s, c);
+      primitiveOf(e, s, c);
       forEachCopy(e, f, s, offset, [&](const Affine& toPixels) { c.toPixels = toPixels; });
       return true;
     };
@@ -134,7 +135,7 @@ void paintShapes(const __cf_Design& design, const Expansion& e, const Framing& f
       continue;
     }
     CanvasShape c;
-    primitiveOf(s, c);
+    primitiveOf(e, s, c);
     forEachCopy(e, f, s, offset, [&](const Affine& toPixels) {
       c.toPixels = toPixels;
       painter.draw(c);
