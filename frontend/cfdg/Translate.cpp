@@ -162,6 +162,7 @@ Translation Translator::run() {
         std::string pn = "a_" + identifier(p.name);
         Binding bound{Binding::Local, pn, p.width, false};
         bound.adjustment = p.type == "adjustment";
+        bound.locality = kPureNonlocal;
         if (!bound.adjustment && p.width > 1) {
           std::string list;
           for (int k = 0; k < p.width; ++k) list += pn + "_" + std::to_string(k) + ", ";
@@ -233,6 +234,7 @@ Translation Translator::run() {
       Binding b{Binding::Param, std::to_string(offset), p.width, false};
       b.shape = p.type == "shape";
       b.adjustment = p.type == "adjustment";
+      b.locality = kPureNonlocal;
       scopes_.back()[p.name] = b;
       offset += p.width;
     }
