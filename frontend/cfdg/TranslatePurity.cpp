@@ -1,8 +1,8 @@
 // How the values of a Context Free design depend on the parameters of the shape or function they
 // are written in (Translator.h, section 9), and the rule Context Free makes of it: a number
 // parameter of a shape is given a constant, or a parameter as it was given, or a value computed
-// without parameters, unless the design says CF::Impure. (So a design's shapes can be told
-// apart by their parameters: a value such as `n - 1` could make endless new ones.)
+// without parameters, unless the design says CF::Impure. lcjit refuses what Context Free 3.4
+// refuses, where it does, in its words.
 #include "frontend/cfdg/Translator.h"
 
 namespace lcjit::frontend::cfdg::translate {
@@ -26,10 +26,13 @@ bool written(const Expr& e, double& v) {
   return false;
 }
 
-// Where Context Free places an expression in an error: a signed or parenthesized one where what
-// it holds begins.
+// Where Context Free places an expression in an error: where its first operand is, but a signed
+// or parenthesized one where what it holds is, and a random range (`a..b`, `a+/-b`) at its
+// operator.
 const Place& placeOf(const Expr& e) {
-  if (e.kind == Expr::Paren || e.kind == Expr::Unary) return placeOf(*e.args[0]);
+  if (e.kind == Expr::Binary && (e.text == ".." || e.text == "+/-")) return e.opAt;
+  if (e.kind == Expr::Paren || e.kind == Expr::Unary || e.kind == Expr::Binary || e.kind == Expr::List)
+    return placeOf(*e.args[0]);
   return e.at;
 }
 
