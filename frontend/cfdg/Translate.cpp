@@ -163,6 +163,7 @@ Translation Translator::run() {
         Binding bound{Binding::Local, pn, p.width, false};
         bound.adjustment = p.type == "adjustment";
         bound.locality = kPureNonlocal;
+        bound.natural = p.type == "natural";
         if (!bound.adjustment && p.width > 1) {
           std::string list;
           for (int k = 0; k < p.width; ++k) list += pn + "_" + std::to_string(k) + ", ";
@@ -210,6 +211,7 @@ Translation Translator::run() {
     }
     std::vector<std::string> parts = emitted(v);
     Binding b{Binding::Global, name, int(parts.size()), v.constant};
+    b.natural = natural(*def.value);
     unit += "double " + name + (parts.size() > 1 ? "[" + std::to_string(parts.size()) + "]" : "") + ";\n";
     for (size_t k = 0; k < parts.size(); ++k)
       line(name + (parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + parts[k] + ";");
@@ -235,6 +237,7 @@ Translation Translator::run() {
       b.shape = p.type == "shape";
       b.adjustment = p.type == "adjustment";
       b.locality = kPureNonlocal;
+      b.natural = p.type == "natural";
       scopes_.back()[p.name] = b;
       offset += p.width;
     }

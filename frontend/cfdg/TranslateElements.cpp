@@ -302,6 +302,7 @@ void Translator::define(const Element& e) {
   }
   scopes_.back()[e.name] = {Binding::Local, name, int(parts.size()), v.constant};
   scopes_.back()[e.name].locality = locality(*e.value);
+  scopes_.back()[e.name].natural = natural(*e.value);
 }
 
 void Translator::replacement(const Element& e) {
@@ -350,11 +351,11 @@ void Translator::replacement(const Element& e) {
       params = "p";
     } else if (e.hasArgs && !e.args.empty()) {
       spec += argBytes(e.args);
-      if (decl) numberParameters(decl->params, e.args);
       auto [block, count] = argumentBlock(e.args);
       if (count != paramCount)
         fail(e.shapeAt, "shape '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                             std::to_string(count) + " given");
+      if (decl) parameterRequirements(decl->params, e.args, true);
       params = block;
     } else if (paramCount > 0) {
       fail(e.shapeAt, "shape '" + e.shape + "' needs parameters");
@@ -374,12 +375,14 @@ void Translator::replacement(const Element& e) {
 
 void Translator::loop(const Element& e) {
   // The index, named `cpp` in C++: it depends on parameters as the loop's count (start, end,
-  // step) does.
+  // step) does, and is natural as section 9 says.
   const Locality indexLocality = locality(*e.value);
+  const bool indexNatural = naturalLoopIndex(*e.value);
   auto bindIndex = [&](const std::string& cpp) {
     if (e.name.empty()) return;
     Binding b{Binding::Local, cpp, 1, false};
     b.locality = indexLocality;
+    b.natural = indexNatural;
     scopes_.back()[e.name] = b;
   };
   scopes_.emplace_back();  // the index is a name in the loop's adjustment

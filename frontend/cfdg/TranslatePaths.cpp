@@ -223,11 +223,11 @@ void Translator::subpath(const Element& e) {
     params = "p";
   } else if (e.hasArgs && !e.args.empty()) {
     spec += argBytes(e.args);
-    if (decl) numberParameters(decl->params, e.args);
     auto [block, count] = argumentBlock(e.args);
     if (!variable && count != paramCount)
       fail(e.shapeAt, "path '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                           std::to_string(count) + " given");
+    if (decl) parameterRequirements(decl->params, e.args, true);
     params = block;
   } else if (paramCount > 0) {
     fail(e.shapeAt, "path '" + e.shape + "' needs parameters");

@@ -1,9 +1,12 @@
 // How the values of a Context Free design depend on the parameters of the shape or function they
 // are written in (Translator.h, section 9), and the rule Context Free makes of it: a number
 // parameter of a shape is given a constant, or a parameter as it was given, or a value computed
-// without parameters, unless the design says CF::Impure. lcjit refuses what Context Free 3.4
-// refuses, where it does, in its words.
+// without parameters; and a natural parameter (of a shape or a function) a natural number. An
+// impure design (CF::Impure) has neither rule. lcjit refuses what Context Free 3.4 refuses, where
+// it does, in its words.
 #include "frontend/cfdg/Translator.h"
+
+#include <cmath>
 
 namespace lcjit::frontend::cfdg::translate {
 
@@ -133,14 +136,97 @@ Locality Translator::functionLocality(const Definition& fn) {
   return functionLocality_[&fn] = l;
 }
 
-// Context Free's number parameter requirement, for the arguments `args` of a shape with `params`:
-// each given to a number (or vector) parameter is pure, unless the design is impure. A natural
-// parameter has its own requirement instead.
-void Translator::numberParameters(const std::vector<Param>& params, const std::vector<ExprP>& args) {
+// Whether Context Free knows `e` to be a natural number (an integer from 0 up) when it reads the
+// design: a whole number written so, a natural parameter or variable, and what its operators and
+// functions keep natural.
+bool Translator::natural(const Expr& e) {
+  auto all = [this](const std::vector<ExprP>& list) {
+    for (const auto& a : list)
+      if (!natural(*a)) return false;
+    return true;
+  };
+  switch (e.kind) {
+    case Expr::Number: {
+      double v = numberValue(e.text);
+      return v >= 0 && v < 9007199254740992.0 && v == std::floor(v);  // below 2^53: whole
+    }
+    case Expr::Name:
+    case Expr::Index: {
+      const Binding* b = lookup(e.text);
+      return b && b->natural;
+    }
+    case Expr::Paren:
+    case Expr::List: return all(e.args);
+    case Expr::Unary: return e.text == "!" && all(e.args);
+    case Expr::Binary: {
+      static const std::set<std::string> kNatural = {"+", "--", "*", "^", "<", ">", "<=", ">=", "==", "<>", "&&", "||", "^^"};
+      return kNatural.count(e.text) && all(e.args);
+    }
+    case Expr::Let: {
+      scopes_.emplace_back();
+      for (size_t k = 0; k + 1 < e.args.size(); ++k) {
+        Binding bound{Binding::Local, "", 1, false};
+        bound.natural = natural(*e.args[k]);
+        scopes_.back()[e.names[k]] = bound;
+      }
+      bool n = natural(*e.args.back());
+      scopes_.pop_back();
+      return n;
+    }
+    case Expr::Modification: return false;
+    case Expr::Call: {
+      const std::string& f = e.text;
+      if (f == "if" || f == "select") {
+        if (e.args.size() < 3) return false;
+        if (double v; written(*e.args[0], v)) {
+          const size_t n = e.args.size() - 1;
+          return natural(*e.args[f == "if" ? (v != 0.0 ? 1 : 2) : v < 1 ? 1 : v >= double(n) ? n : size_t(v) + 1]);
+        }
+        for (size_t k = 1; k < e.args.size(); ++k)
+          if (!natural(*e.args[k])) return false;
+        return true;
+      }
+      const Binding* b = lookup(f);
+      if (b && b->kind == Binding::Function) return b->function->type == "natural";
+      // Functions that keep natural arguments natural, and those whose values are natural.
+      static const std::set<std::string> kKeep = {"mod",    "abs",    "min",     "max",      "bitnot", "bitor",
+                                                  "bitand", "bitxor", "bitleft", "bitright", "randint"};
+      static const std::set<std::string> kMake = {"factorial", "sg", "isNatural", "div", "divides", "randint::discrete"};
+      if (kKeep.count(f)) return all(e.args);
+      if (kMake.count(f)) return true;
+      if (f == "randint::binomial" || f == "randint::negbinomial") return e.args.size() == 2 && natural(*e.args[0]);
+      return false;
+    }
+  }
+  return false;
+}
+
+// Whether a loop's index is natural, given its count (end; start, end; or start, end, step):
+// all natural, or its start and end natural and its step natural or -1.
+bool Translator::naturalLoopIndex(const Expr& count) {
+  const Expr* c = &count;
+  while (c->kind == Expr::Paren) c = c->args[0].get();
+  if (c->kind != Expr::List) return natural(*c);
+  const auto& items = c->args;
+  if (items.empty() || !natural(*items[0])) return false;
+  if (items.size() > 1 && !natural(*items[1])) return false;
+  if (items.size() > 2 && !natural(*items[2])) {
+    double v;
+    return written(*items[2], v) && v == -1.0;
+  }
+  return true;
+}
+
+// Context Free's requirements on the arguments `args` given to `params` (a shape's, or a
+// function's): a natural parameter is given a natural number, and (`numbers`: a shape's) a number
+// or vector parameter a pure value. An impure design has neither.
+void Translator::parameterRequirements(const std::vector<Param>& params, const std::vector<ExprP>& args, bool numbers) {
   if (impure_) return;
   for (size_t k = 0; k < args.size() && k < params.size(); ++k) {
     const std::string& type = params[k].type;
-    if (type != "number" && type.rfind("vector", 0) != 0) continue;
+    if (type == "natural" && !natural(*args[k]))
+      fail(placeOf(*args[k]), "this expression does not satisfy the natural number requirement");
+    if (!numbers || (type != "number" && type.rfind("vector", 0) != 0)) continue;
     Locality l = locality(*args[k]);
     if (l != kPureLocal && l != kPureNonlocal)
       fail(placeOf(*args[k]), "This expression does not satisfy the number parameter requirement");

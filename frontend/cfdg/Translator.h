@@ -12,8 +12,8 @@
 //   7. Paths: operations, commands, sub-paths                       TranslatePaths.cpp
 //   8. Picture settings: CF::Tile, CF::Size, CF::Symmetry, the
 //      borders, the pixel format, CF::StartShape                    TranslateSettings.cpp
-//   9. Purity: how expressions depend on parameters, the number
-//      parameter requirement                                        TranslatePurity.cpp
+//   9. Purity: how expressions depend on parameters, natural
+//      numbers, the parameter requirements                          TranslatePurity.cpp
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -63,6 +63,7 @@ struct Binding {
   bool adjustment = false;  // a __cf_State
   AdjustmentInfo info;      // an adjustment's
   Locality locality = kPureLocal;  // a parameter: pure non-local; a variable: its value's (section 9)
+  bool natural = false;            // a natural number, as Context Free knows it (section 9)
 };
 
 // The C++ of a value of the design: numbers (one, or a vector's), or an adjustment.
@@ -333,7 +334,10 @@ class Translator {
   std::map<const Definition*, Locality> functionLocality_;  // each function's value's, once known
   Locality functionLocality(const Definition& fn);
 
-  void numberParameters(const std::vector<Param>& params, const std::vector<ExprP>& args);
+  bool natural(const Expr& e);
+  bool naturalLoopIndex(const Expr& count);
+
+  void parameterRequirements(const std::vector<Param>& params, const std::vector<ExprP>& args, bool numbers);
 };
 
 }  // namespace lcjit::frontend::cfdg::translate

@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# Context Free's number parameter requirement (docs/cfdg.md): each NAME.cfdg in the folder given
-# says on its first line `# refused at LINE:COL` or `# accepted`. Refused: `lcjit cfdg` exits 1,
-# prints NAME.cfdg:LINE:COL: error: This expression does not satisfy the number parameter
-# requirement, and writes no picture. Accepted: lcjit draws it. With cfdg installed, cfdg is held
-# to the same line at test time (it counts columns from 0: COL - 1), so the expectations are its.
+# Context Free's parameter requirements (docs/cfdg.md): each NAME.cfdg in the folder given says on
+# its first line `# refused at LINE:COL by the number parameter requirement`, `… by the natural
+# number requirement`, or `# accepted`. Refused: `lcjit cfdg` exits 1, prints NAME.cfdg:LINE:COL:
+# error: and Context Free's words for that requirement, and writes no picture. Accepted: lcjit
+# draws it. With cfdg installed, cfdg is held to the same line at test time (it counts columns from
+# 0: COL - 1), so the expectations are its.
 # Usage: run_purity.sh LCJIT DIR
 lcjit=$1
 dir=$2
-message="This expression does not satisfy the number parameter requirement"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 have_cfdg=0
@@ -16,10 +16,16 @@ fail=0
 for design in "$dir"/*.cfdg; do
   name=$(basename "$design" .cfdg)
   first=$(head -1 "$design")
-  place=$(printf '%s\n' "$first" | sed -nE 's/^# refused at ([0-9]+:[0-9]+):.*/\1/p')
-  if [ -z "$place" ] && [ "${first#\# accepted}" = "$first" ]; then
-    echo "FAIL $name: the first line says neither '# refused at LINE:COL' nor '# accepted'"; fail=1; continue
-  fi
+  place=$(printf '%s\n' "$first" | sed -nE 's/^# refused at ([0-9]+:[0-9]+) by the .*/\1/p')
+  case "$first" in
+    "# refused at $place by the number parameter requirement"*)
+      message="This expression does not satisfy the number parameter requirement" ;;
+    "# refused at $place by the natural number requirement"*)
+      message="this expression does not satisfy the natural number requirement" ;;
+    "# accepted"*) place= ;;
+    *) echo "FAIL $name: the first line says neither '# refused at LINE:COL by the … requirement' nor '# accepted'"
+       fail=1; continue ;;
+  esac
   rm -f "$work/out.svg" "$work/out.png"
   ok=1
   (cd "$dir" && "$lcjit" cfdg "$name.cfdg" "$work/out.svg") >"$work/stdout" 2>"$work/stderr"
