@@ -28,6 +28,7 @@ struct Expr {
     Modification // an adjustment used as a value: [ … ]
   } kind;
   Place at;
+  Place opAt;           // Binary: the operator's place
   std::string text;     // a name: with the namespace of the file it is written in (`ns::NAME`)
   std::string written;  // a name as written (its seed bytes), when that differs from text
   std::vector<ExprP> args;

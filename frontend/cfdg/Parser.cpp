@@ -785,8 +785,9 @@ class Parser {
     e->text = std::move(text);
     return e;
   }
-  ExprP binary(std::string op, ExprP l, ExprP r) {
+  ExprP binary(std::string op, Place opAt, ExprP l, ExprP r) {
     auto e = make(Expr::Binary, l->at, std::move(op));
+    e->opAt = opAt;
     e->args.push_back(std::move(l));
     e->args.push_back(std::move(r));
     return e;
@@ -820,9 +821,10 @@ class Parser {
       if (t.kind != Tok::Punct) break;
       int p = precedence(t.text);
       if (p == 0 || p < minPrec) break;
+      Place opAt = t.at;
       std::string op = next().text;
       ExprP right = exp3(p + 1);
-      left = binary(op, std::move(left), std::move(right));
+      left = binary(op, opAt, std::move(left), std::move(right));
     }
     return left;
   }
@@ -840,9 +842,9 @@ class Parser {
   ExprP power() {
     ExprP base = primary();
     if (is("^")) {
-      next();
+      Place opAt = next().at;
       ExprP exponent = unary();  // right-associative, binds tighter than unary on its left
-      return binary("^", std::move(base), std::move(exponent));
+      return binary("^", opAt, std::move(base), std::move(exponent));
     }
     return base;
   }
@@ -851,8 +853,9 @@ class Parser {
   ExprP adjArg() {
     ExprP e = signedPrimary();
     while (is("..") || is("+/-")) {
+      Place opAt = peek().at;
       std::string op = next().text;
-      e = binary(op, std::move(e), signedPrimary());
+      e = binary(op, opAt, std::move(e), signedPrimary());
     }
     return e;
   }

@@ -162,6 +162,8 @@ Translation Translator::run() {
         std::string pn = "a_" + identifier(p.name);
         Binding bound{Binding::Local, pn, p.width, false};
         bound.adjustment = p.type == "adjustment";
+        bound.locality = kPureNonlocal;
+        bound.natural = p.type == "natural";
         if (!bound.adjustment && p.width > 1) {
           std::string list;
           for (int k = 0; k < p.width; ++k) list += pn + "_" + std::to_string(k) + ", ";
@@ -209,6 +211,7 @@ Translation Translator::run() {
     }
     std::vector<std::string> parts = emitted(v);
     Binding b{Binding::Global, name, int(parts.size()), v.constant};
+    b.natural = natural(*def.value);
     unit += "double " + name + (parts.size() > 1 ? "[" + std::to_string(parts.size()) + "]" : "") + ";\n";
     for (size_t k = 0; k < parts.size(); ++k)
       line(name + (parts.size() > 1 ? "[" + std::to_string(k) + "]" : "") + " = " + parts[k] + ";");
@@ -233,6 +236,8 @@ Translation Translator::run() {
       Binding b{Binding::Param, std::to_string(offset), p.width, false};
       b.shape = p.type == "shape";
       b.adjustment = p.type == "adjustment";
+      b.locality = kPureNonlocal;
+      b.natural = p.type == "natural";
       scopes_.back()[p.name] = b;
       offset += p.width;
     }

@@ -288,6 +288,7 @@ void Translator::define(const Element& e) {
     if (!v.constant) line("c->cur ^= " + hex64(seed) + ";");
     line("__cf_State " + name + ";");
     scopes_.back()[e.name] = adjustmentVariable(v, *e.value, name, Binding::Local, seed);
+    scopes_.back()[e.name].locality = locality(*e.value);
     return;
   }
   if (!v.constant) line("c->cur ^= " + hex64(seedOf(kSeedBase, asWritten(e.name, e.nameWritten))) + ";");
@@ -300,6 +301,8 @@ void Translator::define(const Element& e) {
     line("double " + name + "[" + std::to_string(parts.size()) + "] = {" + list + "};");
   }
   scopes_.back()[e.name] = {Binding::Local, name, int(parts.size()), v.constant};
+  scopes_.back()[e.name].locality = locality(*e.value);
+  scopes_.back()[e.name].natural = natural(*e.value);
 }
 
 void Translator::replacement(const Element& e) {
@@ -352,6 +355,7 @@ void Translator::replacement(const Element& e) {
       if (count != paramCount)
         fail(e.shapeAt, "shape '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                             std::to_string(count) + " given");
+      if (decl) parameterRequirements(decl->params, e.args, true);
       params = block;
     } else if (paramCount > 0) {
       fail(e.shapeAt, "shape '" + e.shape + "' needs parameters");
@@ -370,8 +374,19 @@ void Translator::replacement(const Element& e) {
 }
 
 void Translator::loop(const Element& e) {
+  // The index, named `cpp` in C++: it depends on parameters as the loop's count (start, end,
+  // step) does, and is natural as section 9 says.
+  const Locality indexLocality = locality(*e.value);
+  const bool indexNatural = naturalLoopIndex(*e.value);
+  auto bindIndex = [&](const std::string& cpp) {
+    if (e.name.empty()) return;
+    Binding b{Binding::Local, cpp, 1, false};
+    b.locality = indexLocality;
+    b.natural = indexNatural;
+    scopes_.back()[e.name] = b;
+  };
   scopes_.emplace_back();  // the index is a name in the loop's adjustment
-  if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, "0.0", 1, false};
+  bindIndex("0.0");
   auto terms = prepare(e.adjustment);
   scopes_.pop_back();
   std::string indexName = e.name.empty() ? "~~inaccessiblevar~~" : asWritten(e.name, e.nameWritten);
@@ -403,13 +418,13 @@ void Translator::loop(const Element& e) {
   line("if ((" + step + ") > 0.0 ? " + index + " >= " + end + " : " + index + " <= " + end + ") break;");
   line("c->frame = &" + frame + ";");
   scopes_.emplace_back();
-  if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+  bindIndex(index);
   body(e.body);
   scopes_.pop_back();
   // The loop's adjustment sees the index (`loop i = 1, 5 [x i]`), as it is in this pass, but
   // not the body's names.
   scopes_.emplace_back();
-  if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+  bindIndex(index);
   patchSeed(seedAt, seed ^ applyAdjustment(e.adjustment, terms, frame));
   scopes_.pop_back();
   line(index + " += " + step + ";");
@@ -417,7 +432,7 @@ void Translator::loop(const Element& e) {
   line("}");
   line("c->frame = &" + frame + ";");
   scopes_.emplace_back();
-  if (!e.name.empty()) scopes_.back()[e.name] = {Binding::Local, index, 1, false};
+  bindIndex(index);
   body(e.otherwise);
   scopes_.pop_back();
   leavePathOps(pathOps);

@@ -409,6 +409,8 @@ Value Translator::let(const Expr& e) {
       Value val = expr(*e.args[k]);
       std::string name = "v_" + identifier(e.names[k]) + "_" + std::to_string(temp_++);
       Binding bound{Binding::Local, name, int(val.parts.size()), val.constant};
+      bound.locality = locality(*e.args[k]);
+      bound.natural = natural(*e.args[k]);
       if (val.adjustment)  // Context Free keeps no value for it
         fail(e.args[k]->at, "an adjustment defined in let() is not supported by lcjit");
       if (val.parts.size() == 1) {
@@ -571,6 +573,7 @@ Value Translator::call(const Expr& e) {
       for (const auto& p : decls_[size_t(id->second - 4)].params) count += p.width;
     if (e.reuseParams)  // NAME(=): bound to the running shape's own parameters
       return {{"__cf_bind(c, " + std::to_string(id->second) + ", p)"}, false, true};
+    if (id->second >= 4) parameterRequirements(decls_[size_t(id->second - 4)].params, e.args, true);
     Arguments a = arguments(args, true);
     std::string r = block(a, count, "__cf_bind(c, " + std::to_string(id->second) + ", $b)", e.at, f);
     return {{combined(a, r)}, constant, pure};
@@ -711,6 +714,7 @@ Value Translator::userCall(const Binding& fb, std::vector<Value> args, const std
       if (item >= a.items.size() || a.adjustment[item]) fail(at, "function '" + f + "' takes numbers here");
   }
   if (item != a.items.size()) fail(exprs[0]->at, "Too many arguments");
+  parameterRequirements(fn.params, exprs, false);
   if (fn.type == "adjustment") {
     // Context Free applies (or merges) the function's adjustment where it is called.
     Value v;

@@ -205,6 +205,7 @@ void Translator::subpath(const Element& e) {
   auto it = shapeIds_.find(e.shape);
   const Binding* variable = it == shapeIds_.end() ? lookup(e.shape) : nullptr;
   int paramCount = 0;
+  const ShapeDecl* decl = nullptr;  // the path named, when it is one of the design's
   if (variable) {
     if (variable->kind == Binding::Function || variable->width != 1)
       fail(e.shapeAt, "'" + e.shape + "' is not a shape");
@@ -215,8 +216,8 @@ void Translator::subpath(const Element& e) {
     if (id >= 4 && !decls_[size_t(id - 4)].isPath) fail(e.shapeAt, "Subpath can only refer to a path");
     if (id >= 4 && pathBodyOf(id) != kind) fail(e.shapeAt, "Subpath type mismatch error");
     shapeCode = std::to_string(id);
-    if (id >= 4)
-      for (const auto& p : decls_[size_t(id - 4)].params) paramCount += p.width;
+    if (id >= 4) decl = &decls_[size_t(id - 4)];
+    for (const auto& p : decl ? decl->params : std::vector<Param>{}) paramCount += p.width;
   }
   if (e.reuseParams) {
     params = "p";
@@ -226,6 +227,7 @@ void Translator::subpath(const Element& e) {
     if (!variable && count != paramCount)
       fail(e.shapeAt, "path '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                           std::to_string(count) + " given");
+    if (decl) parameterRequirements(decl->params, e.args, true);
     params = block;
   } else if (paramCount > 0) {
     fail(e.shapeAt, "path '" + e.shape + "' needs parameters");

@@ -12,6 +12,8 @@
 //   7. Paths: operations, commands, sub-paths                       TranslatePaths.cpp
 //   8. Picture settings: CF::Tile, CF::Size, CF::Symmetry, the
 //      borders, the pixel format, CF::StartShape                    TranslateSettings.cpp
+//   9. Purity: how expressions depend on parameters, natural
+//      numbers, the parameter requirements                          TranslatePurity.cpp
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -45,6 +47,12 @@ struct AdjustmentInfo {
   uint64_t seed = 0;      // the seed it brings along when folded
 };
 
+// How a value depends on the parameters of the shape (or function) it is written in, in Context
+// Free's terms: not at all (pure local), on parameters as given (pure non-local), or on values
+// computed from them (impure non-local). Each is a mask of the one before it, so the locality
+// of a value made of several is theirs ANDed (section 9).
+enum Locality : int { kImpureNonlocal = 1, kPureNonlocal = 3, kPureLocal = 7 };
+
 struct Binding {
   enum Kind { Param, Local, Global, Function } kind;
   std::string cpp;  // what C++ calls it (Param: the block's first index)
@@ -54,6 +62,8 @@ struct Binding {
   const Definition* function = nullptr;
   bool adjustment = false;  // a __cf_State
   AdjustmentInfo info;      // an adjustment's
+  Locality locality = kPureLocal;  // a parameter: pure non-local; a variable: its value's (section 9)
+  bool natural = false;            // a natural number, as Context Free knows it (section 9)
 };
 
 // The C++ of a value of the design: numbers (one, or a vector's), or an adjustment.
@@ -312,6 +322,22 @@ class Translator {
   std::string settingsCode();
 
   std::vector<std::string> symmetryItems(const Expr& list, bool statement);
+
+  // -------------------------------------------------------------------------------------------
+  // 9. Purity
+  // -------------------------------------------------------------------------------------------
+
+  Locality locality(const Expr& e);
+  Locality localityOf(const std::vector<ExprP>& list);
+  Locality choiceLocality(const Expr& e);
+
+  std::map<const Definition*, Locality> functionLocality_;  // each function's value's, once known
+  Locality functionLocality(const Definition& fn);
+
+  bool natural(const Expr& e);
+  bool naturalLoopIndex(const Expr& count);
+
+  void parameterRequirements(const std::vector<Param>& params, const std::vector<ExprP>& args, bool numbers);
 };
 
 }  // namespace lcjit::frontend::cfdg::translate
