@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/common/Defaults.h"
 #include "app/session/Session.h"
 
 namespace lcjit::app {
@@ -19,7 +20,7 @@ struct BatchOptions {
   // Further -out files, written after the run as `out` is (not numbered files or videos).
   std::vector<std::string> moreOuts;
   int width = 800, height = 800;  // pictures (-w)
-  int fps = 25;                   // a video's frames per second (--fps)
+  int fps = kVideoFps;            // a video's frames per second (--fps)
   int optLevel = 1;
   // A better tier (no second tier when not above optLevel): under --watch, after each load
   // the model compiles again at this level in the background and is swapped in when ready.
@@ -28,7 +29,7 @@ struct BatchOptions {
   // steps: a long run goes on with better code, a short one is not slowed down. A build that
   // started is waited for at the end of the run, for the cache and the next run.
   int betterTier = -1;
-  double tierAfterMs = 250;
+  double tierAfterMs = kBetterTierAfterMs;
   bool quiet = false, verbose = false, debug = false, stats = false;
   bool plainErrors = false;  // --lab: compile errors in plain language first
   bool dumpSteps = false, dumpInterpreted = false, dumpInterpretedEach = false;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/common/Defaults.h"
 #include "frontend/cfdg/ReadDesign.h"
 #include "runtime/cfdg/Expander.h"
 #include "runtime/cfdg/VectorPage.h"
@@ -46,7 +47,7 @@ struct DesignRunOptions {
   bool watch = false;   // --watch: draw again when the design is saved
   int frames = 0;       // -a (cfdg's): an animation of this many frames (PNG each), 0: one picture
   int frame = 0;        // -f (cfdg's): only this frame of the animation (1 …)
-  int fps = 25;         // --fps: a video's frames a second (lcjit's -out movie.mp4)
+  int fps = kVideoFps;  // --fps: a video's frames a second (lcjit's -out movie.mp4)
   bool cfdgNames = false;  // output names as cfdg makes them (%f …), not lcjit's numbered files and videos
   bool zoom = false;    // -z (cfdg's): not done by lcjit
   std::vector<std::string> defines;  // -D NAME=VALUE

@@ -11,6 +11,7 @@
 
 #include <llvm/Support/Error.h>
 
+#include "app/common/Defaults.h"
 #include "runtime/Engine.h"
 
 namespace CLI {
@@ -33,7 +34,7 @@ struct Options {
 
   // What it writes and says.
   std::vector<std::string> outs;  // -out, in order (Batch.h: the first, then the others)
-  int fps = 25;
+  int fps = kVideoFps;
   std::string record;    // --record (the window's)
   std::string profile;   // --profile
   std::string runRecord; // --run-record
@@ -54,7 +55,7 @@ struct Options {
 
   // The model's code and its run.
   std::optional<int> optLevel;  // -O; without it the tiers are lcjit's choice (compileTiers)
-  double tierAfterMs = 250;     // --tier-after
+  double tierAfterMs = kBetterTierAfterMs;  // --tier-after
   std::vector<std::string> includeDirs;  // -I
   std::vector<std::string> overrides;    // -D NAME=VALUE, as given
   std::optional<uint64_t> seed;          // --seed

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/common/Defaults.h"
 #include "app/session/FileMonitor.h"
 #include "app/session/Session.h"
 
@@ -30,7 +31,7 @@ struct InteractiveOptions {
   // --record: where Start recording writes the frames shown, a video or numbered files
   // (FrameSequence.h); "" is lpfg's MODELNNNN.png in the .a file's frame dump folder.
   std::string record;
-  int fps = 25;  // --fps, of a recorded video
+  int fps = kVideoFps;  // --fps, of a recorded video
 };
 
 // Runs the window over `session` until it closes; returns the process exit status.
