@@ -256,6 +256,14 @@ private:
     }
     for (const Module& other : modules_)
       if (t_[other.name].text == t_[m.name].text) throw XlError{t_[m.name], "a second module '" + t_[m.name].text + "'"};
+    // lcjit's own modules (lpfg's) keep their names in L+C: a model's module cannot take one.
+    static const std::set<std::string> predefined = {
+#define LCJIT_MODULE(Name, ...) #Name,
+#include "runtime/include/lcjit/stdmods.def"
+#undef LCJIT_MODULE
+    };
+    if (predefined.count(t_[m.name].text))
+      notYet(t_[m.name], "a module named as one of lcjit's own ('" + t_[m.name].text + "', lpfg's)");
     modules_.push_back(std::move(m));
   }
 
@@ -284,9 +292,9 @@ private:
     int depth = 0;
     while (!cur().is(";")) {
       Node n;
+      if (cur().kind == Token::End || (cur().is("]") && depth == 0)) throw XlError{cur(), "expected ';' at the end of the rule"};
       if (cur().is("[") || cur().is("]")) {
-        if (cur().is("[")) ++depth;
-        else if (--depth < 0) throw XlError{cur(), "this ']' closes no '['"};
+        depth += cur().is("[") ? 1 : -1;
         n.bracket = true;
         n.name = p_++;
       } else if (cur().kind == Token::Identifier) {
@@ -294,8 +302,6 @@ private:
         if (cur().is("(")) n.parens = true, n.args = arguments();
       } else if (cur().is("{")) {
         notYet(cur(), "a block of Java statements in a rule (`{ … }`)");
-      } else if (cur().kind == Token::End || cur().is("]")) {
-        throw XlError{cur(), "expected ';' at the end of the rule"};
       } else {
         throw XlError{cur(), "expected a module, '[' or ']' on the rule's right side"};
       }

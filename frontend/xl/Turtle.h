@@ -28,7 +28,7 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     // F(l): a cylinder of length l along the head, then the turtle at its end (Shoot, TurtleStep).
     {"F", 1, "F", "", true, ""},
     // F(l, d): of diameter d for itself alone (F's field `diameter`; −1 is the state's).
-    {"F", 2, "F_d", "float, float", false, "[ SetWidth($2) F($1) ] f($1)"},
+    {"F", 2, "F_d", "float, float", false, "SB SetWidth($2) F($1) EB f($1)"},
     // F0: a cylinder of the turtle state's length, 100 while nothing sets it (TurtleState).
     {"F0", 0, "F0", "", false, "F(100)"},
     // M(l): moves l along the head without drawing.
