@@ -2,7 +2,8 @@
 # XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked four ways:
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
-#   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand)
+#   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
+#                     when there is no NAME.rgg (--steps on an L+C model)
 #   segments NAME     the segments drawn from the axiom are NAME.segments (derived by hand)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
 # Usage: run_xl.sh LCJIT XL_DIR KIND NAME [STEPS]
@@ -23,7 +24,9 @@ case $kind in
     diff -u <(grep -v '^#\|^mtllib' lc.obj) <(grep -v '^#\|^mtllib' xl.obj) || fail "the segments differ from $name.l's"
     echo "ok: $name.rgg draws as $name.l ($(grep -c '^F(' xl.dtf) F)" ;;
   string)
-    "$lcjit" -b --steps "$steps" -out out.str "$name.rgg" || fail "lcjit exited with $?"
+    model=$name.rgg
+    [ -f "$model" ] || model=$name.l
+    "$lcjit" -b --steps "$steps" -out out.str "$model" || fail "lcjit exited with $?"
     diff -u "$name.expected" out.str || fail "the string differs from $name.expected"
     echo "ok: $name" ;;
   segments)
