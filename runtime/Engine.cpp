@@ -253,7 +253,7 @@ void Engine::beginGuarded() {
     model_->start();
   }
   calling("the derivation length");
-  length_ = modelDerivationLength();
+  length_ = limits_.steps >= 0 ? limits_.steps : modelDerivationLength();
   calling("the ring L-system statement");
   ring_ = modelRingLsystem();
   // A negative depth (an expression; a literal one is a compile error) decomposes nothing.

@@ -38,6 +38,9 @@ struct EngineLimits {
   size_t maxModules = 100'000'000;              // modules in the string
   size_t maxMemory = defaultMemoryLimit();      // bytes: the process, and the string's buffers
   double timeLimit = 0;                         // seconds per step (interpretation, Start, End); 0: none
+  // --steps: the derivation length instead of the model's (−1: the model's). A language whose
+  // models say none (GroIMP's XL, where the user clicks a rule method once per step) takes it here.
+  int steps = -1;
 };
 
 class ModelRun {

@@ -111,7 +111,7 @@ errors)
   check "missing input" 'model: branch.l\nfiles: [branch.v]\n' "2:9: error: branch.v: no such file"
   # A file of no grammar language's (the model's view file, say, given as the model).
   printf 'view: on\n' > notmodel.v
-  check "not a model" 'model: notmodel.v\n' "1:8: error: notmodel.v is not a model file (.l or .cfdg)"
+  check "not a model" 'model: notmodel.v\n' "1:8: error: notmodel.v is not a model file (.l, .cfdg, .rgg or .xl)"
   check "range backwards" 'model: branch.l\nparameters:\n  A: {from: 2, to: 1, step: 0.5}\n' \
     "3:29: error: the values of A: the step does not lead from 2 to 1"
   check "not a number" 'model: branch.l\nparameters:\n  A: {from: x, to: 1}\n' "3:13: error: from must be a number, not 'x'"

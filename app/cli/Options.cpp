@@ -26,6 +26,7 @@ runtime::EngineLimits Options::limits() const {
   l.maxModules = maxModules;
   l.maxMemory = maxMemory;
   l.timeLimit = timeLimit;
+  l.steps = steps.value_or(-1);
   return l;
 }
 
@@ -250,6 +251,10 @@ void declare(Table& t) {
   t.option("--time-limit", &O::timeLimit,
            "stop a derivation step (or Start, End, an interpretation) that runs longer, in seconds (default: "
            "none; Ctrl-C interrupts)", takes)
+      ->check(CLI::NonNegativeNumber);
+  t.option("--steps", &O::steps,
+           "derive this many steps instead of the model's derivation length (an XL model has none: 0 "
+           "without --steps, as GroIMP before its rules are run)", takes)
       ->check(CLI::NonNegativeNumber);
   t.option("-D", &O::overrides,
            "NAME=VALUE: the model's own #define NAME reads VALUE (no recompile of other values: each "

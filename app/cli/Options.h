@@ -67,6 +67,7 @@ struct Options {
   size_t maxModules = runtime::EngineLimits().maxModules;
   size_t maxMemory = runtime::EngineLimits().maxMemory;
   double timeLimit = runtime::EngineLimits().timeLimit;
+  std::optional<int> steps;  // --steps (runtime::EngineLimits::steps)
 
   // --sandbox's limits on one run (SandboxLimits: the plan adds the memory's from --max-memory).
   double maxCpuSeconds = 600;

@@ -4,6 +4,7 @@
 #include "app/session/InputKinds.h"
 #include "frontend/cfdg/ReadDesign.h"
 #include "frontend/lc/Rewriter.h"
+#include "frontend/xl/Translate.h"
 
 #include <vector>
 
@@ -13,12 +14,15 @@ namespace {
 
 constexpr std::string_view kLplusC[] = {"l"};
 constexpr std::string_view kCfdg[] = {"cfdg"};
+constexpr std::string_view kXl[] = {"rgg", "xl"};
 
 constexpr Language kLanguages[] = {
     // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
     {"L+C", "L-system", kLplusC, EngineKind::LSystem, &frontend::rewrite},
     // Context Free's CFDG: frontend/cfdg/ on the shape-expansion engine.
     {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion, nullptr, &frontend::cfdg::readDesign},
+    // GroIMP's XL: frontend/xl/ (XL → L+C, then L+C's rewriter) on the L-system engine.
+    {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite},
 };
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "app/session/FileMonitor.h"
 #include "app/session/Languages.h"
 #include "frontend/cfdg/ReadDesign.h"
+#include "frontend/lc/Rewriter.h"
 
 using namespace lcjit;
 using namespace lcjit::app;
@@ -70,7 +71,8 @@ TEST(Languages, ByExtension) {
   EXPECT_EQ(languageOf(".l"), nullptr);  // a hidden file
   EXPECT_EQ(languageOf("plant.L"), nullptr);
   EXPECT_EQ(modelExtensions(*lc), ".l");
-  EXPECT_EQ(noModelGiven(), "no L-system file (.l) or Context Free design file (.cfdg) given");
+  EXPECT_EQ(noModelGiven(),
+            "no L-system file (.l) or Context Free design file (.cfdg) or XL model file (.rgg or .xl) given");
   size_t modelRows = 0;
   for (const Language& language : languages())
     for (std::string_view ext : language.extensions) {
@@ -107,6 +109,21 @@ TEST(Languages, FrontEndOfItsEngine) {
   ASSERT_FALSE(bool(bad));
   EXPECT_NE(llvm::toString(bad.takeError()).find("garden.cfdg:2:"), std::string::npos);
   EXPECT_EQ(languageNamed("Logo"), nullptr);
+  // XL's runs on the L-system engine: its text becomes the L+C the L+C rewriter takes, and its
+  // errors name the .rgg.
+  const Language* xl = languageNamed("XL");
+  ASSERT_NE(xl, nullptr);
+  EXPECT_EQ(languageOf("tree.rgg"), xl);
+  EXPECT_EQ(languageOf("tree.xl"), xl);
+  auto model = xl->rewrite("module X;\nprotected void init() [ Axiom ==> X; ]\npublic void run() [ X ==> F(1) [RU(30) X]; ]\n",
+                           "tree.rgg");
+  ASSERT_TRUE(bool(model)) << llvm::toString(model.takeError());
+  ASSERT_EQ(model->userModules.size(), 2u);  // X, and GroIMP's RU
+  EXPECT_EQ(model->userModules[0].name, "X");
+  EXPECT_EQ(model->ruleCount, 2);  // X's production, RU's interpretation rule
+  auto wrong = xl->rewrite("module X;\nprotected void init() [ Axiom ==> X Y; ]\n", "tree.rgg");
+  ASSERT_FALSE(bool(wrong));
+  EXPECT_NE(llvm::toString(wrong.takeError()).find("tree.rgg:2:37: error: no module 'Y'"), std::string::npos);
 }
 
 // A design's constant numbers are its variables (the window's Parameters panel): the value as
@@ -138,7 +155,7 @@ TEST(FileKinds, SetsAndTheCommandLine) {
   EXPECT_FALSE(inputExtensionOf("bark.png")->commandLine);
   EXPECT_EQ(inputExtensionOf("notes.txt"), nullptr);
   const std::string list = commandLineExtensions();
-  EXPECT_EQ(list.rfind(".l, .cfdg, .a, .v, ", 0), 0u) << list;  // every language's model files first
+  EXPECT_EQ(list.rfind(".l, .cfdg, .rgg, .xl, .a, .v, ", 0), 0u) << list;  // every language's model files first
   EXPECT_NE(list.find(", .fset, .tset or .vset"), std::string::npos) << list;
   EXPECT_EQ(list.find(".png"), std::string::npos) << list;
 }

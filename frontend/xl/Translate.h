@@ -1,0 +1,23 @@
+// XL (GroIMP's relational growth grammars, .rgg and .xl files) on lcjit's L-system engine: the
+// model, as the C preprocessor left it, is translated into the L+C that frontend/lc's rewriter
+// takes, and the rewriter makes the C++ of it. Each token of the user's text keeps its file, line
+// and column in the L+C (GNU line markers, and spaces up to its column), so the rewriter's and the
+// compiler's errors name the .rgg where it was written. docs/xl.md says what is translated, how
+// GroIMP's turtle maps onto lcjit's, and what XL lcjit does not run yet.
+#pragma once
+#include <string>
+
+#include <llvm/Support/Error.h>
+
+#include "frontend/lc/Rewriter.h"
+
+namespace lcjit::frontend::xl {
+
+// The L+C of an XL model. Errors are `FILE:LINE:COL: error: MESSAGE`.
+llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile);
+
+// The languages table's front end for XL (app/session/Languages.h's RewriteModel): toLplusC,
+// then frontend::rewrite.
+llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile);
+
+}  // namespace lcjit::frontend::xl

@@ -1,0 +1,50 @@
+// GroIMP's turtle commands (de.grogra.turtle) as lcjit's turtle draws them. GroIMP's turtle frame
+// is left = local x, up = local y, head = local z, starting as the world's axes in a z-up world;
+// lcjit's (lpfg's) is H = +y, L = −x, U = +z. Shown with GroIMP's z as lcjit's y (GroIMP's front
+// view: x to the right, z up), GroIMP's frame is lcjit's turned half round its head: the same H,
+// L and U reversed. So a rotation about GroIMP's up or left is lcjit's about U or L the other way
+// round, and one about the head is the same: RU(a) = Right(a) (`-`), RL(a) = Up(a) (`^`),
+// RH(a) = RollR(a) (`/`), with lcjit's default `corrected rotation: on`. docs/xl.md gives the
+// GroIMP sources of each fact (the rotation matrices of URotation, RL and RH, F's and M's
+// constructors, TurtleState's defaults).
+#pragma once
+#include <string_view>
+
+namespace lcjit::frontend::xl {
+
+struct TurtleCommand {
+  std::string_view name;  // GroIMP's class, as XL writes it
+  int arity;              // the arguments of this form
+  // The module that stands for it in lcjit's string: lcjit's own F, or one the translation
+  // declares (`declared` types); GroIMP's F(l, d) is lcjit's F_d, lcjit's F having one parameter.
+  std::string_view module;
+  std::string_view declared;  // "float, float"; empty: lcjit's own module, or one without parameters
+  bool own;                   // lcjit's predefined module: nothing to declare, nothing to interpret
+  // What lcjit's turtle does for it (lpfg's modules; $1, $2 its arguments); empty: nothing.
+  std::string_view drawn;
+};
+
+inline constexpr TurtleCommand kTurtleCommands[] = {
+    // F(l): a cylinder of length l along the head, then the turtle at its end (Shoot, TurtleStep).
+    {"F", 1, "F", "", true, ""},
+    // F(l, d): of diameter d for itself alone (F's field `diameter`; −1 is the state's).
+    {"F", 2, "F_d", "float, float", false, "SB SetWidth($2) F($1) EB f($1)"},
+    // F0: a cylinder of the turtle state's length, 100 while nothing sets it (TurtleState).
+    {"F0", 0, "F0", "", false, "F(100)"},
+    // M(l): moves l along the head without drawing.
+    {"M", 1, "M", "float", false, "f($1)"},
+    {"RU", 1, "RU", "float", false, "Right($1)"},
+    {"RL", 1, "RL", "float", false, "Up($1)"},
+    {"RH", 1, "RH", "float", false, "RollR($1)"},
+    // Null: a node that does nothing to the turtle.
+    {"Null", 0, "Null", "", false, ""},
+};
+
+// What `new X()` is for the turtle's classes whose constructor without arguments gives one:
+// F() and M() have length 1 (F.java, M.java: `this (1)`), RU(), RL(), RH() turn by 0.
+struct TurtleDefault {
+  std::string_view name, argument;
+};
+inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"}, {"M", "1"}, {"RU", "0"}, {"RL", "0"}, {"RH", "0"}};
+
+}  // namespace lcjit::frontend::xl
