@@ -16,6 +16,7 @@
 #   unavailable  without bwrap: --sandbox is an error, --lab warns and runs
 #   design       a Context Free design runs sandboxed: the same picture as without, a file it
 #                imports from outside its folder unreadable, --watch redraws a saved edit
+#   profile      --profile alone prints the sandboxed run's profile table; a profile file is refused
 # Exit status 77 (skipped) where bubblewrap cannot make a sandbox.
 set -u
 lcjit=$1 dir=$2 case=$3
@@ -190,6 +191,19 @@ print(s.getsockname()[1], flush=True); time.sleep(120)' > port.txt &
     sed 's/r 10/r 30/' d.cfdg > tmp.cfdg && mv tmp.cfdg d.cfdg
     for _ in $(seq 1 2400); do grep -q "reload 1" err.txt && break; sleep 0.05; done
     grep -q "reload 1 (d.cfdg)" err.txt || fail "no reload after the save" ;;
+  profile)
+    # --profile alone: the sandboxed run prints the table, the counts of profiled.l (worked out
+    # by hand in its header) as without the sandbox; a profile file is refused, none written.
+    cp "$dir/../models/profiled.l" .
+    "$lcjit" --sandbox -b -out m.obj profiled.l --profile > out.txt 2> err.txt; status=$?
+    [ "$status" = 0 ] || fail "exit status $status"
+    for want in "production A(n) profiled.l:9 2 2" "production B profiled.l:10 1 1" "decomposition C profiled.l:12 2 2" \
+                "interpretation B profiled.l:14 3 3"; do
+      awk 'NF == 6 { print $1, $2, $3, $4, $5 }' out.txt | grep -qxF "$want" || fail "no table line $want"
+    done
+    "$lcjit" --sandbox -b -out m.obj --profile p.json profiled.l > out.txt 2> err.txt; status=$?
+    expect 1 "lcjit: --sandbox's runs write one -out file: --profile alone prints the profile as a table"
+    [ ! -e p.json ] || fail "a profile file was written" ;;
   *) echo "unknown case $case"; exit 1 ;;
 esac
 echo "ok: $case"

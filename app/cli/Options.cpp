@@ -197,11 +197,12 @@ void declare(Table& t) {
            "compiled code comes from lcjit's cache", no);
   t.option("-lp", &O::libPath, "(-lp) accepted", no);
   t.flag("--stats", &O::stats, "print a JSON object of phase timings on stderr", takes);
-  // Not handed to a sandboxed run: its child writes no file but -out there.
+  // A sandboxed run's child takes the table (`--profile` alone, on its stdout); a file is refused
+  // with --sandbox (the child writes no file but -out) and the window's runs print none.
   t.option("--profile", &O::profile,
            "write how often each rule (a production, decomposition or interpretation rule; a design's rule or "
            "path) ran and the time it took, hottest first, to this JSON file (an L-system's per step too; "
-           "docs/studio.md, docs/cfdg.md); without a file, or with -, print them as a table on stdout", no)
+           "docs/studio.md, docs/cfdg.md); without a file, or with -, print them as a table on stdout", takes)
       ->expected(0, 1)
       ->default_str("-");
   t.option("-O", &O::optLevel,

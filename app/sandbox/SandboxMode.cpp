@@ -31,6 +31,11 @@ int runSandboxed(Options o, bool labWindow) {
     std::fprintf(stderr, "lcjit: --sandbox's runs write one -out file and no --run-record\n");
     return 1;
   }
+  if (!o.profile.empty() && o.profile != "-") {  // the same: the table is printed instead
+    std::fprintf(stderr, "lcjit: --sandbox's runs write one -out file: --profile alone prints the profile as a "
+                         "table, not to %s\n", o.profile.c_str());
+    return 1;
+  }
   if (o.debugger) {  // the model would run in the sandbox's process, not the debugged one
     std::fprintf(stderr, "lcjit: --debugger debugs model code in lcjit's own process: not with --sandbox or --lab\n");
     return 1;
@@ -112,6 +117,7 @@ int runSandboxed(Options o, bool labWindow) {
   // Each run is a batch run (or -c, --emit-cpp); --lab's plain errors go with it.
   child.batch = !o.compileOnly && !o.emitCpp;
   child.plainErrors = o.lab;
+  if (window) child.profile.clear();  // each picture is a run: no table on the terminal for each
   plan.args = childArguments(child);
 #if LCJIT_HAVE_WINDOW
   if (window) {
