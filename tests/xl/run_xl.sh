@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked four ways:
+# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked five ways:
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model)
 #   segments NAME     the segments drawn from the axiom are NAME.segments (derived by hand)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
+#   watch NAME STEPS  --watch: a saved edit of NAME.rgg (RU(30) made RU(20)) is drawn again (as OBJ:
+#                     no pictures needed); a broken one (its first `==>` made `==`, line 5 column 9
+#                     in tree.rgg) is an error there, and the last good model stays
 # Usage: run_xl.sh LCJIT XL_DIR KIND NAME [STEPS]
 lcjit=$1 dir=$2 kind=$3 name=$4 steps=${5:-0}
 work=$(mktemp -d)
@@ -41,5 +44,23 @@ case $kind in
       [ -z "$want" ] || grep -qF -- "$want" stderr || fail "stderr lacks: $want"
     done <"$name.err"
     echo "ok: $name fails as expected" ;;
+  watch)
+    "$lcjit" --watch --steps "$steps" -out w.obj "$name.rgg" >out.txt 2>err.txt &
+    pid=$!
+    trap 'kill $pid 2>/dev/null; rm -rf "$work"' EXIT
+    for _ in $(seq 1 2400); do [ -s w.obj ] && break; sleep 0.05; done
+    [ -s w.obj ] || fail "no first drawing: $(cat err.txt)"
+    cp w.obj first.obj
+    sed 's/RU(30)/RU(20)/' "$name.rgg" >edited && mv edited "$name.rgg"
+    for _ in $(seq 1 2400); do grep -q "reload 1 " err.txt && break; sleep 0.05; done
+    grep -qF "reload 1 ($name.rgg): " err.txt || fail "no reload after the save: $(cat err.txt)"
+    ! cmp -s first.obj w.obj || fail "the drawing after the edit is the first one (OBJ)"
+    sed 's/==>/==/' "$name.rgg" >broken && mv broken "$name.rgg"
+    for _ in $(seq 1 2400); do grep -q "reload 2 " err.txt && break; sleep 0.05; done
+    grep -qF "$name.rgg:5:9: error: expected '==>' after the rule's left side" err.txt ||
+      fail "no error at the broken rule: $(cat err.txt)"
+    grep -qF "reload 2 ($name.rgg) failed; the last good model stays" err.txt || fail "the broken edit: $(cat err.txt)"
+    kill -0 $pid 2>/dev/null || fail "lcjit --watch ended after the broken edit"
+    echo "ok: $name.rgg under --watch" ;;
   *) fail "unknown kind $kind" ;;
 esac
