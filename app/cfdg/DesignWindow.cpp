@@ -13,6 +13,7 @@
 #include "app/common/Background.h"
 #include "app/window/Interactive.h"
 #include "app/window/ModelHost.h"
+#include "app/window/ProfilePanel.h"
 #include "app/window/WindowController.h"
 #include "jit/Compiler.h"
 #include "runtime/ModelGuard.h"
@@ -59,7 +60,7 @@ class DesignHost final : public ModelHost {
     // The worker has its own reference to the design it expands; it counts while the Profile
     // panel is open.
     DesignRunOptions o = options_;
-    o.profile = window_.panelOpen(kProfileTitle) ? "-" : "";
+    o.profile = window_.panelOpen(kProfilePanelTitle) ? "-" : "";
     work_ = std::async(std::launch::async, [this, design = design_, variation = variation_, o = std::move(o)] {
       Drawn d;
       d.design = design;
@@ -173,31 +174,13 @@ class DesignHost final : public ModelHost {
   // The Profile panel: the rules by time, from the last run shown, as the L-system's panel shows
   // them (Interactive.cpp); counting is on while the panel is open: opening it counts from the
   // next run (Run again).
-  static constexpr const char* kProfileTitle = "Profile";
   viewer::Panel profilePanel() {
-    const bool open = window_.panelOpen(kProfileTitle);
+    const bool open = window_.panelOpen(kProfilePanelTitle);
     if (open != profiling_) profileRows_.clear(), profileFinished_.clear();
     profiling_ = open;
-    viewer::Panel p;
-    p.title = kProfileTitle;
-    p.columns = {"rule", "where", "applied", "ms"};
-    constexpr size_t kShown = 40;
-    for (size_t i = 0; i < profileRows_.size() && i < kShown; ++i) {
-      const ProfileRow& r = profileRows_[i];
-      char ms[32];
-      std::snprintf(ms, sizeof ms, "%.3f", r.ms);
-      std::string rule = r.kind + " " + r.rule;
-      if (rule.size() > 34) rule = rule.substr(0, 31) + "...";
-      p.rows.push_back({rule, r.where, std::to_string(r.applied), ms});
-    }
-    p.status = profileRows_.empty() ? "counting from the next run"
-                                    : std::to_string(profileRows_.size()) + " rules ran; finished: " + profileFinished_;
-    if (profileRows_.size() > kShown) p.status += " (the " + std::to_string(kShown) + " hottest shown)";
-    p.buttons = {"Run again"};
-    p.pressed = [this](size_t) {
+    return app::profilePanel(profileRows_, ProfiledRules::Design, profileFinished_, [this] {
       if (!busy()) news_.rerun = true;
-    };
-    return p;
+    });
   }
 
   // The options a compile takes: the command line's, with the values moved in the panel.

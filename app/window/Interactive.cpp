@@ -22,6 +22,7 @@
 #include "app/common/Frame.h"
 #include "app/window/ModelHost.h"
 #include "app/window/Parameters.h"
+#include "app/window/ProfilePanel.h"
 #include "app/common/ProfileReport.h"
 #include "app/common/Progress.h"
 #include "app/window/StringDebugger.h"
@@ -264,7 +265,7 @@ class SessionHost final : public ModelHost {
   }
 
   void syncProfiling() {
-    const bool wanted = window_.panelOpen(kProfileTitle);
+    const bool wanted = window_.panelOpen(kProfilePanelTitle);
     if (wanted == (session_.engine().profile() != nullptr)) return;
     session_.engine().setProfiling(wanted);
     profileRows_.clear();
@@ -283,30 +284,12 @@ class SessionHost final : public ModelHost {
 
   // The Profile panel: the rules by time, from the last picture's run. Counting is on while the
   // panel is open (it costs two clock readings per rule body); opening it counts from the next run.
-  static constexpr const char* kProfileTitle = "Profile";
   viewer::Panel profilePanel() {
     if (!busy()) syncProfiling();
-    viewer::Panel p;
-    p.title = kProfileTitle;
-    p.columns = {"rule", "where", "applied", "ms", "last step"};
-    constexpr size_t kShown = 40;
-    for (size_t i = 0; i < profileRows_.size() && i < kShown; ++i) {
-      const ProfileRow& r = profileRows_[i];
-      char ms[32], last[48];
-      std::snprintf(ms, sizeof ms, "%.3f", r.ms);
-      std::snprintf(last, sizeof last, "%llu (%.3f ms)", (unsigned long long)r.appliedLastStep, r.msLastStep);
-      // "p A(n) < B": the kind's initial and the predecessor, cut short (the where column finds it).
-      std::string rule = r.kind.substr(0, 1) + " " + r.rule;
-      if (rule.size() > 34) rule = rule.substr(0, 31) + "...";
-      p.rows.push_back({rule, r.where, std::to_string(r.applied), ms, last});
-    }
-    p.status = profileRows_.empty() ? "counting from the next run" : std::to_string(profileRows_.size()) + " rules ran";
-    if (profileRows_.size() > kShown) p.status += " (the " + std::to_string(kShown) + " hottest shown)";
-    p.buttons = {"Run again"};
-    p.pressed = [this](size_t) {
-      if (!busy()) news_.rerun = true;  // the whole derivation, or the animation from its first frame
-    };
-    return p;
+    // Run again: the whole derivation, or the animation from its first frame.
+    return app::profilePanel(profileRows_, ProfiledRules::LSystem, "", [this] {
+      if (!busy()) news_.rerun = true;
+    });
   }
 
   // ---- the New … items (§1.2.2): re-read `what`, then re-run or only redraw.
