@@ -7,6 +7,7 @@
 
 #include "runtime/ModelGuard.h"
 #include "runtime/cfdg/ExpanderImpl.h"
+#include "support/Elapsed.h"
 #include "runtime/cfdg/Paths.h"
 #include "runtime/cfdg/Symmetry.h"
 #include "runtime/cfdg/Tiling.h"
@@ -20,7 +21,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -613,19 +613,16 @@ struct Engine {
   // -------------------------------------------------------------------------------------------
 
   uint64_t pathNs = 0;
-  static uint64_t nowNs() {
-    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                        std::chrono::steady_clock::now().time_since_epoch()).count());
-  }
   void runCounted(int rule, __cf_Ctx* c, const double* params) {
-    const uint64_t paths0 = pathNs, start = nowNs();
+    const uint64_t paths0 = pathNs;
+    const auto start = support::Clock::now();
     design.rules[rule].body(c, params);
-    result.ruleRuns[size_t(rule)].add({1, 1, nowNs() - start - (pathNs - paths0)});
+    result.ruleRuns[size_t(rule)].add({1, 1, support::nsSince(start) - (pathNs - paths0)});
   }
   Bounds measureCounted(__cf_Ctx* c, int shape, const __cf_State& s, const double* params, uint64_t seed, double& area) {
-    const uint64_t start = nowNs();
+    const auto start = support::Clock::now();
     Bounds b = paths.measure(c, shape, s, params, seed, scale, area);
-    const uint64_t ns = nowNs() - start;
+    const uint64_t ns = support::nsSince(start);
     result.ruleRuns[size_t(rulesOf[size_t(shape)].front())].add({1, 1, ns});
     pathNs += ns;
     return b;
