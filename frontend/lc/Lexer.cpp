@@ -2,6 +2,7 @@
 #include "frontend/lc/Lexer.h"
 
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
 
 namespace lcjit::frontend {
@@ -51,25 +52,10 @@ Lexed lex(const std::string& text, const std::string& mainFile) {
       size_t e = text.find('\n', i);
       if (e == std::string::npos) e = n;
       std::string d = text.substr(i, e - i);
-      size_t k = 1;
-      while (k < d.size() && d[k] == ' ') ++k;
-      bool marker = false;
-      if (k < d.size() && std::isdigit((unsigned char)d[k])) {
-        marker = true;
-      } else if (d.compare(k, 4, "line") == 0) {
-        k += 4;
-        while (k < d.size() && d[k] == ' ') ++k;
-        marker = k < d.size() && std::isdigit((unsigned char)d[k]);
-      }
-      if (marker) {
-        int num = std::atoi(d.c_str() + k);
-        size_t q = d.find('"', k);
-        if (q != std::string::npos) {
-          size_t q2 = d.find('"', q + 1);
-          if (q2 != std::string::npos) file = fileIndex(d.substr(q + 1, q2 - q - 1));
-        }
+      if (std::optional<LineMarker> marker = readLineMarker(d)) {
+        if (marker->file) file = fileIndex(*marker->file);
         i = e < n ? e + 1 : e;
-        line = num;
+        line = marker->line;
         lineStart = i;
         atLineStart = true;
         space = true;
@@ -157,6 +143,24 @@ Lexed lex(const std::string& text, const std::string& mainFile) {
   end.col = (int)(i - lineStart) + 1;
   out.tokens.push_back(end);
   return out;
+}
+
+std::optional<LineMarker> readLineMarker(std::string_view d) {
+  size_t k = 1;
+  while (k < d.size() && d[k] == ' ') ++k;
+  if (d.substr(k, 4) == "line") {
+    k += 4;
+    while (k < d.size() && d[k] == ' ') ++k;
+  }
+  if (d.empty() || d[0] != '#' || k >= d.size() || !std::isdigit((unsigned char)d[k])) return std::nullopt;
+  LineMarker m;
+  m.line = std::atoi(std::string(d.substr(k)).c_str());
+  size_t q = d.find('"', k);
+  if (q != std::string_view::npos) {
+    size_t q2 = d.find('"', q + 1);
+    if (q2 != std::string_view::npos) m.file = std::string(d.substr(q + 1, q2 - q - 1));
+  }
+  return m;
 }
 
 }  // namespace lcjit::frontend

@@ -1,7 +1,9 @@
 // Tokenizer for preprocessed L+C text. Positions map back to the user's files through the GNU
 // line markers the preprocessor leaves in its output.
 #pragma once
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace lcjit::frontend {
@@ -26,5 +28,14 @@ struct Lexed {
 
 // `text` is preprocessor output; `mainFile` names it until the first line marker says otherwise.
 Lexed lex(const std::string& text, const std::string& mainFile);
+
+// A GNU line marker (`# 12 "model.l" 1`, or `#line 12 "model.l"`): the next line is line `line`
+// of `file` (unchanged when it names none). `directive` is its line, from the '#', without the
+// newline; nullopt when it is another directive. XL's tokens read them too (frontend/xl).
+struct LineMarker {
+  int line = 0;
+  std::optional<std::string> file;
+};
+std::optional<LineMarker> readLineMarker(std::string_view directive);
 
 }  // namespace lcjit::frontend

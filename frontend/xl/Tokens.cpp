@@ -1,6 +1,8 @@
 // XL's tokens (Tokens.h).
 #include "frontend/xl/Tokens.h"
 
+#include "frontend/lc/Lexer.h"  // readLineMarker
+
 #include <cctype>
 #include <cstdlib>
 
@@ -43,18 +45,11 @@ std::vector<Token> tokenize(const std::string& text, const std::string& mainFile
       // directives do not reach here (the preprocessor ran); XL has no `#`.
       size_t e = text.find('\n', i);
       if (e == std::string::npos) e = n;
-      std::string d = text.substr(i + 1, e - i - 1);
-      size_t k = d.find_first_not_of(' ');
-      if (k != std::string::npos && d.compare(k, 4, "line") == 0) k = d.find_first_not_of(' ', k + 4);
-      if (k == std::string::npos || !std::isdigit((unsigned char)d[k])) throw XlError{t, "'#' is not XL"};
-      int number = std::atoi(d.c_str() + k);
-      size_t q = d.find('"', k);
-      if (q != std::string::npos) {
-        size_t q2 = d.find('"', q + 1);
-        if (q2 != std::string::npos) file = d.substr(q + 1, q2 - q - 1);
-      }
+      std::optional<LineMarker> marker = readLineMarker(std::string_view(text).substr(i, e - i));
+      if (!marker) throw XlError{t, "'#' is not XL"};
+      if (marker->file) file = *marker->file;
       i = e < n ? e + 1 : e;
-      line = number, lineStart = i;
+      line = marker->line, lineStart = i;
       continue;
     }
     atLineStart = false;
