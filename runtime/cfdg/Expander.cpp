@@ -26,7 +26,10 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
+#include <system_error>
+#include <thread>
 
 namespace lcjit::runtime::cfdg {
 using runtime::Fault;
@@ -237,7 +240,7 @@ struct Engine {
     double area;
     uint32_t slot;
   };
-  std::vector<Entry> heap;
+  std::vector<Entry, support::HugePageAllocator<Entry>> heap;  // a million and more entries
   UnfinishedShapes slots;
 
   void pushHeap(double area, int shape, uint64_t seed, const __cf_State& s, std::unique_ptr<double[]> params) {
@@ -565,6 +568,13 @@ struct Engine {
     return moved;
   }
 
+  // Where the largest tables' memory comes from while `reserve` lives (HugePages.h).
+  void feedFrom(support::HugePageReserve* reserve) {
+    slots.feedFrom(reserve);
+    heap.get_allocator().arena().feedFrom(reserve);
+    result.shapes.get_allocator().arena().feedFrom(reserve);
+  }
+
   void run() {
     result.design = &design;
     result.statics = statics;
@@ -584,9 +594,14 @@ struct Engine {
       }
       uint32_t slot = popHeap();
       UnfinishedShapes::Shape& u = slots[slot];
-      // The next shape to expand is likely the heap's top now: its slot is somewhere in a large
-      // pool, so ask for it while this body runs.
+      // The next shape to expand is likely the heap's top now, and the one after that one of the
+      // two below it: their slots are somewhere in a large pool, so ask for them while this body
+      // runs (a body is shorter than a trip to memory: the top alone arrives too late).
       if (!heap.empty()) slots.prefetch(heap[0].slot);
+      if (heap.size() > 2) {
+        slots.prefetch(heap[1].slot);
+        slots.prefetch(heap[2].slot);
+      }
       __cf_State state;
       slots.state(slot, state);
       double d = drawDouble(u.seed);
@@ -654,6 +669,13 @@ ShapeValue shapeValue(const __cf_Design& design, const std::deque<std::vector<do
 
 Expansion expand(const __cf_Design& design, const ExpandOptions& options, const std::vector<double>& statics) {
   Engine engine(design, options, statics);
+  // The fresh memory the run fills, faulted in on another core while this one expands.
+  std::optional<support::HugePageReserve> reserve;
+  try {
+    if (std::thread::hardware_concurrency() > 1) reserve.emplace(16);
+  } catch (const std::system_error&) {  // no thread to be had (a sandbox's limit): without one
+  }
+  engine.feedFrom(reserve ? &*reserve : nullptr);
   // Design code runs behind the fault guard: a crash or an exception in it is an error, not the
   // end of lcjit; the memory limit and Ctrl-C stop the run, keeping what it has made.
   ModelGuard guard;
@@ -669,6 +691,7 @@ Expansion expand(const __cf_Design& design, const ExpandOptions& options, const 
     engine.result.stopped = fault.what;
   else if (fault)
     engine.result.error = "the design's code failed: " + fault.what;
+  engine.feedFrom(nullptr);
   if (engine.result.error.empty()) engine.sortForDrawing();
   return std::move(engine.result);
 }

@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <vector>
 
 #include "runtime/include/lcjit/cfdg.h"
+#include "support/HugePages.h"
 
 namespace lcjit::runtime::cfdg {
 
@@ -34,7 +36,7 @@ class UnfinishedShapes {
       free_.pop_back();
     } else {
       slot = count_++;
-      if ((slot & kChunkMask) == 0) chunks_.push_back(std::make_unique<Shape[]>(kChunk));
+      if ((slot & kChunkMask) == 0) chunks_.push_back(newChunk());
     }
     Shape& u = (*this)[slot];
     u.seed = seed;
@@ -46,6 +48,9 @@ class UnfinishedShapes {
     return slot;
   }
   Shape& operator[](uint32_t slot) { return chunks_[slot >> kChunkBits][slot & kChunkMask]; }
+  ~UnfinishedShapes() {
+    for (uint32_t slot = 0; slot < count_; ++slot) (*this)[slot].~Shape();
+  }
   // The slot's state as it was given to add().
   void state(uint32_t slot, __cf_State& out) {
     const Shape& u = (*this)[slot];
@@ -71,6 +76,8 @@ class UnfinishedShapes {
     __builtin_prefetch(p + sizeof(Shape) - 1);
   }
   uint32_t slotsMade() const { return count_; }
+  // Where the chunks' memory comes from (HugePageArena::feedFrom).
+  void feedFrom(support::HugePageReserve* reserve) { arena_.feedFrom(reserve); }
 
  private:
   // The state's values between the transform and the colour (z, time), and after the colour
@@ -114,10 +121,17 @@ class UnfinishedShapes {
     return r;
   }
 
-  // Slots live in chunks that never move: a rule body adding shapes keeps its own in place.
+  // Slots live in chunks that never move (a rule body adding shapes keeps its own in place), in
+  // huge pages: a large design writes hundreds of megabytes of them.
   static constexpr uint32_t kChunkBits = 12, kChunk = 1u << kChunkBits, kChunkMask = kChunk - 1;
   static constexpr uint32_t kNone = UINT32_MAX;
-  std::vector<std::unique_ptr<Shape[]>> chunks_;
+  Shape* newChunk() {
+    Shape* chunk = static_cast<Shape*>(arena_.take(sizeof(Shape) * kChunk, alignof(Shape)));
+    for (uint32_t k = 0; k < kChunk; ++k) new (chunk + k) Shape;
+    return chunk;
+  }
+  support::HugePageArena arena_;
+  std::vector<Shape*> chunks_;
   uint32_t count_ = 0;
   std::vector<uint32_t> free_;
   std::vector<Rest> rests_;
