@@ -114,6 +114,7 @@ struct Definition {
   std::string written;  // as written, when that differs
   std::string type;  // "" for plain `name = value`
   Place at;
+  Place declaredAt;  // where it begins: its type, else its name (Context Free's errors of a function's type)
   std::vector<Param> params;  // a function's
   bool isFunction = false;
   ExprP value;

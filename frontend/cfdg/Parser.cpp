@@ -491,6 +491,7 @@ class Parser {
     }
     // Definitions: NAME = e, CF::Name = e, [TYPE] NAME(params) = e.
     Definition def;
+    def.declaredAt = t.at;
     if (isType(t.text) && peek(1).kind == Tok::Name) def.type = next().text;
     Token name = expectName("a definition");
     qualify(name.text, def.name, def.written);

@@ -173,7 +173,7 @@ Translation Translator::run() {
       }
       if (adjustment) {
         Value v = expr(*def.value);
-        if (!v.adjustment) fail(def.at, "Mismatch between declared and defined type of user function");
+        if (!v.adjustment) fail(def.declaredAt, "Mismatch between declared and defined type of user function");
         line("if (merge) {");
         v.apply("(*state)", true);
         line("} else {");
@@ -185,7 +185,9 @@ Translation Translator::run() {
       }
       Value v = numbers(*def.value);
       if (int(v.parts.size()) != width)
-        fail(def.at, "Mismatch between declared and defined vector length of user function");
+        fail(def.declaredAt, "Mismatch between declared and defined vector length of user function");
+      if (def.type == "natural" && !impure_ && !natural(*def.value))
+        fail(def.declaredAt, "Mismatch between declared natural and defined not-natural type of user function");
       std::string result;
       if (width == 1) {
         result = single(v).parts[0];
@@ -299,7 +301,8 @@ Translation Translator::run() {
   if (startValue && startValue->kind != Binding::Global) startValue = nullptr;
   int startId = startValue ? -1 : shapeId(startName, startAt);
   std::string params = "nullptr";
-  if (!startArgs->empty()) params = argumentBlock(*startArgs).first;
+  if (!startArgs->empty())
+    params = argumentBlock(*startArgs, startId >= 4 ? &decls_[size_t(startId - 4)].params : nullptr).first;
   auto terms = prepare(*startAdjustment);
   // With an adjustment (even an empty one) the start shape's seed is its terms' bytes mixed into
   // the base seed, xor the base seed, then its name's bytes (Context Free mixes the terms into the

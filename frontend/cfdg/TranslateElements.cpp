@@ -236,8 +236,9 @@ std::string Translator::adjustmentTemp(const Value& v) {
 
 // The parameter block of a shape's arguments (numbers; an adjustment in a __cf_State's room),
 // evaluated in order: its name and the numbers it holds.
-std::pair<std::string, int> Translator::argumentBlock(const std::vector<ExprP>& args) {
+std::pair<std::string, int> Translator::argumentBlock(const std::vector<ExprP>& args, const std::vector<Param>* params) {
   std::vector<std::pair<std::string, bool>> items;
+  const std::vector<bool> natural = params ? naturalSlots(*params) : std::vector<bool>();
   int n = 0;
   for (const auto& a : args) {
     Value v = expr(*a);
@@ -248,7 +249,8 @@ std::pair<std::string, int> Translator::argumentBlock(const std::vector<ExprP>& 
     }
     for (auto& p : emitted(v)) {
       std::string t = temp();
-      line("const double " + t + " = " + p + ";");
+      const bool check = items.size() < natural.size() && natural[items.size()];
+      line("const double " + t + " = " + (check ? naturalChecked(p, placeOf(*a)) : p) + ";");
       items.emplace_back(t, false);
       ++n;
     }
@@ -351,7 +353,7 @@ void Translator::replacement(const Element& e) {
       params = "p";
     } else if (e.hasArgs && !e.args.empty()) {
       spec += argBytes(e.args);
-      auto [block, count] = argumentBlock(e.args);
+      auto [block, count] = argumentBlock(e.args, decl ? &decl->params : nullptr);
       if (count != paramCount)
         fail(e.shapeAt, "shape '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                             std::to_string(count) + " given");

@@ -292,6 +292,7 @@ Value Translator::expr(const Expr& e) {
     case Expr::Binary: {
       const std::string& op = e.text;
       Value l = numbers(*e.args[0]), r = numbers(*e.args[1]);
+      naturalOperands(e);
       const size_t ls = l.parts.size(), rs = r.parts.size();
       if (ls != 1 || rs != 1) return vectorOperation(e, std::move(l), std::move(r));
       l = single(std::move(l));
@@ -575,10 +576,12 @@ Value Translator::call(const Expr& e) {
       return {{"__cf_bind(c, " + std::to_string(id->second) + ", p)"}, false, true};
     if (id->second >= 4) parameterRequirements(decls_[size_t(id->second - 4)].params, e.args, true);
     Arguments a = arguments(args, true);
+    if (id->second >= 4) checkNaturals(decls_[size_t(id->second - 4)].params, e.args, args, a);
     std::string r = block(a, count, "__cf_bind(c, " + std::to_string(id->second) + ", $b)", e.at, f);
     return {{combined(a, r)}, constant, pure};
   }
   numeric();
+  naturalOperands(e);
   Value all = joined(args, !pure);  // the numbers of all the arguments, in order
   const size_t n = all.parts.size();
   auto wrap = [&](const std::string& r) -> Value {
@@ -680,6 +683,14 @@ Value Translator::call(const Expr& e) {
   }
   if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
     if (n != 1 && !(f == "infinity" && n == 0)) fail(e.at, f + "() takes one number");
+    if (f == "factorial") {
+      // Context Free's factorial is of a whole number from 0 to 18 (the largest whose value is a
+      // whole double), in an impure design too.
+      const std::string a = temp();
+      return wrap("({ const double " + a + " = " + all.parts[0] + "; if (!(" + a + " >= 0.0 && " + a + " <= 18.0 && " + a +
+                  " == __builtin_floor(" + a + "))) __cf_fail_at(c, " + placeString(e.at) +
+                  ", \"Illegal argument for factorial\"); __cf_fn1(c, __cf_Factorial, " + a + "); })");
+    }
     return wrap("__cf_fn1(c, " + it->second + ", " + (n == 0 ? std::string("1.0") : all.parts[0]) + ")");
   }
   if (auto it = kFunctions2.find(f); it != kFunctions2.end()) {
@@ -715,6 +726,7 @@ Value Translator::userCall(const Binding& fb, std::vector<Value> args, const std
   }
   if (item != a.items.size()) fail(exprs[0]->at, "Too many arguments");
   parameterRequirements(fn.params, exprs, false);
+  checkNaturals(fn.params, exprs, args, a);
   if (fn.type == "adjustment") {
     // Context Free applies (or merges) the function's adjustment where it is called.
     Value v;

@@ -223,7 +223,7 @@ void Translator::subpath(const Element& e) {
     params = "p";
   } else if (e.hasArgs && !e.args.empty()) {
     spec += argBytes(e.args);
-    auto [block, count] = argumentBlock(e.args);
+    auto [block, count] = argumentBlock(e.args, decl ? &decl->params : nullptr);
     if (!variable && count != paramCount)
       fail(e.shapeAt, "path '" + e.shape + "' takes " + std::to_string(paramCount) + " parameter values, " +
                           std::to_string(count) + " given");

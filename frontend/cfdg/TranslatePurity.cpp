@@ -29,6 +29,8 @@ bool written(const Expr& e, double& v) {
   return false;
 }
 
+}  // namespace
+
 // Where Context Free places an expression in an error: where its first operand is, but a signed
 // or parenthesized one where what it holds is, and a random range (`a..b`, `a+/-b`) at its
 // operator.
@@ -38,8 +40,6 @@ const Place& placeOf(const Expr& e) {
     return placeOf(*e.args[0]);
   return e.at;
 }
-
-}  // namespace
 
 // The items of a list, or the arguments of a call: theirs ANDed (none: pure local).
 Locality Translator::localityOf(const std::vector<ExprP>& list) {
@@ -231,6 +231,54 @@ void Translator::parameterRequirements(const std::vector<Param>& params, const s
     if (l != kPureLocal && l != kPureNonlocal)
       fail(placeOf(*args[k]), "This expression does not satisfy the number parameter requirement");
   }
+}
+
+// What must be natural wherever it is written, as the design is read: the operands of proper
+// subtraction (`--`), and the arguments of the functions defined on natural numbers only. An
+// impure design has no such rule.
+void Translator::naturalOperands(const Expr& e) {
+  if (impure_) return;
+  if (e.kind == Expr::Binary && e.text == "--" && !natural(e))
+    fail(placeOf(e), "Proper subtraction operands must be natural");
+  static const std::set<std::string> kNaturalOnly = {"factorial", "sg", "isNatural", "div", "divides"};
+  if (e.kind == Expr::Call && kNaturalOnly.count(e.text) && !e.args.empty())
+    for (const auto& a : e.args)
+      if (!natural(*a)) fail(placeOf(*e.args[0]), "function is defined over natural numbers only");
+}
+
+// Which of the numbers given to `params` (an adjustment counts as one) go to natural parameters.
+std::vector<bool> Translator::naturalSlots(const std::vector<Param>& params) const {
+  std::vector<bool> slots;
+  for (const auto& p : params) {
+    const int n = p.type == "adjustment" ? 1 : p.width;
+    for (int k = 0; k < n; ++k) slots.push_back(p.type == "natural");
+  }
+  return slots;
+}
+
+// The arguments `a` (made of `values`, the values of `exprs`) of a call of a shape or function
+// with `params`: those given to natural parameters checked (naturalChecked).
+void Translator::checkNaturals(const std::vector<Param>& params, const std::vector<ExprP>& exprs,
+                               const std::vector<Value>& values, Arguments& a) {
+  const std::vector<bool> natural = naturalSlots(params);
+  size_t item = 0;
+  for (size_t k = 0; k < values.size() && k < exprs.size(); ++k) {
+    const size_t n = values[k].adjustment ? 1 : values[k].parts.size();
+    for (size_t j = 0; j < n && item < a.items.size(); ++j, ++item)
+      if (item < natural.size() && natural[item] && !a.adjustment[item])
+        a.items[item] = naturalChecked(a.items[item], placeOf(*exprs[k]));
+  }
+}
+
+// The value given to a natural parameter, checked as Context Free checks it when the shape or
+// function is called: a whole number from 0 to CF::MaxNatural, else an error at the argument.
+// An impure design's are not checked.
+std::string Translator::naturalChecked(const std::string& value, const Place& at) {
+  if (impure_) return value;
+  const std::string n = temp();
+  return "({ const double " + n + " = " + value + "; if (!(" + n + " >= 0.0 && " + n + " <= " + literal(maxNatural_) +
+         " && " + n + " == __builtin_floor(" + n + "))) __cf_fail_at(c, " + placeString(at) +
+         ", \"Expression does not evaluate to a legal natural number\"); " + n + "; })";
 }
 
 }  // namespace lcjit::frontend::cfdg::translate

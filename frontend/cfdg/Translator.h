@@ -93,6 +93,9 @@ inline const std::string& asWritten(const std::string& name, const std::string& 
 // A seed as a C++ literal.
 std::string hex64(uint64_t v);
 
+// Where Context Free places an expression in an error (TranslatePurity.cpp).
+const Place& placeOf(const Expr& e);
+
 class Translator {
  public:
   explicit Translator(const Design& d) : d_(d) {}
@@ -264,7 +267,7 @@ class Translator {
 
   std::string adjustmentTemp(const Value& v);
 
-  std::pair<std::string, int> argumentBlock(const std::vector<ExprP>& args);
+  std::pair<std::string, int> argumentBlock(const std::vector<ExprP>& args, const std::vector<Param>* params);
 
   size_t seedPlaceholder();
   void patchSeed(size_t at, uint64_t seed);
@@ -338,6 +341,11 @@ class Translator {
   bool naturalLoopIndex(const Expr& count);
 
   void parameterRequirements(const std::vector<Param>& params, const std::vector<ExprP>& args, bool numbers);
+  void naturalOperands(const Expr& e);
+  std::vector<bool> naturalSlots(const std::vector<Param>& params) const;
+  std::string naturalChecked(const std::string& value, const Place& at);
+  void checkNaturals(const std::vector<Param>& params, const std::vector<ExprP>& exprs, const std::vector<Value>& values,
+                     Arguments& a);
 };
 
 }  // namespace lcjit::frontend::cfdg::translate

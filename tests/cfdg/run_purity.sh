@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Context Free's parameter requirements (docs/cfdg.md): each NAME.cfdg in the folder given says on
-# its first line `# refused at LINE:COL by the number parameter requirement`, `… by the natural
-# number requirement`, or `# accepted`. Refused: `lcjit cfdg` exits 1, prints NAME.cfdg:LINE:COL:
-# error: and Context Free's words for that requirement, and writes no picture. Accepted: lcjit
+# Context Free's parameter requirements and natural numbers (docs/cfdg.md): each NAME.cfdg in the
+# folder given says on its first line `# refused at LINE:COL by the number parameter requirement`,
+# `… by the natural number requirement`, `# refused at LINE:COL with: MESSAGE` (another of Context
+# Free's errors, as it words it), or `# accepted`. Refused: `lcjit cfdg` exits 1, prints
+# NAME.cfdg:LINE:COL: error: and Context Free's words, and writes no picture. Accepted: lcjit
 # draws it. With cfdg installed, cfdg is held to the same line at test time (it counts columns from
 # 0: COL - 1), so the expectations are its.
 # Usage: run_purity.sh LCJIT DIR
@@ -16,8 +17,10 @@ fail=0
 for design in "$dir"/*.cfdg; do
   name=$(basename "$design" .cfdg)
   first=$(head -1 "$design")
-  place=$(printf '%s\n' "$first" | sed -nE 's/^# refused at ([0-9]+:[0-9]+) by the .*/\1/p')
+  place=$(printf '%s\n' "$first" | sed -nE 's/^# refused at ([0-9]+:[0-9]+) (by the|with:) .*/\1/p')
   case "$first" in
+    "# refused at $place with: "*)
+      message=${first#"# refused at $place with: "} ;;
     "# refused at $place by the number parameter requirement"*)
       message="This expression does not satisfy the number parameter requirement" ;;
     "# refused at $place by the natural number requirement"*)
