@@ -3,9 +3,17 @@
 // (init()'s `Axiom ==> …`), the productions (the step method's rules), the interpretation rules
 // (how a module that extends one of GroIMP's turtle commands, and the turtle commands lcjit has
 // under another name, are drawn). What lcjit does not run yet is an error at the construct.
+//
+// A module's fields are its parameters and the fields it inherits from the turtle command it
+// extends (F's length, diameter and colour, M's length, RU's angle…): all of them are parameters
+// of its L+C module, those it does not declare (`super.length` declares one) set from the
+// arguments of its `extends` (or the command's defaults) when it is made. A label (`t:Trieb`)
+// names a copy of the matched node's fields (`t[length]`, `t.alter`), which the rule's code
+// blocks may change and the node keeps when the right side names it again (`t`).
 #include "frontend/xl/Translate.h"
 
 #include <cctype>
+#include <map>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -26,26 +34,43 @@ struct Param {
   bool inherited = false;  // `super.length`: the base's field, set by the module's argument
 };
 
+// A field a module inherits from the turtle command it extends and does not declare: its value
+// when the module is made, C++ in the module's parameters (`laenge`, `10`, `-1`).
+struct Inherited {
+  std::string name, type;
+  std::vector<size_t> value;  // tokens of an `extends` argument; empty: `fallback`
+  std::string fallback;
+};
+
 struct Module {
   size_t keyword = 0, name = 0;
+  std::string lcName;  // its name in the L+C: its own, unless lcjit has a module of that name
   std::vector<Param> params;
   std::optional<size_t> base;  // after `extends`
   std::vector<Range> baseArgs;
+  std::vector<Inherited> inherited;  // after the parameters, in the L+C module
+  size_t fieldCount() const { return params.size() + inherited.size(); }
+  std::string fieldName(size_t k) const { return k < params.size() ? params[k].name : inherited[k - params.size()].name; }
+  std::string fieldType(size_t k) const { return k < params.size() ? params[k].type : inherited[k - params.size()].type; }
 };
 
-// A module on a rule's side: `A`, `A()`, `A(x, y)`; or a bracket ([ or ]) on the right.
+// An item of a rule's side: a module `A`, `A()`, `A(x, y)` (on the left perhaps labelled `a:A`);
+// on the right also a bracket ([ or ]) or a block of Java statements `{ … }`.
 struct Node {
-  size_t name = 0;
+  enum Kind { Module, Bracket, Block } kind = Module;
+  std::optional<size_t> label;  // the label's token (`t` of `t:Trieb`)
+  size_t name = 0;              // the module's (or the bracket's) token
   bool parens = false;
   std::vector<Range> args;  // on the left, each one identifier
-  bool bracket = false;
+  Range block;              // a Block's tokens, its braces included
 };
 
 struct Rule {
-  Node left;
+  std::vector<Node> left;
   std::optional<Range> condition;  // `( … )`, its parentheses included
-  size_t arrow = 0, end = 0;       // `==>`, `;`
+  size_t arrow = 0, end = 0;       // `==>`, `==>>` or `::>`; `;` (or the last token)
   std::vector<Node> right;
+  bool is(const std::vector<Token>& t, const char* arrowText) const { return t[arrow].is(arrowText); }
 };
 
 struct Method {
@@ -115,13 +140,31 @@ std::string javaType(std::string_view type) {
   return "";
 }
 
-// The fields of GroIMP's turtle commands a module's `super.NAME` parameter can set.
+// The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
+// of the command's constructor's arguments, with their values when it has none: F() and M() are
+// 1 long, F's diameter and colour −1 (the turtle state's), RU(), RL() and RH() turn by 0 (F.java,
+// M.java, the rotations' constructors).
 struct Field {
-  std::string_view command, name, type;
+  std::string_view command, name, type, fallback;
 };
-constexpr Field kFields[] = {{"F", "length", "float"}, {"F", "diameter", "float"}, {"F", "color", "int"},
-                             {"M", "length", "float"}, {"RU", "angle", "float"},   {"RL", "angle", "float"},
-                             {"RH", "angle", "float"}};
+constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
+                             {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
+                             {"RH", "angle", "float", "0"}};
+
+// Java's Math, as C++ has it (the functions take and give doubles, in radians, as Java's do).
+std::string javaMath(std::string_view name) {
+  static const std::set<std::string_view> kSame = {"sqrt", "sin",  "cos",   "tan",  "asin", "acos", "atan", "atan2",
+                                                   "exp",  "log",  "log10", "pow",  "floor", "ceil", "abs",  "cbrt",
+                                                   "sinh", "cosh", "tanh",  "hypot"};
+  if (kSame.count(name)) return "std::" + std::string(name);
+  if (name == "min") return "std::fmin";
+  if (name == "max") return "std::fmax";
+  if (name == "PI") return "M_PI";
+  if (name == "E") return "M_E";
+  if (name == "toRadians") return "(M_PI / 180) *";
+  if (name == "toDegrees") return "(180 / M_PI) *";
+  return "";
+}
 
 class Translator {
 public:
@@ -205,8 +248,9 @@ private:
     const std::string& name = t_[m.name].text;
     if (name == "init") {
       for (const Rule& r : m.rules)
-        if (!t_[r.left.name].is("Axiom") || r.left.parens || r.condition)
-          notYet(t_[r.left.name], "a rule in init() other than `Axiom ==> …`");
+        if (!t_[r.left.front().name].is("Axiom") || r.left.size() > 1 || r.left.front().parens || r.condition ||
+            r.is(t_, "::>"))
+          notYet(t_[r.left.front().name], "a rule in init() other than `Axiom ==> …`");
       if (m.rules.size() != 1) throw XlError{t_[m.name], "init() should have the one rule `Axiom ==> …;`"};
       init_ = std::move(m);
     } else {
@@ -246,48 +290,74 @@ private:
     if (cur().is("==>")) notYet(cur(), "an instantiation rule");
     if (cur().is("implements")) notYet(cur(), "'implements'");
     expect(";", "at the end of the module declaration");
+    const std::string base = m.base ? t_[*m.base].text : "";
     for (Param& param : m.params) {
-      if (!param.inherited) continue;
+      bool inherited = false;
       for (const Field& f : kFields)
-        if (m.base && t_[*m.base].text == f.command && f.name == param.name) param.type = f.type;
-      if (param.type.empty())
+        if (base == f.command && f.name == param.name) inherited = true, param.type = param.inherited ? f.type : param.type;
+      if (param.inherited && !inherited)
         throw XlError{t_[param.at], "'super." + param.name + "': the module does not extend a turtle command with a field '" +
                                         param.name + "'"};
+      if (!param.inherited && inherited)
+        throw XlError{t_[param.at], "'" + param.name + "' is a field " + base + " has: write `super." + param.name +
+                                        "` to set it, or give the parameter another name"};
     }
+    // The base's fields the module does not declare, set from its `extends` arguments.
+    size_t position = 0;
+    for (const Field& f : kFields) {
+      if (base != f.command) continue;
+      const size_t k = position++;
+      bool declared = false;
+      for (const Param& param : m.params) declared = declared || param.name == f.name;
+      if (declared) continue;
+      Inherited field{std::string(f.name), std::string(f.type), {}, std::string(f.fallback)};
+      if (k < m.baseArgs.size())
+        for (size_t i = m.baseArgs[k].first; i < m.baseArgs[k].second; ++i) field.value.push_back(i);
+      m.inherited.push_back(std::move(field));
+    }
+    if (m.base && position > 0 && m.baseArgs.size() > position)
+      throw XlError{t_[m.baseArgs[position].first], base + " takes at most " + std::to_string(position) + " arguments"};
     for (const Module& other : modules_)
       if (t_[other.name].text == t_[m.name].text) throw XlError{t_[m.name], "a second module '" + t_[m.name].text + "'"};
-    // lcjit's own modules (lpfg's) keep their names in L+C: a model's module cannot take one.
+    // lcjit's own modules (lpfg's) keep their names in the L+C: a model's module of such a name
+    // (the quick reference's G) is XL_NAME there, and in lcjit's string.
     static const std::set<std::string> predefined = {
 #define LCJIT_MODULE(Name, ...) #Name,
 #include "runtime/include/lcjit/stdmods.def"
 #undef LCJIT_MODULE
     };
-    if (predefined.count(t_[m.name].text))
-      notYet(t_[m.name], "a module named as one of lcjit's own ('" + t_[m.name].text + "', lpfg's)");
+    m.lcName = predefined.count(t_[m.name].text) ? "XL_" + t_[m.name].text : t_[m.name].text;
     modules_.push_back(std::move(m));
   }
 
   Rule rule() {
     Rule r;
     if (cur().is("(*")) notYet(cur(), "a context `(* … *)`");
-    if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) notYet(cur(), "a label (`a:A`)");
     if (cur().is("{")) notYet(cur(), "a block of Java statements among the rules");
-    r.left.name = identifier("a rule (`A ==> B;`)");
-    if (cur().is("(")) {
-      r.left.parens = true;
-      r.left.args = arguments();
-      for (Range a : r.left.args)
-        if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
-          notYet(t_[a.first], "a pattern's argument other than a name");
-    }
+    // The left side: nodes, each perhaps labelled, up to the condition or the arrow.
+    do {
+      Node n;
+      if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) {
+        n.label = p_;
+        p_ += 2;
+      }
+      n.name = identifier(r.left.empty() ? "a rule (`A ==> B;`)" : "a module of the rule's left side");
+      if (cur().is("(")) {
+        n.parens = true;
+        n.args = arguments();
+        for (Range a : n.args)
+          if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
+            notYet(t_[a.first], "a pattern's argument other than a name");
+      }
+      r.left.push_back(n);
+    } while (cur().kind == Token::Identifier);
+    if (cur().is("[")) notYet(cur(), "a branch on a rule's left side");
     if (accept(",")) {
       if (!cur().is("(")) throw XlError{cur(), "expected '(' to begin the rule's condition"};
       r.condition = balanced();
     }
-    if (cur().is("==>>")) notYet(cur(), "an SPO rule (`==>>`)");
-    if (cur().is("::>")) notYet(cur(), "an update rule (`::>`)");
-    if (cur().kind == Token::Identifier || cur().is("[")) notYet(cur(), "a rule of more than one node on its left side");
-    if (!cur().is("==>")) throw XlError{cur(), "expected '==>' after the rule's left side"};
+    if (!cur().is("==>") && !cur().is("==>>") && !cur().is("::>"))
+      throw XlError{cur(), "expected '==>' after the rule's left side"};
     r.arrow = p_++;
     int depth = 0;
     while (!cur().is(";")) {
@@ -295,21 +365,51 @@ private:
       if (cur().kind == Token::End || (cur().is("]") && depth == 0)) throw XlError{cur(), "expected ';' at the end of the rule"};
       if (cur().is("[") || cur().is("]")) {
         depth += cur().is("[") ? 1 : -1;
-        n.bracket = true;
+        n.kind = Node::Bracket;
         n.name = p_++;
       } else if (cur().kind == Token::Identifier) {
         n.name = p_++;
         if (cur().is("(")) n.parens = true, n.args = arguments();
       } else if (cur().is("{")) {
-        notYet(cur(), "a block of Java statements in a rule (`{ … }`)");
+        n.kind = Node::Block;
+        n.name = p_;
+        n.block = balanced();
+        r.right.push_back(n);
+        // A block may end a rule without `;` (the quick reference writes `… { t[length] *= 1.1 }`).
+        if (depth == 0 && (cur().is("]") || ruleStarts())) {
+          r.end = n.block.second - 1;
+          return r;
+        }
+        continue;
       } else {
-        throw XlError{cur(), "expected a module, '[' or ']' on the rule's right side"};
+        throw XlError{cur(), "expected a module, '[', ']' or '{' on the rule's right side"};
       }
       r.right.push_back(n);
     }
     if (depth > 0) throw XlError{cur(), "expected ']' before the end of the rule"};
     r.end = p_++;
     return r;
+  }
+  // Whether a rule's left side starts here: `[a:]A[(…)]` and more of them, then `,`, or an arrow.
+  bool ruleStarts() const {
+    size_t i = p_;
+    if (t_[i].is("(*")) return true;
+    bool any = false;
+    while (t_[i].kind == Token::Identifier) {
+      any = true;
+      if (t_[i + 1].is(":")) i += 2;
+      if (t_[i].kind != Token::Identifier) return false;
+      ++i;
+      if (t_[i].is("(")) {
+        int d = 0;
+        do {
+          if (t_[i].kind == Token::End) return false;
+          d += t_[i].is("(") ? 1 : t_[i].is(")") ? -1 : 0;
+          ++i;
+        } while (d > 0);
+      }
+    }
+    return any && (t_[i].is(",") || t_[i].is("==>") || t_[i].is("==>>") || t_[i].is("::>"));
   }
 
   // ---- writing ----
@@ -331,54 +431,215 @@ private:
     if (known) throw XlError{t_[at], "GroIMP's " + name + " with " + std::to_string(arity) + " arguments is not supported yet"};
     return nullptr;
   }
-  // A node as the module of lcjit's string it is: the user's, or a turtle command's.
-  void node(const Node& n, bool left) {
-    int arity = (int)n.args.size();
-    std::string_view defaultArgument;
-    if (const Module* m = userModule(t_[n.name].text)) {
-      int params = (int)m->params.size();
-      if (n.parens && arity != params)
-        throw XlError{t_[n.name], "'" + t_[n.name].text + "' has " + std::to_string(params) + " parameter" +
-                                      (params == 1 ? "" : "s") + ", given " + std::to_string(arity)};
-      if (!n.parens && params > 0 && !left)
-        throw XlError{t_[n.name], "'" + t_[n.name].text + "' needs its " + std::to_string(params) + " argument" +
-                                      (params == 1 ? "" : "s")};
-      w_.token(n.name);
-      if (n.parens && params > 0) arguments(n);
-      else if (left && params > 0) anyArguments(params);
-      return;
-    }
-    const TurtleCommand* c = turtle(n.name, arity, &defaultArgument);
+  const TurtleCommand* turtleOrError(const Node& n, std::string_view* defaultArgument) {
+    const TurtleCommand* c = turtle(n.name, (int)n.args.size(), defaultArgument);
     if (!c)
       throw XlError{t_[n.name], "no module '" + t_[n.name].text + "': declare it (`module " + t_[n.name].text +
                                     ";`); of GroIMP's turtle commands lcjit has F, F0, M, RU, RL, RH and Null"};
     used_.insert(c);
-    if (!defaultArgument.empty()) {
-      if (left) notYet(t_[n.name], "a pattern '" + t_[n.name].text + "' without its parameter");
-      w_.at(n.name, std::string(c->module) + "(" + std::string(defaultArgument) + ")");
+    return c;
+  }
+  void checkCount(const Node& n, const Module& m, bool left) {
+    const int arity = (int)n.args.size(), params = (int)m.params.size();
+    if (n.parens && arity != params)
+      throw XlError{t_[n.name], "'" + t_[n.name].text + "' has " + std::to_string(params) + " parameter" +
+                                    (params == 1 ? "" : "s") + ", given " + std::to_string(arity)};
+    if (!n.parens && params > 0 && !left)
+      throw XlError{t_[n.name], "'" + t_[n.name].text + "' needs its " + std::to_string(params) + " argument" +
+                                    (params == 1 ? "" : "s")};
+  }
+
+  // -- a rule's labels: each a copy of its node's fields (a C++ struct of the same names) --
+  struct Label {
+    const Module* module;
+    std::vector<std::string> bound;  // the pattern's names of its fields
+  };
+  std::map<std::string, Label> labels_;
+  const Label* label(size_t at) const {
+    auto it = labels_.find(t_[at].text);
+    return t_[at].kind == Token::Identifier && it != labels_.end() ? &it->second : nullptr;
+  }
+  bool hasField(const Module& m, const std::string& name) const {
+    for (size_t k = 0; k < m.fieldCount(); ++k)
+      if (m.fieldName(k) == name) return true;
+    return false;
+  }
+
+  // A left side's node as an L+C pattern: the user's names for the parameters it names, names of
+  // the translation's for the others (its inherited fields among them).
+  void pattern(const Node& n, size_t index) {
+    if (const Module* m = userModule(t_[n.name].text)) {
+      checkCount(n, *m, true);
+      std::vector<std::string> names;
+      for (size_t k = 0; k < m->fieldCount(); ++k)
+        names.push_back(n.parens && k < n.args.size() ? t_[n.args[k].first].text
+                                                      : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
+      if (n.label) labels_[t_[*n.label].text] = Label{m, names};
+      w_.at(n.name, m->lcName);
+      if (names.empty()) return;
+      if (n.parens && !n.args.empty()) {
+        w_.token(n.args.front().first - 1);  // (
+        for (size_t k = 0; k < names.size(); ++k) {
+          if (k && k < n.args.size()) w_.token(n.args[k].first - 1);  // ,
+          if (k < n.args.size()) w_.token(n.args[k].first);
+          else w_.add(", " + names[k]);
+        }
+        w_.token(n.args.back().second);  // )
+      } else {
+        std::string list;
+        for (size_t k = 0; k < names.size(); ++k) list += (k ? ", " : "") + names[k];
+        w_.add("(" + list + ")");
+      }
       return;
     }
+    if (n.label) notYet(t_[*n.label], "a label on one of GroIMP's turtle commands");
+    std::string_view defaultArgument;
+    const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+    if (!defaultArgument.empty()) notYet(t_[n.name], "a pattern '" + t_[n.name].text + "' without its parameter");
     w_.at(n.name, c->module);
-    if (n.parens && arity > 0) arguments(n);
-  }
-  void arguments(const Node& n) {
-    w_.token(n.args.front().first - 1);  // (
-    for (size_t i = 0; i < n.args.size(); ++i) {
-      if (i) w_.token(n.args[i].first - 1);  // ,
-      w_.tokens(n.args[i]);
+    if (n.parens && !n.args.empty()) {
+      w_.token(n.args.front().first - 1);
+      for (size_t i = 0; i < n.args.size(); ++i) {
+        if (i) w_.token(n.args[i].first - 1);
+        w_.tokens(n.args[i]);
+      }
+      w_.token(n.args.back().second);
     }
-    w_.token(n.args.back().second);  // )
   }
-  void anyArguments(int count) {
+  // The copies of the labelled nodes' fields, made first in the production.
+  void labelCopies() {
+    for (const auto& [name, l] : labels_) {
+      std::string decl = "struct {";
+      std::string values;
+      for (size_t k = 0; k < l.module->fieldCount(); ++k) {
+        decl += " " + l.module->fieldType(k) + " " + l.module->fieldName(k) + ";";
+        values += (k ? ", " : "") + l.bound[k];
+      }
+      w_.add(decl + " } " + name + " = {" + values + "};");
+    }
+  }
+
+  // Java in a condition, an argument or a block, as C++: a label's field `t[length]` is `t.length`,
+  // Java's Math is C++'s, `boolean` is bool.
+  void java(Range r) {
+    for (size_t i = r.first; i < r.second; ++i) {
+      const Token& t = t_[i];
+      if (const Label* l = label(i)) {
+        const bool bracketed = i + 3 < r.second && t_[i + 1].is("[") && t_[i + 3].is("]");
+        const bool dotted = i + 2 < r.second && t_[i + 1].is(".");
+        if (bracketed || dotted) {
+          const std::string& field = t_[i + 2].text;
+          if (dotted && i + 3 < r.second && t_[i + 3].is("("))
+            notYet(t_[i + 2], "a method of a node (`" + t.text + "." + field + "(…)`)");
+          if (!hasField(*l->module, field))
+            throw XlError{t_[i + 2], "'" + t.text + "' (a " + t_[l->module->name].text + ") has no field '" + field + "'"};
+          w_.token(i);
+          w_.at(i + 1, ".");
+          w_.token(i + 2);
+          i += bracketed ? 3 : 2;
+          continue;
+        }
+      }
+      if (t.is("Math") && i + 2 < r.second && t_[i + 1].is(".")) {
+        std::string cpp = javaMath(t_[i + 2].text);
+        if (cpp.empty()) notYet(t_[i + 2], "Java's Math." + t_[i + 2].text);
+        w_.at(i, cpp);
+        i += 2;
+        continue;
+      }
+      if (t.is("boolean")) {
+        w_.at(i, "bool");
+        continue;
+      }
+      w_.token(i);
+    }
+  }
+  // A block of Java statements: the last one's `;` may be missing before `}`.
+  void block(const Node& n) {
+    const size_t close = n.block.second - 1;
+    java({n.block.first, close});
+    if (close > n.block.first + 1 && !t_[close - 1].is(";") && !t_[close - 1].is("}")) w_.add(";");
+    w_.token(close);
+  }
+
+  // -- a right side: its arguments computed in order, with its blocks, then produced --
+  std::vector<std::string> argumentNames_;  // by right-side node and argument, in order
+  size_t temps_ = 0;
+  // Each argument of a made node, as a local computed where it is written (blocks after it do not
+  // change it, as in XL), then the blocks.
+  void rightStatements(const std::vector<Node>& right) {
+    argumentNames_.clear();
+    for (const Node& n : right) {
+      if (n.kind == Node::Block) {
+        block(n);
+        continue;
+      }
+      if (n.kind != Node::Module || label(n.name)) continue;
+      for (Range a : n.args) {
+        std::string name = "__xl_a" + std::to_string(temps_++);
+        w_.add("const auto " + name + " = (");
+        java(a);
+        w_.add(");");
+        argumentNames_.push_back(name);
+      }
+    }
+  }
+  // The right side's modules (after rightStatements: `arguments` are its locals; in the axiom,
+  // the arguments as written).
+  void rightModules(const std::vector<Node>& right, bool axiom) {
+    size_t next = 0;
+    for (const Node& n : right) {
+      if (n.kind == Node::Bracket) {
+        w_.at(n.name, t_[n.name].is("[") ? "SB" : "EB");  // L+C's names of XL's [ ]
+        continue;
+      }
+      if (n.kind == Node::Block) continue;
+      if (const Label* l = axiom ? nullptr : label(n.name)) {
+        if (n.parens) throw XlError{t_[n.name], "'" + t_[n.name].text + "' names a node of the left side: no arguments"};
+        std::string s = l->module->lcName;
+        if (l->module->fieldCount() > 0) {
+          s += "(";
+          for (size_t k = 0; k < l->module->fieldCount(); ++k) s += (k ? ", " : "") + t_[n.name].text + "." + l->module->fieldName(k);
+          s += ")";
+        }
+        w_.at(n.name, s);
+        continue;
+      }
+      std::vector<std::string> given;
+      for (Range a : n.args) {
+        if (axiom) given.push_back("(" + text(a) + ")");
+        else given.push_back(argumentNames_[next++]);
+      }
+      if (const Module* m = userModule(t_[n.name].text)) {
+        checkCount(n, *m, false);
+        std::vector<std::string> all = given;
+        for (const Inherited& f : m->inherited) all.push_back(inheritedValue(*m, f, given));
+        w_.at(n.name, m->lcName + (all.empty() ? "" : "(" + joined(all) + ")"));
+        continue;
+      }
+      std::string_view defaultArgument;
+      const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+      if (!defaultArgument.empty()) given.push_back(std::string(defaultArgument));
+      w_.at(n.name, std::string(c->module) + (given.empty() ? "" : "(" + joined(given) + ")"));
+    }
+  }
+  // An inherited field's value for a module made with the arguments `given`: its `extends`
+  // argument with the module's parameters replaced by them.
+  std::string inheritedValue(const Module& m, const Inherited& f, const std::vector<std::string>& given) const {
+    if (f.value.empty()) return f.fallback;
     std::string s = "(";
-    for (int i = 0; i < count; ++i) s += (i ? ", __xl_" : "__xl_") + std::to_string(i);
-    w_.add(s + ")");
-  }
-  void right(const Rule& r) {
-    for (const Node& n : r.right) {
-      if (n.bracket) w_.at(n.name, t_[n.name].is("[") ? "SB" : "EB");  // L+C's names of XL's [ ]
-      else node(n, false);
+    for (size_t i : f.value) {
+      std::string piece = t_[i].text;
+      for (size_t k = 0; k < m.params.size(); ++k)
+        if (t_[i].kind == Token::Identifier && t_[i].text == m.params[k].name && k < given.size()) piece = given[k];
+      s += (s.size() > 1 ? " " : "") + piece;
     }
+    return s + ")";
+  }
+  static std::string joined(const std::vector<std::string>& items) {
+    std::string s;
+    for (size_t k = 0; k < items.size(); ++k) s += (k ? ", " : "") + items[k];
+    return s;
   }
   std::string text(Range r) const {
     std::string s;
@@ -399,57 +660,119 @@ private:
     return s;
   }
 
+  // -- a rule as an L+C production --
+  void production(const Rule& r) {
+    labels_.clear();
+    std::vector<Node> right = r.right;
+    if (r.is(t_, "==>>")) right = spoRight(r);
+    const size_t node = r.is(t_, "==>>") && r.left.size() == 3 ? 1 : 0;  // the node rewritten
+    if (r.left.size() > 1 && !r.is(t_, "==>>")) notYet(t_[r.left[1].name], "a rule of more than one node on its left side");
+    for (size_t k = 0; k < r.left.size(); ++k) {
+      if (k == 1 && node == 1) w_.add("<");
+      pattern(r.left[k], k);
+      if (k == 1 && node == 1) w_.add(">");
+    }
+    w_.add(":");
+    w_.add("{");
+    labelCopies();
+    if (r.condition) {
+      w_.add("if");
+      java(*r.condition);
+    }
+    w_.add("{");
+    if (r.is(t_, "::>")) {
+      // An update: the node's fields changed by the blocks, the node itself kept.
+      for (const Node& n : right)
+        if (n.kind != Node::Block) throw XlError{t_[n.name], "an update rule (`::>`) has blocks `{ … }` on its right side, no nodes"};
+      rightStatements(right);
+      const Node& kept = r.left.front();
+      if (!userModule(t_[kept.name].text) || !kept.label)
+        notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
+      const Module& m = *userModule(t_[kept.name].text);
+      std::string s = "produce " + m.lcName;
+      if (m.fieldCount() > 0) {
+        std::vector<std::string> values;
+        for (size_t k = 0; k < m.fieldCount(); ++k) values.push_back(t_[*kept.label].text + "." + m.fieldName(k));
+        s += "(" + joined(values) + ")";
+      }
+      w_.at(r.end, s + ";");
+    } else {
+      rightStatements(right);
+      w_.at(r.arrow, "produce");
+      rightModules(right, false);
+      w_.at(r.end, ";");
+    }
+    w_.add("}");
+    w_.add("}");
+  }
+  // An SPO rule's right side, as the production of an L-system: `a:A X c:C ==>> a … c` keeps A
+  // and C and their relations and puts … between them: X replaced, with A and C its context.
+  // Other SPO rules are refused. (`X ==>> ;`, deleting X and what hangs on it, is lpfg's Cut, which
+  // lcjit's engine carries out in the next step: the branch would still be drawn after this one.)
+  std::vector<Node> spoRight(const Rule& r) {
+    if (r.left.size() == 3 && r.left[0].label && r.left[2].label && r.right.size() >= 2) {
+      const Node& first = r.right.front();
+      const Node& last = r.right.back();
+      auto same = [&](const Node& n, const Node& l) {
+        return n.kind == Node::Module && !n.parens && t_[n.name].text == t_[*l.label].text;
+      };
+      bool blocks = false;
+      for (const Node& n : r.right) blocks = blocks || n.kind == Node::Block;
+      if (same(first, r.left[0]) && same(last, r.left[2]) && !blocks)
+        return std::vector<Node>(r.right.begin() + 1, r.right.end() - 1);
+    }
+    notYet(t_[r.arrow], "this SPO rule (`==>>`: lcjit runs `a:A X c:C ==>> a … c;`)");
+  }
+
   std::string write() {
     // The body (axiom, productions, interpretation rules) first: it says which of GroIMP's turtle
     // commands the model uses, declared in the head after the user's modules.
     Writer head(t_);
     for (const Module& m : modules_) {
-      std::string decl = "module " + t_[m.name].text;
-      if (!m.params.empty()) {
+      std::string decl = "module " + m.lcName;
+      if (m.fieldCount() > 0) {
         decl += "(";
-        for (size_t i = 0; i < m.params.size(); ++i) decl += (i ? ", " : "") + m.params[i].type;
+        for (size_t k = 0; k < m.fieldCount(); ++k) decl += (k ? ", " : "") + m.fieldType(k);
         decl += ")";
       }
       head.at(m.keyword, decl + ";");
     }
     const Rule& axiom = init_->rules.front();
-    w_.at(axiom.left.name, "derivation length: 0;");
+    w_.at(axiom.left.front().name, "derivation length: 0;");
     w_.add("axiom:");
-    right(axiom);
+    for (const Node& n : axiom.right)
+      if (n.kind == Node::Block) notYet(t_[n.name], "a block of Java statements in the axiom");
+    rightModules(axiom.right, true);
     w_.at(axiom.end, ";");
     if (step_)
-      for (const Rule& r : step_->rules) {
-        node(r.left, true);
-        w_.add(":");
-        w_.add("{");
-        if (r.condition) {
-          w_.add("if");
-          w_.tokens(*r.condition);
-        }
-        w_.at(r.arrow, "produce");
-        right(r);
-        w_.at(r.end, ";");
-        w_.add("}");
-      }
+      for (const Rule& r : step_->rules) production(r);
     std::vector<std::pair<size_t, std::string>> interpretation;  // (at, rule)
     for (const Module& m : modules_) {
       if (!m.base) continue;
-      std::string_view defaultArgument;
       if (userModule(t_[*m.base].text)) notYet(t_[*m.base], "a module extending one of the model's modules");
-      const TurtleCommand* c = turtle(*m.base, (int)m.baseArgs.size(), &defaultArgument);
-      if (!c) throw XlError{t_[*m.base], "no turtle command '" + t_[*m.base].text + "' to extend (lcjit has F, F0, M, RU, RL, RH and Null)"};
-      std::vector<std::string> args;
-      for (Range a : m.baseArgs) args.push_back(text(a));
-      if (!defaultArgument.empty()) args.push_back(std::string(defaultArgument));
-      std::string pattern = c->own ? std::string(c->module) + "($1)" : std::string(c->drawn);
-      if (pattern.empty()) continue;
-      std::string rule = t_[m.name].text;
-      if (!m.params.empty()) {
-        rule += "(";
-        for (size_t i = 0; i < m.params.size(); ++i) rule += (i ? ", " : "") + m.params[i].name;
-        rule += ")";
+      const std::string base = t_[*m.base].text;
+      // Its pattern, each field by its name.
+      std::string rule = m.lcName;
+      std::vector<std::string> names;
+      for (size_t k = 0; k < m.fieldCount(); ++k) names.push_back(m.fieldName(k));
+      if (!names.empty()) rule += "(" + joined(names) + ")";
+      std::string body;
+      if (base == "F") {
+        // GroIMP's F: its own diameter when it has one (≥ 0), else the turtle state's (lcjit's width).
+        body = "if (diameter >= 0) produce SB SetWidth(diameter) F(length) EB f(length); else produce F(length);";
+      } else {
+        std::string_view defaultArgument;
+        int fields = 0;
+        for (const Field& f : kFields) fields += f.command == base;
+        const TurtleCommand* c = turtle(*m.base, fields, &defaultArgument);
+        if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has F, F0, M, RU, RL, RH and Null)"};
+        std::vector<std::string> args;
+        for (const Field& f : kFields)
+          if (f.command == base) args.push_back(std::string(f.name));
+        if (c->drawn.empty()) continue;
+        body = "produce " + drawn(c->drawn, args) + ";";
       }
-      interpretation.push_back({m.name, rule + " : { produce " + drawn(pattern, args) + "; }"});
+      interpretation.push_back({m.name, rule + " : { " + body + " }"});
     }
     std::string turtleDecls;
     for (const TurtleCommand& c : kTurtleCommands) {
