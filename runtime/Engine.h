@@ -179,6 +179,7 @@ class Engine final : public ModelRun {
   static Engine* current();
   void useGroup(int g);
   int currentGroup() const { return group_; }
+  void cutBranch() { cutBranch_ = true; }
   void setForward(bool f) { forward_ = f; }
   bool forward() const { return forward_; }
   void stop() override { stopRequested_ = true; }
@@ -332,6 +333,7 @@ class Engine final : public ModelRun {
   std::vector<Reaction> reactions_;
   int group_ = 0;
   bool forward_ = true;
+  bool cutBranch_ = false;  // the running production asked its branch's rest to go (lcjit_cut_branch)
   bool stopRequested_ = false;
   int step_ = 0, length_ = 0;
   bool ended_ = false;

@@ -61,6 +61,7 @@ bool Engine::deriveForward(int group) {
       for (const __lc_Rule* r : *rules) {
         if (!matchRule(*r, old, pos, newLeft, Scan{nullptr, 0, false}, m)) continue;
         const size_t from = next_.size();
+        cutBranch_ = false;
         if (applyRule(*r, m, next_)) {
           applied = true;
           if (counting)  // the successor just written: in cache
@@ -73,6 +74,24 @@ bool Engine::deriveForward(int group) {
           for (int j = 0; j < r->nStrict && p < n; ++j) p = modules_.next(s, p), ++at;
           if (p <= pos) p = n;
           pos = p;
+          if (cutBranch_) {
+            // The rest of the branch goes with it (XL's SPO deletion). A branch the deleted
+            // module began, left empty, goes too: its SB and its EB (XL has no brackets, only
+            // the branch's edge to that module).
+            cutBranch_ = false;
+            size_t e = pos < n ? findEndOfBranch(old, pos) : n;
+            if (e == npos) e = n;
+            if (origins)
+              for (size_t q = pos; q < e; q = modules_.next(s, q)) ++at;
+            pos = e;
+            const size_t sb = from > 0 ? modules_.prev(next_.data(), from) : 0;
+            if (e < n && next_.size() == from && from > 0 && ModuleTable::idAt(next_.data() + sb) == __lc_id_SB) {
+              next_.resize(sb);
+              modules -= counting;
+              if (origins) nextOrigins_.pop_back(), ++at;
+              pos = modules_.next(s, e);
+            }
+          }
           break;
         }
         newLeft = Scan{next_.data(), next_.size(), false};

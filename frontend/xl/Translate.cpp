@@ -698,6 +698,7 @@ private:
       w_.at(r.end, s + ";");
     } else {
       rightStatements(right);
+      if (deletes(r, t_)) w_.add("lcjit_cut_branch();");
       w_.at(r.arrow, "produce");
       rightModules(right, false);
       w_.at(r.end, ";");
@@ -705,11 +706,15 @@ private:
     w_.add("}");
     w_.add("}");
   }
-  // An SPO rule's right side, as the production of an L-system: `a:A X c:C ==>> a … c` keeps A
-  // and C and their relations and puts … between them: X replaced, with A and C its context.
-  // Other SPO rules are refused. (`X ==>> ;`, deleting X and what hangs on it, is lpfg's Cut, which
-  // lcjit's engine carries out in the next step: the branch would still be drawn after this one.)
+  // An SPO rule's right side, as the production of an L-system: `X ==>> ;` deletes X and what
+  // hangs on it (nothing of X's relations is kept: the rest of its branch goes, in this step, by
+  // lcjit_cut_branch()); `a:A X c:C ==>> a … c` keeps A and C and their relations and puts …
+  // between them: X replaced, with A and C its context. Other SPO rules are refused.
+  static bool deletes(const Rule& r, const std::vector<Token>& t) {
+    return r.is(t, "==>>") && r.left.size() == 1 && r.right.empty();
+  }
   std::vector<Node> spoRight(const Rule& r) {
+    if (deletes(r, t_)) return {};
     if (r.left.size() == 3 && r.left[0].label && r.left[2].label && r.right.size() >= 2) {
       const Node& first = r.right.front();
       const Node& last = r.right.back();
@@ -721,7 +726,7 @@ private:
       if (same(first, r.left[0]) && same(last, r.left[2]) && !blocks)
         return std::vector<Node>(r.right.begin() + 1, r.right.end() - 1);
     }
-    notYet(t_[r.arrow], "this SPO rule (`==>>`: lcjit runs `a:A X c:C ==>> a … c;`)");
+    notYet(t_[r.arrow], "this SPO rule (`==>>`: lcjit runs `X ==>> ;` and `a:A X c:C ==>> a … c;`)");
   }
 
   std::string write() {

@@ -4,7 +4,8 @@
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model)
-#   segments NAME     the segments drawn from the axiom are NAME.segments (derived by hand)
+#   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
+#                     (derived by hand)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
 #   watch NAME STEPS  --watch: a saved edit of NAME.rgg (RU(30) made RU(20)) is drawn again (as OBJ:
 #                     no pictures needed); a broken one (its first `==>` made `==`, line 5 column 9
@@ -33,7 +34,7 @@ case $kind in
     diff -u "$name.expected" out.str || fail "the string differs from $name.expected"
     echo "ok: $name" ;;
   segments)
-    "$lcjit" -b -out out.obj "$name.rgg" || fail "lcjit exited with $?"
+    "$lcjit" -b --steps "$steps" -out out.obj "$name.rgg" || fail "lcjit exited with $?"
     python3 "$dir/segments.py" out.obj "$name.segments" ;;
   error)
     "$lcjit" -b -out out.str "$name.rgg" >stdout 2>stderr

@@ -92,6 +92,10 @@ int lcjit_in_context(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, con
 __lc_Ctx* lcjit_current_ctx();
 void lcjit_use_group(int g);
 int lcjit_current_group();
+// lcjit's own, for XL's SPO deletion (`X ==>> ;`): the running production's predecessor goes with
+// the rest of its branch, in this step (lpfg's Cut module waits for the next one). Forward
+// derivation only; elsewhere nothing.
+void lcjit_cut_branch();
 void lcjit_forward();
 void lcjit_backward();
 int lcjit_is_forward();
