@@ -5,6 +5,7 @@
 #include "frontend/cfdg/ReadDesign.h"
 #include "frontend/lc/Rewriter.h"
 #include "frontend/xl/Translate.h"
+#include "runtime/files/Palette.h"
 
 #include <vector>
 
@@ -22,7 +23,8 @@ constexpr Language kLanguages[] = {
     // Context Free's CFDG: frontend/cfdg/ on the shape-expansion engine.
     {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion, nullptr, &frontend::cfdg::readDesign},
     // GroIMP's XL: frontend/xl/ (XL → L+C, then L+C's rewriter) on the L-system engine.
-    {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite},
+    // Its colours are GroIMP's: the EGA's 16, its turtle's yellow first.
+    {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite, nullptr, &runtime::Palette::ega},
 };
 
 }  // namespace

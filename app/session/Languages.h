@@ -21,6 +21,9 @@ namespace cfdg {
 struct DesignUnit;
 }
 }  // namespace lcjit::frontend
+namespace lcjit::runtime {
+class Palette;
+}
 
 namespace lcjit::app {
 
@@ -47,6 +50,9 @@ using RewriteModel = llvm::Expected<frontend::Rewritten> (*)(const std::string& 
 using ReadDesign = llvm::Expected<frontend::cfdg::DesignUnit> (*)(std::string_view text, const std::string& file,
                                                                   const std::vector<std::string>& defines);
 
+// The colours of a language's models without a colour file (runtime/files/Palette.h).
+using DefaultColours = runtime::Palette (*)();
+
 struct Language {
   std::string_view name;   // as its users call it: "L+C"
   std::string_view model;  // what one of its model files is called in messages: "L-system"
@@ -55,6 +61,8 @@ struct Language {
   // Its front end: the one its engine calls (the other is null).
   RewriteModel rewrite = nullptr;
   ReadDesign readDesign = nullptr;
+  // Its models' colours without a colour file; null: lpfg's (lcjit's in the window).
+  DefaultColours colours = nullptr;
 };
 
 // Every language, in the order messages list them.

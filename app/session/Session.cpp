@@ -92,7 +92,12 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   }
   if (!what.rendering) return d;
   const bool colourFile = !files.colormap.empty() || !files.materials.empty();
-  d->palette = lcjitColours && !colourFile ? runtime::Palette::lcjitDefault() : runtime::Palette();
+  // Without a colour file: the language's own colours (XL's are GroIMP's), else lcjit's in the
+  // window, else lpfg's.
+  const Language* language = files.language ? files.language : languageOf(files.lsystem);
+  if (colourFile) d->palette = runtime::Palette();
+  else if (language && language->colours) d->palette = language->colours();
+  else d->palette = lcjitColours ? runtime::Palette::lcjitDefault() : runtime::Palette();
   if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap, &warnings));
   if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));
   d->shapes = runtime::ShapeLibrary();

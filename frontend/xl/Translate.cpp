@@ -763,8 +763,8 @@ private:
       if (!names.empty()) rule += "(" + joined(names) + ")";
       std::string body;
       if (base == "F") {
-        // GroIMP's F: its own diameter when it has one (≥ 0), else the turtle state's (lcjit's width).
-        body = "if (diameter >= 0) produce SB SetWidth(diameter) F(length) EB f(length); else produce F(length);";
+        // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
+        body = drawn(kOwnCylinder, {"length", "diameter", "color"});
       } else {
         std::string_view defaultArgument;
         int fields = 0;
@@ -787,7 +787,7 @@ private:
         twice = twice || (&d < &c && d.module == c.module && used_.count(&d));
       if (twice) continue;
       turtleDecls += "module " + std::string(c.module) + (c.declared.empty() ? "" : "(" + std::string(c.declared) + ")") + "; ";
-      if (c.drawn.empty()) continue;
+      if (c.drawn.empty() && c.body.empty()) continue;
       std::vector<std::string> args;
       std::string rule = std::string(c.module);
       if (c.arity > 0) {
@@ -798,7 +798,9 @@ private:
         }
         rule += ")";
       }
-      interpretation.push_back({init_->name, rule + " : { produce " + drawn(c.drawn, args) + "; }"});
+      interpretation.push_back({init_->name, rule + " : { " +
+                                                 (c.body.empty() ? "produce " + drawn(c.drawn, args) + ";" : drawn(c.body, args)) +
+                                                 " }"});
     }
     if (!interpretation.empty()) {
       w_.add("interpretation:");

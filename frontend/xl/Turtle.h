@@ -22,13 +22,24 @@ struct TurtleCommand {
   bool own;                   // lcjit's predefined module: nothing to declare, nothing to interpret
   // What lcjit's turtle does for it (lpfg's modules; $1, $2 its arguments); empty: nothing.
   std::string_view drawn;
+  // Instead of `produce drawn;`, the statements of its interpretation rule ($1, $2… likewise).
+  std::string_view body = {};
 };
+
+// GroIMP's F(l, d, c): a cylinder l long of diameter d and colour c for itself alone, −1 standing
+// for the turtle state's (F's fields `diameter` and `color`); colour c is lcjit's index c + 2
+// (runtime/files/Palette.h, Palette::ega()).
+inline constexpr std::string_view kOwnCylinder =
+    "if ($2 < 0 && $3 < 0) produce F($1); nproduce SB; if ($2 >= 0) nproduce SetWidth($2); "
+    "if ($3 >= 0) nproduce SetColor((int)($3) + 2); produce F($1) EB f($1);";
 
 inline constexpr TurtleCommand kTurtleCommands[] = {
     // F(l): a cylinder of length l along the head, then the turtle at its end (Shoot, TurtleStep).
     {"F", 1, "F", "", true, ""},
     // F(l, d): of diameter d for itself alone (F's field `diameter`; −1 is the state's).
-    {"F", 2, "F_d", "float, float", false, "SB SetWidth($2) F($1) EB f($1)"},
+    {"F", 2, "F_d", "float, float", false, "", "if ($2 < 0) produce F($1); else produce SB SetWidth($2) F($1) EB f($1);"},
+    // F(l, d, c): and of colour c (kOwnCylinder).
+    {"F", 3, "F_dc", "float, float, int", false, "", kOwnCylinder},
     // F0: a cylinder of the turtle state's length, 100 while nothing sets it (TurtleState).
     {"F0", 0, "F0", "", false, "F(100)"},
     // M(l): moves l along the head without drawing.

@@ -49,6 +49,20 @@ Palette::Palette() {
   pages_.push_back(page);
 }
 
+Palette Palette::ega() {
+  Palette p;
+  auto& page = p.pages_[0];
+  // The EGA's 16: each channel 0, 170 or 255 with 85 for the light ones, brown's green halved.
+  static constexpr int kEga[16][3] = {{0, 0, 0},     {0, 0, 170},    {0, 170, 0},    {0, 170, 170},
+                                      {170, 0, 0},   {170, 0, 170},  {170, 85, 0},   {170, 170, 170},
+                                      {85, 85, 85},  {85, 85, 255},  {85, 255, 85},  {85, 255, 255},
+                                      {255, 85, 85}, {255, 85, 255}, {255, 255, 85}, {255, 255, 255}};
+  auto rgb = [](const int* c) { return std::array<float, 4>{c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f}; };
+  for (int c = 0; c < 16; ++c) page[size_t(c) + 2] = rgb(kEga[c]);
+  page[1] = rgb(kEga[14]);
+  return p;
+}
+
 Palette Palette::lcjitDefault() {
   Palette p;
   auto& page = p.pages_[0];

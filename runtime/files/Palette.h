@@ -34,6 +34,10 @@ class Palette {
   // green through yellow to red from index 8 on (the gradients models index into), instead of
   // lpfg's white for every index.
   static Palette lcjitDefault();
+  // The 16 colours of IBM's EGA, which GroIMP's turtle indexes (its colour c, 0 black … 14 yellow
+  // … 15 white) and the XL quick reference lists: colour c is index c + 2; index 1, where lcjit's
+  // turtle starts, is GroIMP's turtle's own colour, 14; index 0 the background, black.
+  static Palette ega();
 
   // .map: 256 × RGB bytes per page; every page becomes a colormap (page 0 active). lpfg itself
   // reads only the first 768 bytes. Fewer than 768 bytes is an error; bytes after the last whole

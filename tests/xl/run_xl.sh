@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked five ways:
+# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked six ways:
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model)
 #   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
 #                     (derived by hand)
+#   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
+#                     (the quick reference's colour table)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
 #   watch NAME STEPS  --watch: a saved edit of NAME.rgg (RU(30) made RU(20)) is drawn again (as OBJ:
 #                     no pictures needed); a broken one (its first `==>` made `==`, line 5 column 9
@@ -36,6 +38,9 @@ case $kind in
   segments)
     "$lcjit" -b --steps "$steps" -out out.obj "$name.rgg" || fail "lcjit exited with $?"
     python3 "$dir/segments.py" out.obj "$name.segments" ;;
+  colours)
+    "$lcjit" -b -out out.obj "$name.rgg" || fail "lcjit exited with $?"
+    python3 "$dir/colours.py" out.obj "$name.colours" ;;
   error)
     "$lcjit" -b -out out.str "$name.rgg" >stdout 2>stderr
     rc=$?
