@@ -435,7 +435,7 @@ private:
     const TurtleCommand* c = turtle(n.name, (int)n.args.size(), defaultArgument);
     if (!c)
       throw XlError{t_[n.name], "no module '" + t_[n.name].text + "': declare it (`module " + t_[n.name].text +
-                                    ";`); of GroIMP's turtle commands lcjit has F, F0, M, RU, RL, RH and Null"};
+                                    ";`); of GroIMP's turtle commands lcjit has F, F0, M, RU, RL, RH, Translate, Sphere and Null"};
     used_.insert(c);
     return c;
   }

@@ -47,6 +47,12 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"RU", 1, "RU", "float", false, "Right($1)"},
     {"RL", 1, "RL", "float", false, "Up($1)"},
     {"RH", 1, "RH", "float", false, "RollR($1)"},
+    // Translate(x, y, z): moves by (x, y, z) in the world's axes without drawing (the quick
+    // reference: "im globalen Koordinatensystem … relativ zur bisherigen Position"); GroIMP's
+    // (x, y, z) is lcjit's (x, z, −y).
+    {"Translate", 3, "Translate", "float, float, float", false, "MoveRel3f(V3f($1, $3, -$2))"},
+    // Sphere(r): a sphere of radius r where the turtle is, which it does not move: lcjit's own.
+    {"Sphere", 1, "Sphere", "", true, ""},
     // Null: a node that does nothing to the turtle.
     {"Null", 0, "Null", "", false, ""},
 };
