@@ -78,6 +78,32 @@ struct Method {
   std::vector<Rule> rules;
 };
 
+// A Java declaration at the top of the model: a field (`final float angle = 30;`) or a method of
+// statements (`static float half(float x) { return x / 2; }`), written as C++ before the rules.
+struct Declaration {
+  size_t type = 0, name = 0;  // tokens
+  bool constant = false;      // `final`
+  bool method = false;
+  std::vector<std::pair<size_t, size_t>> params;  // a method's: (type, name) tokens
+  Range rest;                                     // a field's from its name to `;`; a method's body
+};
+
+// XL's library functions (de.grogra.rgg.Library) that models call most, as C++ on lpfg's random
+// numbers (ran(x): uniform in [0, x)): random(a, b) uniform in [a, b), irandom(a, b) a whole
+// number from a to b, probability(p) true with probability p; println and print of a number, a
+// truth value or a string.
+constexpr std::string_view kLibrary =
+    "inline float random(float a, float b) { return a + ran(b - a); } "
+    "inline int irandom(int a, int b) { return a + (int)ran((float)(b - a + 1)); } "
+    "inline bool probability(float p) { return ran(1) < p; } "
+    "inline void print(double x) { std::printf(\"%g\", x); } inline void print(const char* s) { std::printf(\"%s\", s); } "
+    "inline void print(bool b) { std::printf(\"%s\", b ? \"true\" : \"false\"); } "
+    "inline void println(double x) { std::printf(\"%g\\n\", x); } "
+    "inline void println(const char* s) { std::printf(\"%s\\n\", s); } "
+    "inline void println(bool b) { std::printf(\"%s\\n\", b ? \"true\" : \"false\"); } inline void println() { std::printf(\"\\n\"); } "
+    "inline void print(long long x) { std::printf(\"%lld\", x); } inline void print(int x) { print((long long)x); } "
+    "inline void println(long long x) { std::printf(\"%lld\\n\", x); } inline void println(int x) { println((long long)x); }";
+
 // The L+C being written. Each token of the user's text goes at its own line and column; what the
 // translation adds goes where the writing is (after the token before it).
 class Writer {
@@ -229,14 +255,17 @@ private:
   void topLevel() {
     if (cur().is("module")) return module();
     if (cur().is("import") || cur().is("package")) notYet(cur(), "'" + cur().text + "'");
-    bool modifiers = false;
+    bool modifiers = false, constant = false;
     while (cur().is("public") || cur().is("protected") || cur().is("private") || cur().is("static") || cur().is("final"))
-      ++p_, modifiers = true;
-    if (!cur().is("void")) {
+      constant = constant || cur().is("final"), ++p_, modifiers = true;
+    const bool java = cur().kind == Token::Identifier && !javaType(cur().text).empty();
+    if (!cur().is("void") && !java) {
       if (modifiers || cur().kind == Token::Identifier)
-        notYet(cur(), "a Java declaration other than `module` and a method of rules");
+        notYet(cur(), "a Java declaration of type '" + cur().text + "' (lcjit's XL has fields and methods of Java's number and boolean types)");
       throw XlError{cur(), "expected a module declaration (`module A;`) or a method of rules (`public void run() [ … ]`)"};
     }
+    // A method of rules is `void NAME() [`; anything else is Java.
+    if (!(cur().is("void") && t_[p_ + 2].is("(") && methodOfRules())) return declaration(constant);
     ++p_;
     Method m;
     m.name = identifier("the method's name");
@@ -258,6 +287,51 @@ private:
         notYet(t_[m.name], "a second method of rules (lcjit derives with one, here '" + t_[step_->name].text + "')");
       step_ = std::move(m);
     }
+  }
+
+  // Whether the method starting at `void` has rules (`[`) after its parameters.
+  bool methodOfRules() const {
+    size_t i = p_ + 2;
+    int depth = 0;
+    do {
+      if (t_[i].kind == Token::End) return false;
+      depth += t_[i].is("(") ? 1 : t_[i].is(")") ? -1 : 0;
+      ++i;
+    } while (depth > 0);
+    return t_[i].is("[");
+  }
+  // A field or a method of Java statements.
+  void declaration(bool constant) {
+    Declaration d;
+    d.constant = constant;
+    d.type = p_++;
+    if (cur().is("[")) notYet(cur(), "an array");
+    d.name = identifier("the name of the field or method");
+    if (accept("(")) {
+      d.method = true;
+      while (!accept(")")) {
+        if (!d.params.empty()) expect(",", "between the method's parameters");
+        if (cur().kind != Token::Identifier || javaType(cur().text).empty())
+          notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
+        size_t type = p_++;
+        d.params.push_back({type, identifier("the parameter's name")});
+      }
+      if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
+      d.rest = balanced();
+    } else {
+      if (t_[d.type].is("void")) throw XlError{t_[d.type], "a field of type void"};
+      size_t from = d.name;
+      int depth = 0;
+      while (!(depth == 0 && cur().is(";"))) {
+        if (cur().kind == Token::End) throw XlError{cur(), "expected ';' at the end of the field"};
+        if (cur().is("[") || cur().is("{")) notYet(cur(), "an array");
+        if (cur().is("(")) ++depth;
+        if (cur().is(")")) --depth;
+        ++p_;
+      }
+      d.rest = {from, p_++};
+    }
+    declarations_.push_back(std::move(d));
   }
 
   void module() {
@@ -551,6 +625,9 @@ private:
         w_.at(i, "bool");
         continue;
       }
+      // Java's `"…" + x` makes a string; C++'s would move a pointer: refused, not miscompiled.
+      if (t.is("+") && ((i > r.first && t_[i - 1].kind == Token::String) || (i + 1 < r.second && t_[i + 1].kind == Token::String)))
+        notYet(t, "a string made with + (`\"…\" + x`)");
       w_.token(i);
     }
   }
@@ -742,6 +819,21 @@ private:
       }
       head.at(m.keyword, decl + ";");
     }
+    // XL's library, then the model's fields and methods (each method declared first: Java's may
+    // call one written after it).
+    w_.add(std::string(kLibrary));
+    for (const Declaration& d : declarations_)
+      if (d.method) w_.add(signature(d) + ";");
+    for (const Declaration& d : declarations_) {
+      if (d.method) {
+        w_.at(d.type, signature(d));
+        java(d.rest);
+      } else {
+        w_.at(d.type, (d.constant ? "const " : "") + javaType(t_[d.type].text));
+        java(d.rest);
+        w_.add(";");
+      }
+    }
     const Rule& axiom = init_->rules.front();
     w_.at(axiom.left.front().name, "derivation length: 0;");
     w_.add("axiom:");
@@ -810,8 +902,16 @@ private:
     return "#include <lpfgall.h>\n" + head.take() + w_.take();
   }
 
+  std::string signature(const Declaration& d) const {
+    std::string s = (t_[d.type].is("void") ? std::string("void") : javaType(t_[d.type].text)) + " " + t_[d.name].text + "(";
+    for (size_t k = 0; k < d.params.size(); ++k)
+      s += (k ? ", " : "") + javaType(t_[d.params[k].first].text) + " " + t_[d.params[k].second].text;
+    return s + ")";
+  }
+
   std::vector<Token> t_;
   size_t p_ = 0;
+  std::vector<Declaration> declarations_;
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
   std::set<const TurtleCommand*> used_;

@@ -3,7 +3,8 @@
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
-#                     when there is no NAME.rgg (--steps on an L+C model)
+#                     when there is no NAME.rgg (--steps on an L+C model); what the model printed
+#                     is NAME.stdout, when there is one
 #   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
 #                     (derived by hand)
 #   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
@@ -32,8 +33,9 @@ case $kind in
   string)
     model=$name.rgg
     [ -f "$model" ] || model=$name.l
-    "$lcjit" -b --steps "$steps" -out out.str "$model" || fail "lcjit exited with $?"
+    "$lcjit" -b --steps "$steps" -out out.str "$model" >printed || fail "lcjit exited with $?"
     diff -u "$name.expected" out.str || fail "the string differs from $name.expected"
+    [ ! -f "$name.stdout" ] || diff -u "$name.stdout" printed || fail "what it printed differs from $name.stdout"
     echo "ok: $name" ;;
   segments)
     "$lcjit" -b --steps "$steps" -out out.obj "$name.rgg" || fail "lcjit exited with $?"
