@@ -64,6 +64,7 @@ void Engine::swapModel(const __lc_Model& model) {
 void Engine::index() {
   const __lc_Model& model = *model_;
   modules_.setUserModules(model.modules, model.nModules);
+  modules_.showNames(shownNames_);
   noSkip_.assign(modules_.count(), 0);
   for (uint32_t f = 0; f < model.nFilters; ++f) {
     const __lc_Filter& flt = model.filters[f];

@@ -33,6 +33,12 @@ class Engine final : public ModelRun {
   // Between steps: the same model compiled again (another optimisation tier; the same modules
   // and productions in the same order) takes over; the string and the derivation go on.
   void swapModel(const __lc_Model& model);
+  // How the string's text names modules, for a language that names them otherwise than L+C
+  // (ModuleTable::showNames); kept across swapModel.
+  void showNames(ModuleTable::ShownName shown) {
+    shownNames_ = shown;
+    modules_.showNames(shown);
+  }
   const __lc_Model& model() const { return *model_; }
   // The model's `derivation length:` (0 without one), decomposition and interpretation depths
   // (1 without), and whether it is a ring L-system: evaluated now (they are expressions; the
@@ -333,7 +339,8 @@ class Engine final : public ModelRun {
   std::vector<Reaction> reactions_;
   int group_ = 0;
   bool forward_ = true;
-  bool cutBranch_ = false;  // the running production asked its branch's rest to go (lcjit_cut_branch)
+  bool cutBranch_ = false;
+  ModuleTable::ShownName shownNames_ = nullptr;  // showNames  // the running production asked its branch's rest to go (lcjit_cut_branch)
   bool stopRequested_ = false;
   int step_ = 0, length_ = 0;
   bool ended_ = false;

@@ -105,10 +105,20 @@ void field(std::string& out, const __lc_Field& f, const char* p) {
 
 void ModuleTable::formatField(const __lc_Field& f, const char* rec, std::string& out) { field(out, f, rec + f.offset); }
 
+void ModuleTable::showNames(ShownName shown) {
+  shown_.assign(infos_.size(), std::string());
+  if (!shown) return;
+  for (size_t id = 0; id < infos_.size(); ++id) {
+    std::string_view name(infos_[id].name, nameLength_[id]);
+    if (std::string_view s = shown(name); s != name) shown_[id] = s;
+  }
+}
+
 void ModuleTable::format(const char* rec, std::string& out) const {
   const __lc_ModuleId id = idAt(rec);
   const __lc_ModuleInfo& m = infos_[id];
-  out.append(m.name, nameLength_[id]);
+  if (id < shown_.size() && !shown_[id].empty()) out += shown_[id];
+  else out.append(m.name, nameLength_[id]);
   if (m.nFields == 0) return;
   out += '(';
   for (uint32_t i = 0; i < m.nFields; ++i) {

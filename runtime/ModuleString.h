@@ -72,6 +72,11 @@ class ModuleTable {
 
   // Appends `Name` or `Name(p1,p2,...)` (floats %.9g, doubles %.17g).
   void format(const char* rec, std::string& out) const;
+  // The names format() gives modules whose language shows them otherwise than by their L+C name
+  // (XL: `G` for the model's XL_G, `[` for SB): `shown` maps an L+C name to the language's.
+  // Null: the L+C names. Set again after setUserModules().
+  using ShownName = std::string_view (*)(std::string_view);
+  void showNames(ShownName shown);
   // Appends one parameter the same way; `rec` is the module's record.
   static void formatField(const __lc_Field& f, const char* rec, std::string& out);
 
@@ -79,6 +84,7 @@ class ModuleTable {
   std::vector<__lc_ModuleInfo> infos_;
   std::vector<uint32_t> recordSize_;
   std::vector<size_t> nameLength_;  // format() appends names without a strlen each
+  std::vector<std::string> shown_;  // by id, the language's name where it differs (showNames)
 };
 
 }  // namespace lcjit::runtime

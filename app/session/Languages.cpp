@@ -24,7 +24,9 @@ constexpr Language kLanguages[] = {
     {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion, nullptr, &frontend::cfdg::readDesign},
     // GroIMP's XL: frontend/xl/ (XL → L+C, then L+C's rewriter) on the L-system engine.
     // Its colours are GroIMP's: the EGA's 16, its turtle's yellow first.
-    {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite, nullptr, &runtime::Palette::ega},
+    // Its strings in XL's names: [ ] for branches, the model's modules as it names them.
+    {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite, nullptr, &runtime::Palette::ega,
+     &frontend::xl::shownName},
 };
 
 }  // namespace

@@ -63,6 +63,9 @@ struct Language {
   ReadDesign readDesign = nullptr;
   // Its models' colours without a colour file; null: lpfg's (lcjit's in the window).
   DefaultColours colours = nullptr;
+  // The name its models' string text (`-out x.str`) gives a module of the L+C its front end
+  // wrote; null: the L+C name.
+  std::string_view (*shownName)(std::string_view lcName) = nullptr;
 };
 
 // Every language, in the order messages list them.

@@ -924,6 +924,14 @@ std::string errorLine(const XlError& e) {
 
 }  // namespace
 
+std::string_view shownName(std::string_view lcName) {
+  if (lcName == "SB") return "[";
+  if (lcName == "EB") return "]";
+  if (lcName == "F_d" || lcName == "F_dc") return "F";
+  if (lcName.substr(0, 3) == "XL_") return lcName.substr(3);
+  return lcName;
+}
+
 llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile) {
   try {
     Translator translator(tokenize(preprocessed, mainFile));
