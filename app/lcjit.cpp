@@ -152,6 +152,9 @@ int lcjitMain(int argc, char** argv, int& reportFd) {
   std::vector<std::string> replInputs;
   repl->add_option("-O", replOptions.optLevel, "optimisation level of model code: 0, 1 (default) or 2")->check(CLI::Range(0, 2));
   repl->add_option("-w", replSize, "size of :save pictures and of the :view window")->expected(2)->allow_extra_args(false);
+  repl->add_option("--steps", replOptions.steps,
+                   "derive this many steps instead of the model's derivation length (an XL model has none)")
+      ->check(CLI::NonNegativeNumber);
   repl->add_option("files", replInputs, "input files: [view.v color.map ...] model.l; none: :load them at the prompt");
   CLI::App* sweep = cli.add_subcommand("sweep", "parameter studies: the runs of a YAML sweep file, through GNU "
                                                 "parallel or a Slurm job array, in one table (docs/sweeps.md)");

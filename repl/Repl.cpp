@@ -700,6 +700,11 @@ int runRepl(const std::vector<std::string>& inputs, const ReplOptions& options) 
     return 1;
   }
   if (!(*session)->cacheWarning().empty()) std::fprintf(stderr, "lcjit: warning: %s\n", (*session)->cacheWarning().c_str());
+  if (options.steps >= 0) {
+    runtime::EngineLimits limits = (*session)->limits();
+    limits.steps = options.steps;
+    (*session)->setLimits(limits);
+  }
   Repl repl(std::move(*session), options);
   return repl.run(inputs);
 }

@@ -15,6 +15,9 @@ struct ReplOptions {
   // plain language first, and the caches and the history live in `labFolder` (the model's).
   bool lab = false;
   std::string labFolder;
+  // --steps: derive this many steps instead of the model's derivation length (-1: its own); an XL
+  // model has none.
+  int steps = -1;
 };
 
 // Runs until :quit or the end of the input, having loaded `inputs` (lpfg's input files, a .l

@@ -932,8 +932,37 @@ std::string_view shownName(std::string_view lcName) {
   return lcName;
 }
 
+namespace {
+// Where the REPL's own C++ begins in its unit (app/session/Session.cpp: a file named <repl> that
+// includes the model, then adds declarations and statements in C++): the line marker returning
+// into it (GNU flag 2) from the first file it includes (flag 1) other than the preprocessor's
+// own (<built-in>, <command line>). npos: a model alone.
+size_t replText(const std::string& preprocessed) {
+  bool inModel = false;
+  for (size_t at = 0; at < preprocessed.size();) {
+    size_t end = preprocessed.find('\n', at);
+    if (end == std::string::npos) end = preprocessed.size();
+    std::string_view line(preprocessed.data() + at, end - at);
+    if (line.size() > 2 && line[0] == '#' && line[1] == ' ') {
+      const bool enters = line.size() > 2 && line.substr(line.size() - 2) == " 1" && line.find("\"<") == std::string_view::npos;
+      if (enters) inModel = true;
+      if (inModel && line.find("<repl>\" 2") != std::string_view::npos) return at;
+    }
+    at = end + 1;
+  }
+  return std::string::npos;
+}
+}  // namespace
+
 llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile) {
   try {
+    // In the REPL, the model is XL and what the REPL adds after it C++, which the L+C takes as
+    // it is.
+    const size_t repl = replText(preprocessed);
+    if (repl != std::string::npos) {
+      Translator translator(tokenize(preprocessed.substr(0, repl), mainFile));
+      return translator.run() + preprocessed.substr(repl);
+    }
     Translator translator(tokenize(preprocessed, mainFile));
     return translator.run();
   } catch (const XlError& e) {

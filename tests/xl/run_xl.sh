@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked six ways:
+# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked seven ways:
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
@@ -10,6 +10,9 @@
 #   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
 #                     (the quick reference's colour table)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
+#   repl NAME STEPS   `lcjit repl --steps STEPS NAME.rgg`: :step 2 derives the tutorial's tree two
+#                     steps (25 modules, by hand: tree_string.expected), :string shows them in XL's
+#                     names, and C++ typed at the prompt runs in the model (k * 2 is 6)
 #   watch NAME STEPS  --watch: a saved edit of NAME.rgg (RU(30) made RU(20)) is drawn again (as OBJ:
 #                     no pictures needed); a broken one (its first `==>` made `==`, line 5 column 9
 #                     in tree.rgg) is an error there, and the last good model stays
@@ -43,6 +46,14 @@ case $kind in
   colours)
     "$lcjit" -b -out out.obj "$name.rgg" || fail "lcjit exited with $?"
     python3 "$dir/colours.py" out.obj "$name.colours" ;;
+  repl)
+    printf ':step 2\n:string --count 3\nint k = 3;\nk * 2\n' | "$lcjit" repl --steps "$steps" "$name.rgg" >out.txt 2>&1 ||
+      fail "lcjit repl exited with $?: $(cat out.txt)"
+    cat out.txt
+    grep -qx "step 2 of $steps: 25 modules" out.txt || fail "no step 2 with 25 modules"
+    grep -qx " 1  \[" out.txt || fail "module 1 is not XL's ["
+    grep -qx "6" out.txt || fail "the C++ k * 2 did not give 6"
+    echo "ok: $name.rgg in the REPL" ;;
   error)
     "$lcjit" -b -out out.str "$name.rgg" >stdout 2>stderr
     rc=$?
