@@ -12,6 +12,8 @@
 #   design   a Context Free design's runs: a -D value × 3 seeds (variations 1-3) through GNU
 #            parallel, each row's shape count cfdg's for the same variation and definition (cfdg
 #            run here); a string output refused
+#   xl       an XL model's runs (docs/xl.md): two -D values, --steps 1 among the options, each
+#            run's string in XL's names with its angle (by hand)
 # Usage: run_sweep.sh LCJIT TESTS_SWEEP_DIR CASE
 # No timings are checked: the suite runs on a busy 2-core machine.
 set -u
@@ -19,7 +21,7 @@ lcjit=$1 src=$2 case=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-cp "$src/branch.l" "$src/killed.l" "$src/garden.cfdg" .
+cp "$src/branch.l" "$src/killed.l" "$src/garden.cfdg" "$src/bush.rgg" .
 fail() { echo "FAIL: $*"; exit 1; }
 
 case $case in
@@ -250,6 +252,16 @@ PY
   printf 'model: garden.cfdg\noutputs: [string]\n' > strings.yaml
   "$lcjit" sweep plan strings.yaml > out.txt 2> err.txt && fail "a design's string output was planned"
   grep -q "strings.yaml:2:11: error: a Context Free design has no string" err.txt || { cat err.txt; fail "no error for a design's string"; }
+  ;;
+xl)
+  printf 'model: bush.rgg\nparameters:\n  ANGLE: [20, 45]\noutputs: [string]\noptions: ["--steps", "1"]\n' > bush.yaml
+  "$lcjit" sweep run bush.yaml -j2 > out.txt 2> err.txt || { cat out.txt err.txt; fail "sweep run failed"; }
+  grep -q "results.csv: 2 runs: 2 ok, 0 failed, 0 missing" out.txt || { cat out.txt err.txt; fail "not 2 ok runs"; }
+  for run in 1:20 2:45; do
+    id=00000${run%%:*} a=${run#*:}
+    [ "$(tr '\n' ' ' < bush-runs/runs/$id/out.str)" = "F(1) [ RU($a) X ] [ RU(-$a) X ] " ] ||
+      fail "run $id: $(tr '\n' ' ' < bush-runs/runs/$id/out.str)"
+  done
   ;;
 *) fail "unknown case $case" ;;
 esac
