@@ -186,6 +186,7 @@ class Engine final : public ModelRun {
   void useGroup(int g);
   int currentGroup() const { return group_; }
   void cutBranch() { cutBranch_ = true; }
+  const char* findModule(__lc_Ctx* c, __lc_ModuleId id, size_t* at) const;
   void setForward(bool f) { forward_ = f; }
   bool forward() const { return forward_; }
   void stop() override { stopRequested_ = true; }

@@ -235,6 +235,19 @@ bool Engine::matchRule(const __lc_Rule& r, const Scan& old, size_t pos, const Sc
   return true;
 }
 
+const char* Engine::findModule(__lc_Ctx* c, __lc_ModuleId id, size_t* at) const {
+  const Match* m = c ? static_cast<const Match*>(c->match) : nullptr;
+  const char* s = m ? m->old.s : string_.data();
+  const size_t n = m ? m->old.n : string_.size();
+  for (size_t p = *at; p < n; p = modules_.next(s, p))
+    if (ModuleTable::idAt(s + p) == id) {
+      *at = modules_.next(s, p);
+      return s + p;
+    }
+  *at = n;
+  return nullptr;
+}
+
 bool Engine::inContext(__lc_Ctx* c, int side, const __lc_ModuleId* ids, int n, const char** params) {
   Match* m = static_cast<Match*>(c->match);
   if (!m || !m->contexts) return false;

@@ -95,6 +95,10 @@ void lcjit_use_group(int g) {
 void lcjit_cut_branch() {
   if (Engine* e = engine()) e->cutBranch();
 }
+const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at) {
+  Engine* e = c ? static_cast<Engine*>(c->engine) : engine();
+  return e ? e->findModule(c, id, at) : nullptr;
+}
 int lcjit_current_group() { return engine() ? engine()->currentGroup() : 0; }
 void lcjit_forward() {
   if (Engine* e = engine()) e->setForward(true);
@@ -344,7 +348,7 @@ std::string takeReplOutput() { return std::exchange(replOutput(), {}); }
 std::vector<std::pair<std::string, void*>> hostFunctions() {
 #define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
   std::vector<std::pair<std::string, void*>> functions = {
-      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch),
+      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch), LCJIT_HOST(lcjit_find_module),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
       LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie), LCJIT_HOST(lcjit_report),

@@ -232,6 +232,7 @@ class Rewriter {
   enum class Where { Rule, Control, Function };
   bool produceStatement(Where where);
   void inContext(const Token& kw, int side);
+  void inString(const Token& kw);
   void successorList(const char* terminator, const char* statement);
   // A module list as parsed: each module's name and each of its parameters as tokens of lx_.
   struct ModuleCall {

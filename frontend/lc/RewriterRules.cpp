@@ -153,6 +153,12 @@ void Rewriter::block(bool rule) {
         inContext(t, it->second);
         continue;
       }
+      if (t.is("InString") && peek().is("(")) {
+        const Token kw = t;
+        next();
+        inString(kw);
+        continue;
+      }
     }
     if (t.is("{")) ++depth;
     if (t.is("}")) --depth;
@@ -230,6 +236,43 @@ void Rewriter::inContext(const Token& kw, int side) {
     out_.glue("}");
   }
   out_.glueAt(close, "return true; }())");
+}
+
+// lcjit's own InString(M(a, …), CONDITION): whether the string, as the step found it, holds a
+// module M whose parameters, put in the variables a, …, make CONDITION true; they keep the first
+// such one's. XL's contexts written apart (`(* b:Baum *), t:Trieb, (b[alter] > 10)`) are written
+// with it. CONDITION may hold another InString.
+void Rewriter::inString(const Token& kw) {
+  expect("(", "after InString");
+  PatternModule m = patternModule();
+  expect(",", "after InString's module (InString(M(a), CONDITION))");
+  out_.glueAt(kw, "([&]() -> bool { size_t __lc_at = 0; for (const char* __lc_q0; (__lc_q0 = lcjit_find_module(__lc_ctx, " +
+                      std::to_string(m.module->id) + ", &__lc_at));) {");
+  if (!m.params.empty()) {
+    out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __builtin_memcpy(&__lc_q, __lc_q0, sizeof __lc_q);");
+    for (size_t j = 0; j < m.params.size(); ++j) {
+      out_.token(m.params[j]);
+      out_.glue(" = __lc_q.p" + std::to_string(j) + ";");
+    }
+    out_.glue("}");
+  }
+  out_.glue(" if (");
+  int depth = 0;
+  while (!(depth == 0 && atText(")"))) {
+    if (at(Token::End) || (depth == 0 && atText(";"))) fail(kw, "expected ')' to close InString");
+    if (cur().is("InString") && peek().is("(")) {
+      const Token inner = cur();
+      next();
+      inString(inner);
+      continue;
+    }
+    if (atText("(")) ++depth;
+    if (atText(")")) --depth;
+    out_.token(cur());
+    next();
+  }
+  const Token& close = next();
+  out_.glueAt(close, ") return true; } return false; }())");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -66,6 +66,7 @@ struct Node {
 };
 
 struct Rule {
+  std::vector<Node> contexts;  // `(* b:Baum *)` written apart (a comma after it): anywhere in the graph
   std::vector<Node> left;
   std::optional<Range> condition;  // `( … )`, its parentheses included
   size_t arrow = 0, end = 0;       // `==>`, `==>>` or `::>`; `;` (or the last token)
@@ -406,7 +407,29 @@ private:
 
   Rule rule() {
     Rule r;
-    if (cur().is("(*")) notYet(cur(), "a context `(* … *)`");
+    // Contexts written apart: `(* b:Baum *),` — a node anywhere in the graph, which the rule
+    // reads and does not rewrite.
+    while (cur().is("(*")) {
+      const size_t open = p_++;
+      Node n;
+      if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) {
+        n.label = p_;
+        p_ += 2;
+      }
+      n.name = identifier("a module in the context");
+      if (cur().is("(")) {
+        n.parens = true;
+        n.args = arguments();
+        for (Range a : n.args)
+          if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
+            notYet(t_[a.first], "a pattern's argument other than a name");
+      }
+      if (!cur().is("*)")) notYet(cur(), "a context of more than one node (`(* A B *)`)");
+      ++p_;
+      if (!accept(","))
+        notYet(t_[open], "a context joined to the rule's nodes (`(* A *) B`: lcjit runs contexts written apart, `(* A *), B`)");
+      r.contexts.push_back(n);
+    }
     if (cur().is("{")) notYet(cur(), "a block of Java statements among the rules");
     // The left side: nodes, each perhaps labelled, up to the condition or the arrow.
     do {
@@ -751,10 +774,38 @@ private:
     }
     w_.add(":");
     w_.add("{");
+    // Each context's fields, found by InString (lcjit's, the rewriter's): variables, and the
+    // label's copy of them.
+    std::vector<std::vector<std::string>> contextVars;
+    for (size_t k = 0; k < r.contexts.size(); ++k) {
+      const Node& n = r.contexts[k];
+      const Module* m = userModule(t_[n.name].text);
+      if (!m) notYet(t_[n.name], "a context of one of GroIMP's turtle commands");
+      checkCount(n, *m, true);
+      std::vector<std::string> vars;
+      for (size_t f = 0; f < m->fieldCount(); ++f) {
+        vars.push_back(n.parens && f < n.args.size() ? t_[n.args[f].first].text
+                                                     : "__xl_c" + std::to_string(k) + "_" + std::to_string(f));
+        w_.add(m->fieldType(f) + " " + vars.back() + " = 0;");
+      }
+      if (n.label) labels_[t_[*n.label].text] = Label{m, vars};
+      contextVars.push_back(vars);
+    }
     labelCopies();
-    if (r.condition) {
-      w_.add("if");
-      java(*r.condition);
+    if (r.condition || !r.contexts.empty()) {
+      w_.add("if (");
+      for (size_t k = 0; k < r.contexts.size(); ++k) {
+        const Node& n = r.contexts[k];
+        const Module& m = *userModule(t_[n.name].text);
+        std::string s = "InString(" + m.lcName + (contextVars[k].empty() ? "" : "(" + joined(contextVars[k]) + ")") + ", (";
+        if (n.label)
+          for (size_t f = 0; f < m.fieldCount(); ++f) s += t_[*n.label].text + "." + m.fieldName(f) + " = " + contextVars[k][f] + ", ";
+        w_.add(s);
+      }
+      if (r.condition) java(*r.condition);
+      else w_.add("true");
+      for (size_t k = 0; k < r.contexts.size(); ++k) w_.add("))");
+      w_.add(")");
     }
     w_.add("{");
     if (r.is(t_, "::>")) {

@@ -96,6 +96,10 @@ int lcjit_current_group();
 // the rest of its branch, in this step (lpfg's Cut module waits for the next one). Forward
 // derivation only; elsewhere nothing.
 void lcjit_cut_branch();
+// lcjit's own InString (the rewriter's): the next module `id` of the string as the step found it
+// (the predecessor while it derives, else the string), from byte `*at` on, which it moves past it;
+// null when there is none.
+const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at);
 void lcjit_forward();
 void lcjit_backward();
 int lcjit_is_forward();
