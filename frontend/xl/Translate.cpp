@@ -290,16 +290,20 @@ private:
     }
   }
 
-  // Whether the method starting at `void` has rules (`[`) after its parameters.
-  bool methodOfRules() const {
-    size_t i = p_ + 2;
+  // The token after the parentheses that open at `i`; npos when they do not close.
+  size_t afterParentheses(size_t i) const {
     int depth = 0;
     do {
-      if (t_[i].kind == Token::End) return false;
+      if (t_[i].kind == Token::End) return std::string::npos;
       depth += t_[i].is("(") ? 1 : t_[i].is(")") ? -1 : 0;
       ++i;
     } while (depth > 0);
-    return t_[i].is("[");
+    return i;
+  }
+  // Whether the method starting at `void` has rules (`[`) after its parameters.
+  bool methodOfRules() const {
+    const size_t i = afterParentheses(p_ + 2);
+    return i != std::string::npos && t_[i].is("[");
   }
   // A field or a method of Java statements.
   void declaration(bool constant) {
@@ -411,19 +415,7 @@ private:
     // reads and does not rewrite.
     while (cur().is("(*")) {
       const size_t open = p_++;
-      Node n;
-      if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) {
-        n.label = p_;
-        p_ += 2;
-      }
-      n.name = identifier("a module in the context");
-      if (cur().is("(")) {
-        n.parens = true;
-        n.args = arguments();
-        for (Range a : n.args)
-          if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
-            notYet(t_[a.first], "a pattern's argument other than a name");
-      }
+      Node n = patternNode("a module in the context");
       if (!cur().is("*)")) notYet(cur(), "a context of more than one node (`(* A B *)`)");
       ++p_;
       if (!accept(","))
@@ -433,20 +425,7 @@ private:
     if (cur().is("{")) notYet(cur(), "a block of Java statements among the rules");
     // The left side: nodes, each perhaps labelled, up to the condition or the arrow.
     do {
-      Node n;
-      if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) {
-        n.label = p_;
-        p_ += 2;
-      }
-      n.name = identifier(r.left.empty() ? "a rule (`A ==> B;`)" : "a module of the rule's left side");
-      if (cur().is("(")) {
-        n.parens = true;
-        n.args = arguments();
-        for (Range a : n.args)
-          if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
-            notYet(t_[a.first], "a pattern's argument other than a name");
-      }
-      r.left.push_back(n);
+      r.left.push_back(patternNode(r.left.empty() ? "a rule (`A ==> B;`)" : "a module of the rule's left side"));
     } while (cur().kind == Token::Identifier);
     if (cur().is("[")) notYet(cur(), "a branch on a rule's left side");
     if (accept(",")) {
@@ -487,6 +466,23 @@ private:
     r.end = p_++;
     return r;
   }
+  // A node of a pattern: `[label:]Module[(names)]`.
+  Node patternNode(const std::string& what) {
+    Node n;
+    if (cur().kind == Token::Identifier && t_[p_ + 1].is(":")) {
+      n.label = p_;
+      p_ += 2;
+    }
+    n.name = identifier(what);
+    if (cur().is("(")) {
+      n.parens = true;
+      n.args = arguments();
+      for (Range a : n.args)
+        if (a.second != a.first + 1 || t_[a.first].kind != Token::Identifier)
+          notYet(t_[a.first], "a pattern's argument other than a name");
+    }
+    return n;
+  }
   // Whether a rule's left side starts here: `[a:]A[(…)]` and more of them, then `,`, or an arrow.
   bool ruleStarts() const {
     size_t i = p_;
@@ -497,14 +493,7 @@ private:
       if (t_[i + 1].is(":")) i += 2;
       if (t_[i].kind != Token::Identifier) return false;
       ++i;
-      if (t_[i].is("(")) {
-        int d = 0;
-        do {
-          if (t_[i].kind == Token::End) return false;
-          d += t_[i].is("(") ? 1 : t_[i].is(")") ? -1 : 0;
-          ++i;
-        } while (d > 0);
-      }
+      if (t_[i].is("(") && (i = afterParentheses(i)) == std::string::npos) return false;
     }
     return any && (t_[i].is(",") || t_[i].is("==>") || t_[i].is("==>>") || t_[i].is("::>"));
   }
