@@ -4,7 +4,9 @@
 // name the user's file. XL's rule arrows (`==>`, `==>>`, `::>`) and query brackets (`(*`, `*)`) are
 // tokens of their own.
 #pragma once
+#include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lcjit::frontend::xl {
@@ -16,6 +18,8 @@ struct Token {
   int line = 1, col = 1;
   bool is(const char* t) const { return kind != String && text == t; }
 };
+
+using Range = std::pair<size_t, size_t>;  // tokens [first, last)
 
 struct XlError {
   Token at;

@@ -19,179 +19,15 @@
 #include <string_view>
 #include <vector>
 
+#include "frontend/xl/Java.h"
+#include "frontend/xl/LcWriter.h"
+#include "frontend/xl/Model.h"
 #include "frontend/xl/Tokens.h"
 #include "frontend/xl/Turtle.h"
 
 namespace lcjit::frontend::xl {
 
 namespace {
-
-using Range = std::pair<size_t, size_t>;  // tokens [first, last)
-
-struct Param {
-  size_t at;  // its name's token
-  std::string type, name;
-  bool inherited = false;  // `super.length`: the base's field, set by the module's argument
-};
-
-// A field a module inherits from the turtle command it extends and does not declare: its value
-// when the module is made, C++ in the module's parameters (`laenge`, `10`, `-1`).
-struct Inherited {
-  std::string name, type;
-  std::vector<size_t> value;  // tokens of an `extends` argument; empty: `fallback`
-  std::string fallback;
-};
-
-struct Module {
-  size_t keyword = 0, name = 0;
-  std::string lcName;  // its name in the L+C: its own, unless lcjit has a module of that name
-  std::vector<Param> params;
-  std::optional<size_t> base;  // after `extends`
-  std::vector<Range> baseArgs;
-  std::vector<Inherited> inherited;  // after the parameters, in the L+C module
-  size_t fieldCount() const { return params.size() + inherited.size(); }
-  std::string fieldName(size_t k) const { return k < params.size() ? params[k].name : inherited[k - params.size()].name; }
-  std::string fieldType(size_t k) const { return k < params.size() ? params[k].type : inherited[k - params.size()].type; }
-};
-
-// An item of a rule's side: a module `A`, `A()`, `A(x, y)` (on the left perhaps labelled `a:A`);
-// on the right also a bracket ([ or ]) or a block of Java statements `{ … }`.
-struct Node {
-  enum Kind { Module, Bracket, Block } kind = Module;
-  std::optional<size_t> label;  // the label's token (`t` of `t:Trieb`)
-  size_t name = 0;              // the module's (or the bracket's) token
-  bool parens = false;
-  std::vector<Range> args;  // on the left, each one identifier
-  Range block;              // a Block's tokens, its braces included
-};
-
-struct Rule {
-  std::vector<Node> contexts;  // `(* b:Baum *)` written apart (a comma after it): anywhere in the graph
-  std::vector<Node> left;
-  std::optional<Range> condition;  // `( … )`, its parentheses included
-  size_t arrow = 0, end = 0;       // `==>`, `==>>` or `::>`; `;` (or the last token)
-  std::vector<Node> right;
-  bool is(const std::vector<Token>& t, const char* arrowText) const { return t[arrow].is(arrowText); }
-};
-
-struct Method {
-  size_t name = 0;
-  std::vector<Rule> rules;
-};
-
-// A Java declaration at the top of the model: a field (`final float angle = 30;`) or a method of
-// statements (`static float half(float x) { return x / 2; }`), written as C++ before the rules.
-struct Declaration {
-  size_t type = 0, name = 0;  // tokens
-  bool constant = false;      // `final`
-  bool method = false;
-  std::vector<std::pair<size_t, size_t>> params;  // a method's: (type, name) tokens
-  Range rest;                                     // a field's from its name to `;`; a method's body
-};
-
-// XL's library functions (de.grogra.rgg.Library) that models call most, as C++ on lpfg's random
-// numbers (ran(x): uniform in [0, x)): random(a, b) uniform in [a, b), irandom(a, b) a whole
-// number from a to b, probability(p) true with probability p; println and print of a number, a
-// truth value or a string.
-constexpr std::string_view kLibrary =
-    "inline float random(float a, float b) { return a + ran(b - a); } "
-    "inline int irandom(int a, int b) { return a + (int)ran((float)(b - a + 1)); } "
-    "inline bool probability(float p) { return ran(1) < p; } "
-    "inline void print(double x) { std::printf(\"%g\", x); } inline void print(const char* s) { std::printf(\"%s\", s); } "
-    "inline void print(bool b) { std::printf(\"%s\", b ? \"true\" : \"false\"); } "
-    "inline void println(double x) { std::printf(\"%g\\n\", x); } "
-    "inline void println(const char* s) { std::printf(\"%s\\n\", s); } "
-    "inline void println(bool b) { std::printf(\"%s\\n\", b ? \"true\" : \"false\"); } inline void println() { std::printf(\"\\n\"); } "
-    "inline void print(long long x) { std::printf(\"%lld\", x); } inline void print(int x) { print((long long)x); } "
-    "inline void println(long long x) { std::printf(\"%lld\\n\", x); } inline void println(int x) { println((long long)x); }";
-
-// The L+C being written. Each token of the user's text goes at its own line and column; what the
-// translation adds goes where the writing is (after the token before it).
-class Writer {
-public:
-  explicit Writer(const std::vector<Token>& tokens) : t_(tokens) {}
-  // `text` at token `at`'s place.
-  void at(size_t at, std::string_view text) {
-    // Two names written together (`X]` is `X EB`) would be one: the second starts a line of its own.
-    bool joined = !text.empty() && word(text.front()) && !out_.empty() && word(out_.back()) && t_[at].file == file_ &&
-                  t_[at].line == line_ && col_ == t_[at].col;
-    if (joined) file_.clear();
-    moveTo(t_[at]);
-    put(text);
-  }
-  void token(size_t i) { at(i, spelled(t_[i])); }
-  void tokens(Range r) {
-    for (size_t i = r.first; i < r.second; ++i) token(i);
-  }
-  void add(std::string_view text) {
-    if (!out_.empty() && out_.back() != '\n') put(" ");
-    put(text);
-  }
-  std::string take() { return std::move(out_) + "\n"; }
-
-private:
-  static bool word(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
-  void put(std::string_view s) {
-    out_ += s;
-    col_ += (int)s.size();
-  }
-  void moveTo(const Token& t) {
-    if (t.file == file_ && t.line == line_ && col_ <= t.col) {
-    } else if (t.file == file_ && t.line == line_ + 1) {
-      out_ += '\n', ++line_, col_ = 1;
-    } else {
-      if (!out_.empty() && out_.back() != '\n') out_ += '\n';
-      out_ += "# " + std::to_string(t.line) + " \"" + t.file + "\"\n";
-      file_ = t.file, line_ = t.line, col_ = 1;
-    }
-    if (col_ < t.col) out_.append(t.col - col_, ' '), col_ = t.col;
-  }
-  // Java's numbers as C++'s: `1.5d` is a double without its suffix.
-  static std::string spelled(const Token& t) {
-    std::string s = t.text;
-    bool hex = s.size() > 1 && (s[1] == 'x' || s[1] == 'X');
-    if (t.kind == Token::Number && !hex && (s.back() == 'd' || s.back() == 'D')) s.pop_back();
-    return s;
-  }
-  const std::vector<Token>& t_;
-  std::string out_, file_;
-  int line_ = 0, col_ = 1;
-};
-
-std::string javaType(std::string_view type) {
-  if (type == "boolean") return "bool";
-  if (type == "int" || type == "float" || type == "double" || type == "long" || type == "short" || type == "char") {
-    return std::string(type);
-  }
-  if (type == "byte") return "signed char";
-  return "";
-}
-
-// The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
-// of the command's constructor's arguments, with their values when it has none: F() and M() are
-// 1 long, F's diameter and colour −1 (the turtle state's), RU(), RL() and RH() turn by 0 (F.java,
-// M.java, the rotations' constructors).
-struct Field {
-  std::string_view command, name, type, fallback;
-};
-constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
-                             {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
-                             {"RH", "angle", "float", "0"}};
-
-// Java's Math, as C++ has it (the functions take and give doubles, in radians, as Java's do).
-std::string javaMath(std::string_view name) {
-  static const std::set<std::string_view> kSame = {"sqrt", "sin",  "cos",   "tan",  "asin", "acos", "atan", "atan2",
-                                                   "exp",  "log",  "log10", "pow",  "floor", "ceil", "abs",  "cbrt",
-                                                   "sinh", "cosh", "tanh",  "hypot"};
-  if (kSame.count(name)) return "std::" + std::string(name);
-  if (name == "min") return "std::fmin";
-  if (name == "max") return "std::fmax";
-  if (name == "PI") return "M_PI";
-  if (name == "E") return "M_E";
-  if (name == "toRadians") return "(M_PI / 180) *";
-  if (name == "toDegrees") return "(180 / M_PI) *";
-  return "";
-}
 
 class Translator {
 public:
@@ -849,7 +685,7 @@ private:
   std::string write() {
     // The body (axiom, productions, interpretation rules) first: it says which of GroIMP's turtle
     // commands the model uses, declared in the head after the user's modules.
-    Writer head(t_);
+    LcWriter head(t_);
     for (const Module& m : modules_) {
       std::string decl = "module " + m.lcName;
       if (m.fieldCount() > 0) {
@@ -955,7 +791,7 @@ private:
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
   std::set<const TurtleCommand*> used_;
-  Writer w_{t_};
+  LcWriter w_{t_};
 };
 
 std::string errorLine(const XlError& e) {

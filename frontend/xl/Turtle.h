@@ -64,4 +64,15 @@ struct TurtleDefault {
 };
 inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"}, {"M", "1"}, {"RU", "0"}, {"RL", "0"}, {"RH", "0"}};
 
+// The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
+// of the command's constructor's arguments, with their values when it has none: F() and M() are
+// 1 long, F's diameter and colour −1 (the turtle state's), RU(), RL() and RH() turn by 0 (F.java,
+// M.java, the rotations' constructors).
+struct Field {
+  std::string_view command, name, type, fallback;
+};
+inline constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
+                             {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
+                             {"RH", "angle", "float", "0"}};
+
 }  // namespace lcjit::frontend::xl

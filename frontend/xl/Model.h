@@ -1,0 +1,76 @@
+// What the XL front end reads of a model (frontend/xl/Translate.cpp): its modules, the rules of
+// its methods, its Java declarations, each as the tokens (Tokens.h) they were written with, so
+// that the L+C written from them keeps the user's places. Internal to frontend/xl.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "frontend/xl/Tokens.h"
+
+namespace lcjit::frontend::xl {
+
+struct Param {
+  size_t at;  // its name's token
+  std::string type, name;
+  bool inherited = false;  // `super.length`: the base's field, set by the module's argument
+};
+
+// A field a module inherits from the turtle command it extends and does not declare: its value
+// when the module is made, C++ in the module's parameters (`laenge`, `10`, `-1`).
+struct Inherited {
+  std::string name, type;
+  std::vector<size_t> value;  // tokens of an `extends` argument; empty: `fallback`
+  std::string fallback;
+};
+
+struct Module {
+  size_t keyword = 0, name = 0;
+  std::string lcName;  // its name in the L+C: its own, unless lcjit has a module of that name
+  std::vector<Param> params;
+  std::optional<size_t> base;  // after `extends`
+  std::vector<Range> baseArgs;
+  std::vector<Inherited> inherited;  // after the parameters, in the L+C module
+  size_t fieldCount() const { return params.size() + inherited.size(); }
+  std::string fieldName(size_t k) const { return k < params.size() ? params[k].name : inherited[k - params.size()].name; }
+  std::string fieldType(size_t k) const { return k < params.size() ? params[k].type : inherited[k - params.size()].type; }
+};
+
+// An item of a rule's side: a module `A`, `A()`, `A(x, y)` (on the left perhaps labelled `a:A`);
+// on the right also a bracket ([ or ]) or a block of Java statements `{ … }`.
+struct Node {
+  enum Kind { Module, Bracket, Block } kind = Module;
+  std::optional<size_t> label;  // the label's token (`t` of `t:Trieb`)
+  size_t name = 0;              // the module's (or the bracket's) token
+  bool parens = false;
+  std::vector<Range> args;  // on the left, each one identifier
+  Range block;              // a Block's tokens, its braces included
+};
+
+struct Rule {
+  std::vector<Node> contexts;  // `(* b:Baum *)` written apart (a comma after it): anywhere in the graph
+  std::vector<Node> left;
+  std::optional<Range> condition;  // `( … )`, its parentheses included
+  size_t arrow = 0, end = 0;       // `==>`, `==>>` or `::>`; `;` (or the last token)
+  std::vector<Node> right;
+  bool is(const std::vector<Token>& t, const char* arrowText) const { return t[arrow].is(arrowText); }
+};
+
+struct Method {
+  size_t name = 0;
+  std::vector<Rule> rules;
+};
+
+// A Java declaration at the top of the model: a field (`final float angle = 30;`) or a method of
+// statements (`static float half(float x) { return x / 2; }`), written as C++ before the rules.
+struct Declaration {
+  size_t type = 0, name = 0;  // tokens
+  bool constant = false;      // `final`
+  bool method = false;
+  std::vector<std::pair<size_t, size_t>> params;  // a method's: (type, name) tokens
+  Range rest;                                     // a field's from its name to `;`; a method's body
+};
+
+}  // namespace lcjit::frontend::xl
