@@ -586,15 +586,50 @@ private:
   }
 
   // -- a rule as an L+C production --
-  void production(const Rule& r) {
+  static size_t rewrittenNode(const Rule& r, const std::vector<Token>& t) {
+    return r.is(t, "==>>") && r.left.size() == 3 ? 1 : 0;
+  }
+  // The model's modules a rule's pattern also matches: those extending the turtle command it
+  // names (a GroIMP pattern F(x) matches every node whose class is F or extends it), its node
+  // unlabelled and given its parameters.
+  std::vector<const Module*> subclassesMatched(const Rule& r) const {
+    std::vector<const Module*> found;
+    if (r.is(t_, "::>")) return found;
+    const Node& n = r.left[rewrittenNode(r, t_)];
+    if (n.label || userModule(t_[n.name].text) || n.args.empty()) return found;
+    for (const Module& m : modules_)
+      if (m.base && t_[*m.base].text == t_[n.name].text) found.push_back(&m);
+    return found;
+  }
+  // A subclass's pattern for a turtle command's (subclassesMatched): its fields, each of the
+  // command's fields the pattern names taking the pattern's name.
+  void subclassPattern(const Node& n, const Module& m, size_t index) {
+    std::vector<std::string_view> commandFields;
+    for (const Field& f : kFields)
+      if (f.command == t_[n.name].text) commandFields.push_back(f.name);
+    if (n.args.size() > commandFields.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
+    std::vector<std::string> names;
+    for (size_t f = 0; f < m.fieldCount(); ++f) {
+      std::string name = "__xl_" + std::to_string(index) + "_" + std::to_string(f);
+      for (size_t k = 0; k < n.args.size(); ++k)
+        if (m.fieldName(f) == commandFields[k]) name = t_[n.args[k].first].text;
+      names.push_back(name);
+    }
+    w_.at(n.name, m.lcName + (names.empty() ? "" : "(" + joined(names) + ")"));
+  }
+
+  // The production of rule `r`; with `subclass`, the same rule for a module extending the turtle
+  // command its pattern names.
+  void production(const Rule& r, const Module* subclass = nullptr) {
     labels_.clear();
     std::vector<Node> right = r.right;
     if (r.is(t_, "==>>")) right = spoRight(r);
-    const size_t node = r.is(t_, "==>>") && r.left.size() == 3 ? 1 : 0;  // the node rewritten
+    const size_t node = rewrittenNode(r, t_);
     if (r.left.size() > 1 && !r.is(t_, "==>>")) notYet(t_[r.left[1].name], "a rule of more than one node on its left side");
     for (size_t k = 0; k < r.left.size(); ++k) {
       if (k == 1 && node == 1) w_.add("<");
-      pattern(r.left[k], k);
+      if (subclass && k == node) subclassPattern(r.left[k], *subclass, k);
+      else pattern(r.left[k], k);
       if (k == 1 && node == 1) w_.add(">");
     }
     w_.add(":");
@@ -718,7 +753,11 @@ private:
     rightModules(axiom.right, true);
     w_.at(axiom.end, ";");
     if (step_)
-      for (const Rule& r : step_->rules) production(r);
+      for (const Rule& r : step_->rules) {
+        production(r);
+        // Right after it, as XL tries its rules in order: the same rule for the subclasses.
+        for (const Module* m : subclassesMatched(r)) production(r, m);
+      }
     std::vector<std::pair<size_t, std::string>> interpretation;  // (at, rule)
     for (const Module& m : modules_) {
       if (!m.base) continue;
