@@ -446,6 +446,10 @@ private:
   void java(Range r) {
     for (size_t i = r.first; i < r.second; ++i) {
       const Token& t = t_[i];
+      if (size_t end = query(i, r); end != i) {
+        i = end - 1;
+        continue;
+      }
       if (const Label* l = label(i)) {
         const bool bracketed = i + 3 < r.second && t_[i + 1].is("[") && t_[i + 3].is("]");
         const bool dotted = i + 2 < r.second && t_[i + 1].is(".");
@@ -479,6 +483,57 @@ private:
       w_.token(i);
     }
   }
+  // XL's aggregate graph queries over the whole graph, `count((* M *))`, `empty((* M *))`,
+  // `sum((* M *)[field])` and `mean`, `max`, `min` likewise (de.grogra.rgg.Library), M a module of
+  // the model: the string as the step found it, through InString (lcjit's, the rewriter's),
+  // whose condition is made false to go through every M. Inside a rule only (InString is the
+  // rewriter's, in production bodies). Returns the token after the query, or `i` for none.
+  size_t query(size_t i, Range r) {
+    static const std::set<std::string> kAggregates = {"count", "empty", "sum", "mean", "max", "min"};
+    if (t_[i].kind != Token::Identifier || !kAggregates.count(t_[i].text) || i + 5 >= r.second || !t_[i + 1].is("(") ||
+        !t_[i + 2].is("(*"))
+      return i;
+    const std::string& f = t_[i].text;
+    if (!inRule_) notYet(t_[i], "a graph query (`" + f + "((* … *))`) outside a rule");
+    const Module* m = t_[i + 3].kind == Token::Identifier ? userModule(t_[i + 3].text) : nullptr;
+    if (!m) notYet(t_[i + 3], "a query of other than one of the model's modules (`(* M *)`)");
+    if (!t_[i + 4].is("*)")) notYet(t_[i + 4], "a query of more than one module");
+    size_t at = i + 5, field = m->fieldCount();
+    if (t_[at].is("[")) {
+      if (at + 2 >= r.second || !t_[at + 2].is("]")) throw XlError{t_[at], "expected '[FIELD]' after the query"};
+      for (size_t k = 0; k < m->fieldCount(); ++k)
+        if (m->fieldName(k) == t_[at + 1].text) field = k;
+      if (field == m->fieldCount())
+        throw XlError{t_[at + 1], "a " + t_[m->name].text + " has no field '" + t_[at + 1].text + "'"};
+      at += 3;
+    }
+    if (!t_[at].is(")")) throw XlError{t_[at], "expected ')' to close " + f + "()"};
+    const bool counts = f == "count" || f == "empty";
+    if (counts != (field == m->fieldCount()))
+      throw XlError{t_[i], counts ? f + "() counts nodes: no field" : f + "() needs a field: `" + f + "((* M *)[field])`"};
+    const std::string q = "__xl_q" + std::to_string(temps_++);
+    std::string decls, vars;
+    for (size_t k = 0; k < m->fieldCount(); ++k) {
+      decls += m->fieldType(k) + " " + q + "_" + std::to_string(k) + " = 0; ";
+      vars += (k ? ", " : "") + q + "_" + std::to_string(k);
+    }
+    const std::string found = "InString(" + m->lcName + (vars.empty() ? "" : "(" + vars + ")") + ", ";
+    const std::string value = field < m->fieldCount() ? q + "_" + std::to_string(field) : "";
+    std::string e;
+    if (f == "count") e = "int " + q + " = 0; " + found + "(++" + q + ", false)); " + q + ";";
+    if (f == "empty") e = "bool " + q + " = !" + found + "true); " + q + ";";
+    if (f == "sum") e = "double " + q + " = 0; " + found + "(" + q + " += " + value + ", false)); " + q + ";";
+    if (f == "mean")
+      e = "double " + q + " = 0; int " + q + "n = 0; " + found + "(" + q + " += " + value + ", ++" + q + "n, false)); " + q +
+          "n ? " + q + " / " + q + "n : 0.0;";
+    if (f == "max" || f == "min")
+      e = "double " + q + " = " + (f == "max" ? "-" : "") + "HUGE_VAL; " + found + "(" + q + " = std::f" + f + "(" + q + ", " +
+          value + "), false)); " + q + ";";
+    w_.at(i, "({ " + decls + e + " })");
+    return at + 1;
+  }
+  bool inRule_ = false;  // writing a production (java(): graph queries)
+
   // A block of Java statements: the last one's `;` may be missing before `}`.
   void block(const Node& n) {
     const size_t close = n.block.second - 1;
@@ -622,6 +677,7 @@ private:
   // command its pattern names.
   void production(const Rule& r, const Module* subclass = nullptr) {
     labels_.clear();
+    inRule_ = true;
     std::vector<Node> right = r.right;
     if (r.is(t_, "==>>")) right = spoRight(r);
     const size_t node = rewrittenNode(r, t_);
@@ -693,6 +749,7 @@ private:
     }
     w_.add("}");
     w_.add("}");
+    inRule_ = false;
   }
   // An SPO rule's right side, as the production of an L-system: `X ==>> ;` deletes X and what
   // hangs on it (nothing of X's relations is kept: the rest of its branch goes, in this step, by
