@@ -340,8 +340,8 @@ class Engine final : public ModelRun {
   std::vector<Reaction> reactions_;
   int group_ = 0;
   bool forward_ = true;
-  bool cutBranch_ = false;
-  ModuleTable::ShownName shownNames_ = nullptr;  // showNames  // the running production asked its branch's rest to go (lcjit_cut_branch)
+  bool cutBranch_ = false;  // the running production asked its branch's rest to go (lcjit_cut_branch)
+  ModuleTable::ShownName shownNames_ = nullptr;  // showNames
   bool stopRequested_ = false;
   int step_ = 0, length_ = 0;
   bool ended_ = false;

@@ -94,9 +94,9 @@ std::unique_ptr<runtime::DrawingFiles> loadDrawingFiles(const ModelFiles& files,
   const bool colourFile = !files.colormap.empty() || !files.materials.empty();
   // Without a colour file: the language's own colours (XL's are GroIMP's), else lcjit's in the
   // window, else lpfg's.
-  const Language* language = files.language ? files.language : languageOf(files.lsystem);
+  const Language& language = lsystemLanguage(files.language, files.lsystem);
   if (colourFile) d->palette = runtime::Palette();
-  else if (language && language->colours) d->palette = language->colours();
+  else if (language.colours) d->palette = language.colours();
   else d->palette = lcjitColours ? runtime::Palette::lcjitDefault() : runtime::Palette();
   if (!files.colormap.empty()) warn(d->palette.loadColormap(files.colormap, &warnings));
   if (!files.materials.empty()) warn(d->palette.loadMaterials(files.materials));

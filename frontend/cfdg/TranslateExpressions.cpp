@@ -683,14 +683,8 @@ Value Translator::call(const Expr& e) {
   }
   if (auto it = kFunctions1.find(f); it != kFunctions1.end()) {
     if (n != 1 && !(f == "infinity" && n == 0)) fail(e.at, f + "() takes one number");
-    if (f == "factorial") {
-      // Context Free's factorial is of a whole number from 0 to 18 (the largest whose value is a
-      // whole double), in an impure design too.
-      const std::string a = temp();
-      return wrap("({ const double " + a + " = " + all.parts[0] + "; if (!(" + a + " >= 0.0 && " + a + " <= 18.0 && " + a +
-                  " == __builtin_floor(" + a + "))) __cf_fail_at(c, " + placeString(e.at) +
-                  ", \"Illegal argument for factorial\"); __cf_fn1(c, __cf_Factorial, " + a + "); })");
-    }
+    if (f == "factorial")  // of a whole number from 0 to 18 (the last whose value is a whole double), impure or not
+      return wrap("__cf_fn1(c, __cf_Factorial, " + wholeChecked(all.parts[0], 18, e.at, "Illegal argument for factorial") + ")");
     return wrap("__cf_fn1(c, " + it->second + ", " + (n == 0 ? std::string("1.0") : all.parts[0]) + ")");
   }
   if (auto it = kFunctions2.find(f); it != kFunctions2.end()) {

@@ -275,10 +275,15 @@ void Translator::checkNaturals(const std::vector<Param>& params, const std::vect
 // An impure design's are not checked.
 std::string Translator::naturalChecked(const std::string& value, const Place& at) {
   if (impure_) return value;
+  return wholeChecked(value, maxNatural_, at, "Expression does not evaluate to a legal natural number");
+}
+
+// `value` as one C++ expression that is it when it is a whole number from 0 to `most`, and
+// otherwise fails the run with `message` at `at`.
+std::string Translator::wholeChecked(const std::string& value, double most, const Place& at, const std::string& message) {
   const std::string n = temp();
-  return "({ const double " + n + " = " + value + "; if (!(" + n + " >= 0.0 && " + n + " <= " + literal(maxNatural_) +
-         " && " + n + " == __builtin_floor(" + n + "))) __cf_fail_at(c, " + placeString(at) +
-         ", \"Expression does not evaluate to a legal natural number\"); " + n + "; })";
+  return "({ const double " + n + " = " + value + "; if (!(" + n + " >= 0.0 && " + n + " <= " + literal(most) + " && " + n +
+         " == __builtin_floor(" + n + "))) __cf_fail_at(c, " + placeString(at) + ", \"" + message + "\"); " + n + "; })";
 }
 
 }  // namespace lcjit::frontend::cfdg::translate

@@ -344,6 +344,7 @@ class Translator {
   void naturalOperands(const Expr& e);
   std::vector<bool> naturalSlots(const std::vector<Param>& params) const;
   std::string naturalChecked(const std::string& value, const Place& at);
+  std::string wholeChecked(const std::string& value, double most, const Place& at, const std::string& message);
   void checkNaturals(const std::vector<Param>& params, const std::vector<ExprP>& exprs, const std::vector<Value>& values,
                      Arguments& a);
 };

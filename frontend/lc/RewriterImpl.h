@@ -233,6 +233,7 @@ class Rewriter {
   bool produceStatement(Where where);
   void inContext(const Token& kw, int side);
   void inString(const Token& kw);
+  void bindParams(const PatternModule& m, const std::string& record);
   void successorList(const char* terminator, const char* statement);
   // A module list as parsed: each module's name and each of its parameters as tokens of lx_.
   struct ModuleCall {

@@ -224,18 +224,20 @@ void Rewriter::inContext(const Token& kw, int side) {
   s += "}; const char* __lc_p[" + n + "]; if (!lcjit_in_context(__lc_ctx, " + std::to_string(side) + ", __lc_ids, " + n +
        ", __lc_p)) return false;";
   out_.glueAt(kw, s);
-  for (size_t i = 0; i < mods.size(); ++i) {
-    auto& m = mods[i];
-    if (m.params.empty()) continue;
-    std::string tmp = "__lc_v" + std::to_string(i);
-    out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __builtin_memcpy(&__lc_q, __lc_p[" + std::to_string(i) + "], sizeof __lc_q);");
-    for (size_t j = 0; j < m.params.size(); ++j) {
-      out_.token(m.params[j]);
-      out_.glue(" = __lc_q.p" + std::to_string(j) + ";");
-    }
-    out_.glue("}");
-  }
+  for (size_t i = 0; i < mods.size(); ++i) bindParams(mods[i], "__lc_p[" + std::to_string(i) + "]");
   out_.glueAt(close, "return true; }())");
+}
+
+// The pattern module's parameter names given the values of the module record at `record` (a
+// C++ expression), as InLeftContext and InString bind them.
+void Rewriter::bindParams(const PatternModule& m, const std::string& record) {
+  if (m.params.empty()) return;
+  out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __builtin_memcpy(&__lc_q, " + record + ", sizeof __lc_q);");
+  for (size_t j = 0; j < m.params.size(); ++j) {
+    out_.token(m.params[j]);
+    out_.glue(" = __lc_q.p" + std::to_string(j) + ";");
+  }
+  out_.glue("}");
 }
 
 // lcjit's own InString(M(a, …), CONDITION): whether the string, as the step found it, holds a
@@ -248,14 +250,7 @@ void Rewriter::inString(const Token& kw) {
   expect(",", "after InString's module (InString(M(a), CONDITION))");
   out_.glueAt(kw, "([&]() -> bool { size_t __lc_at = 0; for (const char* __lc_q0; (__lc_q0 = lcjit_find_module(__lc_ctx, " +
                       std::to_string(m.module->id) + ", &__lc_at));) {");
-  if (!m.params.empty()) {
-    out_.glueAt(m.name, "{ __lc_R_" + m.name.text + " __lc_q; __builtin_memcpy(&__lc_q, __lc_q0, sizeof __lc_q);");
-    for (size_t j = 0; j < m.params.size(); ++j) {
-      out_.token(m.params[j]);
-      out_.glue(" = __lc_q.p" + std::to_string(j) + ";");
-    }
-    out_.glue("}");
-  }
+  bindParams(m, "__lc_q0");
   out_.glue(" if (");
   int depth = 0;
   while (!(depth == 0 && atText(")"))) {

@@ -36,6 +36,13 @@ public:
     put(text);
   }
   std::string take() { return std::move(out_) + "\n"; }
+  // Java's numbers as C++'s: `1.5d` is a double without its suffix.
+  static std::string spelled(const Token& t) {
+    std::string s = t.text;
+    bool hex = s.size() > 1 && (s[1] == 'x' || s[1] == 'X');
+    if (t.kind == Token::Number && !hex && (s.back() == 'd' || s.back() == 'D')) s.pop_back();
+    return s;
+  }
 
 private:
   static bool word(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
@@ -53,13 +60,6 @@ private:
       file_ = t.file, line_ = t.line, col_ = 1;
     }
     if (col_ < t.col) out_.append(t.col - col_, ' '), col_ = t.col;
-  }
-  // Java's numbers as C++'s: `1.5d` is a double without its suffix.
-  static std::string spelled(const Token& t) {
-    std::string s = t.text;
-    bool hex = s.size() > 1 && (s[1] == 'x' || s[1] == 'X');
-    if (t.kind == Token::Number && !hex && (s.back() == 'd' || s.back() == 'D')) s.pop_back();
-    return s;
   }
   const std::vector<Token>& t_;
   std::string out_, file_;

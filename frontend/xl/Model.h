@@ -36,6 +36,12 @@ struct Module {
   size_t fieldCount() const { return params.size() + inherited.size(); }
   std::string fieldName(size_t k) const { return k < params.size() ? params[k].name : inherited[k - params.size()].name; }
   std::string fieldType(size_t k) const { return k < params.size() ? params[k].type : inherited[k - params.size()].type; }
+  // The field named `name`; fieldCount() for none.
+  size_t fieldIndex(const std::string& name) const {
+    size_t k = 0;
+    while (k < fieldCount() && fieldName(k) != name) ++k;
+    return k;
+  }
 };
 
 // An item of a rule's side: a module `A`, `A()`, `A(x, y)` (on the left perhaps labelled `a:A`);

@@ -57,14 +57,17 @@ private:
   [[noreturn]] void notYet(const Token& at, const std::string& what) {
     throw XlError{at, what + " is not supported yet by lcjit's XL (docs/xl.md)"};
   }
+  // How a token changes the depth of brackets of any kind: ( [ { open, ) ] } close.
+  static int nesting(const Token& t) {
+    return t.is("(") || t.is("[") || t.is("{") ? 1 : t.is(")") || t.is("]") || t.is("}") ? -1 : 0;
+  }
   // From `(` to its `)`, both included; p_ after it.
   Range balanced() {
     size_t first = p_;
     int depth = 0;
     do {
       if (cur().kind == Token::End) throw XlError{t_[first], "this '" + t_[first].text + "' is not closed"};
-      if (cur().is("(") || cur().is("[") || cur().is("{")) ++depth;
-      if (cur().is(")") || cur().is("]") || cur().is("}")) --depth;
+      depth += nesting(cur());
       ++p_;
     } while (depth > 0);
     return {first, p_};
@@ -76,8 +79,7 @@ private:
     size_t from = all.first + 1;
     int depth = 0;
     for (size_t i = all.first + 1; i + 1 < all.second; ++i) {
-      if (t_[i].is("(") || t_[i].is("[") || t_[i].is("{")) ++depth;
-      if (t_[i].is(")") || t_[i].is("]") || t_[i].is("}")) --depth;
+      depth += nesting(t_[i]);
       if (depth == 0 && t_[i].is(",")) {
         if (i == from) throw XlError{t_[i], "expected an argument before ','"};
         args.push_back({from, i});
@@ -108,7 +110,6 @@ private:
     m.name = identifier("the method's name");
     expect("(", "after the method's name");
     if (!accept(")")) notYet(cur(), "a method with parameters");
-    if (cur().is("{")) notYet(cur(), "a method of Java statements (`{ … }`)");
     expect("[", "to begin the method's rules (`public void run() [ A ==> B; ]`)");
     while (!accept("]")) m.rules.push_back(rule());
     const std::string& name = t_[m.name].text;
@@ -206,10 +207,12 @@ private:
     if (cur().is("implements")) notYet(cur(), "'implements'");
     expect(";", "at the end of the module declaration");
     const std::string base = m.base ? t_[*m.base].text : "";
+    const std::vector<const Field*> baseFields = fieldsOf(base);
     for (Param& param : m.params) {
-      bool inherited = false;
-      for (const Field& f : kFields)
-        if (base == f.command && f.name == param.name) inherited = true, param.type = param.inherited ? f.type : param.type;
+      const Field* inherited = nullptr;
+      for (const Field* f : baseFields)
+        if (f->name == param.name) inherited = f;
+      if (param.inherited && inherited) param.type = inherited->type;
       if (param.inherited && !inherited)
         throw XlError{t_[param.at], "'super." + param.name + "': the module does not extend a turtle command with a field '" +
                                         param.name + "'"};
@@ -218,10 +221,8 @@ private:
                                         "` to set it, or give the parameter another name"};
     }
     // The base's fields the module does not declare, set from its `extends` arguments.
-    size_t position = 0;
-    for (const Field& f : kFields) {
-      if (base != f.command) continue;
-      const size_t k = position++;
+    for (size_t k = 0; k < baseFields.size(); ++k) {
+      const Field& f = *baseFields[k];
       bool declared = false;
       for (const Param& param : m.params) declared = declared || param.name == f.name;
       if (declared) continue;
@@ -230,8 +231,9 @@ private:
         for (size_t i = m.baseArgs[k].first; i < m.baseArgs[k].second; ++i) field.value.push_back(i);
       m.inherited.push_back(std::move(field));
     }
-    if (m.base && position > 0 && m.baseArgs.size() > position)
-      throw XlError{t_[m.baseArgs[position].first], base + " takes at most " + std::to_string(position) + " arguments"};
+    if (!baseFields.empty() && m.baseArgs.size() > baseFields.size())
+      throw XlError{t_[m.baseArgs[baseFields.size()].first],
+                    base + " takes at most " + std::to_string(baseFields.size()) + " arguments"};
     for (const Module& other : modules_)
       if (t_[other.name].text == t_[m.name].text) throw XlError{t_[m.name], "a second module '" + t_[m.name].text + "'"};
     // lcjit's own modules (lpfg's) keep their names in the L+C: a model's module of such a name
@@ -381,11 +383,6 @@ private:
     auto it = labels_.find(t_[at].text);
     return t_[at].kind == Token::Identifier && it != labels_.end() ? &it->second : nullptr;
   }
-  bool hasField(const Module& m, const std::string& name) const {
-    for (size_t k = 0; k < m.fieldCount(); ++k)
-      if (m.fieldName(k) == name) return true;
-    return false;
-  }
 
   // A left side's node as an L+C pattern: the user's names for the parameters it names, names of
   // the translation's for the others (its inherited fields among them).
@@ -397,36 +394,30 @@ private:
         names.push_back(n.parens && k < n.args.size() ? t_[n.args[k].first].text
                                                       : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
       if (n.label) labels_[t_[*n.label].text] = Label{m, names};
-      w_.at(n.name, m->lcName);
-      if (names.empty()) return;
-      if (n.parens && !n.args.empty()) {
-        w_.token(n.args.front().first - 1);  // (
-        for (size_t k = 0; k < names.size(); ++k) {
-          if (k && k < n.args.size()) w_.token(n.args[k].first - 1);  // ,
-          if (k < n.args.size()) w_.token(n.args[k].first);
-          else w_.add(", " + names[k]);
-        }
-        w_.token(n.args.back().second);  // )
-      } else {
-        std::string list;
-        for (size_t k = 0; k < names.size(); ++k) list += (k ? ", " : "") + names[k];
-        w_.add("(" + list + ")");
-      }
+      writtenCall(n, m->lcName, std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
       return;
     }
     if (n.label) notYet(t_[*n.label], "a label on one of GroIMP's turtle commands");
     std::string_view defaultArgument;
     const TurtleCommand* c = turtleOrError(n, &defaultArgument);
     if (!defaultArgument.empty()) notYet(t_[n.name], "a pattern '" + t_[n.name].text + "' without its parameter");
-    w_.at(n.name, c->module);
-    if (n.parens && !n.args.empty()) {
-      w_.token(n.args.front().first - 1);
-      for (size_t i = 0; i < n.args.size(); ++i) {
-        if (i) w_.token(n.args[i].first - 1);
-        w_.tokens(n.args[i]);
-      }
-      w_.token(n.args.back().second);
+    writtenCall(n, std::string(c->module), {});
+  }
+  // Module `name` with the node's arguments written where the user wrote them (the compiler's
+  // errors name them there), then `more`.
+  void writtenCall(const Node& n, const std::string& name, const std::vector<std::string>& more) {
+    w_.at(n.name, name);
+    if (n.args.empty()) {
+      if (!more.empty()) w_.add("(" + joined(more) + ")");
+      return;
     }
+    w_.token(n.args.front().first - 1);  // (
+    for (size_t i = 0; i < n.args.size(); ++i) {
+      if (i) w_.token(n.args[i].first - 1);  // ,
+      java(n.args[i]);
+    }
+    for (const std::string& m : more) w_.add(", " + m);
+    w_.token(n.args.back().second);  // )
   }
   // The copies of the labelled nodes' fields, made first in the production.
   void labelCopies() {
@@ -457,7 +448,7 @@ private:
           const std::string& field = t_[i + 2].text;
           if (dotted && i + 3 < r.second && t_[i + 3].is("("))
             notYet(t_[i + 2], "a method of a node (`" + t.text + "." + field + "(…)`)");
-          if (!hasField(*l->module, field))
+          if (l->module->fieldIndex(field) == l->module->fieldCount())
             throw XlError{t_[i + 2], "'" + t.text + "' (a " + t_[l->module->name].text + ") has no field '" + field + "'"};
           w_.token(i);
           w_.at(i + 1, ".");
@@ -501,8 +492,7 @@ private:
     size_t at = i + 5, field = m->fieldCount();
     if (t_[at].is("[")) {
       if (at + 2 >= r.second || !t_[at + 2].is("]")) throw XlError{t_[at], "expected '[FIELD]' after the query"};
-      for (size_t k = 0; k < m->fieldCount(); ++k)
-        if (m->fieldName(k) == t_[at + 1].text) field = k;
+      field = m->fieldIndex(t_[at + 1].text);
       if (field == m->fieldCount())
         throw XlError{t_[at + 1], "a " + t_[m->name].text + " has no field '" + t_[at + 1].text + "'"};
       at += 3;
@@ -576,31 +566,29 @@ private:
       if (n.kind == Node::Block) continue;
       if (const Label* l = axiom ? nullptr : label(n.name)) {
         if (n.parens) throw XlError{t_[n.name], "'" + t_[n.name].text + "' names a node of the left side: no arguments"};
-        std::string s = l->module->lcName;
-        if (l->module->fieldCount() > 0) {
-          s += "(";
-          for (size_t k = 0; k < l->module->fieldCount(); ++k) s += (k ? ", " : "") + t_[n.name].text + "." + l->module->fieldName(k);
-          s += ")";
-        }
-        w_.at(n.name, s);
+        w_.at(n.name, fromLabel(t_[n.name].text, *l->module));
         continue;
       }
+      // In a rule, each argument is its local (rightStatements); in the axiom, as written.
       std::vector<std::string> given;
-      for (Range a : n.args) {
-        if (axiom) given.push_back("(" + text(a) + ")");
-        else given.push_back(argumentNames_[next++]);
-      }
+      for (Range a : n.args) given.push_back(axiom ? "(" + text(a) + ")" : argumentNames_[next++]);
+      std::string name;
+      std::vector<std::string> more;
       if (const Module* m = userModule(t_[n.name].text)) {
         checkCount(n, *m, false);
-        std::vector<std::string> all = given;
-        for (const Inherited& f : m->inherited) all.push_back(inheritedValue(*m, f, given));
-        w_.at(n.name, m->lcName + (all.empty() ? "" : "(" + joined(all) + ")"));
-        continue;
+        name = m->lcName;
+        for (const Inherited& f : m->inherited) more.push_back(inheritedValue(*m, f, given));
+      } else {
+        std::string_view defaultArgument;
+        name = turtleOrError(n, &defaultArgument)->module;
+        if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
       }
-      std::string_view defaultArgument;
-      const TurtleCommand* c = turtleOrError(n, &defaultArgument);
-      if (!defaultArgument.empty()) given.push_back(std::string(defaultArgument));
-      w_.at(n.name, std::string(c->module) + (given.empty() ? "" : "(" + joined(given) + ")"));
+      if (axiom) {
+        writtenCall(n, name, more);
+      } else {
+        given.insert(given.end(), more.begin(), more.end());
+        w_.at(n.name, name + (given.empty() ? "" : "(" + joined(given) + ")"));
+      }
     }
   }
   // An inherited field's value for a module made with the arguments `given`: its `extends`
@@ -609,12 +597,18 @@ private:
     if (f.value.empty()) return f.fallback;
     std::string s = "(";
     for (size_t i : f.value) {
-      std::string piece = t_[i].text;
+      std::string piece = LcWriter::spelled(t_[i]);
       for (size_t k = 0; k < m.params.size(); ++k)
         if (t_[i].kind == Token::Identifier && t_[i].text == m.params[k].name && k < given.size()) piece = given[k];
       s += (s.size() > 1 ? " " : "") + piece;
     }
     return s + ")";
+  }
+  // The node a label names, as its fields' copy left it: `T(t.alter, t.length, …)`.
+  static std::string fromLabel(const std::string& label, const Module& m) {
+    std::vector<std::string> fields;
+    for (size_t k = 0; k < m.fieldCount(); ++k) fields.push_back(label + "." + m.fieldName(k));
+    return m.lcName + (fields.empty() ? "" : "(" + joined(fields) + ")");
   }
   static std::string joined(const std::vector<std::string>& items) {
     std::string s;
@@ -623,7 +617,7 @@ private:
   }
   std::string text(Range r) const {
     std::string s;
-    for (size_t i = r.first; i < r.second; ++i) s += (i > r.first ? " " : "") + t_[i].text;
+    for (size_t i = r.first; i < r.second; ++i) s += (i > r.first ? " " : "") + LcWriter::spelled(t_[i]);
     return s;
   }
   // How a command with these arguments is drawn (lpfg's modules).
@@ -659,17 +653,12 @@ private:
   // A subclass's pattern for a turtle command's (subclassesMatched): its fields, each of the
   // command's fields the pattern names taking the pattern's name.
   void subclassPattern(const Node& n, const Module& m, size_t index) {
-    std::vector<std::string_view> commandFields;
-    for (const Field& f : kFields)
-      if (f.command == t_[n.name].text) commandFields.push_back(f.name);
+    const std::vector<const Field*> commandFields = fieldsOf(t_[n.name].text);
     if (n.args.size() > commandFields.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
     std::vector<std::string> names;
-    for (size_t f = 0; f < m.fieldCount(); ++f) {
-      std::string name = "__xl_" + std::to_string(index) + "_" + std::to_string(f);
-      for (size_t k = 0; k < n.args.size(); ++k)
-        if (m.fieldName(f) == commandFields[k]) name = t_[n.args[k].first].text;
-      names.push_back(name);
-    }
+    for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(f));
+    for (size_t k = 0; k < n.args.size(); ++k)
+      if (size_t f = m.fieldIndex(std::string(commandFields[k]->name)); f < m.fieldCount()) names[f] = t_[n.args[k].first].text;
     w_.at(n.name, m.lcName + (names.empty() ? "" : "(" + joined(names) + ")"));
   }
 
@@ -732,14 +721,7 @@ private:
       const Node& kept = r.left.front();
       if (!userModule(t_[kept.name].text) || !kept.label)
         notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
-      const Module& m = *userModule(t_[kept.name].text);
-      std::string s = "produce " + m.lcName;
-      if (m.fieldCount() > 0) {
-        std::vector<std::string> values;
-        for (size_t k = 0; k < m.fieldCount(); ++k) values.push_back(t_[*kept.label].text + "." + m.fieldName(k));
-        s += "(" + joined(values) + ")";
-      }
-      w_.at(r.end, s + ";");
+      w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *userModule(t_[kept.name].text)) + ";");
     } else {
       rightStatements(right);
       if (deletes(r, t_)) w_.add("lcjit_cut_branch();");
@@ -779,13 +761,9 @@ private:
     // commands the model uses, declared in the head after the user's modules.
     LcWriter head(t_);
     for (const Module& m : modules_) {
-      std::string decl = "module " + m.lcName;
-      if (m.fieldCount() > 0) {
-        decl += "(";
-        for (size_t k = 0; k < m.fieldCount(); ++k) decl += (k ? ", " : "") + m.fieldType(k);
-        decl += ")";
-      }
-      head.at(m.keyword, decl + ";");
+      std::vector<std::string> types;
+      for (size_t k = 0; k < m.fieldCount(); ++k) types.push_back(m.fieldType(k));
+      head.at(m.keyword, "module " + m.lcName + (types.empty() ? "" : "(" + joined(types) + ")") + ";");
     }
     // XL's library, then the model's fields and methods (each method declared first: Java's may
     // call one written after it).
@@ -831,13 +809,10 @@ private:
         body = drawn(kOwnCylinder, {"length", "diameter", "color"});
       } else {
         std::string_view defaultArgument;
-        int fields = 0;
-        for (const Field& f : kFields) fields += f.command == base;
-        const TurtleCommand* c = turtle(*m.base, fields, &defaultArgument);
-        if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has F, F0, M, RU, RL, RH and Null)"};
         std::vector<std::string> args;
-        for (const Field& f : kFields)
-          if (f.command == base) args.push_back(std::string(f.name));
+        for (const Field* f : fieldsOf(base)) args.push_back(std::string(f->name));
+        const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
+        if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has F, F0, M, RU, RL, RH and Null)"};
         if (c->drawn.empty()) continue;
         body = "produce " + drawn(c->drawn, args) + ";";
       }

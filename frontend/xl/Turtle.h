@@ -9,6 +9,7 @@
 // constructors, TurtleState's defaults).
 #pragma once
 #include <string_view>
+#include <vector>
 
 namespace lcjit::frontend::xl {
 
@@ -74,5 +75,13 @@ struct Field {
 inline constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
                              {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
                              {"RH", "angle", "float", "0"}};
+
+// The fields of turtle command `command`, in kFields' order (its constructor's arguments').
+inline std::vector<const Field*> fieldsOf(std::string_view command) {
+  std::vector<const Field*> fields;
+  for (const Field& f : kFields)
+    if (f.command == command) fields.push_back(&f);
+  return fields;
+}
 
 }  // namespace lcjit::frontend::xl
