@@ -187,6 +187,8 @@ class Engine final : public ModelRun {
   int currentGroup() const { return group_; }
   void cutBranch() { cutBranch_ = true; }
   const char* findModule(__lc_Ctx* c, __lc_ModuleId id, size_t* at) const;
+  // The turtle interpreting the string now (the innermost pass), null outside interpretation.
+  Turtle* interpretingTurtle() { return turtlesInUse_ ? turtles_[turtlesInUse_ - 1].get() : nullptr; }
   void setForward(bool f) { forward_ = f; }
   bool forward() const { return forward_; }
   void stop() override { stopRequested_ = true; }

@@ -99,6 +99,33 @@ const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at) {
   Engine* e = c ? static_cast<Engine*>(c->engine) : engine();
   return e ? e->findModule(c, id, at) : nullptr;
 }
+namespace {
+// The field of the interpreting turtle's state (lcjit_turtle_field); null outside interpretation.
+float* turtleField(int field) {
+  Engine* e = engine();
+  lcjit::runtime::Turtle* turtle = e ? e->interpretingTurtle() : nullptr;
+  if (!turtle) return nullptr;
+  lcjit::runtime::TurtleState& t = turtle->state();
+  switch (field) {
+    case __lc_TurtleStepLength: return &t.stepLength;
+    case __lc_TurtleLocalStepLength: return &t.localStepLength;
+    case __lc_TurtleWidth: return &t.width;
+  }
+  return nullptr;
+}
+}  // namespace
+
+float lcjit_turtle_field(int field) {
+  float* f = turtleField(field);
+  return f ? *f : 0.0f;
+}
+void lcjit_set_turtle_field(int field, float value) {
+  if (float* f = turtleField(field)) {
+    *f = value;
+    // SetWidth's: both of the contour's scales.
+    if (field == __lc_TurtleWidth) engine()->interpretingTurtle()->state().widthUp = value;
+  }
+}
 int lcjit_current_group() { return engine() ? engine()->currentGroup() : 0; }
 void lcjit_forward() {
   if (Engine* e = engine()) e->setForward(true);
@@ -348,7 +375,7 @@ std::string takeReplOutput() { return std::exchange(replOutput(), {}); }
 std::vector<std::pair<std::string, void*>> hostFunctions() {
 #define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
   std::vector<std::pair<std::string, void*>> functions = {
-      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch), LCJIT_HOST(lcjit_find_module),
+      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch), LCJIT_HOST(lcjit_find_module), LCJIT_HOST(lcjit_turtle_field), LCJIT_HOST(lcjit_set_turtle_field),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
       LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie), LCJIT_HOST(lcjit_report),

@@ -359,7 +359,7 @@ private:
     const TurtleCommand* c = turtle(n.name, (int)n.args.size(), defaultArgument);
     if (!c)
       throw XlError{t_[n.name], "no module '" + t_[n.name].text + "': declare it (`module " + t_[n.name].text +
-                                    ";`); of GroIMP's turtle commands lcjit has F, F0, M, RU, RL, RH, Translate, Sphere and Null"};
+                                    ";`); of GroIMP's turtle commands lcjit has " + turtleNames()};
     used_.insert(c);
     return c;
   }
@@ -812,7 +812,7 @@ private:
         std::vector<std::string> args;
         for (const Field* f : fieldsOf(base)) args.push_back(std::string(f->name));
         const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
-        if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has F, F0, M, RU, RL, RH and Null)"};
+        if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
         if (c->drawn.empty()) continue;
         body = "produce " + drawn(c->drawn, args) + ";";
       }

@@ -8,6 +8,8 @@
 // GroIMP sources of each fact (the rotation matrices of URotation, RL and RH, F's and M's
 // constructors, TurtleState's defaults).
 #pragma once
+#include <iterator>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -34,6 +36,18 @@ inline constexpr std::string_view kOwnCylinder =
     "if ($2 < 0 && $3 < 0) produce F($1); nproduce SB; if ($2 >= 0) nproduce SetWidth($2); "
     "if ($3 >= 0) nproduce SetColor((int)($3) + 2); produce F($1) EB f($1);";
 
+// GroIMP's turtle state length and its local form (TurtleState's `length`, `localLength`), which
+// lcjit's turtle keeps for XL (lcjit_turtle_field, lcjit/abi.h): a shoot (F0, FMul, FAdd) takes
+// the local one, and the local one is the length again after it.
+#define XL_STATE_LENGTH "lcjit_turtle_field(__lc_TurtleStepLength)"
+#define XL_SHOOT                                                                                   \
+  "float __xl_l = lcjit_turtle_field(__lc_TurtleLocalStepLength); "                              \
+  "lcjit_set_turtle_field(__lc_TurtleLocalStepLength, " XL_STATE_LENGTH "); "
+#define XL_SET_LENGTH(value)                                                                        \
+  "float __xl_v = " value "; lcjit_set_turtle_field(__lc_TurtleStepLength, __xl_v); "           \
+  "lcjit_set_turtle_field(__lc_TurtleLocalStepLength, __xl_v); produce ;"
+#define XL_SET_LOCAL_LENGTH(value) "lcjit_set_turtle_field(__lc_TurtleLocalStepLength, " value "); produce ;"
+
 inline constexpr TurtleCommand kTurtleCommands[] = {
     // F(l): a cylinder of length l along the head, then the turtle at its end (Shoot, TurtleStep).
     {"F", 1, "F", "", true, ""},
@@ -41,10 +55,35 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"F", 2, "F_d", "float, float", false, "", "if ($2 < 0) produce F($1); else produce SB SetWidth($2) F($1) EB f($1);"},
     // F(l, d, c): and of colour c (kOwnCylinder).
     {"F", 3, "F_dc", "float, float, int", false, "", kOwnCylinder},
-    // F0: a cylinder of the turtle state's length, 100 while nothing sets it (TurtleState).
-    {"F0", 0, "F0", "", false, "F(100)"},
-    // M(l): moves l along the head without drawing.
+    // F0: a cylinder of the turtle state's local length (TurtleState: 100 while nothing sets it),
+    // FMul(x) and FAdd(x) of that times or plus x; after a shoot the local values are the
+    // state's again (Shoot.execute). XL_STATE_LENGTH and XL_SHOOT.
+    {"F0", 0, "F0", "", false, "", XL_SHOOT "produce F(__xl_l);"},
+    {"FMul", 1, "FMul", "float", false, "", XL_SHOOT "produce F(__xl_l * $1);"},
+    {"FAdd", 1, "FAdd", "float", false, "", XL_SHOOT "produce F(__xl_l + $1);"},
+    // M(l): moves l along the head without drawing; M0 by the state's length (not the local one),
+    // MMul(x) by that times x, MAdd(x) plus x, MRel(x) by it times x − 1: from the end of the
+    // shoot before, to x of its length from its base (the quick reference's `L(10) [MRel(0.7) …]`).
     {"M", 1, "M", "float", false, "f($1)"},
+    {"M0", 0, "M0", "", false, "f(" XL_STATE_LENGTH ")"},
+    {"MMul", 1, "MMul", "float", false, "f(" XL_STATE_LENGTH " * $1)"},
+    {"MAdd", 1, "MAdd", "float", false, "f(" XL_STATE_LENGTH " + $1)"},
+    {"MRel", 1, "MRel", "float", false, "f(" XL_STATE_LENGTH " * ($1 - 1))"},
+    // L(x): the state's length and its local form become x, LAdd(x) the length plus x, LMul(x)
+    // times x; Ll, LlAdd and LlMul set the local form alone; L0 puts back the first, 100.
+    {"L", 1, "L", "float", false, "", XL_SET_LENGTH("$1")},
+    {"LAdd", 1, "LAdd", "float", false, "", XL_SET_LENGTH(XL_STATE_LENGTH " + $1")},
+    {"LMul", 1, "LMul", "float", false, "", XL_SET_LENGTH(XL_STATE_LENGTH " * $1")},
+    {"L0", 0, "L0", "", false, "", XL_SET_LENGTH("100")},
+    {"Ll", 1, "Ll", "float", false, "", XL_SET_LOCAL_LENGTH("$1")},
+    {"LlAdd", 1, "LlAdd", "float", false, "", XL_SET_LOCAL_LENGTH(XL_STATE_LENGTH " + $1")},
+    {"LlMul", 1, "LlMul", "float", false, "", XL_SET_LOCAL_LENGTH(XL_STATE_LENGTH " * $1")},
+    // D(x): the state's diameter, lcjit's line width (SetWidth); DAdd and DMul from the width.
+    {"D", 1, "D", "float", false, "SetWidth($1)"},
+    {"DAdd", 1, "DAdd", "float", false, "SetWidth(lcjit_turtle_field(__lc_TurtleWidth) + $1)"},
+    {"DMul", 1, "DMul", "float", false, "SetWidth(lcjit_turtle_field(__lc_TurtleWidth) * $1)"},
+    // P(c): the state's colour, one of GroIMP's 16 (lcjit's c + 2, as F's).
+    {"P", 1, "P", "int", false, "", "if ($1 >= 0 && $1 <= 15) produce SetColor($1 + 2); else produce ;"},
     {"RU", 1, "RU", "float", false, "Right($1)"},
     {"RL", 1, "RL", "float", false, "Up($1)"},
     {"RH", 1, "RH", "float", false, "RollR($1)"},
@@ -57,6 +96,24 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     // Null: a node that does nothing to the turtle.
     {"Null", 0, "Null", "", false, ""},
 };
+#undef XL_STATE_LENGTH
+#undef XL_SHOOT
+#undef XL_SET_LENGTH
+#undef XL_SET_LOCAL_LENGTH
+
+// The names of GroIMP's turtle commands lcjit has, for messages: "F, F0, …, Sphere and Null".
+inline std::string turtleNames() {
+  std::string names;
+  constexpr size_t n = std::size(kTurtleCommands);
+  for (size_t i = 0; i < n; ++i) {
+    bool again = false;
+    for (size_t j = 0; j < i; ++j) again = again || kTurtleCommands[j].name == kTurtleCommands[i].name;
+    if (again) continue;
+    if (!names.empty()) names += i + 1 == n ? " and " : ", ";
+    names += kTurtleCommands[i].name;
+  }
+  return names;
+}
 
 // What `new X()` is for the turtle's classes whose constructor without arguments gives one:
 // F() and M() have length 1 (F.java, M.java: `this (1)`), RU(), RL(), RH() turn by 0.

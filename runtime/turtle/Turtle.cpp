@@ -319,7 +319,10 @@ void Turtle::executeModule(char* rec) {
   switch (id) {
     case __lc_id_SB: pushBranch(); break;
     case __lc_id_EB: popBranch(); break;
-    case __lc_id_F: forward(f0(), true, true); break;
+    case __lc_id_F:
+      forward(f0(), true, true);
+      t.localStepLength = t.stepLength;  // GroIMP's shoot: the local length served its one shoot
+      break;
     case __lc_id_G: forward(f0(), true, false); break;
     case __lc_id_f: forward(f0(), false, true); break;
     case __lc_id_g: forward(f0(), false, false); break;

@@ -70,6 +70,12 @@ struct TurtleState {
   std::array<float, kMaxTropisms> elasticity{};
   V3f simpleTropism{0, 1, 0};
   float simpleElasticity = 0;
+
+  // GroIMP's turtle state length (XL's L, LAdd, LMul; F0 draws it, M0 and MRel move by it) and
+  // its local form, which the next shoot alone takes (Ll …): TurtleState.java's `length` and
+  // `localLength`, 100 at first. lpfg has no such state; interpretation rules reach it through
+  // lcjit_turtle_field (lcjit/abi.h).
+  float stepLength = 100, localStepLength = 100;
 };
 
 // lpfg's tropism array (tropismarr.cpp): global, beside the branch stack (each TurtleState keeps
@@ -103,6 +109,7 @@ class Turtle {
   // Ends the interpretation: open polygons are dropped, as in lpfg.
   void finish();
   const TurtleState& state() const { return state_; }
+  TurtleState& state() { return state_; }
 
  private:
   // ---- motion (Turtle.cpp)

@@ -79,7 +79,7 @@ struct __lc_Model {
 // Which context an InXContext(...) expression tests.
 enum __lc_ContextSide { __lc_InLeft = 0, __lc_InRight = 1, __lc_InNewLeft = 2, __lc_InNewRight = 3 };
 
-// Host functions callable from model code. Every one is listed in runtime/HostSymbols.cpp.
+// Host functions callable from model code. Every one is listed in runtime/HostFunctions.cpp.
 extern "C" {
 void lcjit_buffer_reserve(__lc_Buffer* b, size_t extra);
 // Not zero while a guarded run has been asked to stop (a limit, Ctrl-C): emitting a module then
@@ -100,6 +100,16 @@ void lcjit_cut_branch();
 // (the predecessor while it derives, else the string), from byte `*at` on, which it moves past it;
 // null when there is none.
 const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at);
+// lcjit's own, for GroIMP's turtle state (XL's L, D, F0, MRel …): a field of the turtle that is
+// interpreting the string, where an interpretation rule runs (the turtle has done what comes
+// before it). Anywhere else the field reads 0 and setting it does nothing.
+enum __lc_TurtleField {
+  __lc_TurtleStepLength = 0,       // GroIMP's state length, 100 at first
+  __lc_TurtleLocalStepLength = 1,  // its local form: for the next shoot alone
+  __lc_TurtleWidth = 2,            // the line width (SetWidth's)
+};
+float lcjit_turtle_field(int field);
+void lcjit_set_turtle_field(int field, float value);
 void lcjit_forward();
 void lcjit_backward();
 int lcjit_is_forward();
