@@ -32,6 +32,14 @@ inline std::string javaMath(std::string_view name) {
   return "";
 }
 
+// GroIMP's shaders by name (imp3d.shading.RGBAShader: its STANDARD table, the EGA's 16 as EGA_0 …
+// EGA_15, then java.awt.Color's BLACK … WHITE) as the number of their colour: lcjit's colour
+// index is it + 2 (Palette::ega(), runtime/files/Palette.h), as for F's colours.
+inline constexpr std::string_view kShaders =
+    "enum : int { EGA_0, EGA_1, EGA_2, EGA_3, EGA_4, EGA_5, EGA_6, EGA_7, EGA_8, EGA_9, EGA_10, EGA_11, EGA_12, "
+    "EGA_13, EGA_14, EGA_15, BLACK, BLUE, CYAN, DARK_GRAY, GRAY, GREEN, LIGHT_GRAY, MAGENTA, ORANGE, PINK, RED, "
+    "YELLOW, WHITE }; ";
+
 // XL's library functions (de.grogra.rgg.Library) that models call most, as C++ on lpfg's random
 // numbers (ran(x): uniform in [0, x)): random(a, b) uniform in [a, b), irandom(a, b) a whole
 // number from a to b, probability(p) true with probability p; println and print of a number, a

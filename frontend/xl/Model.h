@@ -52,6 +52,7 @@ struct Node {
   size_t name = 0;              // the module's (or the bracket's) token
   bool parens = false;
   std::vector<Range> args;  // on the left, each one identifier
+  std::optional<Range> shader;  // on the right, `.(setShader(X))`: X
   Range block;              // a Block's tokens, its braces included
 };
 

@@ -12,6 +12,8 @@
 // blocks may change and the node keeps when the right side names it again (`t`).
 #include "frontend/xl/Translate.h"
 
+#include <algorithm>
+
 #include <cctype>
 #include <map>
 #include <optional>
@@ -35,7 +37,7 @@ public:
 
   std::string run() {
     while (cur().kind != Token::End) topLevel();
-    if (!init_) throw XlError{t_[p_], "the model has no `protected void init() [ Axiom ==> … ; ]`: the axiom"};
+    if (!init_) axiomNode();
     return write();
   }
 
@@ -93,10 +95,21 @@ private:
 
   void topLevel() {
     if (cur().is("module")) return module();
-    if (cur().is("import") || cur().is("package")) notYet(cur(), "'" + cur().text + "'");
+    // `import …;`: what lcjit's XL has of GroIMP's classes is there without one (its turtle, its
+    // library); a class a model imports for more is refused where the model uses it.
+    if (cur().is("import")) {
+      while (!accept(";")) {
+        if (cur().kind == Token::End) throw XlError{cur(), "expected ';' at the end of the import"};
+        ++p_;
+      }
+      return;
+    }
+    if (cur().is("package")) notYet(cur(), "'package'");
     bool modifiers = false, constant = false;
-    while (cur().is("public") || cur().is("protected") || cur().is("private") || cur().is("static") || cur().is("final"))
-      constant = constant || cur().is("final"), ++p_, modifiers = true;
+    // XL's `const` is Java's `static final`.
+    while (cur().is("public") || cur().is("protected") || cur().is("private") || cur().is("static") || cur().is("final") ||
+           cur().is("const"))
+      constant = constant || cur().is("final") || cur().is("const"), ++p_, modifiers = true;
     const bool java = cur().kind == Token::Identifier && !javaType(cur().text).empty();
     if (!cur().is("void") && !java) {
       if (modifiers || cur().kind == Token::Identifier)
@@ -125,6 +138,26 @@ private:
         notYet(t_[m.name], "a second method of rules (lcjit derives with one, here '" + t_[step_->name].text + "')");
       step_ = std::move(m);
     }
+  }
+
+  // A model without init() whose rule method has `Axiom ==> …` (the RGG tutorial's and XL's own
+  // manual's form): GroIMP's graph starts as the one node Axiom, which that rule rewrites in the
+  // first step. lcjit's axiom is then a module Axiom (XL_Axiom in the L+C, L+C's `Axiom:` being
+  // its axiom), and the rule one of the step's.
+  void axiomNode() {
+    const Rule* axiom = nullptr;
+    if (step_)
+      for (const Rule& r : step_->rules)
+        if (r.left.size() == 1 && t_[r.left.front().name].is("Axiom") && !r.left.front().parens) axiom = &r;
+    if (!axiom)
+      throw XlError{t_[p_], "the model has no axiom: `protected void init() [ Axiom ==> … ; ]`, or `Axiom ==> …;` among its rules"};
+    if (userModule("Axiom")) throw XlError{t_[userModule("Axiom")->name], "a module named Axiom: XL's axiom has that name"};
+    Module m;
+    m.keyword = m.name = axiom->left.front().name;
+    m.lcName = "XL_Axiom";
+    modules_.push_back(std::move(m));
+    axiomIsNode_ = true;
+    axiomNameAt_ = axiom->left.front().name;
   }
 
   // The token after the parentheses that open at `i`; npos when they do not close.
@@ -201,11 +234,15 @@ private:
     if (accept("extends")) {
       m.base = identifier("the module it extends");
       if (cur().is("(")) m.baseArgs = arguments();
+      // A graph's bare node (de.grogra.graph.impl.Node): nothing to inherit, nothing drawn.
+      if (t_[*m.base].is("Node") && m.baseArgs.empty()) m.base.reset();
     }
-    if (cur().is("{")) notYet(cur(), "a module with a body");
     if (cur().is("==>")) notYet(cur(), "an instantiation rule");
     if (cur().is("implements")) notYet(cur(), "'implements'");
-    expect(";", "at the end of the module declaration");
+    std::vector<Inherited> bodyFields;
+    std::optional<Range> shader;
+    if (cur().is("{")) moduleBody(bodyFields, shader);
+    else expect(";", "at the end of the module declaration");
     const std::string base = m.base ? t_[*m.base].text : "";
     const std::vector<const Field*> baseFields = fieldsOf(base);
     for (Param& param : m.params) {
@@ -234,6 +271,19 @@ private:
     if (!baseFields.empty() && m.baseArgs.size() > baseFields.size())
       throw XlError{t_[m.baseArgs[baseFields.size()].first],
                     base + " takes at most " + std::to_string(baseFields.size()) + " arguments"};
+    // setShader(X) in its body: its colour (F's `color`, a solid's `shader`).
+    if (shader) {
+      Inherited* colour = nullptr;
+      for (Inherited& f : m.inherited)
+        if (f.name == "color" || f.name == "shader") colour = &f;
+      if (!colour) notYet(t_[shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
+      colour->value.clear();
+      for (size_t i = shader->first; i < shader->second; ++i) colour->value.push_back(i);
+    }
+    for (Inherited& f : bodyFields) {
+      if (m.fieldIndex(f.name) != m.fieldCount()) throw XlError{t_[f.value.empty() ? m.name : f.value.front()], "a second field '" + f.name + "'"};
+      m.inherited.push_back(std::move(f));
+    }
     for (const Module& other : modules_)
       if (t_[other.name].text == t_[m.name].text) throw XlError{t_[m.name], "a second module '" + t_[m.name].text + "'"};
     // lcjit's own modules (lpfg's) keep their names in the L+C: a model's module of such a name
@@ -245,6 +295,46 @@ private:
     };
     m.lcName = predefined.count(t_[m.name].text) ? "XL_" + t_[m.name].text : t_[m.name].text;
     modules_.push_back(std::move(m));
+  }
+
+  // A module's body `{ … }`: fields (`float z;`, `int n = 2;`: each a field of the module, as
+  // its parameters are, Java's 0 or its initial value when it is made) and instance initialisers
+  // `{ setShader(GREEN); }` (its colour). p_ after the body.
+  void moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader) {
+    expect("{", "to begin the module's body");
+    while (!accept("}")) {
+      if (cur().kind == Token::End) throw XlError{cur(), "expected '}' at the end of the module's body"};
+      if (cur().is("{")) {
+        Range init = balanced();
+        size_t i = init.first + 1;
+        while (i + 1 < init.second) {
+          if (t_[i].is(";")) {
+            ++i;
+            continue;
+          }
+          if (!(t_[i].is("setShader") && t_[i + 1].is("("))) notYet(t_[i], "a statement in a module's initialiser other than setShader(…)");
+          size_t close = afterParentheses(i + 1);
+          shader = Range{i + 2, close - 1};
+          i = close;
+        }
+        continue;
+      }
+      while (cur().is("public") || cur().is("protected") || cur().is("private") || cur().is("final")) ++p_;
+      size_t type = identifier("a field's type");
+      const std::string cppType = javaType(t_[type].text);
+      size_t name = identifier("the field's name");
+      if (cur().is("(")) notYet(t_[name], "a method of a module");
+      if (cppType.empty()) notYet(t_[type], "a field of type '" + t_[type].text + "'");
+      Inherited f{t_[name].text, cppType, {}, cppType == "bool" ? "false" : "0"};
+      if (accept("="))
+        while (!cur().is(";")) {
+          if (cur().kind == Token::End) throw XlError{cur(), "expected ';' at the end of the field"};
+          f.value.push_back(p_++);
+        }
+      expect(";", "at the end of the field");
+      fields.push_back(std::move(f));
+    }
+    accept(";");
   }
 
   Rule rule() {
@@ -284,6 +374,15 @@ private:
       } else if (cur().kind == Token::Identifier) {
         n.name = p_++;
         if (cur().is("(")) n.parens = true, n.args = arguments();
+        // `X(…).(setShader(RED))`: statements run on the new node; setShader, its colour.
+        if (cur().is(".") && t_[p_ + 1].is("(")) {
+          ++p_;
+          Range calls = balanced();
+          if (!(t_[calls.first + 1].is("setShader") && t_[calls.first + 2].is("(") &&
+                afterParentheses(calls.first + 2) == calls.second - 1))
+            notYet(t_[calls.first + 1], "a statement on a new node other than `.(setShader(…))`");
+          n.shader = Range{calls.first + 3, calls.second - 2};
+        }
       } else if (cur().is("{")) {
         n.kind = Node::Block;
         n.name = p_;
@@ -346,7 +445,8 @@ private:
   const TurtleCommand* turtle(size_t at, int arity, std::string_view* defaultArgument) {
     const std::string& name = t_[at].text;
     for (const TurtleDefault& d : kTurtleDefaults)
-      if (arity == 0 && d.name == name) *defaultArgument = d.argument, arity = 1;
+      if (arity == 0 && d.name == name)
+        *defaultArgument = d.argument, arity = 1 + (int)std::count(d.argument.begin(), d.argument.end(), ',');
     bool known = false;
     for (const TurtleCommand& c : kTurtleCommands) {
       known = known || c.name == name;
@@ -400,8 +500,12 @@ private:
     if (n.label) notYet(t_[*n.label], "a label on one of GroIMP's turtle commands");
     std::string_view defaultArgument;
     const TurtleCommand* c = turtleOrError(n, &defaultArgument);
-    if (!defaultArgument.empty()) notYet(t_[n.name], "a pattern '" + t_[n.name].text + "' without its parameter");
-    writtenCall(n, std::string(c->module), {});
+    // `F` without parentheses: every F, whatever its length (a class pattern, as in GroIMP).
+    std::vector<std::string> unnamed;
+    if (!defaultArgument.empty())
+      for (size_t k = 0; k <= (size_t)std::count(defaultArgument.begin(), defaultArgument.end(), ','); ++k)
+        unnamed.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(k));
+    writtenCall(n, std::string(c->module), unnamed);
   }
   // Module `name` with the node's arguments written where the user wrote them (the compiler's
   // errors name them there), then `more`.
@@ -577,8 +681,13 @@ private:
       if (const Module* m = userModule(t_[n.name].text)) {
         checkCount(n, *m, false);
         name = m->lcName;
-        for (const Inherited& f : m->inherited) more.push_back(inheritedValue(*m, f, given));
+        for (const Inherited& f : m->inherited)
+          more.push_back(n.shader && (f.name == "color" || f.name == "shader") ? "(" + text(*n.shader) + ")"
+                                                                             : inheritedValue(*m, f, given));
+        if (n.shader && m->fieldIndex("color") == m->fieldCount() && m->fieldIndex("shader") == m->fieldCount())
+          notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
       } else {
+        if (n.shader) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands (lcjit: on a module extending it)");
         std::string_view defaultArgument;
         name = turtleOrError(n, &defaultArgument)->module;
         if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
@@ -767,7 +876,7 @@ private:
     }
     // XL's library, then the model's fields and methods (each method declared first: Java's may
     // call one written after it).
-    w_.add(std::string(kLibrary));
+    w_.add(std::string(kShaders) + std::string(kLibrary));
     for (const Declaration& d : declarations_)
       if (d.method) w_.add(signature(d) + ";");
     for (const Declaration& d : declarations_) {
@@ -780,13 +889,17 @@ private:
         w_.add(";");
       }
     }
-    const Rule& axiom = init_->rules.front();
-    w_.at(axiom.left.front().name, "derivation length: 0;");
-    w_.add("axiom:");
-    for (const Node& n : axiom.right)
-      if (n.kind == Node::Block) notYet(t_[n.name], "a block of Java statements in the axiom");
-    rightModules(axiom.right, true);
-    w_.at(axiom.end, ";");
+    if (axiomIsNode_) {
+      w_.at(axiomAt(), "derivation length: 0; axiom: XL_Axiom;");
+    } else {
+      const Rule& axiom = init_->rules.front();
+      w_.at(axiom.left.front().name, "derivation length: 0;");
+      w_.add("axiom:");
+      for (const Node& n : axiom.right)
+        if (n.kind == Node::Block) notYet(t_[n.name], "a block of Java statements in the axiom");
+      rightModules(axiom.right, true);
+      w_.at(axiom.end, ";");
+    }
     if (step_)
       for (const Rule& r : step_->rules) {
         production(r);
@@ -810,11 +923,16 @@ private:
       } else {
         std::string_view defaultArgument;
         std::vector<std::string> args;
-        for (const Field* f : fieldsOf(base)) args.push_back(std::string(f->name));
+        for (const Field* f : fieldsOf(base))
+          if (f->name != "shader") args.push_back(std::string(f->name));
         const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
         if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
         if (c->drawn.empty()) continue;
         body = "produce " + drawn(c->drawn, args) + ";";
+        // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.
+        if (m.fieldIndex("shader") != m.fieldCount())
+          body = "if (shader < 0) " + body + " else produce SB SetColor(shader + 2) " + drawn(c->drawn, args) + " EB" +
+                 (c->advance.empty() ? "" : " f(" + drawn(c->advance, args) + ")") + ";";
       }
       interpretation.push_back({m.name, rule + " : { " + body + " }"});
     }
@@ -837,7 +955,7 @@ private:
         }
         rule += ")";
       }
-      interpretation.push_back({init_->name, rule + " : { " +
+      interpretation.push_back({axiomAt(), rule + " : { " +
                                                  (c.body.empty() ? "produce " + drawn(c.drawn, args) + ";" : drawn(c.body, args)) +
                                                  " }"});
     }
@@ -845,7 +963,7 @@ private:
       w_.add("interpretation:");
       for (const auto& [at, rule] : interpretation) w_.at(at, rule);
     }
-    if (!turtleDecls.empty()) head.at(init_->name, turtleDecls);
+    if (!turtleDecls.empty()) head.at(axiomAt(), turtleDecls);
     return "#include <lpfgall.h>\n" + head.take() + w_.take();
   }
 
@@ -861,6 +979,10 @@ private:
   std::vector<Declaration> declarations_;
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
+  bool axiomIsNode_ = false;  // no init(): the axiom is the node Axiom (axiomNode)
+  size_t axiomNameAt_ = 0;
+  // Where the axiom is written: init()'s name, or the Axiom the rule rewrites.
+  size_t axiomAt() const { return init_ ? init_->name : axiomNameAt_; }
   std::set<const TurtleCommand*> used_;
   LcWriter w_{t_};
 };

@@ -27,6 +27,9 @@ struct TurtleCommand {
   std::string_view drawn;
   // Instead of `produce drawn;`, the statements of its interpretation rule ($1, $2… likewise).
   std::string_view body = {};
+  // How far it moves the turtle along its head ($1 …); empty: not at all. A module extending it
+  // with a shader of its own draws it in a branch, then moves this far.
+  std::string_view advance = {};
 };
 
 // GroIMP's F(l, d, c): a cylinder l long of diameter d and colour c for itself alone, −1 standing
@@ -92,7 +95,17 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     // (x, y, z) is lcjit's (x, z, −y).
     {"Translate", 3, "Translate", "float, float, float", false, "MoveRel3f(V3f($1, $3, -$2))"},
     // Sphere(r): a sphere of radius r where the turtle is, which it does not move: lcjit's own.
-    {"Sphere", 1, "Sphere", "", true, ""},
+    {"Sphere", 1, "Sphere", "", true, "Sphere($1)"},
+    // GroIMP's solids on an axis (imp3d.objects.Axis): each stands on the turtle's position along
+    // its head, and what follows it starts at its top (Axis.postTransform: the length along the
+    // local z), as after an F. lcjit draws each as a line of its diameter (its width): Cylinder(l,
+    // r) and Cone(l, r) 2r wide, Frustum(l, r1, r2) r1 + r2, Box(l, w, h) and Parallelogram(l, w)
+    // w, in the turtle's colour.
+    {"Cylinder", 2, "Cylinder", "float, float", false, "SB SetWidth(2 * $2) F($1) EB f($1)", {}, "$1"},
+    {"Cone", 2, "Cone", "float, float", false, "SB SetWidth(2 * $2) F($1) EB f($1)", {}, "$1"},
+    {"Frustum", 3, "Frustum", "float, float, float", false, "SB SetWidth($2 + $3) F($1) EB f($1)", {}, "$1"},
+    {"Box", 3, "Box", "float, float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
+    {"Parallelogram", 2, "Parallelogram", "float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
     // Null: a node that does nothing to the turtle.
     {"Null", 0, "Null", "", false, ""},
 };
@@ -116,11 +129,17 @@ inline std::string turtleNames() {
 }
 
 // What `new X()` is for the turtle's classes whose constructor without arguments gives one:
-// F() and M() have length 1 (F.java, M.java: `this (1)`), RU(), RL(), RH() turn by 0.
+// F() and M() have length 1 (F.java, M.java: `this (1)`), RU(), RL(), RH() turn by 0; Sphere()
+// has radius 1 (Sphere.java), Cylinder() and Cone() length and radius 1 (`this (1, 1)`), Frustum()
+// radii 1 and 0.5 (`this (1, 1, 0.5f)`), a Box
+// and a Parallelogram are 1 each way (Axis's `length = 1`, Box's `width = 1`, `height = 1`).
 struct TurtleDefault {
   std::string_view name, argument;
 };
-inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"}, {"M", "1"}, {"RU", "0"}, {"RL", "0"}, {"RH", "0"}};
+inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"},         {"M", "1"},           {"RU", "0"},
+                                                    {"RL", "0"},        {"RH", "0"},          {"Sphere", "1"},
+                                                    {"Cylinder", "1, 1"}, {"Cone", "1, 1"},   {"Frustum", "1, 1, 0.5"},
+                                                    {"Box", "1, 1, 1"}, {"Parallelogram", "1, 1"}};
 
 // The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
 // of the command's constructor's arguments, with their values when it has none: F() and M() are
@@ -131,7 +150,13 @@ struct Field {
 };
 inline constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
                              {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
-                             {"RH", "angle", "float", "0"}};
+                             {"RH", "angle", "float", "0"},
+                             {"Sphere", "radius", "float", "1"}, {"Sphere", "shader", "int", "-1"},
+                             {"Cylinder", "length", "float", "1"}, {"Cylinder", "radius", "float", "1"}, {"Cylinder", "shader", "int", "-1"},
+                             {"Cone", "length", "float", "1"}, {"Cone", "radius", "float", "1"}, {"Cone", "shader", "int", "-1"},
+                             {"Frustum", "length", "float", "1"}, {"Frustum", "baseRadius", "float", "1"}, {"Frustum", "topRadius", "float", "0.5"}, {"Frustum", "shader", "int", "-1"},
+                             {"Box", "length", "float", "1"}, {"Box", "width", "float", "1"}, {"Box", "height", "float", "1"}, {"Box", "shader", "int", "-1"},
+                             {"Parallelogram", "length", "float", "1"}, {"Parallelogram", "width", "float", "1"}, {"Parallelogram", "shader", "int", "-1"}};
 
 // The fields of turtle command `command`, in kFields' order (its constructor's arguments').
 inline std::vector<const Field*> fieldsOf(std::string_view command) {

@@ -60,6 +60,13 @@ Palette Palette::ega() {
   auto rgb = [](const int* c) { return std::array<float, 4>{c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f}; };
   for (int c = 0; c < 16; ++c) page[size_t(c) + 2] = rgb(kEga[c]);
   page[1] = rgb(kEga[14]);
+  // After them GroIMP's named shaders (RGBAShader's STANDARD table goes on with java.awt.Color's
+  // BLACK, BLUE, CYAN, DARK_GRAY, GRAY, GREEN, LIGHT_GRAY, MAGENTA, ORANGE, PINK, RED, YELLOW,
+  // WHITE), at their place in that table + 2 as well.
+  static constexpr int kNamed[13][3] = {{0, 0, 0},       {0, 0, 255},   {0, 255, 255},   {64, 64, 64},   {128, 128, 128},
+                                        {0, 255, 0},     {192, 192, 192}, {255, 0, 255}, {255, 200, 0},  {255, 175, 175},
+                                        {255, 0, 0},     {255, 255, 0}, {255, 255, 255}};
+  for (int c = 0; c < 13; ++c) page[size_t(c) + 18] = rgb(kNamed[c]);
   return p;
 }
 

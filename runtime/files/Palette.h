@@ -36,7 +36,9 @@ class Palette {
   static Palette lcjitDefault();
   // The 16 colours of IBM's EGA, which GroIMP's turtle indexes (its colour c, 0 black … 14 yellow
   // … 15 white) and the XL quick reference lists: colour c is index c + 2; index 1, where lcjit's
-  // turtle starts, is GroIMP's turtle's own colour, 14; index 0 the background, black.
+  // turtle starts, is GroIMP's turtle's own colour, 14; index 0 the background, black. Indices
+  // 18 to 30 are GroIMP's named shaders, BLACK … WHITE (java.awt.Color's), its STANDARD table's
+  // 16 to 28.
   static Palette ega();
 
   // .map: 256 × RGB bytes per page; every page becomes a colormap (page 0 active). lpfg itself

@@ -2,7 +2,8 @@
 """The colour of each segment of an OBJ file lcjit wrote (its material's Kd in the .mtl beside
 it), compared with a NAME.colours file of `x1 y1 z1  x2 y2 z2  COLOUR` lines derived by hand (in
 any order: the OBJ groups lines by material), within 1e-4; the colours are the names of the XL
-quick reference's colour table (its appendix: 0 black … 15 white), their RGB the EGA's.
+quick reference's colour table (its appendix: 0 black … 15 white), their RGB the EGA's, or
+GroIMP's named shaders (RED …), java.awt.Color's.
 Usage: colours.py OBJ EXPECTED"""
 import os
 import sys
@@ -13,6 +14,9 @@ EGA = {  # name: (r, g, b) of 255; IBM's EGA palette, which GroIMP's turtle inde
     "dark grey": (85, 85, 85), "light blue": (85, 85, 255), "light green": (85, 255, 85),
     "light cyan": (85, 255, 255), "light red": (255, 85, 85), "light magenta": (255, 85, 255),
     "yellow": (255, 255, 85), "white": (255, 255, 255),
+    # GroIMP's named shaders (RGBAShader.RED …): java.awt.Color's constants
+    "RED": (255, 0, 0), "GREEN": (0, 255, 0), "BLUE": (0, 0, 255), "ORANGE": (255, 200, 0),
+    "PINK": (255, 175, 175), "GRAY": (128, 128, 128),
 }
 
 
