@@ -24,6 +24,7 @@ struct Inherited {
   std::string name, type;
   std::vector<size_t> value;  // tokens of an `extends` argument; empty: `fallback`
   std::string fallback;
+  std::string field;  // the base's field it is (`length`); empty for a field of the module's body
 };
 
 struct Module {
@@ -36,6 +37,15 @@ struct Module {
   size_t fieldCount() const { return params.size() + inherited.size(); }
   std::string fieldName(size_t k) const { return k < params.size() ? params[k].name : inherited[k - params.size()].name; }
   std::string fieldType(size_t k) const { return k < params.size() ? params[k].type : inherited[k - params.size()].type; }
+  // The L+C name of the base's field `field`: the parameter `super.field`, the inherited field, or
+  // empty when it has none.
+  std::string baseField(const std::string& field) const {
+    for (const Param& p : params)
+      if (p.inherited && p.name == field) return p.name;
+    for (const Inherited& f : inherited)
+      if (f.field == field) return f.name;
+    return "";
+  }
   // The field named `name`; fieldCount() for none.
   size_t fieldIndex(const std::string& name) const {
     size_t k = 0;
@@ -46,8 +56,11 @@ struct Module {
 
 // An item of a rule's side: a module `A`, `A()`, `A(x, y)` (on the left perhaps labelled `a:A`);
 // on the right also a bracket ([ or ]) or a block of Java statements `{ … }`.
+// `for (…) ( … )` and `if (…) ( … ) else ( … )` on a right side are items too, in order: the
+// header (For, If: `block` its parentheses), Else, and the group's Open and Close.
 struct Node {
-  enum Kind { Module, Bracket, Block } kind = Module;
+  enum Kind { Module, Bracket, Block, For, If, Else, Open, Close } kind = Module;
+  bool control() const { return kind >= For; }
   std::optional<size_t> label;  // the label's token (`t` of `t:Trieb`)
   size_t name = 0;              // the module's (or the bracket's) token
   bool parens = false;

@@ -253,17 +253,20 @@ private:
       if (param.inherited && !inherited)
         throw XlError{t_[param.at], "'super." + param.name + "': the module does not extend a turtle command with a field '" +
                                         param.name + "'"};
-      if (!param.inherited && inherited)
-        throw XlError{t_[param.at], "'" + param.name + "' is a field " + base + " has: write `super." + param.name +
-                                        "` to set it, or give the parameter another name"};
     }
     // The base's fields the module does not declare, set from its `extends` arguments.
     for (size_t k = 0; k < baseFields.size(); ++k) {
       const Field& f = *baseFields[k];
-      bool declared = false;
-      for (const Param& param : m.params) declared = declared || param.name == f.name;
+      bool declared = false, hidden = false;
+      for (const Param& param : m.params) {
+        declared = declared || (param.inherited && param.name == f.name);
+        hidden = hidden || (!param.inherited && param.name == f.name);
+      }
       if (declared) continue;
-      Inherited field{std::string(f.name), std::string(f.type), {}, std::string(f.fallback)};
+      // A parameter of the base field's name is a field of its own, which hides the base's (as
+      // Java's do): `module Leaf(float length) extends Parallelogram(length, …)`.
+      Inherited field{(hidden ? "__xl_super_" : "") + std::string(f.name), std::string(f.type), {}, std::string(f.fallback),
+                      std::string(f.name)};
       if (k < m.baseArgs.size())
         for (size_t i = m.baseArgs[k].first; i < m.baseArgs[k].second; ++i) field.value.push_back(i);
       m.inherited.push_back(std::move(field));
@@ -275,12 +278,12 @@ private:
     if (shader) {
       Inherited* colour = nullptr;
       for (Inherited& f : m.inherited)
-        if (f.name == "color" || f.name == "shader") colour = &f;
+        if (f.field == "color" || f.field == "shader") colour = &f;
       if (!colour) notYet(t_[shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
       colour->value.clear();
       for (size_t i = shader->first; i < shader->second; ++i) colour->value.push_back(i);
     }
-    for (Inherited& f : bodyFields) {
+    for (Inherited& f : bodyFields) {  // after the base's, so a body's field may not hide one
       if (m.fieldIndex(f.name) != m.fieldCount()) throw XlError{t_[f.value.empty() ? m.name : f.value.front()], "a second field '" + f.name + "'"};
       m.inherited.push_back(std::move(f));
     }
@@ -364,9 +367,32 @@ private:
       throw XlError{cur(), "expected '==>' after the rule's left side"};
     r.arrow = p_++;
     int depth = 0;
-    while (!cur().is(";")) {
+    std::vector<int> groups;  // the open groups of for and if, each with the depth of [ it began at
+    while (!(cur().is(";") && groups.empty())) {
       Node n;
       if (cur().kind == Token::End || (cur().is("]") && depth == 0)) throw XlError{cur(), "expected ';' at the end of the rule"};
+      if ((cur().is("for") || cur().is("if")) && t_[p_ + 1].is("(")) {
+        n.kind = cur().is("for") ? Node::For : Node::If;
+        n.name = p_++;
+        n.block = balanced();
+        r.right.push_back(n);
+        openGroup(r, groups, depth);
+        continue;
+      }
+      if (cur().is(")") && !groups.empty()) {
+        if (depth != groups.back()) throw XlError{cur(), "expected ']' before the end of this group"};
+        groups.pop_back();
+        n.kind = Node::Close;
+        n.name = p_++;
+        r.right.push_back(n);
+        if (cur().is("else")) {
+          n.kind = Node::Else;
+          n.name = p_++;
+          r.right.push_back(n);
+          openGroup(r, groups, depth);
+        }
+        continue;
+      }
       if (cur().is("[") || cur().is("]")) {
         depth += cur().is("[") ? 1 : -1;
         n.kind = Node::Bracket;
@@ -389,7 +415,7 @@ private:
         n.block = balanced();
         r.right.push_back(n);
         // A block may end a rule without `;` (the quick reference writes `… { t[length] *= 1.1 }`).
-        if (depth == 0 && (cur().is("]") || ruleStarts())) {
+        if (depth == 0 && groups.empty() && (cur().is("]") || ruleStarts())) {
           r.end = n.block.second - 1;
           return r;
         }
@@ -402,6 +428,15 @@ private:
     if (depth > 0) throw XlError{cur(), "expected ']' before the end of the rule"};
     r.end = p_++;
     return r;
+  }
+  // The `(` of a for's, an if's or an else's group on a right side.
+  void openGroup(Rule& r, std::vector<int>& groups, int depth) {
+    if (!cur().is("(")) throw XlError{cur(), "expected '(' to begin the nodes of this " + t_[r.right.back().name].text};
+    Node open;
+    open.kind = Node::Open;
+    open.name = p_++;
+    r.right.push_back(open);
+    groups.push_back(depth);
   }
   // A node of a pattern: `[label:]Module[(names)]`.
   Node patternNode(const std::string& what) {
@@ -629,11 +664,13 @@ private:
   bool inRule_ = false;  // writing a production (java(): graph queries)
 
   // A block of Java statements: the last one's `;` may be missing before `}`.
+  // A block of a right side, without its braces: what it declares is seen by the rest of the
+  // right side, as in XL (`{ double r = 50 - i * 5; } Leaf(r, r * 0.5)`).
   void block(const Node& n) {
     const size_t close = n.block.second - 1;
-    java({n.block.first, close});
+    w_.at(n.block.first, " ");
+    java({n.block.first + 1, close});
     if (close > n.block.first + 1 && !t_[close - 1].is(";") && !t_[close - 1].is("}")) w_.add(";");
-    w_.token(close);
   }
 
   // -- a right side: its arguments computed in order, with its blocks, then produced --
@@ -668,37 +705,137 @@ private:
         continue;
       }
       if (n.kind == Node::Block) continue;
-      if (const Label* l = axiom ? nullptr : label(n.name)) {
-        if (n.parens) throw XlError{t_[n.name], "'" + t_[n.name].text + "' names a node of the left side: no arguments"};
-        w_.at(n.name, fromLabel(t_[n.name].text, *l->module));
-        continue;
-      }
       // In a rule, each argument is its local (rightStatements); in the axiom, as written.
       std::vector<std::string> given;
-      for (Range a : n.args) given.push_back(axiom ? "(" + text(a) + ")" : argumentNames_[next++]);
-      std::string name;
-      std::vector<std::string> more;
-      if (const Module* m = userModule(t_[n.name].text)) {
-        checkCount(n, *m, false);
-        name = m->lcName;
-        for (const Inherited& f : m->inherited)
-          more.push_back(n.shader && (f.name == "color" || f.name == "shader") ? "(" + text(*n.shader) + ")"
+      if (!(!axiom && label(n.name)))
+        for (Range a : n.args) given.push_back(axiom ? "(" + text(a) + ")" : argumentNames_[next++]);
+      madeNode(n, given, axiom);
+    }
+  }
+  // Node `n` of a right side, made with the arguments `given`: a label's node as its copy left
+  // it, or the module with its inherited fields after `given`.
+  void madeNode(const Node& n, std::vector<std::string> given, bool axiom) {
+    if (const Label* l = axiom ? nullptr : label(n.name)) {
+      if (n.parens) throw XlError{t_[n.name], "'" + t_[n.name].text + "' names a node of the left side: no arguments"};
+      w_.at(n.name, fromLabel(t_[n.name].text, *l->module));
+      return;
+    }
+    std::string name;
+    std::vector<std::string> more;
+    if (const Module* m = userModule(t_[n.name].text)) {
+      checkCount(n, *m, false);
+      name = m->lcName;
+      for (const Inherited& f : m->inherited)
+        more.push_back(n.shader && (f.field == "color" || f.field == "shader") ? "(" + text(*n.shader) + ")"
                                                                              : inheritedValue(*m, f, given));
-        if (n.shader && m->fieldIndex("color") == m->fieldCount() && m->fieldIndex("shader") == m->fieldCount())
-          notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
-      } else {
-        if (n.shader) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands (lcjit: on a module extending it)");
-        std::string_view defaultArgument;
-        name = turtleOrError(n, &defaultArgument)->module;
-        if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
-      }
-      if (axiom) {
-        writtenCall(n, name, more);
-      } else {
-        given.insert(given.end(), more.begin(), more.end());
-        w_.at(n.name, name + (given.empty() ? "" : "(" + joined(given) + ")"));
+      if (n.shader && m->baseField("color").empty() && m->baseField("shader").empty())
+        notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
+    } else {
+      if (n.shader) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands (lcjit: on a module extending it)");
+      std::string_view defaultArgument;
+      name = turtleOrError(n, &defaultArgument)->module;
+      if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
+    }
+    if (axiom) {
+      writtenCall(n, name, more);
+    } else {
+      given.insert(given.end(), more.begin(), more.end());
+      w_.at(n.name, name + (given.empty() ? "" : "(" + joined(given) + ")"));
+    }
+  }
+  static bool hasBlock(const std::vector<Node>& right) {
+    for (const Node& n : right)
+      if (n.kind == Node::Block) return true;
+    return false;
+  }
+  static bool hasControl(const std::vector<Node>& right) {
+    for (const Node& n : right)
+      if (n.control()) return true;
+    return false;
+  }
+  // A right side with for or if, made node by node where it stands (L+C's nproduce): each node's
+  // arguments computed, then the node; blocks run in place; for and if as C++'s. The caller ends
+  // it with `produce ;`. A label's node is made where it stands, so no block may come after it.
+  void stepwise(const std::vector<Node>& right) {
+    bool labelled = false;
+    for (const Node& n : right) {
+      switch (n.kind) {
+        case Node::Bracket: w_.at(n.name, t_[n.name].is("[") ? "nproduce SB;" : "nproduce EB;"); break;
+        case Node::Block:
+          if (labelled) notYet(t_[n.name], "a block after a label's node on a right side with for or if");
+          block(n);
+          break;
+        case Node::For: forHeader(n); break;
+        case Node::If:
+          w_.at(n.name, "if (");
+          java({n.block.first + 1, n.block.second - 1});
+          w_.add(")");
+          break;
+        case Node::Else: w_.at(n.name, "else"); break;
+        case Node::Open: w_.at(n.name, "{"); break;
+        case Node::Close: w_.at(n.name, "}"); break;
+        case Node::Module: {
+          if (label(n.name)) {
+            labelled = true;
+            w_.add("nproduce");
+            madeNode(n, {}, false);
+            w_.add(";");
+            break;
+          }
+          w_.add("{");
+          std::vector<std::string> given;
+          for (Range a : n.args) {
+            given.push_back("__xl_a" + std::to_string(temps_++));
+            w_.add("const auto " + given.back() + " = (");
+            java(a);
+            w_.add(");");
+          }
+          w_.add("nproduce");
+          madeNode(n, given, false);
+          w_.add("; }");
+          break;
+        }
       }
     }
+  }
+  // XL's for on a right side: `for ((a : b))` runs for a, a + 1 … b; `for (int i : a : b)` (or
+  // `: (a : b)`) with i each of them; Java's `for (init; condition; update)` as written.
+  void forHeader(const Node& n) {
+    const Range inner{n.block.first + 1, n.block.second - 1};
+    bool classic = false;
+    for (size_t i = inner.first; i < inner.second; ++i) classic = classic || t_[i].is(";");
+    if (classic) {
+      w_.at(n.name, "for (");
+      java(inner);
+      w_.add(")");
+      return;
+    }
+    std::string var;
+    Range range = inner;
+    if (inner.second - inner.first > 3 && t_[inner.first].kind == Token::Identifier &&
+        t_[inner.first + 1].kind == Token::Identifier && t_[inner.first + 2].is(":")) {
+      const std::string type = javaType(t_[inner.first].text);
+      if (type.empty()) notYet(t_[inner.first], "a for over values of type '" + t_[inner.first].text + "'");
+      var = t_[inner.first + 1].text;
+      w_.at(n.name, "for (" + type + " " + var + " = (");
+      range = {inner.first + 3, inner.second};
+    } else {
+      var = "__xl_i" + std::to_string(temps_++);
+      w_.at(n.name, "for (long long " + var + " = (");
+    }
+    // `(a : b)` or `a : b`: the `:` outside any parentheses.
+    if (t_[range.first].is("(") && afterParentheses(range.first) == range.second) range = {range.first + 1, range.second - 1};
+    size_t colon = range.second;
+    int depth = 0;
+    for (size_t i = range.first; i < range.second && colon == range.second; ++i) {
+      depth += nesting(t_[i]);
+      if (depth == 0 && t_[i].is(":")) colon = i;
+    }
+    if (colon == range.second) notYet(t_[range.first], "this for on a right side (lcjit's: `for ((a : b))`, `for (int i : a : b)`, Java's)");
+    java({range.first, colon});
+    w_.add("); " + var + " <= (");
+    java({colon + 1, range.second});
+    w_.add("); ++" + var + ")");
   }
   // An inherited field's value for a module made with the arguments `given`: its `extends`
   // argument with the module's parameters replaced by them.
@@ -767,7 +904,8 @@ private:
     std::vector<std::string> names;
     for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(f));
     for (size_t k = 0; k < n.args.size(); ++k)
-      if (size_t f = m.fieldIndex(std::string(commandFields[k]->name)); f < m.fieldCount()) names[f] = t_[n.args[k].first].text;
+      if (size_t f = m.fieldIndex(m.baseField(std::string(commandFields[k]->name))); f < m.fieldCount())
+        names[f] = t_[n.args[k].first].text;
     w_.at(n.name, m.lcName + (names.empty() ? "" : "(" + joined(names) + ")"));
   }
 
@@ -831,6 +969,9 @@ private:
       if (!userModule(t_[kept.name].text) || !kept.label)
         notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
       w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *userModule(t_[kept.name].text)) + ";");
+    } else if (hasControl(right)) {
+      stepwise(right);
+      w_.at(r.end, "produce ;");
     } else {
       rightStatements(right);
       if (deletes(r, t_)) w_.add("lcjit_cut_branch();");
@@ -876,7 +1017,14 @@ private:
     }
     // XL's library, then the model's fields and methods (each method declared first: Java's may
     // call one written after it).
-    w_.add(std::string(kShaders) + std::string(kLibrary));
+    // The shaders' names a model does not declare itself (its own `const int YELLOW = 14;` is its).
+    std::string shaders;
+    for (size_t k = 0; k < std::size(kShaders); ++k) {
+      bool declared = false;
+      for (const Declaration& d : declarations_) declared = declared || t_[d.name].text == kShaders[k];
+      if (!declared) shaders += (shaders.empty() ? "" : ", ") + std::string(kShaders[k]) + " = " + std::to_string(k);
+    }
+    w_.add("enum : int { " + shaders + " }; " + std::string(kLibrary));
     for (const Declaration& d : declarations_)
       if (d.method) w_.add(signature(d) + ";");
     for (const Declaration& d : declarations_) {
@@ -891,8 +1039,11 @@ private:
     }
     if (axiomIsNode_) {
       w_.at(axiomAt(), "derivation length: 0; axiom: XL_Axiom;");
+    } else if (const Rule& axiom = init_->rules.front(); hasControl(axiom.right) || hasBlock(axiom.right)) {
+      // An axiom with for, if or Java: its nodes are made by a rule, the decomposition of the
+      // node XL_Init, which L+C applies to the axiom before anything else (manual §4.3.1).
+      w_.at(axiom.left.front().name, "derivation length: 0; axiom: XL_Init;");
     } else {
-      const Rule& axiom = init_->rules.front();
       w_.at(axiom.left.front().name, "derivation length: 0;");
       w_.add("axiom:");
       for (const Node& n : axiom.right)
@@ -906,6 +1057,14 @@ private:
         // Right after it, as XL tries its rules in order: the same rule for the subclasses.
         for (const Module* m : subclassesMatched(r)) production(r, m);
       }
+    if (init_ && (hasControl(init_->rules.front().right) || hasBlock(init_->rules.front().right))) {
+      const Rule& axiom = init_->rules.front();
+      w_.add("decomposition:");
+      w_.at(axiom.arrow, "XL_Init : {");
+      stepwise(axiom.right);
+      w_.at(axiom.end, "produce ; }");
+      head.at(axiomAt(), "module XL_Init;");
+    }
     std::vector<std::pair<size_t, std::string>> interpretation;  // (at, rule)
     for (const Module& m : modules_) {
       if (!m.base) continue;
@@ -919,19 +1078,19 @@ private:
       std::string body;
       if (base == "F") {
         // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
-        body = drawn(kOwnCylinder, {"length", "diameter", "color"});
+        body = drawn(kOwnCylinder, {m.baseField("length"), m.baseField("diameter"), m.baseField("color")});
       } else {
         std::string_view defaultArgument;
         std::vector<std::string> args;
         for (const Field* f : fieldsOf(base))
-          if (f->name != "shader") args.push_back(std::string(f->name));
+          if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
         const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
         if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
         if (c->drawn.empty()) continue;
         body = "produce " + drawn(c->drawn, args) + ";";
         // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.
-        if (m.fieldIndex("shader") != m.fieldCount())
-          body = "if (shader < 0) " + body + " else produce SB SetColor(shader + 2) " + drawn(c->drawn, args) + " EB" +
+        if (const std::string shader = m.baseField("shader"); !shader.empty())
+          body = "if (" + shader + " < 0) " + body + " else produce SB SetColor(" + shader + " + 2) " + drawn(c->drawn, args) + " EB" +
                  (c->advance.empty() ? "" : " f(" + drawn(c->advance, args) + ")") + ";";
       }
       interpretation.push_back({m.name, rule + " : { " + body + " }"});
