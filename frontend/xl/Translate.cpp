@@ -241,7 +241,8 @@ private:
     if (cur().is("implements")) notYet(cur(), "'implements'");
     std::vector<Inherited> bodyFields;
     std::optional<Range> shader;
-    if (cur().is("{")) moduleBody(bodyFields, shader);
+    std::vector<std::pair<size_t, Range>> assigned;  // an initialiser's `field = value;`: (field, value)
+    if (cur().is("{")) moduleBody(bodyFields, shader, assigned);
     else expect(";", "at the end of the module declaration");
     const std::string base = m.base ? t_[*m.base].text : "";
     const std::vector<const Field*> baseFields = fieldsOf(base);
@@ -287,6 +288,14 @@ private:
       if (m.fieldIndex(f.name) != m.fieldCount()) throw XlError{t_[f.value.empty() ? m.name : f.value.front()], "a second field '" + f.name + "'"};
       m.inherited.push_back(std::move(f));
     }
+    for (const auto& [at, value] : assigned) {
+      Inherited* field = nullptr;
+      for (Inherited& f : m.inherited)
+        if (f.name == t_[at].text) field = &f;
+      if (!field) notYet(t_[at], "an initialiser setting other than a field of the module's body or an inherited one");
+      field->value.clear();
+      for (size_t i = value.first; i < value.second; ++i) field->value.push_back(i);
+    }
     for (const Module& other : modules_)
       if (t_[other.name].text == t_[m.name].text) throw XlError{t_[m.name], "a second module '" + t_[m.name].text + "'"};
     // lcjit's own modules (lpfg's) keep their names in the L+C: a model's module of such a name
@@ -303,7 +312,8 @@ private:
   // A module's body `{ … }`: fields (`float z;`, `int n = 2;`: each a field of the module, as
   // its parameters are, Java's 0 or its initial value when it is made) and instance initialisers
   // `{ setShader(GREEN); }` (its colour). p_ after the body.
-  void moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader) {
+  void moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader,
+                  std::vector<std::pair<size_t, Range>>& assigned) {
     expect("{", "to begin the module's body");
     while (!accept("}")) {
       if (cur().kind == Token::End) throw XlError{cur(), "expected '}' at the end of the module's body"};
@@ -315,7 +325,16 @@ private:
             ++i;
             continue;
           }
-          if (!(t_[i].is("setShader") && t_[i + 1].is("("))) notYet(t_[i], "a statement in a module's initialiser other than setShader(…)");
+          // `field = value;`: the field's value when a node is made.
+          if (t_[i].kind == Token::Identifier && t_[i + 1].is("=")) {
+            size_t end = i + 2;
+            while (end + 1 < init.second && !t_[end].is(";")) ++end;
+            assigned.push_back({i, Range{i + 2, end}});
+            i = end;
+            continue;
+          }
+          if (!(t_[i].is("setShader") && t_[i + 1].is("(")))
+            notYet(t_[i], "a statement in a module's initialiser other than setShader(…) or `field = value;`");
           size_t close = afterParentheses(i + 1);
           shader = Range{i + 2, close - 1};
           i = close;
@@ -983,15 +1002,35 @@ private:
     w_.add("}");
     inRule_ = false;
   }
-  // An SPO rule's right side, as the production of an L-system: `X ==>> ;` deletes X and what
-  // hangs on it (nothing of X's relations is kept: the rest of its branch goes, in this step, by
-  // lcjit_cut_branch()); `a:A X c:C ==>> a … c` keeps A and C and their relations and puts …
-  // between them: X replaced, with A and C its context. Other SPO rules are refused.
+  // An SPO rule's right side, as the production of an L-system. SPO keeps the relations of the
+  // nodes both sides name and drops those of the nodes it deletes:
+  // - `X ==>> ;` deletes X and what hangs on it (the rest of its branch goes, in this step, by
+  //   lcjit_cut_branch()); so does `X ==>> G` (the quick reference's): G, connected to nothing,
+  //   is not part of the graph lcjit keeps (GroIMP shows only what hangs on its root);
+  // - `x:X ==>> x …` keeps X, its relations with it, and puts … after it, as `==>` would;
+  // - `a:A X c:C ==>> a … c` keeps A and C and their relations and puts … between them: X
+  //   replaced, with A and C its context.
+  // Other SPO rules are refused.
+  static bool names(const Node& n, const Node& left, const std::vector<Token>& t) {
+    return n.kind == Node::Module && !n.parens && left.label && t[n.name].text == t[*left.label].text;
+  }
   static bool deletes(const Rule& r, const std::vector<Token>& t) {
-    return r.is(t, "==>>") && r.left.size() == 1 && r.right.empty();
+    if (!r.is(t, "==>>") || r.left.size() != 1) return false;
+    for (const Node& n : r.right)
+      if (names(n, r.left.front(), t) || n.control()) return false;
+    return true;
   }
   std::vector<Node> spoRight(const Rule& r) {
-    if (deletes(r, t_)) return {};
+    if (deletes(r, t_)) {
+      for (const Node& n : r.right)
+        if (n.kind == Node::Block) notYet(t_[n.name], "a block in an SPO rule that deletes its node");
+      return {};
+    }
+    if (r.left.size() == 1 && !r.right.empty() && names(r.right.front(), r.left.front(), t_)) {
+      for (size_t k = 1; k < r.right.size(); ++k)
+        if (names(r.right[k], r.left.front(), t_)) notYet(t_[r.right[k].name], "an SPO rule naming its node twice on its right side");
+      return r.right;
+    }
     if (r.left.size() == 3 && r.left[0].label && r.left[2].label && r.right.size() >= 2) {
       const Node& first = r.right.front();
       const Node& last = r.right.back();
