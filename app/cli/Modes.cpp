@@ -94,6 +94,7 @@ llvm::Expected<ModelFiles> modelFiles(const Options& o) {
     if (eq == 0 || eq == std::string::npos) return llvm::createStringError("lcjit: -D " + d + ": give NAME=VALUE");
     files->overrides.emplace_back(d.substr(0, eq), d.substr(eq + 1));
   }
+  files->run = o.run;
   return files;
 }
 

@@ -257,6 +257,9 @@ void declare(Table& t) {
            "derive this many steps instead of the model's derivation length (an XL model has none: 0 "
            "without --steps, as GroIMP before its rules are run)", takes)
       ->check(CLI::NonNegativeNumber);
+  t.option("--run", &O::run,
+           "NAME: the rule method of an XL model each step applies (GroIMP's button; default: its first)",
+           takes);
   t.option("-D", &O::overrides,
            "NAME=VALUE: the model's own #define NAME reads VALUE (no recompile of other values: each "
            "value compiles once, then comes from the cache), and a .vset value NAME is VALUE; an unknown "

@@ -68,6 +68,7 @@ struct Options {
   size_t maxMemory = runtime::EngineLimits().maxMemory;
   double timeLimit = runtime::EngineLimits().timeLimit;
   std::optional<int> steps;  // --steps (runtime::EngineLimits::steps)
+  std::string run;           // --run: an XL model's rule method each step applies (ModelFiles::run)
 
   // --sandbox's limits on one run (SandboxLimits: the plan adds the memory's from --max-memory).
   double maxCpuSeconds = 600;

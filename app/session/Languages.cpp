@@ -17,9 +17,15 @@ constexpr std::string_view kLplusC[] = {"l"};
 constexpr std::string_view kCfdg[] = {"cfdg"};
 constexpr std::string_view kXl[] = {"rgg", "xl"};
 
+// L+C has one set of productions (its groups are the model's to choose).
+llvm::Expected<frontend::Rewritten> rewriteLplusC(const std::string& preprocessed, const std::string& mainFile,
+                                                  const std::string&) {
+  return frontend::rewrite(preprocessed, mainFile);
+}
+
 constexpr Language kLanguages[] = {
     // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
-    {"L+C", "L-system", kLplusC, EngineKind::LSystem, &frontend::rewrite},
+    {"L+C", "L-system", kLplusC, EngineKind::LSystem, &rewriteLplusC},
     // Context Free's CFDG: frontend/cfdg/ on the shape-expansion engine.
     {"CFDG", "Context Free design", kCfdg, EngineKind::ShapeExpansion, nullptr, &frontend::cfdg::readDesign},
     // GroIMP's XL: frontend/xl/ (XL → L+C, then L+C's rewriter) on the L-system engine.

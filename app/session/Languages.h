@@ -42,8 +42,10 @@ enum class EngineKind {
 // The L-system engine's (app/session/Session): the model as the C preprocessor left it (GNU line
 // markers, frontend/lc/Preprocess.h) → the C++ of its modules and productions and the tables the
 // engine reads (frontend/lc/Rewriter.h's contract); errors at FILE:LINE:COL.
+// `run`: the rules a step applies, where a model has several sets (XL's rule methods, --run);
+// empty: its first.
 using RewriteModel = llvm::Expected<frontend::Rewritten> (*)(const std::string& preprocessed,
-                                                             const std::string& mainFile);
+                                                             const std::string& mainFile, const std::string& run);
 // The shape-expansion engine's (app/cfdg/DesignRun): a design's text and its -D NAME=VALUE
 // definitions → the C++ unit the Expander runs (lcjit/cfdg.h's contract), with the files it
 // imported (frontend/cfdg/ReadDesign.h).

@@ -534,10 +534,11 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   if (!text) return text.takeError();
   p.preprocess = pp;
   p.lsystem = files.lsystem;
+  p.run = files.run;
   times.preprocessMs = support::msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
-  auto cpp = language.rewrite(*text, files.lsystem);
+  auto cpp = language.rewrite(*text, files.lsystem, files.run);
   p.columns = std::make_shared<frontend::OriginalColumns>(std::move(*text));
   // The rewriter's and the compile's errors count columns in the preprocessed text.
   auto asWritten = [&](llvm::Error e) {
@@ -652,6 +653,7 @@ llvm::Error Session::install(PreparedModel p) {
     preprocess_ = std::move(p.preprocess);
     columns_ = std::move(p.columns);
     lsystem_ = std::move(p.lsystem);
+    run_ = std::move(p.run);
     sourceCode_ = std::move(p.sourceCode);
     replDeclarations_.clear();  // a reload replaces them
   }
@@ -872,7 +874,7 @@ llvm::Expected<std::string> Session::evaluate(const std::string& input) {
       continue;
     }
     // The running model's language, which its load checked.
-    auto cpp = lsystemLanguage(nullptr, lsystem_).rewrite(*preprocessed, unitName);
+    auto cpp = lsystemLanguage(nullptr, lsystem_).rewrite(*preprocessed, unitName, run_);
     auto columns = std::make_shared<frontend::OriginalColumns>(std::move(*preprocessed));
     if (!cpp) {
       errors.push_back(columns->diagnostics(llvm::toString(cpp.takeError())));

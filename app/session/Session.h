@@ -82,6 +82,8 @@ struct ModelFiles {
   // -D NAME=VALUE (a run of a sweep, docs/sweeps.md): the model's own `#define NAME` reads VALUE
   // (frontend::PreprocessOptions::overrides), and a .vset value NAME is VALUE.
   std::vector<std::pair<std::string, std::string>> overrides;
+  // --run NAME: the rule method of an XL model each step applies (empty: its first).
+  std::string run;
 };
 
 llvm::Expected<ModelFiles> classifyInputs(const std::vector<std::string>& paths);
@@ -107,6 +109,7 @@ struct PreparedModel {
   std::string cpp, bufferName;
   std::string objectKey;  // the compile's object cache key (jit::CompileStats::objectKey)
   std::string lsystem;                     // the .l file
+  std::string run;                         // ModelFiles::run
   frontend::PreprocessOptions preprocess;  // what it was preprocessed with
   // Columns of the preprocessed text as the user wrote them (errors and faults name those).
   std::shared_ptr<const frontend::OriginalColumns> columns;
@@ -250,6 +253,7 @@ class Session {
   // at the REPL (each in its own unit). Later compiles share them.
   std::vector<std::shared_ptr<jit::ModelCode>> stateOwners_;
   std::string lsystem_;                       // the running model's .l file
+  std::string run_;                           // and the rule method its steps apply (--run)
   frontend::PreprocessOptions preprocess_;    // and how it was preprocessed
   std::shared_ptr<const frontend::OriginalColumns> columns_;  // and its columns as written
   std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load

@@ -33,10 +33,12 @@ namespace {
 
 class Translator {
 public:
-  Translator(std::vector<Token> tokens) : t_(std::move(tokens)) {}
+  // `run`: the rule method each step applies; empty: the first.
+  Translator(std::vector<Token> tokens, std::string run) : t_(std::move(tokens)), run_(std::move(run)) {}
 
   std::string run() {
     while (cur().kind != Token::End) topLevel();
+    chooseMethod();
     if (!init_) axiomNode();
     return write();
   }
@@ -134,10 +136,22 @@ private:
       if (m.rules.size() != 1) throw XlError{t_[m.name], "init() should have the one rule `Axiom ==> …;`"};
       init_ = std::move(m);
     } else {
-      if (step_)
-        notYet(t_[m.name], "a second method of rules (lcjit derives with one, here '" + t_[step_->name].text + "')");
-      step_ = std::move(m);
+      methods_.push_back(std::move(m));
     }
+  }
+
+  // The rule method a step applies: the one --run names, else the first (GroIMP's first button).
+  void chooseMethod() {
+    for (Method& m : methods_)
+      if (run_.empty() || t_[m.name].text == run_) {
+        step_ = m;
+        return;
+      }
+    if (run_.empty()) return;
+    std::string names;
+    for (const Method& m : methods_) names += (names.empty() ? "" : ", ") + t_[m.name].text;
+    throw XlError{t_[methods_.empty() ? 0 : methods_.front().name], "no rule method '" + run_ + "' to run (--run)" +
+                             (names.empty() ? std::string(": the model has none") : "; the model's: " + names)};
   }
 
   // A model without init() whose rule method has `Axiom ==> …` (the RGG tutorial's and XL's own
@@ -1177,6 +1191,8 @@ private:
   std::vector<Declaration> declarations_;
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
+  std::vector<Method> methods_;  // the rule methods besides init(), in the model's order
+  std::string run_;
   bool axiomIsNode_ = false;  // no init(): the axiom is the node Axiom (axiomNode)
   size_t axiomNameAt_ = 0;
   // Where the axiom is written: init()'s name, or the Axiom the rule rewrites.
@@ -1221,24 +1237,24 @@ size_t replText(const std::string& preprocessed) {
 }
 }  // namespace
 
-llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile) {
+llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile, const std::string& run) {
   try {
     // In the REPL, the model is XL and what the REPL adds after it C++, which the L+C takes as
     // it is.
     const size_t repl = replText(preprocessed);
     if (repl != std::string::npos) {
-      Translator translator(tokenize(preprocessed.substr(0, repl), mainFile));
+      Translator translator(tokenize(preprocessed.substr(0, repl), mainFile), run);
       return translator.run() + preprocessed.substr(repl);
     }
-    Translator translator(tokenize(preprocessed, mainFile));
+    Translator translator(tokenize(preprocessed, mainFile), run);
     return translator.run();
   } catch (const XlError& e) {
     return llvm::createStringError(llvm::inconvertibleErrorCode(), errorLine(e));
   }
 }
 
-llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile) {
-  auto lc = toLplusC(preprocessed, mainFile);
+llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile, const std::string& run) {
+  auto lc = toLplusC(preprocessed, mainFile, run);
   if (!lc) return lc.takeError();
   return frontend::rewrite(*lc, mainFile);
 }

@@ -14,7 +14,9 @@
 namespace lcjit::frontend::xl {
 
 // The L+C of an XL model. Errors are `FILE:LINE:COL: error: MESSAGE`.
-llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile);
+// `run`: the rule method a step applies (GroIMP's button; empty: the model's first).
+llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile,
+                                     const std::string& run = {});
 
 // The name XL gives a module of the L+C toLplusC writes, in the string's text: `[` and `]` for
 // SB and EB, `G` for a model's module XL_G (named as one of lcjit's own), `F` for F_d and F_dc
@@ -23,6 +25,6 @@ std::string_view shownName(std::string_view lcName);
 
 // The languages table's front end for XL (app/session/Languages.h's RewriteModel): toLplusC,
 // then frontend::rewrite.
-llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile);
+llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile, const std::string& run);
 
 }  // namespace lcjit::frontend::xl

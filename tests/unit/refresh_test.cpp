@@ -116,12 +116,12 @@ TEST(Languages, FrontEndOfItsEngine) {
   EXPECT_EQ(languageOf("tree.rgg"), xl);
   EXPECT_EQ(languageOf("tree.xl"), xl);
   auto model = xl->rewrite("module X;\nprotected void init() [ Axiom ==> X; ]\npublic void run() [ X ==> F(1) [RU(30) X]; ]\n",
-                           "tree.rgg");
+                           "tree.rgg", "");
   ASSERT_TRUE(bool(model)) << llvm::toString(model.takeError());
   ASSERT_EQ(model->userModules.size(), 2u);  // X, and GroIMP's RU
   EXPECT_EQ(model->userModules[0].name, "X");
   EXPECT_EQ(model->ruleCount, 2);  // X's production, RU's interpretation rule
-  auto wrong = xl->rewrite("module X;\nprotected void init() [ Axiom ==> X Y; ]\n", "tree.rgg");
+  auto wrong = xl->rewrite("module X;\nprotected void init() [ Axiom ==> X Y; ]\n", "tree.rgg", "");
   ASSERT_FALSE(bool(wrong));
   EXPECT_NE(llvm::toString(wrong.takeError()).find("tree.rgg:2:37: error: no module 'Y'"), std::string::npos);
 }

@@ -4,12 +4,13 @@
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model); what the model printed
-#                     is NAME.stdout, when there is one
+#                     is NAME.stdout, when there is one; NAME.options holds more options for lcjit
 #   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
 #                     (derived by hand)
 #   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
 #                     (the quick reference's colour table)
 #   error NAME        lcjit fails with exit status 1 and each line of NAME.err is in its stderr
+#                     (NAME.options: more options for lcjit)
 #   repl NAME STEPS   `lcjit repl --steps STEPS NAME.rgg`: :step 2 derives the tutorial's tree two
 #                     steps (25 modules, by hand: tree_string.expected), :string shows them in XL's
 #                     names, and C++ typed at the prompt runs in the model (k * 2 is 6)
@@ -36,7 +37,9 @@ case $kind in
   string)
     model=$name.rgg
     [ -f "$model" ] || model=$name.l
-    "$lcjit" -b --steps "$steps" -out out.str "$model" >printed || fail "lcjit exited with $?"
+    extra=()
+    [ ! -f "$name.options" ] || read -r -a extra <"$name.options"
+    "$lcjit" -b --steps "$steps" "${extra[@]}" -out out.str "$model" >printed || fail "lcjit exited with $?"
     diff -u "$name.expected" out.str || fail "the string differs from $name.expected"
     [ ! -f "$name.stdout" ] || diff -u "$name.stdout" printed || fail "what it printed differs from $name.stdout"
     echo "ok: $name" ;;
@@ -55,7 +58,9 @@ case $kind in
     grep -qx "6" out.txt || fail "the C++ k * 2 did not give 6"
     echo "ok: $name.rgg in the REPL" ;;
   error)
-    "$lcjit" -b -out out.str "$name.rgg" >stdout 2>stderr
+    extra=()
+    [ ! -f "$name.options" ] || read -r -a extra <"$name.options"
+    "$lcjit" -b "${extra[@]}" -out out.str "$name.rgg" >stdout 2>stderr
     rc=$?
     cat stderr
     [ "$rc" -eq 1 ] || fail "expected exit status 1, got $rc"
