@@ -207,6 +207,9 @@ private:
       }
       if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
       d.rest = balanced();
+      for (size_t i = d.rest.first; i < d.rest.second; ++i)
+        if (t_[i].is("==>") || t_[i].is("==>>") || t_[i].is("::>"))
+          notYet(t_[i], "a rule in a Java method's statements (lcjit's rules are in a method's rule block, `void run() [ … ]`)");
     } else {
       if (t_[d.type].is("void")) throw XlError{t_[d.type], "a field of type void"};
       size_t from = d.name;
@@ -399,6 +402,20 @@ private:
     if (!cur().is("==>") && !cur().is("==>>") && !cur().is("::>"))
       throw XlError{cur(), "expected '==>' after the rule's left side"};
     r.arrow = p_++;
+    // `a:A ::> a[x] :+= 1;`: an update's one statement without braces.
+    if (r.is(t_, "::>") && !cur().is("{")) {
+      Node n;
+      n.kind = Node::Block;
+      n.name = p_;
+      while (!cur().is(";")) {
+        if (cur().kind == Token::End) throw XlError{cur(), "expected ';' at the end of the rule"};
+        ++p_;
+      }
+      n.block = {r.arrow, p_ + 1};  // as a block's: the `;` stands for its `}`
+      r.right.push_back(n);
+      r.end = p_++;
+      return r;
+    }
     int depth = 0;
     std::vector<int> groups;  // the open groups of for and if, each with the depth of [ it began at
     while (!(cur().is(";") && groups.empty())) {
@@ -453,8 +470,10 @@ private:
           return r;
         }
         continue;
+      } else if (cur().is(".") && t_[p_ + 1].is("(")) {
+        throw XlError{cur(), "`.(…)` follows the node it acts on (`Sphere(1).(setShader(RED))`)"};
       } else {
-        throw XlError{cur(), "expected a module, '[', ']' or '{' on the rule's right side"};
+        throw XlError{cur(), "expected a module, '[', ']', '{', for or if on the rule's right side"};
       }
       r.right.push_back(n);
     }
@@ -640,6 +659,11 @@ private:
         w_.at(i, "bool");
         continue;
       }
+      // XL's deferred assignments (`x[f] := v`, `:+=` …) take effect after the step: a rule's
+      // changes to a label's fields do so in lcjit anyway (the node takes them at the end).
+      if (t.is(":") && i + 1 < r.second &&
+          (t_[i + 1].is("=") || t_[i + 1].is("+=") || t_[i + 1].is("-=") || t_[i + 1].is("*=") || t_[i + 1].is("/=")))
+        continue;
       // Java's `"…" + x` makes a string; C++'s would move a pointer: refused, not miscompiled.
       if (t.is("+") && ((i > r.first && t_[i - 1].kind == Token::String) || (i + 1 < r.second && t_[i + 1].kind == Token::String)))
         notYet(t, "a string made with + (`\"…\" + x`)");
