@@ -144,19 +144,24 @@ inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"},         {"M", "1
 // The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
 // of the command's constructor's arguments, with their values when it has none: F() and M() are
 // 1 long, F's diameter and colour −1 (the turtle state's), RU(), RL() and RH() turn by 0 (F.java,
-// M.java, the rotations' constructors).
+// M.java, the rotations' constructors); the solids' sizes as kTurtleDefaults gives them, and
+// their `shader`, −1 for the turtle's colour (ShadedNull's shader, as lcjit keeps it: a colour).
 struct Field {
   std::string_view command, name, type, fallback;
 };
-inline constexpr Field kFields[] = {{"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
-                             {"M", "length", "float", "1"}, {"RU", "angle", "float", "0"},    {"RL", "angle", "float", "0"},
-                             {"RH", "angle", "float", "0"},
-                             {"Sphere", "radius", "float", "1"}, {"Sphere", "shader", "int", "-1"},
-                             {"Cylinder", "length", "float", "1"}, {"Cylinder", "radius", "float", "1"}, {"Cylinder", "shader", "int", "-1"},
-                             {"Cone", "length", "float", "1"}, {"Cone", "radius", "float", "1"}, {"Cone", "shader", "int", "-1"},
-                             {"Frustum", "length", "float", "1"}, {"Frustum", "baseRadius", "float", "1"}, {"Frustum", "topRadius", "float", "0.5"}, {"Frustum", "shader", "int", "-1"},
-                             {"Box", "length", "float", "1"}, {"Box", "width", "float", "1"}, {"Box", "height", "float", "1"}, {"Box", "shader", "int", "-1"},
-                             {"Parallelogram", "length", "float", "1"}, {"Parallelogram", "width", "float", "1"}, {"Parallelogram", "shader", "int", "-1"}};
+inline constexpr Field kFields[] = {
+    {"F", "length", "float", "1"}, {"F", "diameter", "float", "-1"}, {"F", "color", "int", "-1"},
+    {"M", "length", "float", "1"},
+    {"RU", "angle", "float", "0"}, {"RL", "angle", "float", "0"}, {"RH", "angle", "float", "0"},
+    {"Sphere", "radius", "float", "1"}, {"Sphere", "shader", "int", "-1"},
+    {"Cylinder", "length", "float", "1"}, {"Cylinder", "radius", "float", "1"}, {"Cylinder", "shader", "int", "-1"},
+    {"Cone", "length", "float", "1"}, {"Cone", "radius", "float", "1"}, {"Cone", "shader", "int", "-1"},
+    {"Frustum", "length", "float", "1"}, {"Frustum", "baseRadius", "float", "1"},
+    {"Frustum", "topRadius", "float", "0.5"}, {"Frustum", "shader", "int", "-1"},
+    {"Box", "length", "float", "1"}, {"Box", "width", "float", "1"}, {"Box", "height", "float", "1"},
+    {"Box", "shader", "int", "-1"},
+    {"Parallelogram", "length", "float", "1"}, {"Parallelogram", "width", "float", "1"},
+    {"Parallelogram", "shader", "int", "-1"}};
 
 // The fields of turtle command `command`, in kFields' order (its constructor's arguments').
 inline std::vector<const Field*> fieldsOf(std::string_view command) {

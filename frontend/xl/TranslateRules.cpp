@@ -1,0 +1,493 @@
+// Writing one XL rule as an L+C production (Translator.h): the patterns of its left side, its
+// labels' copies of their nodes' fields, its Java (with XL's names, Math and graph queries), its
+// right side made in order, and the SPO rules lcjit runs.
+#include "frontend/xl/Translator.h"
+
+namespace lcjit::frontend::xl {
+
+const Translator::Label* Translator::label(size_t at) const {
+  auto it = labels_.find(t_[at].text);
+  return t_[at].kind == Token::Identifier && it != labels_.end() ? &it->second : nullptr;
+}
+
+void Translator::pattern(const Node& n, size_t index) {
+  if (const Module* m = userModule(t_[n.name].text)) {
+    checkCount(n, *m, true);
+    std::vector<std::string> names;
+    for (size_t k = 0; k < m->fieldCount(); ++k)
+      names.push_back(n.parens && k < n.args.size() ? t_[n.args[k].first].text
+                                                    : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
+    if (n.label) labels_[t_[*n.label].text] = Label{m, names};
+    writtenCall(n, m->lcName, std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
+    return;
+  }
+  if (n.label) notYet(t_[*n.label], "a label on one of GroIMP's turtle commands");
+  std::string_view defaultArgument;
+  const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+  // `F` without parentheses: every F, whatever its length (a class pattern, as in GroIMP).
+  std::vector<std::string> unnamed;
+  if (!defaultArgument.empty())
+    for (size_t k = 0; k <= (size_t)std::count(defaultArgument.begin(), defaultArgument.end(), ','); ++k)
+      unnamed.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(k));
+  writtenCall(n, std::string(c->module), unnamed);
+}
+
+void Translator::writtenCall(const Node& n, const std::string& name, const std::vector<std::string>& more) {
+  w_.at(n.name, name);
+  if (n.args.empty()) {
+    if (!more.empty()) w_.add("(" + joined(more) + ")");
+    return;
+  }
+  w_.token(n.args.front().first - 1);  // (
+  for (size_t i = 0; i < n.args.size(); ++i) {
+    if (i) w_.token(n.args[i].first - 1);  // ,
+    java(n.args[i]);
+  }
+  for (const std::string& m : more) w_.add(", " + m);
+  w_.token(n.args.back().second);  // )
+}
+
+void Translator::labelCopies() {
+  for (const auto& [name, l] : labels_) {
+    std::string decl = "struct {";
+    std::string values;
+    for (size_t k = 0; k < l.module->fieldCount(); ++k) {
+      decl += " " + l.module->fieldType(k) + " " + l.module->fieldName(k) + ";";
+      values += (k ? ", " : "") + l.bound[k];
+    }
+    w_.add(decl + " } " + name + " = {" + values + "};");
+  }
+}
+
+void Translator::java(Range r) {
+  for (size_t i = r.first; i < r.second; ++i) {
+    const Token& t = t_[i];
+    if (size_t end = query(i, r); end != i) {
+      i = end - 1;
+      continue;
+    }
+    if (const Label* l = label(i)) {
+      const bool bracketed = i + 3 < r.second && t_[i + 1].is("[") && t_[i + 3].is("]");
+      const bool dotted = i + 2 < r.second && t_[i + 1].is(".");
+      if (bracketed || dotted) {
+        const std::string& field = t_[i + 2].text;
+        if (dotted && i + 3 < r.second && t_[i + 3].is("("))
+          notYet(t_[i + 2], "a method of a node (`" + t.text + "." + field + "(…)`)");
+        if (l->module->fieldIndex(field) == l->module->fieldCount())
+          throw XlError{t_[i + 2], "'" + t.text + "' (a " + t_[l->module->name].text + ") has no field '" + field + "'"};
+        w_.token(i);
+        w_.at(i + 1, ".");
+        w_.token(i + 2);
+        i += bracketed ? 3 : 2;
+        continue;
+      }
+    }
+    if (t.is("Math") && i + 2 < r.second && t_[i + 1].is(".")) {
+      std::string cpp = javaMath(t_[i + 2].text);
+      if (cpp.empty()) notYet(t_[i + 2], "Java's Math." + t_[i + 2].text);
+      w_.at(i, cpp);
+      i += 2;
+      continue;
+    }
+    if (t.is("boolean")) {
+      w_.at(i, "bool");
+      continue;
+    }
+    // XL's deferred assignments (`x[f] := v`, `:+=` …) take effect after the step: a rule's
+    // changes to a label's fields do so in lcjit anyway (the node takes them at the end).
+    if (t.is(":") && i + 1 < r.second &&
+        (t_[i + 1].is("=") || t_[i + 1].is("+=") || t_[i + 1].is("-=") || t_[i + 1].is("*=") || t_[i + 1].is("/=")))
+      continue;
+    // Java's `"…" + x` makes a string; C++'s would move a pointer: refused, not miscompiled.
+    if (t.is("+") && ((i > r.first && t_[i - 1].kind == Token::String) || (i + 1 < r.second && t_[i + 1].kind == Token::String)))
+      notYet(t, "a string made with + (`\"…\" + x`)");
+    w_.token(i);
+  }
+}
+
+size_t Translator::query(size_t i, Range r) {
+  static const std::set<std::string> kAggregates = {"count", "empty", "sum", "mean", "max", "min"};
+  if (t_[i].kind != Token::Identifier || !kAggregates.count(t_[i].text) || i + 5 >= r.second || !t_[i + 1].is("(") ||
+      !t_[i + 2].is("(*"))
+    return i;
+  const std::string& f = t_[i].text;
+  if (!inRule_) notYet(t_[i], "a graph query (`" + f + "((* … *))`) outside a rule");
+  const Module* m = t_[i + 3].kind == Token::Identifier ? userModule(t_[i + 3].text) : nullptr;
+  if (!m) notYet(t_[i + 3], "a query of other than one of the model's modules (`(* M *)`)");
+  if (!t_[i + 4].is("*)")) notYet(t_[i + 4], "a query of more than one module");
+  size_t at = i + 5, field = m->fieldCount();
+  if (t_[at].is("[")) {
+    if (at + 2 >= r.second || !t_[at + 2].is("]")) throw XlError{t_[at], "expected '[FIELD]' after the query"};
+    field = m->fieldIndex(t_[at + 1].text);
+    if (field == m->fieldCount())
+      throw XlError{t_[at + 1], "a " + t_[m->name].text + " has no field '" + t_[at + 1].text + "'"};
+    at += 3;
+  }
+  if (!t_[at].is(")")) throw XlError{t_[at], "expected ')' to close " + f + "()"};
+  const bool counts = f == "count" || f == "empty";
+  if (counts != (field == m->fieldCount()))
+    throw XlError{t_[i], counts ? f + "() counts nodes: no field" : f + "() needs a field: `" + f + "((* M *)[field])`"};
+  const std::string q = "__xl_q" + std::to_string(temps_++);
+  std::string decls, vars;
+  for (size_t k = 0; k < m->fieldCount(); ++k) {
+    decls += m->fieldType(k) + " " + q + "_" + std::to_string(k) + " = 0; ";
+    vars += (k ? ", " : "") + q + "_" + std::to_string(k);
+  }
+  const std::string found = "InString(" + m->lcName + (vars.empty() ? "" : "(" + vars + ")") + ", ";
+  const std::string value = field < m->fieldCount() ? q + "_" + std::to_string(field) : "";
+  std::string e;
+  if (f == "count") e = "int " + q + " = 0; " + found + "(++" + q + ", false)); " + q + ";";
+  if (f == "empty") e = "bool " + q + " = !" + found + "true); " + q + ";";
+  if (f == "sum") e = "double " + q + " = 0; " + found + "(" + q + " += " + value + ", false)); " + q + ";";
+  if (f == "mean")
+    e = "double " + q + " = 0; int " + q + "n = 0; " + found + "(" + q + " += " + value + ", ++" + q + "n, false)); " + q +
+        "n ? " + q + " / " + q + "n : 0.0;";
+  if (f == "max" || f == "min")
+    e = "double " + q + " = " + (f == "max" ? "-" : "") + "HUGE_VAL; " + found + "(" + q + " = std::f" + f + "(" + q + ", " +
+        value + "), false)); " + q + ";";
+  w_.at(i, "({ " + decls + e + " })");
+  return at + 1;
+}
+
+void Translator::block(const Node& n) {
+  const size_t close = n.block.second - 1;
+  w_.at(n.block.first, " ");
+  java({n.block.first + 1, close});
+  if (close > n.block.first + 1 && !t_[close - 1].is(";") && !t_[close - 1].is("}")) w_.add(";");
+}
+
+void Translator::rightStatements(const std::vector<Node>& right) {
+  argumentNames_.clear();
+  for (const Node& n : right) {
+    if (n.kind == Node::Block) {
+      block(n);
+      continue;
+    }
+    if (n.kind != Node::Module || label(n.name)) continue;
+    for (Range a : n.args) {
+      std::string name = "__xl_a" + std::to_string(temps_++);
+      w_.add("const auto " + name + " = (");
+      java(a);
+      w_.add(");");
+      argumentNames_.push_back(name);
+    }
+  }
+}
+
+void Translator::rightModules(const std::vector<Node>& right, bool axiom) {
+  size_t next = 0;
+  for (const Node& n : right) {
+    if (n.kind == Node::Bracket) {
+      w_.at(n.name, t_[n.name].is("[") ? "SB" : "EB");  // L+C's names of XL's [ ]
+      continue;
+    }
+    if (n.kind == Node::Block) continue;
+    // In a rule, each argument is its local (rightStatements); in the axiom, as written.
+    std::vector<std::string> given;
+    if (!(!axiom && label(n.name)))
+      for (Range a : n.args) given.push_back(axiom ? "(" + text(a) + ")" : argumentNames_[next++]);
+    madeNode(n, given, axiom);
+  }
+}
+
+void Translator::madeNode(const Node& n, std::vector<std::string> given, bool axiom) {
+  if (const Label* l = axiom ? nullptr : label(n.name)) {
+    if (n.parens) throw XlError{t_[n.name], "'" + t_[n.name].text + "' names a node of the left side: no arguments"};
+    w_.at(n.name, fromLabel(t_[n.name].text, *l->module));
+    return;
+  }
+  std::string name;
+  std::vector<std::string> more;
+  if (const Module* m = userModule(t_[n.name].text)) {
+    checkCount(n, *m, false);
+    name = m->lcName;
+    for (const Inherited& f : m->inherited)
+      more.push_back(n.shader && (f.field == "color" || f.field == "shader") ? "(" + text(*n.shader) + ")"
+                                                                           : inheritedValue(*m, f, given));
+    if (n.shader && m->baseField("color").empty() && m->baseField("shader").empty())
+      notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
+  } else {
+    if (n.shader) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands (lcjit: on a module extending it)");
+    std::string_view defaultArgument;
+    name = turtleOrError(n, &defaultArgument)->module;
+    if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
+  }
+  if (axiom) {
+    writtenCall(n, name, more);
+  } else {
+    given.insert(given.end(), more.begin(), more.end());
+    w_.at(n.name, name + (given.empty() ? "" : "(" + joined(given) + ")"));
+  }
+}
+
+bool Translator::hasBlock(const std::vector<Node>& right) {
+  for (const Node& n : right)
+    if (n.kind == Node::Block) return true;
+  return false;
+}
+
+bool Translator::hasControl(const std::vector<Node>& right) {
+  for (const Node& n : right)
+    if (n.control()) return true;
+  return false;
+}
+
+void Translator::stepwise(const std::vector<Node>& right) {
+  bool labelled = false;
+  for (const Node& n : right) {
+    switch (n.kind) {
+      case Node::Bracket: w_.at(n.name, t_[n.name].is("[") ? "nproduce SB;" : "nproduce EB;"); break;
+      case Node::Block:
+        if (labelled) notYet(t_[n.name], "a block after a label's node on a right side with for or if");
+        block(n);
+        break;
+      case Node::For: forHeader(n); break;
+      case Node::If:
+        w_.at(n.name, "if (");
+        java({n.block.first + 1, n.block.second - 1});
+        w_.add(")");
+        break;
+      case Node::Else: w_.at(n.name, "else"); break;
+      case Node::Open: w_.at(n.name, "{"); break;
+      case Node::Close: w_.at(n.name, "}"); break;
+      case Node::Module: {
+        if (label(n.name)) {
+          labelled = true;
+          w_.add("nproduce");
+          madeNode(n, {}, false);
+          w_.add(";");
+          break;
+        }
+        w_.add("{");
+        std::vector<std::string> given;
+        for (Range a : n.args) {
+          given.push_back("__xl_a" + std::to_string(temps_++));
+          w_.add("const auto " + given.back() + " = (");
+          java(a);
+          w_.add(");");
+        }
+        w_.add("nproduce");
+        madeNode(n, given, false);
+        w_.add("; }");
+        break;
+      }
+    }
+  }
+}
+
+void Translator::forHeader(const Node& n) {
+  const Range inner{n.block.first + 1, n.block.second - 1};
+  bool classic = false;
+  for (size_t i = inner.first; i < inner.second; ++i) classic = classic || t_[i].is(";");
+  if (classic) {
+    w_.at(n.name, "for (");
+    java(inner);
+    w_.add(")");
+    return;
+  }
+  std::string var;
+  Range range = inner;
+  if (inner.second - inner.first > 3 && t_[inner.first].kind == Token::Identifier &&
+      t_[inner.first + 1].kind == Token::Identifier && t_[inner.first + 2].is(":")) {
+    const std::string type = javaType(t_[inner.first].text);
+    if (type.empty()) notYet(t_[inner.first], "a for over values of type '" + t_[inner.first].text + "'");
+    var = t_[inner.first + 1].text;
+    w_.at(n.name, "for (" + type + " " + var + " = (");
+    range = {inner.first + 3, inner.second};
+  } else {
+    var = "__xl_i" + std::to_string(temps_++);
+    w_.at(n.name, "for (long long " + var + " = (");
+  }
+  // `(a : b)` or `a : b`: the `:` outside any parentheses.
+  if (t_[range.first].is("(") && afterParentheses(range.first) == range.second) range = {range.first + 1, range.second - 1};
+  size_t colon = range.second;
+  int depth = 0;
+  for (size_t i = range.first; i < range.second && colon == range.second; ++i) {
+    depth += nesting(t_[i]);
+    if (depth == 0 && t_[i].is(":")) colon = i;
+  }
+  if (colon == range.second) notYet(t_[range.first], "this for on a right side (lcjit's: `for ((a : b))`, `for (int i : a : b)`, Java's)");
+  java({range.first, colon});
+  w_.add("); " + var + " <= (");
+  java({colon + 1, range.second});
+  w_.add("); ++" + var + ")");
+}
+
+std::string Translator::inheritedValue(const Module& m, const Inherited& f, const std::vector<std::string>& given) const {
+  if (f.value.empty()) return f.fallback;
+  std::string s = "(";
+  for (size_t i : f.value) {
+    std::string piece = LcWriter::spelled(t_[i]);
+    for (size_t k = 0; k < m.params.size(); ++k)
+      if (t_[i].kind == Token::Identifier && t_[i].text == m.params[k].name && k < given.size()) piece = given[k];
+    s += (s.size() > 1 ? " " : "") + piece;
+  }
+  return s + ")";
+}
+
+std::string Translator::fromLabel(const std::string& label, const Module& m) {
+  std::vector<std::string> fields;
+  for (size_t k = 0; k < m.fieldCount(); ++k) fields.push_back(label + "." + m.fieldName(k));
+  return m.lcName + (fields.empty() ? "" : "(" + joined(fields) + ")");
+}
+
+std::string Translator::joined(const std::vector<std::string>& items) {
+  std::string s;
+  for (size_t k = 0; k < items.size(); ++k) s += (k ? ", " : "") + items[k];
+  return s;
+}
+
+std::string Translator::text(Range r) const {
+  std::string s;
+  for (size_t i = r.first; i < r.second; ++i) s += (i > r.first ? " " : "") + LcWriter::spelled(t_[i]);
+  return s;
+}
+
+std::string Translator::drawn(std::string_view pattern, const std::vector<std::string>& args) {
+  std::string s;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] == '$' && i + 1 < pattern.size() && std::isdigit((unsigned char)pattern[i + 1])) {
+      s += "(" + args[pattern[i + 1] - '1'] + ")";
+      ++i;
+    } else {
+      s += pattern[i];
+    }
+  }
+  return s;
+}
+
+size_t Translator::rewrittenNode(const Rule& r, const std::vector<Token>& t) {
+  return r.is(t, "==>>") && r.left.size() == 3 ? 1 : 0;
+}
+
+std::vector<const Module*> Translator::subclassesMatched(const Rule& r) const {
+  std::vector<const Module*> found;
+  if (r.is(t_, "::>")) return found;
+  const Node& n = r.left[rewrittenNode(r, t_)];
+  if (n.label || userModule(t_[n.name].text) || n.args.empty()) return found;
+  for (const Module& m : modules_)
+    if (m.base && t_[*m.base].text == t_[n.name].text) found.push_back(&m);
+  return found;
+}
+
+void Translator::subclassPattern(const Node& n, const Module& m, size_t index) {
+  const std::vector<const Field*> commandFields = fieldsOf(t_[n.name].text);
+  if (n.args.size() > commandFields.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
+  std::vector<std::string> names;
+  for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(f));
+  for (size_t k = 0; k < n.args.size(); ++k)
+    if (size_t f = m.fieldIndex(m.baseField(std::string(commandFields[k]->name))); f < m.fieldCount())
+      names[f] = t_[n.args[k].first].text;
+  w_.at(n.name, m.lcName + (names.empty() ? "" : "(" + joined(names) + ")"));
+}
+
+void Translator::production(const Rule& r, const Module* subclass) {
+  labels_.clear();
+  inRule_ = true;
+  std::vector<Node> right = r.right;
+  if (r.is(t_, "==>>")) right = spoRight(r);
+  const size_t node = rewrittenNode(r, t_);
+  if (r.left.size() > 1 && !r.is(t_, "==>>")) notYet(t_[r.left[1].name], "a rule of more than one node on its left side");
+  for (size_t k = 0; k < r.left.size(); ++k) {
+    if (k == 1 && node == 1) w_.add("<");
+    if (subclass && k == node) subclassPattern(r.left[k], *subclass, k);
+    else pattern(r.left[k], k);
+    if (k == 1 && node == 1) w_.add(">");
+  }
+  w_.add(":");
+  w_.add("{");
+  // Each context's fields, found by InString (lcjit's, the rewriter's): variables, and the
+  // label's copy of them.
+  std::vector<std::vector<std::string>> contextVars;
+  for (size_t k = 0; k < r.contexts.size(); ++k) {
+    const Node& n = r.contexts[k];
+    const Module* m = userModule(t_[n.name].text);
+    if (!m) notYet(t_[n.name], "a context of one of GroIMP's turtle commands");
+    checkCount(n, *m, true);
+    std::vector<std::string> vars;
+    for (size_t f = 0; f < m->fieldCount(); ++f) {
+      vars.push_back(n.parens && f < n.args.size() ? t_[n.args[f].first].text
+                                                   : "__xl_c" + std::to_string(k) + "_" + std::to_string(f));
+      w_.add(m->fieldType(f) + " " + vars.back() + " = 0;");
+    }
+    if (n.label) labels_[t_[*n.label].text] = Label{m, vars};
+    contextVars.push_back(vars);
+  }
+  labelCopies();
+  if (r.condition || !r.contexts.empty()) {
+    w_.add("if (");
+    for (size_t k = 0; k < r.contexts.size(); ++k) {
+      const Node& n = r.contexts[k];
+      const Module& m = *userModule(t_[n.name].text);
+      std::string s = "InString(" + m.lcName + (contextVars[k].empty() ? "" : "(" + joined(contextVars[k]) + ")") + ", (";
+      if (n.label)
+        for (size_t f = 0; f < m.fieldCount(); ++f) s += t_[*n.label].text + "." + m.fieldName(f) + " = " + contextVars[k][f] + ", ";
+      w_.add(s);
+    }
+    if (r.condition) java(*r.condition);
+    else w_.add("true");
+    for (size_t k = 0; k < r.contexts.size(); ++k) w_.add("))");
+    w_.add(")");
+  }
+  w_.add("{");
+  if (r.is(t_, "::>")) {
+    // An update: the node's fields changed by the blocks, the node itself kept.
+    for (const Node& n : right)
+      if (n.kind != Node::Block) throw XlError{t_[n.name], "an update rule (`::>`) has blocks `{ … }` on its right side, no nodes"};
+    rightStatements(right);
+    const Node& kept = r.left.front();
+    if (!userModule(t_[kept.name].text) || !kept.label)
+      notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
+    w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *userModule(t_[kept.name].text)) + ";");
+  } else if (hasControl(right)) {
+    stepwise(right);
+    w_.at(r.end, "produce ;");
+  } else {
+    rightStatements(right);
+    if (deletes(r, t_)) w_.add("lcjit_cut_branch();");
+    w_.at(r.arrow, "produce");
+    rightModules(right, false);
+    w_.at(r.end, ";");
+  }
+  w_.add("}");
+  w_.add("}");
+  inRule_ = false;
+}
+
+bool Translator::names(const Node& n, const Node& left, const std::vector<Token>& t) {
+  return n.kind == Node::Module && !n.parens && left.label && t[n.name].text == t[*left.label].text;
+}
+
+bool Translator::deletes(const Rule& r, const std::vector<Token>& t) {
+  if (!r.is(t, "==>>") || r.left.size() != 1) return false;
+  for (const Node& n : r.right)
+    if (names(n, r.left.front(), t) || n.control()) return false;
+  return true;
+}
+
+std::vector<Node> Translator::spoRight(const Rule& r) {
+  if (deletes(r, t_)) {
+    for (const Node& n : r.right)
+      if (n.kind == Node::Block) notYet(t_[n.name], "a block in an SPO rule that deletes its node");
+    return {};
+  }
+  if (r.left.size() == 1 && !r.right.empty() && names(r.right.front(), r.left.front(), t_)) {
+    for (size_t k = 1; k < r.right.size(); ++k)
+      if (names(r.right[k], r.left.front(), t_)) notYet(t_[r.right[k].name], "an SPO rule naming its node twice on its right side");
+    return r.right;
+  }
+  if (r.left.size() == 3 && r.left[0].label && r.left[2].label && r.right.size() >= 2) {
+    const Node& first = r.right.front();
+    const Node& last = r.right.back();
+    auto same = [&](const Node& n, const Node& l) {
+      return n.kind == Node::Module && !n.parens && t_[n.name].text == t_[*l.label].text;
+    };
+    bool blocks = false;
+    for (const Node& n : r.right) blocks = blocks || n.kind == Node::Block;
+    if (same(first, r.left[0]) && same(last, r.left[2]) && !blocks)
+      return std::vector<Node>(r.right.begin() + 1, r.right.end() - 1);
+  }
+  notYet(t_[r.arrow], "this SPO rule (`==>>`: lcjit runs `X ==>> ;` and `a:A X c:C ==>> a … c;`)");
+}
+
+}  // namespace lcjit::frontend::xl
