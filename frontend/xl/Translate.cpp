@@ -113,33 +113,27 @@ std::string Translator::write() {
   }
   std::vector<std::pair<size_t, std::string>> interpretation;  // (at, rule)
   for (const Module& m : modules_) {
-    if (!m.base) continue;
-    if (userModule(t_[*m.base].text)) notYet(t_[*m.base], "a module extending one of the model's modules");
-    const std::string base = t_[*m.base].text;
-    // Its pattern, each field by its name.
-    std::string rule = m.lcName;
-    std::vector<std::string> names;
-    for (size_t k = 0; k < m.fieldCount(); ++k) names.push_back(m.fieldName(k));
-    if (!names.empty()) rule += "(" + joined(names) + ")";
-    std::string body;
-    if (base == "F") {
-      // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
-      body = drawn(kOwnCylinder, {m.baseField("length"), m.baseField("diameter"), m.baseField("color")});
-    } else {
-      std::string_view defaultArgument;
-      std::vector<std::string> args;
-      for (const Field* f : fieldsOf(base))
-        if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
-      const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
-      if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
-      if (c->drawn.empty()) continue;
-      body = "produce " + drawn(c->drawn, args) + ";";
-      // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.
-      if (const std::string shader = m.baseField("shader"); !shader.empty())
-        body = "if (" + shader + " < 0) " + body + " else produce SB SetColor(" + shader + " + 2) " + drawn(c->drawn, args) + " EB" +
-               (c->advance.empty() ? "" : " f(" + drawn(c->advance, args) + ")") + ";";
-    }
-    interpretation.push_back({m.name, rule + " : { " + body + " }"});
+    if (m.base && userModule(t_[*m.base].text)) notYet(t_[*m.base], "a module extending one of the model's modules");
+    if (instantiations_.count(t_[m.name].text)) continue;  // below
+    if (std::string body = ownDrawing(m); !body.empty()) interpretation.push_back({m.name, pattern(m) + " : { " + body + " }"});
+  }
+  // Instantiation rules: what the nodes of a module are drawn as, in a branch (what they do to
+  // the turtle does not reach the nodes after it), then the module's own drawing.
+  bool interpreting = false;
+  for (const Module& m : modules_) {
+    auto it = instantiations_.find(t_[m.name].text);
+    if (it == instantiations_.end()) continue;
+    // What it makes is drawn by the rules of GroIMP's commands (RU is Right …) and the
+    // instantiation rules of the modules it makes: a few levels deep.
+    if (!interpreting) w_.add("interpretation: maximum depth: 8;");
+    interpreting = true;
+    labels_.clear();
+    instantiating_ = true;
+    w_.at(it->second.arrow, pattern(m) + " : { nproduce SB;");
+    stepwise(it->second.right);
+    const std::string own = ownDrawing(m);
+    w_.at(it->second.end, "nproduce EB; " + (own.empty() ? "produce ;" : own) + " }");
+    instantiating_ = false;
   }
   std::string turtleDecls;
   for (const TurtleCommand& c : kTurtleCommands) {
@@ -165,11 +159,39 @@ std::string Translator::write() {
                                                " }"});
   }
   if (!interpretation.empty()) {
-    w_.add("interpretation:");
+    if (!interpreting) w_.add("interpretation:");
     for (const auto& [at, rule] : interpretation) w_.at(at, rule);
   }
   if (!turtleDecls.empty()) head.at(axiomAt(), turtleDecls);
   return "#include <lpfgall.h>\n" + head.take() + w_.take();
+}
+
+std::string Translator::pattern(const Module& m) const {
+  std::vector<std::string> names;
+  for (size_t k = 0; k < m.fieldCount(); ++k) names.push_back(m.fieldName(k));
+  return m.lcName + (names.empty() ? "" : "(" + joined(names) + ")");
+}
+
+std::string Translator::ownDrawing(const Module& m) {
+  if (!m.base) return "";
+  const std::string base = t_[*m.base].text;
+  if (base == "F") {
+    // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
+    return drawn(kOwnCylinder, {m.baseField("length"), m.baseField("diameter"), m.baseField("color")});
+  }
+  std::string_view defaultArgument;
+  std::vector<std::string> args;
+  for (const Field* f : fieldsOf(base))
+    if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
+  const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
+  if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
+  if (c->drawn.empty()) return "";
+  std::string body = "produce " + drawn(c->drawn, args) + ";";
+  // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.
+  if (const std::string shader = m.baseField("shader"); !shader.empty())
+    body = "if (" + shader + " < 0) " + body + " else produce SB SetColor(" + shader + " + 2) " + drawn(c->drawn, args) + " EB" +
+           (c->advance.empty() ? "" : " f(" + drawn(c->advance, args) + ")") + ";";
+  return body;
 }
 
 std::string Translator::signature(const Declaration& d) const {

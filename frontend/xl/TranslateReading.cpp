@@ -210,13 +210,30 @@ void Translator::module() {
     // A graph's bare node (de.grogra.graph.impl.Node): nothing to inherit, nothing drawn.
     if (t_[*m.base].is("Node") && m.baseArgs.empty()) m.base.reset();
   }
-  if (cur().is("==>")) notYet(cur(), "an instantiation rule");
+  std::optional<Range> shader;
+  // `extends Cylinder(l, r).(setShader(X))`: each node's colour, as an initialiser's setShader.
+  if (cur().is(".") && t_[p_ + 1].is("(")) {
+    ++p_;
+    Range calls = balanced();
+    if (!(t_[calls.first + 1].is("setShader") && t_[calls.first + 2].is("(") &&
+          afterParentheses(calls.first + 2) == calls.second - 1))
+      notYet(t_[calls.first + 1], "a statement on a module's base other than `.(setShader(…))`");
+    shader = Range{calls.first + 3, calls.second - 2};
+  }
   if (cur().is("implements")) notYet(cur(), "'implements'");
   std::vector<Inherited> bodyFields;
-  std::optional<Range> shader;
   std::vector<std::pair<size_t, Range>> assigned;  // an initialiser's `field = value;`: (field, value)
-  if (cur().is("{")) moduleBody(bodyFields, shader, assigned);
-  else expect(";", "at the end of the module declaration");
+  if (cur().is("==>")) {
+    // An instantiation rule: what each of its nodes is drawn as (its fields by their names).
+    Rule r;
+    r.arrow = p_++;
+    rightSide(r);
+    instantiations_[t_[m.name].text] = std::move(r);
+  } else if (cur().is("{")) {
+    moduleBody(bodyFields, shader, assigned);
+  } else {
+    expect(";", "at the end of the module declaration");
+  }
   const std::string base = m.base ? t_[*m.base].text : "";
   const std::vector<const Field*> baseFields = fieldsOf(base);
   for (Param& param : m.params) {
@@ -369,6 +386,11 @@ Rule Translator::rule() {
     r.end = p_++;
     return r;
   }
+  rightSide(r);
+  return r;
+}
+
+void Translator::rightSide(Rule& r) {
   int depth = 0;
   std::vector<int> groups;  // the open groups of for and if, each with the depth of [ it began at
   while (!(cur().is(";") && groups.empty())) {
@@ -392,7 +414,7 @@ Rule Translator::rule() {
         n.kind = Node::Else;
         n.name = p_++;
         r.right.push_back(n);
-        openGroup(r, groups, depth);
+        if (!(cur().is("if") && t_[p_ + 1].is("("))) openGroup(r, groups, depth);  // else if: the if's own
       }
       continue;
     }
@@ -420,7 +442,7 @@ Rule Translator::rule() {
       // A block may end a rule without `;` (the quick reference writes `… { t[length] *= 1.1 }`).
       if (depth == 0 && groups.empty() && (cur().is("]") || ruleStarts())) {
         r.end = n.block.second - 1;
-        return r;
+        return;
       }
       continue;
     } else if (cur().is(".") && t_[p_ + 1].is("(")) {
@@ -432,7 +454,7 @@ Rule Translator::rule() {
   }
   if (depth > 0) throw XlError{cur(), "expected ']' before the end of the rule"};
   r.end = p_++;
-  return r;
+  return;
 }
 
 void Translator::openGroup(Rule& r, std::vector<int>& groups, int depth) {

@@ -207,10 +207,19 @@ void Translator::madeNode(const Node& n, std::vector<std::string> given, bool ax
     if (n.shader && m->baseField("color").empty() && m->baseField("shader").empty())
       notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
   } else {
-    if (n.shader) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands (lcjit: on a module extending it)");
     std::string_view defaultArgument;
-    name = turtleOrError(n, &defaultArgument)->module;
+    const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+    name = c->module;
     if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
+    if (n.shader) {
+      // Drawn in its colour, then the turtle where it ends: an instantiation rule's node is
+      // drawing alone, not a node of the graph that would keep the colour.
+      if (!instantiating_) notYet(t_[n.shader->first], "setShader on one of GroIMP's turtle commands in a rule (lcjit: on a module extending it)");
+      given.insert(given.end(), more.begin(), more.end());
+      w_.at(n.name, "SB SetColor((int)(" + text(*n.shader) + ") + 2) " + name + (given.empty() ? "" : "(" + joined(given) + ")") +
+                        " EB" + (c->advance.empty() ? "" : " f(" + drawn(c->advance, given) + ")"));
+      return;
+    }
   }
   if (axiom) {
     writtenCall(n, name, more);

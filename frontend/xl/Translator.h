@@ -85,6 +85,8 @@ private:
                   std::vector<std::pair<size_t, Range>>& assigned);
 
   Rule rule();
+  // A right side, from after its arrow to its `;` (or a block ending it): r.right, r.end.
+  void rightSide(Rule& r);
   // The `(` of a for's, an if's or an else's group on a right side.
   void openGroup(Rule& r, std::vector<int>& groups, int depth);
   // A node of a pattern: `[label:]Module[(names)]`.
@@ -125,6 +127,7 @@ private:
   // whose condition is made false to go through every M. Inside a rule only (InString is the
   // rewriter's, in production bodies). Returns the token after the query, or `i` for none.
   size_t query(size_t i, Range r);
+  bool instantiating_ = false;  // writing an instantiation rule (madeNode: setShader on any node)
   bool inRule_ = false;  // writing a production (java(): graph queries)
 
   // A block of Java statements: the last one's `;` may be missing before `}`.
@@ -190,6 +193,10 @@ private:
   std::vector<Node> spoRight(const Rule& r);
 
   std::string write();
+  // Module `m` as an interpretation rule's pattern: each field by its name.
+  std::string pattern(const Module& m) const;
+  // What a module extending one of GroIMP's turtle commands draws; empty: nothing.
+  std::string ownDrawing(const Module& m);
 
   std::string signature(const Declaration& d) const;
 
@@ -199,6 +206,8 @@ private:
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
   std::vector<Method> methods_;  // the rule methods besides init(), in the model's order
+  // Instantiation rules (`module Bud ==> Sphere(0.1);`): what a module's nodes are drawn as.
+  std::map<std::string, Rule> instantiations_;
   std::string run_;
   bool axiomIsNode_ = false;  // no init(): the axiom is the node Axiom (axiomNode)
   size_t axiomNameAt_ = 0;

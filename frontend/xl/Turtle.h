@@ -53,11 +53,11 @@ inline constexpr std::string_view kOwnCylinder =
 
 inline constexpr TurtleCommand kTurtleCommands[] = {
     // F(l): a cylinder of length l along the head, then the turtle at its end (Shoot, TurtleStep).
-    {"F", 1, "F", "", true, ""},
+    {"F", 1, "F", "", true, "", {}, "$1"},
     // F(l, d): of diameter d for itself alone (F's field `diameter`; −1 is the state's).
-    {"F", 2, "F_d", "float, float", false, "", "if ($2 < 0) produce F($1); else produce SB SetWidth($2) F($1) EB f($1);"},
+    {"F", 2, "F_d", "float, float", false, "", "if ($2 < 0) produce F($1); else produce SB SetWidth($2) F($1) EB f($1);", "$1"},
     // F(l, d, c): and of colour c (kOwnCylinder).
-    {"F", 3, "F_dc", "float, float, int", false, "", kOwnCylinder},
+    {"F", 3, "F_dc", "float, float, int", false, "", kOwnCylinder, "$1"},
     // F0: a cylinder of the turtle state's local length (TurtleState: 100 while nothing sets it),
     // FMul(x) and FAdd(x) of that times or plus x; after a shoot the local values are the
     // state's again (Shoot.execute). XL_STATE_LENGTH and XL_SHOOT.
