@@ -16,6 +16,7 @@ struct Param {
   size_t at;  // its name's token
   std::string type, name;
   bool inherited = false;  // `super.length`: the base's field, set by the module's argument
+  std::string fallback;    // its value in a node made without arguments: Java's 0, or the base's
 };
 
 // A field a module inherits from the turtle command it extends and does not declare: its value
@@ -24,7 +25,11 @@ struct Inherited {
   std::string name, type;
   std::vector<size_t> value;  // tokens of an `extends` argument; empty: `fallback`
   std::string fallback;
-  std::string field;  // the base's field it is (`length`); empty for a field of the module's body
+  std::string field;  // the turtle command's field it is (`length`); empty for a field of its own
+  // Its value when it comes from a base that is one of the model's modules: C++ pieces, each
+  // perhaps the name of one of the module's parameters (replaced by its argument when a node is
+  // made). Empty: `value`, else `fallback`.
+  std::vector<std::string> pieces;
 };
 
 struct Module {
@@ -32,6 +37,7 @@ struct Module {
   std::string lcName;  // its name in the L+C: its own, unless lcjit has a module of that name
   std::vector<Param> params;
   std::optional<size_t> base;  // after `extends`
+  std::string command;         // the turtle command at the root of its bases (`F`); empty: none
   std::vector<Range> baseArgs;
   std::vector<Inherited> inherited;  // after the parameters, in the L+C module
   size_t fieldCount() const { return params.size() + inherited.size(); }

@@ -47,9 +47,8 @@ void Translator::checkCount(const Node& n, const Module& m, bool left) {
   if (n.parens && arity != params)
     throw XlError{t_[n.name], "'" + t_[n.name].text + "' has " + std::to_string(params) + " parameter" +
                                   (params == 1 ? "" : "s") + ", given " + std::to_string(arity)};
-  if (!n.parens && params > 0 && !left)
-    throw XlError{t_[n.name], "'" + t_[n.name].text + "' needs its " + std::to_string(params) + " argument" +
-                                  (params == 1 ? "" : "s")};
+  (void)left;  // `A` without parentheses: on the left any A, on the right an A made with the
+               // constructor without arguments every module has (its parameters' fallbacks)
 }
 
 std::string Translator::write() {
@@ -113,26 +112,25 @@ std::string Translator::write() {
   }
   std::vector<std::pair<size_t, std::string>> interpretation;  // (at, rule)
   for (const Module& m : modules_) {
-    if (m.base && userModule(t_[*m.base].text)) notYet(t_[*m.base], "a module extending one of the model's modules");
-    if (instantiations_.count(t_[m.name].text)) continue;  // below
+    if (instantiationOf(m)) continue;  // below
     if (std::string body = ownDrawing(m); !body.empty()) interpretation.push_back({m.name, pattern(m) + " : { " + body + " }"});
   }
   // Instantiation rules: what the nodes of a module are drawn as, in a branch (what they do to
   // the turtle does not reach the nodes after it), then the module's own drawing.
   bool interpreting = false;
   for (const Module& m : modules_) {
-    auto it = instantiations_.find(t_[m.name].text);
-    if (it == instantiations_.end()) continue;
+    const Rule* instantiation = instantiationOf(m);
+    if (!instantiation) continue;
     // What it makes is drawn by the rules of GroIMP's commands (RU is Right …) and the
     // instantiation rules of the modules it makes: a few levels deep.
     if (!interpreting) w_.add("interpretation: maximum depth: 8;");
     interpreting = true;
     labels_.clear();
     instantiating_ = true;
-    w_.at(it->second.arrow, pattern(m) + " : { nproduce SB;");
-    stepwise(it->second.right);
+    w_.at(instantiation->arrow, pattern(m) + " : { nproduce SB;");
+    stepwise(instantiation->right);
     const std::string own = ownDrawing(m);
-    w_.at(it->second.end, "nproduce EB; " + (own.empty() ? "produce ;" : own) + " }");
+    w_.at(instantiation->end, "nproduce EB; " + (own.empty() ? "produce ;" : own) + " }");
     instantiating_ = false;
   }
   std::string turtleDecls;
@@ -166,6 +164,15 @@ std::string Translator::write() {
   return "#include <lpfgall.h>\n" + head.take() + w_.take();
 }
 
+const Rule* Translator::instantiationOf(const Module& m) const {
+  for (const Module* at = &m; at;) {
+    auto it = instantiations_.find(t_[at->name].text);
+    if (it != instantiations_.end()) return &it->second;
+    at = at->base ? userModule(t_[*at->base].text) : nullptr;
+  }
+  return nullptr;
+}
+
 std::string Translator::pattern(const Module& m) const {
   std::vector<std::string> names;
   for (size_t k = 0; k < m.fieldCount(); ++k) names.push_back(m.fieldName(k));
@@ -173,8 +180,8 @@ std::string Translator::pattern(const Module& m) const {
 }
 
 std::string Translator::ownDrawing(const Module& m) {
-  if (!m.base) return "";
-  const std::string base = t_[*m.base].text;
+  if (m.command.empty()) return "";
+  const std::string& base = m.command;
   if (base == "F") {
     // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
     return drawn(kOwnCylinder, {m.baseField("length"), m.baseField("diameter"), m.baseField("color")});
@@ -183,7 +190,7 @@ std::string Translator::ownDrawing(const Module& m) {
   std::vector<std::string> args;
   for (const Field* f : fieldsOf(base))
     if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
-  const TurtleCommand* c = turtle(*m.base, (int)args.size(), &defaultArgument);
+  const TurtleCommand* c = turtleNamed(base, (int)args.size());
   if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
   if (c->drawn.empty()) return "";
   std::string body = "produce " + drawn(c->drawn, args) + ";";

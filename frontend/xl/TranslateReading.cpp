@@ -223,31 +223,39 @@ void Translator::module() {
   if (cur().is("implements")) notYet(cur(), "'implements'");
   std::vector<Inherited> bodyFields;
   std::vector<std::pair<size_t, Range>> assigned;  // an initialiser's `field = value;`: (field, value)
+  const bool body = cur().is("{");
+  if (body) moduleBody(bodyFields, shader, assigned);
   if (cur().is("==>")) {
     // An instantiation rule: what each of its nodes is drawn as (its fields by their names).
     Rule r;
     r.arrow = p_++;
     rightSide(r);
     instantiations_[t_[m.name].text] = std::move(r);
-  } else if (cur().is("{")) {
-    moduleBody(bodyFields, shader, assigned);
-  } else {
+  } else if (!body) {
     expect(";", "at the end of the module declaration");
   }
   const std::string base = m.base ? t_[*m.base].text : "";
-  const std::vector<const Field*> baseFields = fieldsOf(base);
+  const Module* userBase = m.base ? userModule(base) : nullptr;
+  const std::vector<BaseField> baseFields = userBase ? baseFieldsOf(*userBase) : baseFieldsOf(base);
+  m.command = userBase ? userBase->command : fieldsOf(base).empty() ? "" : base;
+  if (m.base && !userBase && fieldsOf(base).empty()) {
+    if (!isTurtleCommand(base))
+      throw XlError{t_[*m.base], "no module '" + base + "' to extend: declare it before this one, or extend one of GroIMP's " +
+                                     turtleNames()};
+    m.command = base;
+  }
   for (Param& param : m.params) {
-    const Field* inherited = nullptr;
-    for (const Field* f : baseFields)
-      if (f->name == param.name) inherited = f;
-    if (param.inherited && inherited) param.type = inherited->type;
+    const BaseField* inherited = nullptr;
+    for (const BaseField& f : baseFields)
+      if (f.name == param.name) inherited = &f;
+    if (param.inherited && inherited) param.type = inherited->type, param.fallback = inherited->fallback;
     if (param.inherited && !inherited)
-      throw XlError{t_[param.at], "'super." + param.name + "': the module does not extend a turtle command with a field '" +
-                                      param.name + "'"};
+      throw XlError{t_[param.at], "'super." + param.name + "': " + (base.empty() ? "the module extends nothing" : base + " has no field '" + param.name + "'")};
+    if (!param.inherited) param.fallback = param.type == "bool" ? "false" : "0";
   }
   // The base's fields the module does not declare, set from its `extends` arguments.
   for (size_t k = 0; k < baseFields.size(); ++k) {
-    const Field& f = *baseFields[k];
+    const BaseField& f = baseFields[k];
     bool declared = false, hidden = false;
     for (const Param& param : m.params) {
       declared = declared || (param.inherited && param.name == f.name);
@@ -256,15 +264,17 @@ void Translator::module() {
     if (declared) continue;
     // A parameter of the base field's name is a field of its own, which hides the base's (as
     // Java's do): `module Leaf(float length) extends Parallelogram(length, …)`.
-    Inherited field{(hidden ? "__xl_super_" : "") + std::string(f.name), std::string(f.type), {}, std::string(f.fallback),
-                    std::string(f.name)};
-    if (k < m.baseArgs.size())
+    Inherited field{(hidden ? "__xl_super_" : "") + f.name, f.type, {}, f.fallback, f.field};
+    if (k < m.baseArgs.size() && f.parameter)
       for (size_t i = m.baseArgs[k].first; i < m.baseArgs[k].second; ++i) field.value.push_back(i);
+    else if (userBase && !f.parameter)
+      field.pieces = basePieces(*userBase, userBase->inherited[k - userBase->params.size()], m.baseArgs);
     m.inherited.push_back(std::move(field));
   }
-  if (!baseFields.empty() && m.baseArgs.size() > baseFields.size())
-    throw XlError{t_[m.baseArgs[baseFields.size()].first],
-                  base + " takes at most " + std::to_string(baseFields.size()) + " arguments"};
+  size_t settable = 0;  // what `extends Base(…)` sets: a turtle command's fields, a module's parameters
+  for (const BaseField& f : baseFields) settable += f.parameter ? 1 : 0;
+  if (m.base && m.baseArgs.size() > settable)
+    throw XlError{t_[m.baseArgs[settable].first], base + " takes at most " + std::to_string(settable) + " arguments"};
   // setShader(X) in its body: its colour (F's `color`, a solid's `shader`).
   if (shader) {
     Inherited* colour = nullptr;
@@ -297,6 +307,48 @@ void Translator::module() {
   };
   m.lcName = predefined.count(t_[m.name].text) ? "XL_" + t_[m.name].text : t_[m.name].text;
   modules_.push_back(std::move(m));
+}
+
+std::vector<Translator::BaseField> Translator::baseFieldsOf(std::string_view command) {
+  std::vector<BaseField> fields;
+  for (const Field* f : fieldsOf(command))
+    fields.push_back({std::string(f->name), std::string(f->type), std::string(f->fallback), std::string(f->name), true});
+  return fields;
+}
+
+std::vector<Translator::BaseField> Translator::baseFieldsOf(const Module& base) const {
+  std::vector<BaseField> fields;
+  for (const Param& p : base.params) fields.push_back({p.name, p.type, p.fallback, p.inherited ? p.name : "", true});
+  std::vector<std::string> defaults;
+  for (const Param& p : base.params) defaults.push_back(p.fallback);
+  for (const Inherited& f : base.inherited) fields.push_back({f.name, f.type, inheritedValue(base, f, defaults), f.field, false});
+  return fields;
+}
+
+std::vector<std::string> Translator::basePieces(const Module& base, const Inherited& f, const std::vector<Range>& args) const {
+  std::vector<std::string> out;
+  for (const std::string& piece : valuePieces(f)) {
+    size_t k = 0;
+    while (k < base.params.size() && base.params[k].name != piece) ++k;
+    if (k == base.params.size()) {
+      out.push_back(piece);
+    } else if (k < args.size()) {
+      out.push_back("(");
+      for (size_t i = args[k].first; i < args[k].second; ++i) out.push_back(LcWriter::spelled(t_[i]));
+      out.push_back(")");
+    } else {
+      out.push_back("(" + base.params[k].fallback + ")");
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> Translator::valuePieces(const Inherited& f) const {
+  if (!f.pieces.empty()) return f.pieces;
+  if (f.value.empty()) return {f.fallback};
+  std::vector<std::string> pieces;
+  for (size_t i : f.value) pieces.push_back(t_[i].kind == Token::Identifier ? t_[i].text : LcWriter::spelled(t_[i]));
+  return pieces;
 }
 
 void Translator::moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader,

@@ -200,6 +200,8 @@ void Translator::madeNode(const Node& n, std::vector<std::string> given, bool ax
   std::vector<std::string> more;
   if (const Module* m = userModule(t_[n.name].text)) {
     checkCount(n, *m, false);
+    if (!n.parens)
+      for (const Param& p : m->params) given.push_back(p.fallback);  // GroIMP's constructor without arguments
     name = m->lcName;
     for (const Inherited& f : m->inherited)
       more.push_back(n.shader && (f.field == "color" || f.field == "shader") ? "(" + text(*n.shader) + ")"
@@ -222,6 +224,7 @@ void Translator::madeNode(const Node& n, std::vector<std::string> given, bool ax
     }
   }
   if (axiom) {
+    if (!n.parens) more.insert(more.begin(), given.begin(), given.end());  // the parameters' fallbacks
     writtenCall(n, name, more);
   } else {
     given.insert(given.end(), more.begin(), more.end());
@@ -323,12 +326,11 @@ void Translator::forHeader(const Node& n) {
 }
 
 std::string Translator::inheritedValue(const Module& m, const Inherited& f, const std::vector<std::string>& given) const {
-  if (f.value.empty()) return f.fallback;
+  if (f.value.empty() && f.pieces.empty()) return f.fallback;
   std::string s = "(";
-  for (size_t i : f.value) {
-    std::string piece = LcWriter::spelled(t_[i]);
+  for (std::string piece : valuePieces(f)) {
     for (size_t k = 0; k < m.params.size(); ++k)
-      if (t_[i].kind == Token::Identifier && t_[i].text == m.params[k].name && k < given.size()) piece = given[k];
+      if (piece == m.params[k].name && k < given.size()) piece = given[k];
     s += (s.size() > 1 ? " " : "") + piece;
   }
   return s + ")";
@@ -371,22 +373,40 @@ size_t Translator::rewrittenNode(const Rule& r, const std::vector<Token>& t) {
 
 std::vector<const Module*> Translator::subclassesMatched(const Rule& r) const {
   std::vector<const Module*> found;
-  if (r.is(t_, "::>")) return found;
   const Node& n = r.left[rewrittenNode(r, t_)];
-  if (n.label || userModule(t_[n.name].text) || n.args.empty()) return found;
+  const std::string& type = t_[n.name].text;
+  if (const Module* base = userModule(type)) {
+    // The model's modules extending it, however far down.
+    for (const Module& m : modules_)
+      for (const Module* at = &m; at && at->base;) {
+        at = userModule(t_[*at->base].text);
+        if (at == base) {
+          found.push_back(&m);
+          break;
+        }
+      }
+    return found;
+  }
+  if (n.label || r.is(t_, "::>")) return found;
   for (const Module& m : modules_)
-    if (m.base && t_[*m.base].text == t_[n.name].text) found.push_back(&m);
+    if (m.command == type) found.push_back(&m);
   return found;
 }
 
 void Translator::subclassPattern(const Node& n, const Module& m, size_t index) {
-  const std::vector<const Field*> commandFields = fieldsOf(t_[n.name].text);
-  if (n.args.size() > commandFields.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
+  // The fields the pattern's arguments name, in order: a module's parameters, a command's fields.
+  std::vector<std::string> named;
+  if (const Module* base = userModule(t_[n.name].text)) {
+    for (const Param& p : base->params) named.push_back(m.fieldIndex(p.name) < m.fieldCount() ? p.name : "");
+  } else {
+    for (const Field* f : fieldsOf(t_[n.name].text)) named.push_back(m.baseField(std::string(f->name)));
+  }
+  if (n.args.size() > named.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
   std::vector<std::string> names;
   for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(f));
   for (size_t k = 0; k < n.args.size(); ++k)
-    if (size_t f = m.fieldIndex(m.baseField(std::string(commandFields[k]->name))); f < m.fieldCount())
-      names[f] = t_[n.args[k].first].text;
+    if (size_t f = m.fieldIndex(named[k]); !named[k].empty() && f < m.fieldCount()) names[f] = t_[n.args[k].first].text;
+  if (n.label) labels_[t_[*n.label].text] = Label{&m, names};
   w_.at(n.name, m.lcName + (names.empty() ? "" : "(" + joined(names) + ")"));
 }
 
@@ -447,7 +467,7 @@ void Translator::production(const Rule& r, const Module* subclass) {
     const Node& kept = r.left.front();
     if (!userModule(t_[kept.name].text) || !kept.label)
       notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
-    w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *userModule(t_[kept.name].text)) + ";");
+    w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *label(*kept.label)->module) + ";");
   } else if (hasControl(right)) {
     stepwise(right);
     w_.at(r.end, "produce ;");

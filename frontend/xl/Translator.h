@@ -77,6 +77,20 @@ private:
   void declaration(bool constant);
 
   void module();
+  // A base's field as a module extending it inherits it: `field` the turtle command's field it is
+  // (empty: none), `parameter` whether `extends Base(…)` sets it (a turtle command's fields, a
+  // module's parameters), `fallback` its value in a base made without arguments.
+  struct BaseField {
+    std::string name, type, fallback, field;
+    bool parameter;
+  };
+  static std::vector<BaseField> baseFieldsOf(std::string_view command);
+  std::vector<BaseField> baseFieldsOf(const Module& base) const;
+  // The value of `base`'s field `f` in a module that extends `base` with the arguments `args`
+  // (tokens in the module's own parameters), as pieces (Inherited::pieces).
+  std::vector<std::string> basePieces(const Module& base, const Inherited& f, const std::vector<Range>& args) const;
+  // A field's value as pieces: its own pieces, its `extends` argument's tokens, or its fallback.
+  std::vector<std::string> valuePieces(const Inherited& f) const;
 
   // A module's body `{ … }`: fields (`float z;`, `int n = 2;`: each a field of the module, as
   // its parameters are, Java's 0 or its initial value when it is made) and instance initialisers
@@ -193,6 +207,8 @@ private:
   std::vector<Node> spoRight(const Rule& r);
 
   std::string write();
+  // The instantiation rule of `m`, or of the nearest of its bases with one; null: none.
+  const Rule* instantiationOf(const Module& m) const;
   // Module `m` as an interpretation rule's pattern: each field by its name.
   std::string pattern(const Module& m) const;
   // What a module extending one of GroIMP's turtle commands draws; empty: nothing.

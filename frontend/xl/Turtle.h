@@ -114,6 +114,18 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
 #undef XL_SET_LENGTH
 #undef XL_SET_LOCAL_LENGTH
 
+// GroIMP's command `name` with `arity` arguments; null when lcjit has none.
+inline const TurtleCommand* turtleNamed(std::string_view name, int arity) {
+  for (const TurtleCommand& c : kTurtleCommands)
+    if (c.name == name && c.arity == arity) return &c;
+  return nullptr;
+}
+inline bool isTurtleCommand(std::string_view name) {
+  for (const TurtleCommand& c : kTurtleCommands)
+    if (c.name == name) return true;
+  return false;
+}
+
 // The names of GroIMP's turtle commands lcjit has, for messages: "F, F0, …, Sphere and Null".
 inline std::string turtleNames() {
   std::string names;
