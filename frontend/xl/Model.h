@@ -32,12 +32,23 @@ struct Inherited {
   std::vector<std::string> pieces;
 };
 
+// A Java declaration at the top of the model (or a method in a module's body): a field (`final float angle = 30;`) or a method of
+// statements (`static float half(float x) { return x / 2; }`), written as C++ before the rules.
+struct Declaration {
+  size_t type = 0, name = 0;  // tokens
+  bool constant = false;      // `final`
+  bool method = false;
+  std::vector<std::pair<size_t, size_t>> params;  // a method's: (type, name) tokens
+  Range rest;                                     // a field's from its name to `;`; a method's body
+};
+
 struct Module {
   size_t keyword = 0, name = 0;
   std::string lcName;  // its name in the L+C: its own, unless lcjit has a module of that name
   std::vector<Param> params;
   std::optional<size_t> base;  // after `extends`
   std::string command;         // the turtle command at the root of its bases (`F`); empty: none
+  std::vector<Declaration> methods;  // its body's methods, on its fields
   std::vector<Range> baseArgs;
   std::vector<Inherited> inherited;  // after the parameters, in the L+C module
   size_t fieldCount() const { return params.size() + inherited.size(); }
@@ -89,14 +100,5 @@ struct Method {
   std::vector<Rule> rules;
 };
 
-// A Java declaration at the top of the model: a field (`final float angle = 30;`) or a method of
-// statements (`static float half(float x) { return x / 2; }`), written as C++ before the rules.
-struct Declaration {
-  size_t type = 0, name = 0;  // tokens
-  bool constant = false;      // `final`
-  bool method = false;
-  std::vector<std::pair<size_t, size_t>> params;  // a method's: (type, name) tokens
-  Range rest;                                     // a field's from its name to `;`; a method's body
-};
 
 }  // namespace lcjit::frontend::xl

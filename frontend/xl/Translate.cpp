@@ -82,6 +82,20 @@ std::string Translator::write() {
       w_.add(";");
     }
   }
+  // The fields of each module with methods, as a struct with the methods on them: its labels'
+  // copies are of it, so that `l.area()` is C++ as written.
+  for (const Module& m : modules_) {
+    const std::vector<const Declaration*> methods = methodsOf(m);
+    if (methods.empty()) continue;
+    std::string fields;
+    for (size_t k = 0; k < m.fieldCount(); ++k) fields += " " + m.fieldType(k) + " " + m.fieldName(k) + ";";
+    w_.at(m.name, "struct " + fieldsStruct(m) + " {" + fields);
+    for (const Declaration* d : methods) {
+      w_.at(d->type, signature(*d));
+      java(d->rest);
+    }
+    w_.add("};");
+  }
   if (axiomIsNode_) {
     w_.at(axiomAt(), "derivation length: 0; axiom: XL_Axiom;");
   } else if (const Rule& axiom = init_->rules.front(); hasControl(axiom.right) || hasBlock(axiom.right)) {
@@ -163,6 +177,19 @@ std::string Translator::write() {
   if (!turtleDecls.empty()) head.at(axiomAt(), turtleDecls);
   return "#include <lpfgall.h>\n" + head.take() + w_.take();
 }
+
+std::vector<const Declaration*> Translator::methodsOf(const Module& m) const {
+  std::vector<const Declaration*> methods;
+  for (const Module* at = &m; at; at = at->base ? userModule(t_[*at->base].text) : nullptr)
+    for (const Declaration& d : at->methods) {
+      bool overridden = false;
+      for (const Declaration* own : methods) overridden = overridden || t_[own->name].text == t_[d.name].text;
+      if (!overridden) methods.push_back(&d);
+    }
+  return methods;
+}
+
+std::string Translator::fieldsStruct(const Module& m) { return "__xl_fields_" + m.lcName; }
 
 const Rule* Translator::instantiationOf(const Module& m) const {
   for (const Module* at = &m; at;) {

@@ -59,6 +59,19 @@ std::vector<Range> Translator::arguments() {
 
 void Translator::topLevel() {
   if (cur().is("module")) return module();
+  // XL's manual writes a model as a Java class, `public class Koch extends RGG { … }`: what it
+  // holds is the model.
+  const size_t classAt = cur().is("public") ? p_ + 1 : p_;
+  if (t_[classAt].is("class") && t_[classAt + 2].is("extends") && t_[classAt + 3].is("RGG") && t_[classAt + 4].is("{")) {
+    p_ = classAt + 5;
+    ++classes_;
+    return;
+  }
+  if (cur().is("}") && classes_ > 0) {
+    ++p_;
+    --classes_;
+    return;
+  }
   // `import …;`: what lcjit's XL has of GroIMP's classes is there without one (its turtle, its
   // library); a class a model imports for more is refused where the model uses it.
   if (cur().is("import")) {
@@ -224,7 +237,7 @@ void Translator::module() {
   std::vector<Inherited> bodyFields;
   std::vector<std::pair<size_t, Range>> assigned;  // an initialiser's `field = value;`: (field, value)
   const bool body = cur().is("{");
-  if (body) moduleBody(bodyFields, shader, assigned);
+  if (body) moduleBody(bodyFields, shader, assigned, m.methods);
   if (cur().is("==>")) {
     // An instantiation rule: what each of its nodes is drawn as (its fields by their names).
     Rule r;
@@ -352,7 +365,7 @@ std::vector<std::string> Translator::valuePieces(const Inherited& f) const {
 }
 
 void Translator::moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader,
-                            std::vector<std::pair<size_t, Range>>& assigned) {
+                            std::vector<std::pair<size_t, Range>>& assigned, std::vector<Declaration>& methods) {
   expect("{", "to begin the module's body");
   while (!accept("}")) {
     if (cur().kind == Token::End) throw XlError{cur(), "expected '}' at the end of the module's body"};
@@ -384,7 +397,26 @@ void Translator::moduleBody(std::vector<Inherited>& fields, std::optional<Range>
     size_t type = identifier("a field's type");
     const std::string cppType = javaType(t_[type].text);
     size_t name = identifier("the field's name");
-    if (cur().is("(")) notYet(t_[name], "a method of a module");
+    if (cur().is("(")) {
+      // A method: C++ in the struct of the module's fields (a label's copy is one), on them.
+      Declaration d;
+      d.type = type;
+      d.name = name;
+      d.method = true;
+      ++p_;
+      while (!accept(")")) {
+        if (!d.params.empty()) expect(",", "between the method's parameters");
+        if (cur().kind != Token::Identifier || javaType(cur().text).empty())
+          notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
+        size_t paramType = p_++;
+        d.params.push_back({paramType, identifier("the parameter's name")});
+      }
+      if (!t_[type].is("void") && cppType.empty()) notYet(t_[type], "a method giving a '" + t_[type].text + "'");
+      if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
+      d.rest = balanced();
+      methods.push_back(std::move(d));
+      continue;
+    }
     if (cppType.empty()) notYet(t_[type], "a field of type '" + t_[type].text + "'");
     Inherited f{t_[name].text, cppType, {}, cppType == "bool" ? "false" : "0"};
     if (accept("="))

@@ -21,15 +21,37 @@ void Translator::pattern(const Node& n, size_t index) {
     writtenCall(n, m->lcName, std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
     return;
   }
-  if (n.label) notYet(t_[*n.label], "a label on one of GroIMP's turtle commands");
   std::string_view defaultArgument;
   const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+  if (n.label) {
+    // A label on a turtle command (`s:Sphere`): its fields as a module of the command's names.
+    const Module* m = commandModule(*c);
+    if (!m) notYet(t_[*n.label], "a label on GroIMP's " + t_[n.name].text);
+    std::vector<std::string> names;
+    for (size_t k = 0; k < m->fieldCount(); ++k)
+      names.push_back(k < n.args.size() ? t_[n.args[k].first].text : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
+    labels_[t_[*n.label].text] = Label{m, names};
+    writtenCall(n, std::string(c->module), std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
+    return;
+  }
   // `F` without parentheses: every F, whatever its length (a class pattern, as in GroIMP).
   std::vector<std::string> unnamed;
   if (!defaultArgument.empty())
     for (size_t k = 0; k <= (size_t)std::count(defaultArgument.begin(), defaultArgument.end(), ','); ++k)
       unnamed.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(k));
   writtenCall(n, std::string(c->module), unnamed);
+}
+
+const Module* Translator::commandModule(const TurtleCommand& c) {
+  for (const Module& m : commandModules_)
+    if (m.lcName == c.module) return &m;
+  const std::vector<const Field*> fields = fieldsOf(c.name);
+  if (fields.size() < size_t(c.arity)) return nullptr;
+  Module m;
+  m.lcName = std::string(c.module);
+  for (int k = 0; k < c.arity; ++k) m.params.push_back({0, std::string(fields[k]->type), std::string(fields[k]->name)});
+  commandModules_.push_back(std::move(m));
+  return &commandModules_.back();
 }
 
 void Translator::writtenCall(const Node& n, const std::string& name, const std::vector<std::string>& more) {
@@ -55,7 +77,9 @@ void Translator::labelCopies() {
       decl += " " + l.module->fieldType(k) + " " + l.module->fieldName(k) + ";";
       values += (k ? ", " : "") + l.bound[k];
     }
-    w_.add(decl + " } " + name + " = {" + values + "};");
+    // A module with methods has a struct of its own (write()), its methods on the copy.
+    if (!methodsOf(*l.module).empty()) w_.add(fieldsStruct(*l.module) + " " + name + " = {" + values + "};");
+    else w_.add(decl + " } " + name + " = {" + values + "};");
   }
 }
 
@@ -71,8 +95,16 @@ void Translator::java(Range r) {
       const bool dotted = i + 2 < r.second && t_[i + 1].is(".");
       if (bracketed || dotted) {
         const std::string& field = t_[i + 2].text;
-        if (dotted && i + 3 < r.second && t_[i + 3].is("("))
-          notYet(t_[i + 2], "a method of a node (`" + t.text + "." + field + "(…)`)");
+        if (dotted && i + 3 < r.second && t_[i + 3].is("(")) {
+          bool has = false;
+          for (const Declaration* d : methodsOf(*l->module)) has = has || t_[d->name].text == field;
+          if (!has) notYet(t_[i + 2], "a method of a node other than its module's (`" + t.text + "." + field + "(…)`)");
+          w_.token(i);
+          w_.at(i + 1, ".");
+          w_.token(i + 2);
+          i += 2;
+          continue;
+        }
         if (l->module->fieldIndex(field) == l->module->fieldCount())
           throw XlError{t_[i + 2], "'" + t.text + "' (a " + t_[l->module->name].text + ") has no field '" + field + "'"};
         w_.token(i);
@@ -91,6 +123,11 @@ void Translator::java(Range r) {
     }
     if (t.is("boolean")) {
       w_.at(i, "bool");
+      continue;
+    }
+    if (t.is("this") && i + 1 < r.second && t_[i + 1].is(".")) {  // in a module's method: its fields
+      w_.at(i, "this->");
+      ++i;
       continue;
     }
     // XL's deferred assignments (`x[f] := v`, `:+=` …) take effect after the step: a rule's
@@ -465,8 +502,8 @@ void Translator::production(const Rule& r, const Module* subclass) {
       if (n.kind != Node::Block) throw XlError{t_[n.name], "an update rule (`::>`) has blocks `{ … }` on its right side, no nodes"};
     rightStatements(right);
     const Node& kept = r.left.front();
-    if (!userModule(t_[kept.name].text) || !kept.label)
-      notYet(t_[kept.name], "an update rule other than `c:C ::> { … }` (C a module of the model)");
+    if (!kept.label || !label(*kept.label))
+      notYet(t_[kept.name], "an update rule other than `c:C ::> { … }`");
     w_.at(r.end, "produce " + fromLabel(t_[*kept.label].text, *label(*kept.label)->module) + ";");
   } else if (hasControl(right)) {
     stepwise(right);

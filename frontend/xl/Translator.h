@@ -21,6 +21,7 @@
 #pragma once
 #include <algorithm>
 #include <cctype>
+#include <deque>
 #include <map>
 #include <optional>
 #include <set>
@@ -96,7 +97,7 @@ private:
   // its parameters are, Java's 0 or its initial value when it is made) and instance initialisers
   // `{ setShader(GREEN); }` (its colour). p_ after the body.
   void moduleBody(std::vector<Inherited>& fields, std::optional<Range>& shader,
-                  std::vector<std::pair<size_t, Range>>& assigned);
+                  std::vector<std::pair<size_t, Range>>& assigned, std::vector<Declaration>& methods);
 
   Rule rule();
   // A right side, from after its arrow to its `;` (or a block ending it): r.right, r.end.
@@ -121,6 +122,9 @@ private:
     std::vector<std::string> bound;  // the pattern's names of its fields
   };
   std::map<std::string, Label> labels_;
+  // GroIMP's command `c` as a module of its fields (a label on it names them); null: it has none.
+  const Module* commandModule(const TurtleCommand& c);
+  std::deque<Module> commandModules_;  // commandModule's, kept where labels point at them
   const Label* label(size_t at) const;
 
   // A left side's node as an L+C pattern: the user's names for the parameters it names, names of
@@ -207,6 +211,10 @@ private:
   std::vector<Node> spoRight(const Rule& r);
 
   std::string write();
+  // The methods of `m`'s body and of its bases' (a base's that `m` does not override).
+  std::vector<const Declaration*> methodsOf(const Module& m) const;
+  // The name of the struct of `m`'s fields and methods (a module with methods has one).
+  static std::string fieldsStruct(const Module& m);
   // The instantiation rule of `m`, or of the nearest of its bases with one; null: none.
   const Rule* instantiationOf(const Module& m) const;
   // Module `m` as an interpretation rule's pattern: each field by its name.
@@ -225,6 +233,7 @@ private:
   // Instantiation rules (`module Bud ==> Sphere(0.1);`): what a module's nodes are drawn as.
   std::map<std::string, Rule> instantiations_;
   std::string run_;
+  int classes_ = 0;  // `class M extends RGG {` read and not yet closed
   bool axiomIsNode_ = false;  // no init(): the axiom is the node Axiom (axiomNode)
   size_t axiomNameAt_ = 0;
   // Where the axiom is written: init()'s name, or the Axiom the rule rewrites.

@@ -43,7 +43,7 @@ const std::vector<std::string> kEveryOption = {
     "-cn", "-tablet", "-timed", "-dll", "lsys.so", "-lp", "/usr/lib", "--stats", "--profile", "p.json", "-O", "2",
     "--tier-after", "100", "--panel", "Parameters", "--panel", "Profile", "--lab", "--sandbox", "--max-cpu", "30",
     "--max-file-size", "2M", "--max-threads", "64", "--sandboxed", "5", "--reply-fd", "6", "--to-step=-2",
-    "--plain-errors", "--watch", "--emit-cpp", "--steps", "3", "--max-modules", "1000", "--max-memory", "1G", "--time-limit",
+    "--plain-errors", "--watch", "--emit-cpp", "--steps", "3", "--run", "grow", "--max-modules", "1000", "--max-memory", "1G", "--time-limit",
     "1.5e-3", "-D", "A=1", "-D", "B=x y", "--seed", "18446744073709551615", "--variation", "ABC", "--frames", "12",
     "--run-record", "r.json", "--debugger", "-I", "inc", "-I", "/abs/inc", "plant.v", "plant.l"};
 
