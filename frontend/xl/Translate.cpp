@@ -69,7 +69,7 @@ std::string Translator::write() {
     for (const Declaration& d : declarations_) declared = declared || t_[d.name].text == kShaders[k];
     if (!declared) shaders += (shaders.empty() ? "" : ", ") + std::string(kShaders[k]) + " = " + std::to_string(k);
   }
-  w_.add("enum : int { " + shaders + " }; " + std::string(kLibrary));
+  w_.add("enum : int { " + shaders + " };");
   for (const Declaration& d : declarations_)
     if (d.method) w_.add(signature(d) + ";");
   for (const Declaration& d : declarations_) {
@@ -175,7 +175,8 @@ std::string Translator::write() {
     for (const auto& [at, rule] : interpretation) w_.at(at, rule);
   }
   if (!turtleDecls.empty()) head.at(axiomAt(), turtleDecls);
-  return "#include <lpfgall.h>\n" + head.take() + w_.take();
+  // XL's library (lcjit/xl.h): random, println, Java's strings …
+  return "#include <lpfgall.h>\n#include <lcjit/xl.h>\n" + head.take() + w_.take();
 }
 
 std::vector<const Declaration*> Translator::methodsOf(const Module& m) const {

@@ -135,9 +135,14 @@ void Translator::java(Range r) {
     if (t.is(":") && i + 1 < r.second &&
         (t_[i + 1].is("=") || t_[i + 1].is("+=") || t_[i + 1].is("-=") || t_[i + 1].is("*=") || t_[i + 1].is("/=")))
       continue;
-    // Java's `"…" + x` makes a string; C++'s would move a pointer: refused, not miscompiled.
-    if (t.is("+") && ((i > r.first && t_[i - 1].kind == Token::String) || (i + 1 < r.second && t_[i + 1].kind == Token::String)))
-      notYet(t, "a string made with + (`\"…\" + x`)");
+    // Java's `"…" + x` makes a string; C++'s would move a pointer: a literal a `+` touches is
+    // XL's library's __xl_String (lcjit/xl.h), whose `+` is Java's.
+    if (t.kind == Token::String && ((i > r.first && t_[i - 1].is("+")) || (i + 1 < r.second && t_[i + 1].is("+")))) {
+      w_.at(i, "__xl_String(");
+      w_.token(i);
+      w_.add(")");
+      continue;
+    }
     w_.token(i);
   }
 }

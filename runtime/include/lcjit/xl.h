@@ -1,0 +1,133 @@
+// XL's library (GroIMP's de.grogra.rgg.Library, which an XL model has without an import) as the
+// C++ that the XL front end's L+C includes (frontend/xl/Translate.cpp), on lpfg's random numbers
+// (ran(x): uniform in [0, x)); and Java's text of numbers and its string `+`, for print and
+// println to write what Java writes. Model code: header-only, included after <lpfgall.h>.
+#pragma once
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+// ---- numbers ----
+// random(a, b) uniform in [a, b); irandom(a, b) a whole number from a to b; probability(p) true
+// with probability p; normal(mu, sigma) normally distributed (Box and Muller's transform of two
+// uniform numbers); R2D and DEG, degrees per radian and radians per degree.
+inline float random(float a, float b) { return a + ran(b - a); }
+inline int irandom(int a, int b) { return a + (int)ran((float)(b - a + 1)); }
+inline bool probability(float p) { return ran(1) < p; }
+const double R2D = 180 / M_PI, DEG = M_PI / 180;
+inline double normal(double mu, double sigma) {
+  double u = 1 - ran(1), v = ran(1);
+  return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
+}
+
+// ---- Java's Math ----
+// As Java has it: the functions of doubles (Math.sqrt of a float is a double), abs, min and max
+// of the type they are given (Math.min of two ints is an int), round to the nearest with halves
+// up, random uniform in [0, 1).
+namespace __xl_Math {
+const double PI = M_PI, E = M_E;
+inline double sqrt(double x) { return std::sqrt(x); }
+inline double cbrt(double x) { return std::cbrt(x); }
+inline double pow(double x, double y) { return std::pow(x, y); }
+inline double exp(double x) { return std::exp(x); }
+inline double log(double x) { return std::log(x); }
+inline double log10(double x) { return std::log10(x); }
+inline double sin(double x) { return std::sin(x); }
+inline double cos(double x) { return std::cos(x); }
+inline double tan(double x) { return std::tan(x); }
+inline double asin(double x) { return std::asin(x); }
+inline double acos(double x) { return std::acos(x); }
+inline double atan(double x) { return std::atan(x); }
+inline double atan2(double y, double x) { return std::atan2(y, x); }
+inline double sinh(double x) { return std::sinh(x); }
+inline double cosh(double x) { return std::cosh(x); }
+inline double tanh(double x) { return std::tanh(x); }
+inline double hypot(double x, double y) { return std::hypot(x, y); }
+inline double floor(double x) { return std::floor(x); }
+inline double ceil(double x) { return std::ceil(x); }
+inline double toRadians(double x) { return x * (M_PI / 180); }
+inline double toDegrees(double x) { return x * (180 / M_PI); }
+inline double signum(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : x; }
+template <class T>
+inline T abs(T x) { return x < 0 ? -x : x; }
+template <class A, class B>
+inline auto min(A a, B b) { return a < b ? a : b; }
+template <class A, class B>
+inline auto max(A a, B b) { return a > b ? a : b; }
+inline int round(float x) { return (int)std::floor(x + 0.5f); }
+inline long long round(double x) { return (long long)std::floor(x + 0.5); }
+inline double random() { return ran(1); }
+}  // namespace __xl_Math
+
+// ---- Java's text of a number ----
+// Float.toString and Double.toString: the fewest digits that read back as the same number (9 at
+// most for a float, 17 for a double); from 10^-3 up to 10^7 written plainly with at least one
+// decimal (2.0, 0.001), else as d.dddE±n (1.0E7, 1.5E-4); NaN, Infinity, -0.0 as Java has them.
+inline std::string __xl_javaText(double x, bool single) {
+  if (std::isnan(x)) return "NaN";
+  if (std::isinf(x)) return x > 0 ? "Infinity" : "-Infinity";
+  if (x == 0) return std::signbit(x) ? "-0.0" : "0.0";
+  char buf[48];
+  int precision = 1;
+  for (; precision < (single ? 9 : 17); ++precision) {
+    std::snprintf(buf, sizeof buf, "%.*e", precision - 1, x);
+    if (single ? std::strtof(buf, nullptr) == (float)x : std::strtod(buf, nullptr) == x) break;
+  }
+  std::snprintf(buf, sizeof buf, "%.*e", precision - 1, x);
+  // buf is [-]d.ddde±XX: its digits and its exponent.
+  std::string text = buf, digits;
+  const bool negative = text[0] == '-';
+  const size_t e = text.find('e');
+  for (size_t i = negative ? 1 : 0; i < e; ++i)
+    if (text[i] != '.') digits += text[i];
+  const int exponent = std::atoi(text.c_str() + e + 1);
+  while (digits.size() > 1 && digits.back() == '0') digits.pop_back();
+  std::string out = negative ? "-" : "";
+  const double magnitude = std::fabs(x);
+  if (magnitude >= 1e-3 && magnitude < 1e7) {
+    if (exponent >= 0) {
+      std::string whole = digits.substr(0, digits.size() < size_t(exponent + 1) ? digits.size() : size_t(exponent + 1));
+      while (whole.size() < size_t(exponent + 1)) whole += '0';
+      std::string fraction = digits.size() > size_t(exponent + 1) ? digits.substr(exponent + 1) : "0";
+      out += whole + "." + fraction;
+    } else {
+      out += "0." + std::string(size_t(-exponent - 1), '0') + digits;
+    }
+  } else {
+    out += digits.substr(0, 1) + "." + (digits.size() > 1 ? digits.substr(1) : "0") + "E" + std::to_string(exponent);
+  }
+  return out;
+}
+inline std::string __xl_text(float x) { return __xl_javaText(x, true); }
+inline std::string __xl_text(double x) { return __xl_javaText(x, false); }
+inline std::string __xl_text(int x) { return std::to_string(x); }
+inline std::string __xl_text(long x) { return std::to_string(x); }
+inline std::string __xl_text(long long x) { return std::to_string(x); }
+inline std::string __xl_text(bool x) { return x ? "true" : "false"; }
+inline std::string __xl_text(char x) { return std::string(1, x); }
+inline std::string __xl_text(const char* x) { return x; }
+
+// ---- Java's strings ----
+// What Java's `+` makes of a string and anything: the translation writes each string literal that
+// a `+` touches as __xl_String("…"), so that `"n = " + n` (and `a + b + " leaves"`, the numbers
+// added first, as in Java) is text, not a pointer moved.
+struct __xl_String {
+  std::string s;
+  __xl_String(const char* text) : s(text) {}
+  explicit __xl_String(std::string text) : s(std::move(text)) {}
+};
+inline __xl_String operator+(const __xl_String& a, const __xl_String& b) { return __xl_String(a.s + b.s); }
+template <class T>
+inline __xl_String operator+(const __xl_String& a, T b) { return __xl_String(a.s + __xl_text(b)); }
+template <class T>
+inline __xl_String operator+(T a, const __xl_String& b) { return __xl_String(__xl_text(a) + b.s); }
+inline std::string __xl_text(const __xl_String& x) { return x.s; }
+
+// ---- print, println ----
+// Java's text of a number, a truth value or a string, to the standard output.
+template <class T>
+inline void print(const T& x) { std::fputs(__xl_text(x).c_str(), stdout); }
+template <class T>
+inline void println(const T& x) { std::printf("%s\n", __xl_text(x).c_str()); }
+inline void println() { std::printf("\n"); }
