@@ -166,19 +166,7 @@ void Translator::declaration(bool constant) {
   if (cur().is("[")) notYet(cur(), "an array");
   d.name = identifier("the name of the field or method");
   if (accept("(")) {
-    d.method = true;
-    while (!accept(")")) {
-      if (!d.params.empty()) expect(",", "between the method's parameters");
-      if (cur().kind != Token::Identifier || javaType(cur().text).empty())
-        notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
-      size_t type = p_++;
-      d.params.push_back({type, identifier("the parameter's name")});
-    }
-    if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
-    d.rest = balanced();
-    for (size_t i = d.rest.first; i < d.rest.second; ++i)
-      if (t_[i].is("==>") || t_[i].is("==>>") || t_[i].is("::>"))
-        notYet(t_[i], "a rule in a Java method's statements (lcjit's rules are in a method's rule block, `void run() [ … ]`)");
+    methodRest(d);
   } else {
     if (t_[d.type].is("void")) throw XlError{t_[d.type], "a field of type void"};
     size_t from = d.name;
@@ -193,6 +181,32 @@ void Translator::declaration(bool constant) {
     d.rest = {from, p_++};
   }
   declarations_.push_back(std::move(d));
+}
+
+void Translator::methodRest(Declaration& d) {
+  d.method = true;
+  while (!accept(")")) {
+    if (!d.params.empty()) expect(",", "between the method's parameters");
+    if (cur().kind != Token::Identifier || javaType(cur().text).empty())
+      notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
+    size_t type = p_++;
+    d.params.push_back({type, identifier("the parameter's name")});
+  }
+  if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
+  d.rest = balanced();
+  for (size_t i = d.rest.first; i < d.rest.second; ++i)
+    if (t_[i].is("==>") || t_[i].is("==>>") || t_[i].is("::>"))
+      notYet(t_[i], "a rule in a Java method's statements (lcjit's rules are in a method's rule block, `void run() [ … ]`)");
+}
+
+std::optional<Range> Translator::dotShader(const std::string& on) {
+  if (!(cur().is(".") && t_[p_ + 1].is("("))) return std::nullopt;
+  ++p_;
+  Range calls = balanced();
+  if (!(t_[calls.first + 1].is("setShader") && t_[calls.first + 2].is("(") &&
+        afterParentheses(calls.first + 2) == calls.second - 1))
+    notYet(t_[calls.first + 1], "a statement on " + on + " other than `.(setShader(…))`");
+  return Range{calls.first + 3, calls.second - 2};
 }
 
 void Translator::module() {
@@ -223,16 +237,8 @@ void Translator::module() {
     // A graph's bare node (de.grogra.graph.impl.Node): nothing to inherit, nothing drawn.
     if (t_[*m.base].is("Node") && m.baseArgs.empty()) m.base.reset();
   }
-  std::optional<Range> shader;
   // `extends Cylinder(l, r).(setShader(X))`: each node's colour, as an initialiser's setShader.
-  if (cur().is(".") && t_[p_ + 1].is("(")) {
-    ++p_;
-    Range calls = balanced();
-    if (!(t_[calls.first + 1].is("setShader") && t_[calls.first + 2].is("(") &&
-          afterParentheses(calls.first + 2) == calls.second - 1))
-      notYet(t_[calls.first + 1], "a statement on a module's base other than `.(setShader(…))`");
-    shader = Range{calls.first + 3, calls.second - 2};
-  }
+  std::optional<Range> shader = dotShader("a module's base");
   if (cur().is("implements")) notYet(cur(), "'implements'");
   std::vector<Inherited> bodyFields;
   std::vector<std::pair<size_t, Range>> assigned;  // an initialiser's `field = value;`: (field, value)
@@ -402,18 +408,9 @@ void Translator::moduleBody(std::vector<Inherited>& fields, std::optional<Range>
       Declaration d;
       d.type = type;
       d.name = name;
-      d.method = true;
-      ++p_;
-      while (!accept(")")) {
-        if (!d.params.empty()) expect(",", "between the method's parameters");
-        if (cur().kind != Token::Identifier || javaType(cur().text).empty())
-          notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
-        size_t paramType = p_++;
-        d.params.push_back({paramType, identifier("the parameter's name")});
-      }
       if (!t_[type].is("void") && cppType.empty()) notYet(t_[type], "a method giving a '" + t_[type].text + "'");
-      if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};
-      d.rest = balanced();
+      ++p_;
+      methodRest(d);
       methods.push_back(std::move(d));
       continue;
     }
@@ -510,14 +507,7 @@ void Translator::rightSide(Rule& r) {
       n.name = p_++;
       if (cur().is("(")) n.parens = true, n.args = arguments();
       // `X(…).(setShader(RED))`: statements run on the new node; setShader, its colour.
-      if (cur().is(".") && t_[p_ + 1].is("(")) {
-        ++p_;
-        Range calls = balanced();
-        if (!(t_[calls.first + 1].is("setShader") && t_[calls.first + 2].is("(") &&
-              afterParentheses(calls.first + 2) == calls.second - 1))
-          notYet(t_[calls.first + 1], "a statement on a new node other than `.(setShader(…))`");
-        n.shader = Range{calls.first + 3, calls.second - 2};
-      }
+      n.shader = dotShader("a new node");
     } else if (cur().is("{")) {
       n.kind = Node::Block;
       n.name = p_;

@@ -76,8 +76,13 @@ private:
   bool methodOfRules() const;
   // A field or a method of Java statements.
   void declaration(bool constant);
+  // A method's parameters, after its `(`, and its statements `{ … }` (no rules among them).
+  void methodRest(Declaration& d);
 
   void module();
+  // `.(setShader(X))` after a node or a module's base (`on` says which, for the error): X; p_
+  // after it. Nothing when no `.(` is there.
+  std::optional<Range> dotShader(const std::string& on);
   // A base's field as a module extending it inherits it: `field` the turtle command's field it is
   // (empty: none), `parameter` whether `extends Base(…)` sets it (a turtle command's fields, a
   // module's parameters), `fallback` its value in a base made without arguments.
