@@ -27,25 +27,17 @@ inline double normal(double mu, double sigma) {
 // up, random uniform in [0, 1).
 namespace __xl_Math {
 const double PI = M_PI, E = M_E;
-inline double sqrt(double x) { return std::sqrt(x); }
-inline double cbrt(double x) { return std::cbrt(x); }
-inline double pow(double x, double y) { return std::pow(x, y); }
-inline double exp(double x) { return std::exp(x); }
-inline double log(double x) { return std::log(x); }
-inline double log10(double x) { return std::log10(x); }
-inline double sin(double x) { return std::sin(x); }
-inline double cos(double x) { return std::cos(x); }
-inline double tan(double x) { return std::tan(x); }
-inline double asin(double x) { return std::asin(x); }
-inline double acos(double x) { return std::acos(x); }
-inline double atan(double x) { return std::atan(x); }
-inline double atan2(double y, double x) { return std::atan2(y, x); }
-inline double sinh(double x) { return std::sinh(x); }
-inline double cosh(double x) { return std::cosh(x); }
-inline double tanh(double x) { return std::tanh(x); }
-inline double hypot(double x, double y) { return std::hypot(x, y); }
-inline double floor(double x) { return std::floor(x); }
-inline double ceil(double x) { return std::ceil(x); }
+// Java's functions of one double and of two, each the C++ one of that name.
+#define XL_MATH1(f) \
+  inline double f(double x) { return std::f(x); }
+#define XL_MATH2(f) \
+  inline double f(double x, double y) { return std::f(x, y); }
+XL_MATH1(sqrt) XL_MATH1(cbrt) XL_MATH1(exp) XL_MATH1(log) XL_MATH1(log10) XL_MATH1(sin) XL_MATH1(cos)
+XL_MATH1(tan) XL_MATH1(asin) XL_MATH1(acos) XL_MATH1(atan) XL_MATH1(sinh) XL_MATH1(cosh) XL_MATH1(tanh)
+XL_MATH1(floor) XL_MATH1(ceil)
+XL_MATH2(pow) XL_MATH2(atan2) XL_MATH2(hypot)
+#undef XL_MATH1
+#undef XL_MATH2
 inline double toRadians(double x) { return x * (M_PI / 180); }
 inline double toDegrees(double x) { return x * (180 / M_PI); }
 inline double signum(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : x; }
