@@ -98,6 +98,9 @@ struct Rule {
 struct Method {
   size_t name = 0;
   std::vector<Rule> rules;
+  // Blocks of Java statements among its rules (`[ { n = 0; } Axiom ==> A; ]`): XL runs them as
+  // it goes through the block, before the rules' derivation.
+  std::vector<Range> blocks;
 };
 
 

@@ -110,6 +110,14 @@ std::string Translator::write() {
     rightModules(axiom.right, true);
     w_.at(axiom.end, ";");
   }
+  // Blocks among the rules: init()'s run once, before the axiom is made (L+C's Start), the step
+  // method's before each step's derivation (StartEach).
+  for (const auto& [method, statement] : {std::pair{init_ ? &*init_ : nullptr, "Start:"}, std::pair{step_ ? &*step_ : nullptr, "StartEach:"}}) {
+    if (!method || method->blocks.empty()) continue;
+    w_.at(method->blocks.front().first, std::string(statement) + " {");
+    for (const Range& b : method->blocks) block(Node{Node::Block, {}, b.first, false, {}, {}, b});
+    w_.add("}");
+  }
   if (step_)
     for (const Rule& r : step_->rules) {
       production(r);

@@ -101,7 +101,10 @@ void Translator::topLevel() {
   expect("(", "after the method's name");
   if (!accept(")")) notYet(cur(), "a method with parameters");
   expect("[", "to begin the method's rules (`public void run() [ A ==> B; ]`)");
-  while (!accept("]")) m.rules.push_back(rule());
+  while (!accept("]")) {
+    if (cur().is("{")) m.blocks.push_back(balanced());
+    else m.rules.push_back(rule());
+  }
   const std::string& name = t_[m.name].text;
   if (name == "init") {
     for (const Rule& r : m.rules)
@@ -440,7 +443,6 @@ Rule Translator::rule() {
       notYet(t_[open], "a context joined to the rule's nodes (`(* A *) B`: lcjit runs contexts written apart, `(* A *), B`)");
     r.contexts.push_back(n);
   }
-  if (cur().is("{")) notYet(cur(), "a block of Java statements among the rules");
   // The left side: nodes, each perhaps labelled, up to the condition or the arrow.
   do {
     r.left.push_back(patternNode(r.left.empty() ? "a rule (`A ==> B;`)" : "a module of the rule's left side"));
