@@ -110,6 +110,12 @@ float* turtleField(int field) {
     case __lc_TurtleStepLength: return &t.stepLength;
     case __lc_TurtleLocalStepLength: return &t.localStepLength;
     case __lc_TurtleWidth: return &t.width;
+    case __lc_TurtleHeadingX: return &t.heading.x;
+    case __lc_TurtleHeadingX + 1: return &t.heading.y;
+    case __lc_TurtleHeadingX + 2: return &t.heading.z;
+    case __lc_TurtleUpX: return &t.up.x;
+    case __lc_TurtleUpX + 1: return &t.up.y;
+    case __lc_TurtleUpX + 2: return &t.up.z;
   }
   return nullptr;
 }
@@ -120,6 +126,7 @@ float lcjit_turtle_field(int field) {
   return f ? *f : 0.0f;
 }
 void lcjit_set_turtle_field(int field, float value) {
+  if (field >= __lc_TurtleHeadingX) return;  // the frame is read only: SetHead turns it whole
   if (float* f = turtleField(field)) {
     *f = value;
     // SetWidth's: both of the contour's scales.

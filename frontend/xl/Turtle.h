@@ -90,6 +90,15 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"RU", 1, "RU", "float", false, "Right($1)"},
     {"RL", 1, "RL", "float", false, "Up($1)"},
     {"RH", 1, "RH", "float", false, "RollR($1)"},
+    // RV(g): gravitropism, the head turned towards the world's down by g (lcjit/xl.h's
+    // __xl_gravitropism, GRotation's rotation).
+    {"RV", 1, "RV", "float", false, "",
+     "float __xl_hu[6]; if (__xl_gravitropism($1, __xl_hu)) produce SetHead(__xl_hu[0], __xl_hu[1], __xl_hu[2], "
+     "__xl_hu[3], __xl_hu[4], __xl_hu[5]); else produce ;"},
+    // AdjustLU: turned about the head so that the up is as near the world's up as it can be, the
+    // left horizontal (AdjustLU.java). lpfg's RollToVert turns lpfg's U up, which is GroIMP's
+    // up reversed: then half a turn about the head.
+    {"AdjustLU", 0, "AdjustLU", "", false, "RollToVert RollR(180)"},
     // Translate(x, y, z): moves by (x, y, z) in the world's axes without drawing (the quick
     // reference: "im globalen Koordinatensystem … relativ zur bisherigen Position"); GroIMP's
     // (x, y, z) is lcjit's (x, z, −y).

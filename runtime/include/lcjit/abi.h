@@ -102,11 +102,14 @@ void lcjit_cut_branch();
 const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at);
 // lcjit's own, for GroIMP's turtle state (XL's L, D, F0, MRel …): a field of the turtle that is
 // interpreting the string, where an interpretation rule runs (the turtle has done what comes
-// before it). Anywhere else the field reads 0 and setting it does nothing.
+// before it). Anywhere else the field reads 0 and setting it does nothing; the frame's fields are
+// only read.
 enum __lc_TurtleField {
   __lc_TurtleStepLength = 0,       // GroIMP's state length, 100 at first
   __lc_TurtleLocalStepLength = 1,  // its local form: for the next shoot alone
   __lc_TurtleWidth = 2,            // the line width (SetWidth's)
+  __lc_TurtleHeadingX = 3,         // the heading H's coordinates (3, 4, 5), and the up U's
+  __lc_TurtleUpX = 6,              // (6, 7, 8): to read (SetHead sets them)
 };
 float lcjit_turtle_field(int field);
 void lcjit_set_turtle_field(int field, float value);

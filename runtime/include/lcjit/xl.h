@@ -21,6 +21,40 @@ inline double normal(double mu, double sigma) {
   return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
 }
 
+// ---- GroIMP's gravitropism ----
+// RV(g) (GRotation.postTransform): the head v turns to w = v − g·up, normalised (up the world's
+// vertical, lcjit's +y), by the rotation about v × w that takes v to w; when v is vertical the
+// frame turns over if g pulls the other way (v·(v − g·up) < 0), else stays. hu gets the new head
+// and up, for SetHead; false: the frame stays.
+inline bool __xl_gravitropism(float g, float hu[6]) {
+  double v[3], u[3];
+  for (int k = 0; k < 3; ++k) {
+    v[k] = lcjit_turtle_field(__lc_TurtleHeadingX + k);
+    u[k] = lcjit_turtle_field(__lc_TurtleUpX + k);
+  }
+  const double q = v[0] * v[0] + v[2] * v[2];  // the head's horizontal part
+  if (q < 1e-10 || v[1] * v[1] > 0.99999) {
+    if (v[1] * (v[1] - g) >= 0) return false;
+    for (int k = 0; k < 3; ++k) hu[k] = (float)-v[k], hu[3 + k] = (float)-u[k];
+    return true;
+  }
+  double w[3] = {v[0], v[1] - g, v[2]};
+  const double n = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  for (double& c : w) c /= n;
+  // Rodrigues: the axis a = v × w / |v × w|, cos and sin of the angle from v to w.
+  double a[3] = {v[1] * w[2] - v[2] * w[1], v[2] * w[0] - v[0] * w[2], v[0] * w[1] - v[1] * w[0]};
+  const double s = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), c = v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+  if (s < 1e-12) return false;
+  for (double& x : a) x /= s;
+  const double au = a[0] * u[0] + a[1] * u[1] + a[2] * u[2];
+  const double axu[3] = {a[1] * u[2] - a[2] * u[1], a[2] * u[0] - a[0] * u[2], a[0] * u[1] - a[1] * u[0]};
+  for (int k = 0; k < 3; ++k) {
+    hu[k] = (float)w[k];
+    hu[3 + k] = (float)(u[k] * c + axu[k] * s + a[k] * au * (1 - c));
+  }
+  return true;
+}
+
 // ---- Java's Math ----
 // As Java has it: the functions of doubles (Math.sqrt of a float is a double), abs, min and max
 // of the type they are given (Math.min of two ints is an int), round to the nearest with halves
