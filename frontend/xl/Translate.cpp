@@ -19,11 +19,9 @@ const Module* Translator::userModule(const std::string& name) const {
   return nullptr;
 }
 
-const TurtleCommand* Translator::turtle(size_t at, int arity, std::string_view* defaultArgument) {
+const TurtleCommand* Translator::turtle(size_t at, int arity, std::vector<std::string>* defaults) {
   const std::string& name = t_[at].text;
-  for (const TurtleDefault& d : kTurtleDefaults)
-    if (arity == 0 && d.name == name)
-      *defaultArgument = d.argument, arity = 1 + (int)std::count(d.argument.begin(), d.argument.end(), ',');
+  if (arity == 0 && !(*defaults = defaultArguments(name)).empty()) arity = (int)defaults->size();
   bool known = false;
   for (const TurtleCommand& c : kTurtleCommands) {
     known = known || c.name == name;
@@ -33,8 +31,8 @@ const TurtleCommand* Translator::turtle(size_t at, int arity, std::string_view* 
   return nullptr;
 }
 
-const TurtleCommand* Translator::turtleOrError(const Node& n, std::string_view* defaultArgument) {
-  const TurtleCommand* c = turtle(n.name, (int)n.args.size(), defaultArgument);
+const TurtleCommand* Translator::turtleOrError(const Node& n, std::vector<std::string>* defaults) {
+  const TurtleCommand* c = turtle(n.name, (int)n.args.size(), defaults);
   if (!c)
     throw XlError{t_[n.name], "no module '" + t_[n.name].text + "': declare it (`module " + t_[n.name].text +
                                   ";`); of GroIMP's turtle commands lcjit has " + turtleNames()};
@@ -42,13 +40,13 @@ const TurtleCommand* Translator::turtleOrError(const Node& n, std::string_view* 
   return c;
 }
 
-void Translator::checkCount(const Node& n, const Module& m, bool left) {
+void Translator::checkCount(const Node& n, const Module& m) {
   const int arity = (int)n.args.size(), params = (int)m.params.size();
   if (n.parens && arity != params)
     throw XlError{t_[n.name], "'" + t_[n.name].text + "' has " + std::to_string(params) + " parameter" +
                                   (params == 1 ? "" : "s") + ", given " + std::to_string(arity)};
-  (void)left;  // `A` without parentheses: on the left any A, on the right an A made with the
-               // constructor without arguments every module has (its parameters' fallbacks)
+  // `A` without parentheses: on the left any A, on the right an A made with the constructor
+  // without arguments every module has (its parameters' fallbacks).
 }
 
 std::string Translator::write() {
@@ -222,7 +220,6 @@ std::string Translator::ownDrawing(const Module& m) {
     // GroIMP's F: its own diameter and colour when it has them (≥ 0), else the turtle state's.
     return drawn(kOwnCylinder, {m.baseField("length"), m.baseField("diameter"), m.baseField("color")});
   }
-  std::string_view defaultArgument;
   std::vector<std::string> args;
   for (const Field* f : fieldsOf(base))
     if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));

@@ -10,35 +10,38 @@ const Translator::Label* Translator::label(size_t at) const {
   return t_[at].kind == Token::Identifier && it != labels_.end() ? &it->second : nullptr;
 }
 
+std::string Translator::unnamedField(size_t node, size_t field) {
+  return "__xl_" + std::to_string(node) + "_" + std::to_string(field);
+}
+
 void Translator::pattern(const Node& n, size_t index) {
   if (const Module* m = userModule(t_[n.name].text)) {
-    checkCount(n, *m, true);
+    checkCount(n, *m);
     std::vector<std::string> names;
     for (size_t k = 0; k < m->fieldCount(); ++k)
       names.push_back(n.parens && k < n.args.size() ? t_[n.args[k].first].text
-                                                    : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
+                                                    : unnamedField(index, k));
     if (n.label) labels_[t_[*n.label].text] = Label{m, names};
     writtenCall(n, m->lcName, std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
     return;
   }
-  std::string_view defaultArgument;
-  const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+  std::vector<std::string> defaults;
+  const TurtleCommand* c = turtleOrError(n, &defaults);
   if (n.label) {
     // A label on a turtle command (`s:Sphere`): its fields as a module of the command's names.
     const Module* m = commandModule(*c);
     if (!m) notYet(t_[*n.label], "a label on GroIMP's " + t_[n.name].text);
     std::vector<std::string> names;
     for (size_t k = 0; k < m->fieldCount(); ++k)
-      names.push_back(k < n.args.size() ? t_[n.args[k].first].text : "__xl_" + std::to_string(index) + "_" + std::to_string(k));
+      names.push_back(k < n.args.size() ? t_[n.args[k].first].text : unnamedField(index, k));
     labels_[t_[*n.label].text] = Label{m, names};
     writtenCall(n, std::string(c->module), std::vector<std::string>(names.begin() + long(n.args.size()), names.end()));
     return;
   }
   // `F` without parentheses: every F, whatever its length (a class pattern, as in GroIMP).
   std::vector<std::string> unnamed;
-  if (!defaultArgument.empty())
-    for (size_t k = 0; k <= (size_t)std::count(defaultArgument.begin(), defaultArgument.end(), ','); ++k)
-      unnamed.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(k));
+  for (size_t k = 0; k < defaults.size(); ++k)
+    unnamed.push_back(unnamedField(index, k));
   writtenCall(n, std::string(c->module), unnamed);
 }
 
@@ -241,7 +244,7 @@ void Translator::madeNode(const Node& n, std::vector<std::string> given, bool ax
   std::string name;
   std::vector<std::string> more;
   if (const Module* m = userModule(t_[n.name].text)) {
-    checkCount(n, *m, false);
+    checkCount(n, *m);
     if (!n.parens)
       for (const Param& p : m->params) given.push_back(p.fallback);  // GroIMP's constructor without arguments
     name = m->lcName;
@@ -251,10 +254,10 @@ void Translator::madeNode(const Node& n, std::vector<std::string> given, bool ax
     if (n.shader && m->baseField("color").empty() && m->baseField("shader").empty())
       notYet(t_[n.shader->first], "setShader on a module extending other than F, Sphere or GroIMP's solids");
   } else {
-    std::string_view defaultArgument;
-    const TurtleCommand* c = turtleOrError(n, &defaultArgument);
+    std::vector<std::string> defaults;
+    const TurtleCommand* c = turtleOrError(n, &defaults);
     name = c->module;
-    if (!defaultArgument.empty()) more.push_back(std::string(defaultArgument));
+    more.insert(more.end(), defaults.begin(), defaults.end());
     if (n.shader) {
       // Drawn in its colour, then the turtle where it ends: an instantiation rule's node is
       // drawing alone, not a node of the graph that would keep the colour.
@@ -445,7 +448,7 @@ void Translator::subclassPattern(const Node& n, const Module& m, size_t index) {
   }
   if (n.args.size() > named.size()) notYet(t_[n.name], "this pattern of " + t_[n.name].text + " matching its subclasses");
   std::vector<std::string> names;
-  for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back("__xl_" + std::to_string(index) + "_" + std::to_string(f));
+  for (size_t f = 0; f < m.fieldCount(); ++f) names.push_back(unnamedField(index, f));
   for (size_t k = 0; k < n.args.size(); ++k)
     if (size_t f = m.fieldIndex(named[k]); !named[k].empty() && f < m.fieldCount()) names[f] = t_[n.args[k].first].text;
   if (n.label) labels_[t_[*n.label].text] = Label{&m, names};
@@ -474,7 +477,7 @@ void Translator::production(const Rule& r, const Module* subclass) {
     const Node& n = r.contexts[k];
     const Module* m = userModule(t_[n.name].text);
     if (!m) notYet(t_[n.name], "a context of one of GroIMP's turtle commands");
-    checkCount(n, *m, true);
+    checkCount(n, *m);
     std::vector<std::string> vars;
     for (size_t f = 0; f < m->fieldCount(); ++f) {
       vars.push_back(n.parens && f < n.args.size() ? t_[n.args[f].first].text
@@ -550,12 +553,9 @@ std::vector<Node> Translator::spoRight(const Rule& r) {
   if (r.left.size() == 3 && r.left[0].label && r.left[2].label && r.right.size() >= 2) {
     const Node& first = r.right.front();
     const Node& last = r.right.back();
-    auto same = [&](const Node& n, const Node& l) {
-      return n.kind == Node::Module && !n.parens && t_[n.name].text == t_[*l.label].text;
-    };
     bool blocks = false;
     for (const Node& n : r.right) blocks = blocks || n.kind == Node::Block;
-    if (same(first, r.left[0]) && same(last, r.left[2]) && !blocks)
+    if (names(first, r.left[0], t_) && names(last, r.left[2], t_) && !blocks)
       return std::vector<Node>(r.right.begin() + 1, r.right.end() - 1);
   }
   notYet(t_[r.arrow], "this SPO rule (`==>>`: lcjit runs `X ==>> ;` and `a:A X c:C ==>> a … c;`)");

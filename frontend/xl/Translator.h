@@ -117,9 +117,9 @@ private:
   // ---- writing (Translate.cpp; a rule: TranslateRules.cpp) ----
   const Module* userModule(const std::string& name) const;
   // GroIMP's turtle command `name` with `arity` arguments; a default argument when it has none.
-  const TurtleCommand* turtle(size_t at, int arity, std::string_view* defaultArgument);
-  const TurtleCommand* turtleOrError(const Node& n, std::string_view* defaultArgument);
-  void checkCount(const Node& n, const Module& m, bool left);
+  const TurtleCommand* turtle(size_t at, int arity, std::vector<std::string>* defaults);
+  const TurtleCommand* turtleOrError(const Node& n, std::vector<std::string>* defaults);
+  void checkCount(const Node& n, const Module& m);
 
   // -- a rule's labels: each a copy of its node's fields (a C++ struct of the same names) --
   struct Label {
@@ -135,6 +135,8 @@ private:
   // A left side's node as an L+C pattern: the user's names for the parameters it names, names of
   // the translation's for the others (its inherited fields among them).
   void pattern(const Node& n, size_t index);
+  // The name a pattern gives field `field` of its node `node` that the user does not name.
+  static std::string unnamedField(size_t node, size_t field);
   // Module `name` with the node's arguments written where the user wrote them (the compiler's
   // errors name them there), then `more`.
   void writtenCall(const Node& n, const std::string& name, const std::vector<std::string>& more);

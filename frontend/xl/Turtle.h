@@ -149,24 +149,13 @@ inline std::string turtleNames() {
   return names;
 }
 
-// What `new X()` is for the turtle's classes whose constructor without arguments gives one:
-// F() and M() have length 1 (F.java, M.java: `this (1)`), RU(), RL(), RH() turn by 0; Sphere()
-// has radius 1 (Sphere.java), Cylinder() and Cone() length and radius 1 (`this (1, 1)`), Frustum()
-// radii 1 and 0.5 (`this (1, 1, 0.5f)`), a Box
-// and a Parallelogram are 1 each way (Axis's `length = 1`, Box's `width = 1`, `height = 1`).
-struct TurtleDefault {
-  std::string_view name, argument;
-};
-inline constexpr TurtleDefault kTurtleDefaults[] = {{"F", "1"},         {"M", "1"},           {"RU", "0"},
-                                                    {"RL", "0"},        {"RH", "0"},          {"Sphere", "1"},
-                                                    {"Cylinder", "1, 1"}, {"Cone", "1, 1"},   {"Frustum", "1, 1, 0.5"},
-                                                    {"Box", "1, 1, 1"}, {"Parallelogram", "1, 1"}};
-
 // The fields of GroIMP's turtle commands, which a module extending one inherits, in the order
 // of the command's constructor's arguments, with their values when it has none: F() and M() are
 // 1 long, F's diameter and colour −1 (the turtle state's), RU(), RL() and RH() turn by 0 (F.java,
-// M.java, the rotations' constructors); the solids' sizes as kTurtleDefaults gives them, and
-// their `shader`, −1 for the turtle's colour (ShadedNull's shader, as lcjit keeps it: a colour).
+// M.java, the rotations' constructors); Sphere() has radius 1 (Sphere.java), Cylinder() and Cone()
+// length and radius 1 (`this (1, 1)`), Frustum() radii 1 and 0.5 (`this (1, 1, 0.5f)`), a Box and
+// a Parallelogram are 1 each way (Axis's `length = 1`, Box's `width = 1`, `height = 1`); the
+// solids' `shader` is −1, the turtle's colour (ShadedNull's shader, as lcjit keeps it: a colour).
 struct Field {
   std::string_view command, name, type, fallback;
 };
@@ -190,6 +179,19 @@ inline std::vector<const Field*> fieldsOf(std::string_view command) {
   for (const Field& f : kFields)
     if (f.command == command) fields.push_back(&f);
   return fields;
+}
+
+// What `new X()` is for a command with fields: its shortest form with arguments, each field at
+// its value when it has none (F() is F(1), Cylinder() Cylinder(1, 1)); empty: X has none.
+inline std::vector<std::string> defaultArguments(std::string_view name) {
+  int shortest = 0;
+  for (const TurtleCommand& c : kTurtleCommands)
+    if (c.name == name && c.arity > 0 && (shortest == 0 || c.arity < shortest)) shortest = c.arity;
+  const std::vector<const Field*> fields = fieldsOf(name);
+  std::vector<std::string> arguments;
+  if (shortest > 0 && fields.size() >= size_t(shortest))
+    for (int k = 0; k < shortest; ++k) arguments.emplace_back(fields[k]->fallback);
+  return arguments;
 }
 
 }  // namespace lcjit::frontend::xl
