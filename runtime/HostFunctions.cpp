@@ -96,7 +96,8 @@ void lcjit_cut_branch() {
   if (Engine* e = engine()) e->cutBranch();
 }
 const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at) {
-  Engine* e = c ? static_cast<Engine*>(c->engine) : engine();
+  // Outside every rule (lcjit_current_ctx's context of no engine): the running engine's string.
+  Engine* e = c && c->engine ? static_cast<Engine*>(c->engine) : engine();
   return e ? e->findModule(c, id, at) : nullptr;
 }
 namespace {

@@ -232,7 +232,9 @@ class Rewriter {
   enum class Where { Rule, Control, Function };
   bool produceStatement(Where where);
   void inContext(const Token& kw, int side);
-  void inString(const Token& kw);
+  // In a rule it searches the rule's predecessor; elsewhere (a control statement, a function)
+  // that of the rule running when it is called, or the string between steps.
+  void inString(const Token& kw, bool rule);
   void bindParams(const PatternModule& m, const std::string& record);
   void successorList(const char* terminator, const char* statement);
   // A module list as parsed: each module's name and each of its parameters as tokens of lx_.

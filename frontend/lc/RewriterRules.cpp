@@ -156,7 +156,7 @@ void Rewriter::block(bool rule) {
       if (t.is("InString") && peek().is("(")) {
         const Token kw = t;
         next();
-        inString(kw);
+        inString(kw, rule);
         continue;
       }
     }
@@ -243,12 +243,14 @@ void Rewriter::bindParams(const PatternModule& m, const std::string& record) {
 // lcjit's own InString(M(a, …), CONDITION): whether the string, as the step found it, holds a
 // module M whose parameters, put in the variables a, …, make CONDITION true; they keep the first
 // such one's. XL's contexts written apart (`(* b:Baum *), t:Trieb, (b[alter] > 10)`) are written
-// with it. CONDITION may hold another InString.
-void Rewriter::inString(const Token& kw) {
+// with it, and XL's queries (`count((* A *))`), in rules and in methods. CONDITION may hold
+// another InString.
+void Rewriter::inString(const Token& kw, bool rule) {
   expect("(", "after InString");
   PatternModule m = patternModule();
   expect(",", "after InString's module (InString(M(a), CONDITION))");
-  out_.glueAt(kw, "([&]() -> bool { size_t __lc_at = 0; for (const char* __lc_q0; (__lc_q0 = lcjit_find_module(__lc_ctx, " +
+  out_.glueAt(kw, "([&]() -> bool { size_t __lc_at = 0; for (const char* __lc_q0; (__lc_q0 = lcjit_find_module(" +
+                      std::string(rule ? "__lc_ctx" : "lcjit_current_ctx()") + ", " +
                       std::to_string(m.module->id) + ", &__lc_at));) {");
   bindParams(m, "__lc_q0");
   out_.glue(" if (");
@@ -258,7 +260,7 @@ void Rewriter::inString(const Token& kw) {
     if (cur().is("InString") && peek().is("(")) {
       const Token inner = cur();
       next();
-      inString(inner);
+      inString(inner, rule);
       continue;
     }
     if (atText("(")) ++depth;

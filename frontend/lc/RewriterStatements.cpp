@@ -56,6 +56,12 @@ void Rewriter::topLevelItem() {
   // produce/nproduce inside C++ functions (lpfg's translator takes them anywhere): they write
   // to the successor of the rule running, which the function was called from.
   if (depth_ > 0 && pos_ >= lsystemFrom_ && produceStatement(Where::Function)) return;
+  if (depth_ > 0 && pos_ >= lsystemFrom_ && t.is("InString") && peek().is("(")) {
+    const Token kw = t;
+    next();
+    inString(kw, /*rule=*/false);
+    return;
+  }
   // C++ passes through; statement boundaries are only recognised at namespace scope.
   out_.token(t);
   next();

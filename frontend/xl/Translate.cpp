@@ -70,15 +70,13 @@ std::string Translator::write() {
   w_.add("enum : int { " + shaders + " };");
   for (const Declaration& d : declarations_)
     if (d.method) w_.add(signature(d) + ";");
+  // The model's fields, then the structs of the modules' fields (their methods may read the
+  // model's fields), then the model's methods (their graph queries copy nodes into the structs).
   for (const Declaration& d : declarations_) {
-    if (d.method) {
-      w_.at(d.type, signature(d));
-      java(d.rest);
-    } else {
-      w_.at(d.type, (d.constant ? "const " : "") + javaType(t_[d.type].text));
-      java(d.rest);
-      w_.add(";");
-    }
+    if (d.method) continue;
+    w_.at(d.type, (d.constant ? "const " : "") + javaType(t_[d.type].text));
+    java(d.rest);
+    w_.add(";");
   }
   // The fields of each module with methods, as a struct with the methods on them: its labels'
   // copies are of it, so that `l.area()` is C++ as written.
@@ -93,6 +91,11 @@ std::string Translator::write() {
       java(d->rest);
     }
     w_.add("};");
+  }
+  for (const Declaration& d : declarations_) {
+    if (!d.method) continue;
+    w_.at(d.type, signature(d));
+    java(d.rest);
   }
   if (axiomIsNode_) {
     w_.at(axiomAt(), "derivation length: 0; axiom: XL_Axiom;");

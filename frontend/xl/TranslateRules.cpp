@@ -150,50 +150,6 @@ void Translator::java(Range r) {
   }
 }
 
-size_t Translator::query(size_t i, Range r) {
-  static const std::set<std::string> kAggregates = {"count", "empty", "sum", "mean", "max", "min"};
-  if (t_[i].kind != Token::Identifier || !kAggregates.count(t_[i].text) || i + 5 >= r.second || !t_[i + 1].is("(") ||
-      !t_[i + 2].is("(*"))
-    return i;
-  const std::string& f = t_[i].text;
-  if (!inRule_) notYet(t_[i], "a graph query (`" + f + "((* … *))`) outside a rule");
-  const Module* m = t_[i + 3].kind == Token::Identifier ? userModule(t_[i + 3].text) : nullptr;
-  if (!m) notYet(t_[i + 3], "a query of other than one of the model's modules (`(* M *)`)");
-  if (!t_[i + 4].is("*)")) notYet(t_[i + 4], "a query of more than one module");
-  size_t at = i + 5, field = m->fieldCount();
-  if (t_[at].is("[")) {
-    if (at + 2 >= r.second || !t_[at + 2].is("]")) throw XlError{t_[at], "expected '[FIELD]' after the query"};
-    field = m->fieldIndex(t_[at + 1].text);
-    if (field == m->fieldCount())
-      throw XlError{t_[at + 1], "a " + t_[m->name].text + " has no field '" + t_[at + 1].text + "'"};
-    at += 3;
-  }
-  if (!t_[at].is(")")) throw XlError{t_[at], "expected ')' to close " + f + "()"};
-  const bool counts = f == "count" || f == "empty";
-  if (counts != (field == m->fieldCount()))
-    throw XlError{t_[i], counts ? f + "() counts nodes: no field" : f + "() needs a field: `" + f + "((* M *)[field])`"};
-  const std::string q = "__xl_q" + std::to_string(temps_++);
-  std::string decls, vars;
-  for (size_t k = 0; k < m->fieldCount(); ++k) {
-    decls += m->fieldType(k) + " " + q + "_" + std::to_string(k) + " = 0; ";
-    vars += (k ? ", " : "") + q + "_" + std::to_string(k);
-  }
-  const std::string found = "InString(" + m->lcName + (vars.empty() ? "" : "(" + vars + ")") + ", ";
-  const std::string value = field < m->fieldCount() ? q + "_" + std::to_string(field) : "";
-  std::string e;
-  if (f == "count") e = "int " + q + " = 0; " + found + "(++" + q + ", false)); " + q + ";";
-  if (f == "empty") e = "bool " + q + " = !" + found + "true); " + q + ";";
-  if (f == "sum") e = "double " + q + " = 0; " + found + "(" + q + " += " + value + ", false)); " + q + ";";
-  if (f == "mean")
-    e = "double " + q + " = 0; int " + q + "n = 0; " + found + "(" + q + " += " + value + ", ++" + q + "n, false)); " + q +
-        "n ? " + q + " / " + q + "n : 0.0;";
-  if (f == "max" || f == "min")
-    e = "double " + q + " = " + (f == "max" ? "-" : "") + "HUGE_VAL; " + found + "(" + q + " = std::f" + f + "(" + q + ", " +
-        value + "), false)); " + q + ";";
-  w_.at(i, "({ " + decls + e + " })");
-  return at + 1;
-}
-
 void Translator::block(const Node& n) {
   const size_t close = n.block.second - 1;
   w_.at(n.block.first, " ");
@@ -420,21 +376,23 @@ std::vector<const Module*> Translator::subclassesMatched(const Rule& r) const {
   std::vector<const Module*> found;
   const Node& n = r.left[rewrittenNode(r, t_)];
   const std::string& type = t_[n.name].text;
-  if (const Module* base = userModule(type)) {
-    // The model's modules extending it, however far down.
-    for (const Module& m : modules_)
-      for (const Module* at = &m; at && at->base;) {
-        at = userModule(t_[*at->base].text);
-        if (at == base) {
-          found.push_back(&m);
-          break;
-        }
-      }
-    return found;
-  }
+  if (const Module* base = userModule(type)) return subclassesOf(*base);
   if (n.label || r.is(t_, "::>")) return found;
   for (const Module& m : modules_)
     if (m.command == type) found.push_back(&m);
+  return found;
+}
+
+std::vector<const Module*> Translator::subclassesOf(const Module& base) const {
+  std::vector<const Module*> found;
+  for (const Module& m : modules_)
+    for (const Module* at = &m; at && at->base;) {
+      at = userModule(t_[*at->base].text);
+      if (at == &base) {
+        found.push_back(&m);
+        break;
+      }
+    }
   return found;
 }
 
@@ -457,7 +415,6 @@ void Translator::subclassPattern(const Node& n, const Module& m, size_t index) {
 
 void Translator::production(const Rule& r, const Module* subclass) {
   labels_.clear();
-  inRule_ = true;
   std::vector<Node> right = r.right;
   if (r.is(t_, "==>>")) right = spoRight(r);
   const size_t node = rewrittenNode(r, t_);
@@ -525,7 +482,6 @@ void Translator::production(const Rule& r, const Module* subclass) {
   }
   w_.add("}");
   w_.add("}");
-  inRule_ = false;
 }
 
 bool Translator::names(const Node& n, const Node& left, const std::vector<Token>& t) {

@@ -146,14 +146,19 @@ private:
   // Java in a condition, an argument or a block, as C++: a label's field `t[length]` is `t.length`,
   // Java's Math is C++'s, `boolean` is bool.
   void java(Range r);
-  // XL's aggregate graph queries over the whole graph, `count((* M *))`, `empty((* M *))`,
-  // `sum((* M *)[field])` and `mean`, `max`, `min` likewise (de.grogra.rgg.Library), M a module of
-  // the model: the string as the step found it, through InString (lcjit's, the rewriter's),
-  // whose condition is made false to go through every M. Inside a rule only (InString is the
-  // rewriter's, in production bodies). Returns the token after the query, or `i` for none.
+  // XL's aggregate graph queries over the whole graph (de.grogra.rgg.Library's count, empty, sum,
+  // mean, max, min), in rules and in Java (TranslateQueries.cpp). Returns the token after the
+  // query, or `i` for none.
   size_t query(size_t i, Range r);
+  // The modules a query's or pattern's type `name` matches: the model's module and those
+  // extending it; one of GroIMP's turtle commands in each of its forms and the modules extending
+  // it. `fields` gets what a label on it names: the module's fields, the command's.
+  struct Matched {
+    const Module* module;                // the module in lcjit's string
+    std::vector<std::string> fieldsFrom;  // per field of `fields`: its value from the module's
+  };
+  std::vector<Matched> matchedBy(size_t name, const Module*& fields);
   bool instantiating_ = false;  // writing an instantiation rule (madeNode: setShader on any node)
-  bool inRule_ = false;  // writing a production (java(): graph queries)
 
   // A block of Java statements: the last one's `;` may be missing before `}`.
   // A block of a right side, without its braces: what it declares is seen by the rest of the
@@ -200,6 +205,8 @@ private:
   // A subclass's pattern for a turtle command's (subclassesMatched): its fields, each of the
   // command's fields the pattern names taking the pattern's name.
   void subclassPattern(const Node& n, const Module& m, size_t index);
+  // The model's modules extending `base`, however far down.
+  std::vector<const Module*> subclassesOf(const Module& base) const;
 
   // The production of rule `r`; with `subclass`, the same rule for a module extending the turtle
   // command its pattern names.
