@@ -293,6 +293,18 @@ bool Engine::step() {
   return more;
 }
 
+bool Engine::stepWith(int group, const EngineHooks& hooks) {
+  if (faulted_) return false;
+  hooks_ = &hooks;
+  useGroup(group);
+  ended_ = false;
+  stopRequested_ = false;
+  length_ = std::max(length_, step_ + 1);
+  const int before = step_;
+  step();
+  return step_ > before;
+}
+
 bool Engine::stepGuarded() {
   bracketsFor(nullptr, 0);
   environmentPass();

@@ -71,6 +71,11 @@ class Engine final : public ModelRun {
   void begin(const EngineHooks& hooks) override;
   bool step() override;
   void finish() override;
+  // One more step with production group `group`, past the derivation length and after End (XL's
+  // rule methods, which GroIMP's buttons apply to the graph as it is, as often as clicked): the
+  // group stays the current one. `hooks` as begin()'s (End may have let go of them). False when
+  // the step failed (a fault) or derived nothing.
+  bool stepWith(int group, const EngineHooks& hooks);
 
   // Faults. Model code runs behind a ModelGuard, one guarded call per begin(), step(), finish()
   // and interpret(): a crash, an uncaught exception, an interrupt or a limit ends that call.

@@ -130,6 +130,11 @@ struct MenuActions {
   // A design's next variation (Context Free's Next Variation), Ctrl+N; empty: not offered (an
   // L-system has none).
   std::function<void()> nextVariation;
+  // The Rules menu: the model's production groups applied by name (XL's rule methods, as
+  // GroIMP's buttons): a choice calls applyGroup with its group (empty: greyed out, the model
+  // busy). No groups: no menu.
+  std::vector<std::pair<std::string, int>> namedGroups;
+  std::function<void(int group)> applyGroup;
   // Esc (outside the Save as… dialog): interrupt the model code running now (docs/faults.md).
   std::function<void()> interrupt;
   // The panels the Panels submenu offers (none: no submenu).

@@ -147,6 +147,14 @@ void drawMenus(Window::Impl& m, const MenuActions& actions, Window& self, MenuCh
     } else {
       m.menuItem("Animate", actions.animate, chosen);
     }
+    if (!actions.namedGroups.empty() && m.beginMenu("Rules")) {
+      for (const auto& [name, group] : actions.namedGroups) {
+        std::function<void()> apply;
+        if (actions.applyGroup) apply = [&actions, group = group] { actions.applyGroup(group); };
+        m.menuItem(name.c_str(), apply, chosen);
+      }
+      ImGui::EndMenu();
+    }
     if (!actions.panels.empty() && m.beginMenu("Panels")) {
       for (const Panel& p : actions.panels) {
         bool open = m.openPanels.count(p.title) != 0;

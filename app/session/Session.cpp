@@ -612,6 +612,7 @@ llvm::Error Session::prepareInto(PreparedModel& p, const ModelFiles& files, int 
   p.code = std::move(*code);
   p.objectKey = stats.objectKey;
   p.cpp = std::move(cpp->cpp);
+  p.namedGroups = std::move(cpp->namedGroups);
   p.bufferName = co.bufferName;
   // lpfg starts the environmental program once the model has compiled.
   if (!files.environment.empty() && environmentSettings_.start) {
@@ -654,6 +655,7 @@ llvm::Error Session::install(PreparedModel p) {
     columns_ = std::move(p.columns);
     lsystem_ = std::move(p.lsystem);
     run_ = std::move(p.run);
+    namedGroups_ = std::move(p.namedGroups);
     sourceCode_ = std::move(p.sourceCode);
     replDeclarations_.clear();  // a reload replaces them
   }

@@ -110,6 +110,7 @@ struct PreparedModel {
   std::string objectKey;  // the compile's object cache key (jit::CompileStats::objectKey)
   std::string lsystem;                     // the .l file
   std::string run;                         // ModelFiles::run
+  std::vector<std::pair<std::string, int>> namedGroups;  // frontend::Rewritten::namedGroups
   frontend::PreprocessOptions preprocess;  // what it was preprocessed with
   // Columns of the preprocessed text as the user wrote them (errors and faults name those).
   std::shared_ptr<const frontend::OriginalColumns> columns;
@@ -193,6 +194,9 @@ class Session {
   bool installTier(BetterTier tier);
   // The loaded model's tables (modules, rules with their lines and groups); null before a load.
   const __lc_Model* model() const { return model_; }
+  // The production groups of the loaded model a user applies by name (XL's rule methods: the
+  // window's Rules menu), each with its group (runtime::Engine::stepWith).
+  const std::vector<std::pair<std::string, int>>& namedGroups() const { return namedGroups_; }
   const runtime::FunctionStore& functions() const { return *functions_; }
   // Gives the loaded model's .vset parameter `name` a new value (val(NAME) reads it at run time,
   // so a re-run uses it without a recompile). Kept until the parameters are re-read by a load.
@@ -254,6 +258,7 @@ class Session {
   std::vector<std::shared_ptr<jit::ModelCode>> stateOwners_;
   std::string lsystem_;                       // the running model's .l file
   std::string run_;                           // and the rule method its steps apply (--run)
+  std::vector<std::pair<std::string, int>> namedGroups_;  // and its groups applied by name
   frontend::PreprocessOptions preprocess_;    // and how it was preprocessed
   std::shared_ptr<const frontend::OriginalColumns> columns_;  // and its columns as written
   std::vector<std::string> replDeclarations_;  // typed at the REPL since the last load

@@ -187,7 +187,10 @@ class SessionHost final : public ModelHost {
     a.panels.push_back(profilePanel());
     a.panels.push_back(stringPanel());
     for (viewer::Panel& p : editors_.panels()) a.panels.push_back(std::move(p));
+    a.namedGroups = session_.namedGroups();
     if (busy()) return;
+    // A rule method (GroIMP's button): one step of its rules, from the string shown.
+    a.applyGroup = [this](int group) { launch([this, group] { session_.engine().stepWith(group, hooks_); }); };
     a.stringOutput = [this] { report(session_.engine().writeBinary(stem() + ".strb")); };
     a.stringInput = [this] {
       if (auto e = session_.engine().readBinary(stem() + ".strb")) return report(std::move(e));

@@ -4,6 +4,7 @@
 // Everything else passes through; #line directives keep Clang's diagnostics on the .l file.
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <llvm/Support/Error.h>
@@ -25,6 +26,9 @@ struct Rewritten {
   // compares and replaces.
   std::vector<std::pair<size_t, size_t>> ruleSpans;
   size_t tablesAt = 0;
+  // Production groups a user applies by name, a step at a time (XL's rule methods, as GroIMP's
+  // buttons apply them: the window's Rules menu): each name and its group. Empty for L+C.
+  std::vector<std::pair<std::string, int>> namedGroups;
 };
 
 // `preprocessed` is preprocessor output with GNU line markers; `mainFile` is the .l path.

@@ -6,6 +6,12 @@
 
 namespace lcjit::frontend::xl {
 
+std::vector<std::pair<std::string, int>> Translator::ruleMethods() const {
+  std::vector<std::pair<std::string, int>> named;
+  for (size_t k = 0; k < methods_.size(); ++k) named.emplace_back(t_[methods_[k].name].text, groupOf(k));
+  return named;
+}
+
 std::string Translator::run() {
   while (cur().kind != Token::End) topLevel();
   chooseMethod();
@@ -111,20 +117,57 @@ std::string Translator::write() {
     rightModules(axiom.right, true);
     w_.at(axiom.end, ";");
   }
-  // Blocks among the rules: init()'s run once, before the axiom is made (L+C's Start), the step
-  // method's before each step's derivation (StartEach).
-  for (const auto& [method, statement] : {std::pair{init_ ? &*init_ : nullptr, "Start:"}, std::pair{step_ ? &*step_ : nullptr, "StartEach:"}}) {
-    if (!method || method->blocks.empty()) continue;
-    w_.at(method->blocks.front().first, std::string(statement) + " {");
-    for (const Range& b : method->blocks) block(Node{Node::Block, {}, b.first, false, {}, {}, b});
+  // Each rule method's rules are a production group of their own when the model has several:
+  // group k + 1 for the k-th (ruleMethods(): GroIMP's buttons, the window's Rules menu), the run
+  // starting in the step method's (--run). Blocks among the rules: init()'s run once, before the
+  // axiom is made (L+C's Start), a rule method's before each step that applies it (StartEach).
+  const bool grouped = methods_.size() > 1;
+  size_t stepGroup = 0;
+  for (size_t k = 0; k < methods_.size(); ++k)
+    if (step_ && methods_[k].name == step_->name) stepGroup = groupOf(k);
+  auto blocks = [&](const Method& m) {
+    for (const Range& b : m.blocks) block(Node{Node::Block, {}, b.first, false, {}, {}, b});
+  };
+  if (grouped || (init_ && !init_->blocks.empty())) {
+    if (init_ && !init_->blocks.empty()) w_.at(init_->blocks.front().first, "Start: {");
+    else w_.add("Start: {");
+    if (grouped) w_.add("UseGroup(" + std::to_string(stepGroup) + ");");
+    if (init_) blocks(*init_);
     w_.add("}");
   }
-  if (step_)
+  if (grouped) {
+    bool any = false;
+    for (const Method& m : methods_) any = any || !m.blocks.empty();
+    if (any) {
+      w_.add("StartEach: { switch (lcjit_current_group()) {");
+      for (size_t k = 0; k < methods_.size(); ++k) {
+        if (methods_[k].blocks.empty()) continue;
+        w_.at(methods_[k].blocks.front().first, "case " + std::to_string(groupOf(k)) + ": {");
+        blocks(methods_[k]);
+        w_.add("} break;");
+      }
+      w_.add("} }");
+    }
+    for (size_t k = 0; k < methods_.size(); ++k) {
+      w_.at(methods_[k].name, "group " + std::to_string(groupOf(k)) + ":");
+      for (const Rule& r : methods_[k].rules) {
+        production(r);
+        for (const Module* m : subclassesMatched(r)) production(r, m);
+      }
+    }
+    w_.add("endgroup");
+  } else if (step_) {
+    if (!step_->blocks.empty()) {
+      w_.at(step_->blocks.front().first, "StartEach: {");
+      blocks(*step_);
+      w_.add("}");
+    }
     for (const Rule& r : step_->rules) {
       production(r);
       // Right after it, as XL tries its rules in order: the same rule for the subclasses.
       for (const Module* m : subclassesMatched(r)) production(r, m);
     }
+  }
   if (init_ && (hasControl(init_->rules.front().right) || hasBlock(init_->rules.front().right))) {
     const Rule& axiom = init_->rules.front();
     w_.add("decomposition:");
@@ -282,26 +325,34 @@ size_t replText(const std::string& preprocessed) {
 }
 }  // namespace
 
-llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile, const std::string& run) {
+llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile, const std::string& run,
+                                     std::vector<std::pair<std::string, int>>* ruleMethods) {
   try {
     // In the REPL, the model is XL and what the REPL adds after it C++, which the L+C takes as
     // it is.
     const size_t repl = replText(preprocessed);
     if (repl != std::string::npos) {
       Translator translator(tokenize(preprocessed.substr(0, repl), mainFile), run);
-      return translator.run() + preprocessed.substr(repl);
+      std::string lc = translator.run() + preprocessed.substr(repl);
+      if (ruleMethods) *ruleMethods = translator.ruleMethods();
+      return lc;
     }
     Translator translator(tokenize(preprocessed, mainFile), run);
-    return translator.run();
+    std::string lc = translator.run();
+    if (ruleMethods) *ruleMethods = translator.ruleMethods();
+    return lc;
   } catch (const XlError& e) {
     return llvm::createStringError(llvm::inconvertibleErrorCode(), errorLine(e));
   }
 }
 
 llvm::Expected<Rewritten> rewrite(const std::string& preprocessed, const std::string& mainFile, const std::string& run) {
-  auto lc = toLplusC(preprocessed, mainFile, run);
+  std::vector<std::pair<std::string, int>> methods;
+  auto lc = toLplusC(preprocessed, mainFile, run, &methods);
   if (!lc) return lc.takeError();
-  return frontend::rewrite(*lc, mainFile);
+  auto rewritten = frontend::rewrite(*lc, mainFile);
+  if (rewritten) rewritten->namedGroups = std::move(methods);
+  return rewritten;
 }
 
 }  // namespace lcjit::frontend::xl

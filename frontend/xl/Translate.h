@@ -6,6 +6,8 @@
 // GroIMP's turtle maps onto lcjit's, and what XL lcjit does not run yet.
 #pragma once
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <llvm/Support/Error.h>
 
@@ -14,9 +16,11 @@
 namespace lcjit::frontend::xl {
 
 // The L+C of an XL model. Errors are `FILE:LINE:COL: error: MESSAGE`.
-// `run`: the rule method a step applies (GroIMP's button; empty: the model's first).
+// `run`: the rule method a step applies (GroIMP's button; empty: the model's first). Each rule
+// method is a production group of the L+C, which `ruleMethods` gets: its name and its group.
 llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std::string& mainFile,
-                                     const std::string& run = {});
+                                     const std::string& run = {},
+                                     std::vector<std::pair<std::string, int>>* ruleMethods = nullptr);
 
 // The name XL gives a module of the L+C toLplusC writes, in the string's text: `[` and `]` for
 // SB and EB, `G` for a model's module XL_G (named as one of lcjit's own), `F` for F_d and F_dc

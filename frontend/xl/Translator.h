@@ -14,8 +14,9 @@
 //
 // Where each part is:
 //   TranslateReading.cpp  reading: the model's declarations, modules, methods and rules
-//   TranslateRules.cpp    a rule: its labels, its Java, its graph queries, its right side, the
-//                         L+C production it becomes
+//   TranslateRules.cpp    a rule: its labels, its Java, its right side, the L+C production it
+//                         becomes
+//   TranslateQueries.cpp  graph queries (`count((* F *))`), in rules and in Java
 //   Translate.cpp         GroIMP's turtle commands looked up, the L+C written whole, and the
 //                         front end's entry points
 #pragma once
@@ -44,6 +45,8 @@ public:
   Translator(std::vector<Token> tokens, std::string run) : t_(std::move(tokens)), run_(std::move(run)) {}
 
   std::string run();
+  // After run(): the model's rule methods, in its order, each with its production group.
+  std::vector<std::pair<std::string, int>> ruleMethods() const;
 
 private:
   // ---- reading (TranslateReading.cpp) ----
@@ -244,6 +247,8 @@ private:
   std::vector<Module> modules_;
   std::optional<Method> init_, step_;
   std::vector<Method> methods_;  // the rule methods besides init(), in the model's order
+  // The production group of methods_[k]: k + 1 when there are several, else 0 (write()).
+  int groupOf(size_t k) const { return methods_.size() > 1 ? int(k) + 1 : 0; }
   // Instantiation rules (`module Bud ==> Sphere(0.1);`): what a module's nodes are drawn as.
   std::map<std::string, Rule> instantiations_;
   std::string run_;
