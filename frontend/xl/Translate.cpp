@@ -271,7 +271,7 @@ std::string Translator::ownDrawing(const Module& m) {
     if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
   const TurtleCommand* c = turtleNamed(base, (int)args.size());
   if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
-  if (c->drawn.empty()) return "";
+  if (c->drawn.empty()) return c->body.empty() ? "" : drawn(c->body, args);
   std::string body = "produce " + drawn(c->drawn, args) + ";";
   // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.
   if (const std::string shader = m.baseField("shader"); !shader.empty())
@@ -299,6 +299,7 @@ std::string_view shownName(std::string_view lcName) {
   if (lcName == "SB") return "[";
   if (lcName == "EB") return "]";
   if (lcName == "F_d" || lcName == "F_dc") return "F";
+  if (lcName == "Null_t") return "Null";
   if (lcName.substr(0, 3) == "XL_") return lcName.substr(3);
   return lcName;
 }

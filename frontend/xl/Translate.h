@@ -24,7 +24,7 @@ llvm::Expected<std::string> toLplusC(const std::string& preprocessed, const std:
 
 // The name XL gives a module of the L+C toLplusC writes, in the string's text: `[` and `]` for
 // SB and EB, `G` for a model's module XL_G (named as one of lcjit's own), `F` for F_d and F_dc
-// (GroIMP's F(l, d) and F(l, d, c)); any other keeps its name.
+// (GroIMP's F(l, d) and F(l, d, c)), `Null` for Null_t (Null(x, y, z)); any other keeps its name.
 std::string_view shownName(std::string_view lcName);
 
 // The languages table's front end for XL (app/session/Languages.h's RewriteModel): toLplusC,

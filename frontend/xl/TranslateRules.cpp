@@ -99,6 +99,16 @@ void Translator::java(Range r) {
       if (bracketed || dotted) {
         const std::string& field = t_[i + 2].text;
         if (dotted && i + 3 < r.second && t_[i + 3].is("(")) {
+          // Null's setTransform(x, y, z) (the quick reference's `r.setTransform(0, 0, 1)`): the
+          // translation's fields of the label's copy, which the node keeps.
+          if (field == "setTransform" && l->module->fieldIndex("__xl_tx") < l->module->fieldCount()) {
+            const size_t close = afterParentheses(i + 3);
+            w_.at(i, "__xl_set_transform(" + t.text + ".__xl_tx, " + t.text + ".__xl_ty, " + t.text + ".__xl_tz, ");
+            java(Range{i + 4, close - 1});
+            w_.token(close - 1);
+            i = close - 1;
+            continue;
+          }
           bool has = false;
           for (const Declaration* d : methodsOf(*l->module)) has = has || t_[d->name].text == field;
           if (!has) notYet(t_[i + 2], "a method of a node other than its module's (`" + t.text + "." + field + "(…)`)");

@@ -115,8 +115,13 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"Frustum", 3, "Frustum", "float, float, float", false, "SB SetWidth($2 + $3) F($1) EB f($1)", {}, "$1"},
     {"Box", 3, "Box", "float, float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
     {"Parallelogram", 2, "Parallelogram", "float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
-    // Null: a node that does nothing to the turtle.
+    // Null: a node that does nothing to the turtle; Null(x, y, z) translated by (x, y, z) in its
+    // parent's frame (Null's transform), which moves the turtle there (lcjit/xl.h's
+    // __xl_local_move), as a module extending Null does after setTransform(x, y, z).
     {"Null", 0, "Null", "", false, ""},
+    {"Null", 3, "Null_t", "float, float, float", false, "",
+     "if ($1 == 0 && $2 == 0 && $3 == 0) produce ; float __xl_d[3]; __xl_local_move($1, $2, $3, __xl_d); "
+     "produce MoveRel3f(V3f(__xl_d[0], __xl_d[1], __xl_d[2]));"},
 };
 #undef XL_STATE_LENGTH
 #undef XL_SHOOT
@@ -171,7 +176,10 @@ inline constexpr Field kFields[] = {
     {"Box", "length", "float", "1"}, {"Box", "width", "float", "1"}, {"Box", "height", "float", "1"},
     {"Box", "shader", "int", "-1"},
     {"Parallelogram", "length", "float", "1"}, {"Parallelogram", "width", "float", "1"},
-    {"Parallelogram", "shader", "int", "-1"}};
+    {"Parallelogram", "shader", "int", "-1"},
+    // Null's translation (Null(x, y, z), setTransform(x, y, z)): 0 each, named so that no
+    // field of the user's is hidden (XL names them only through those two).
+    {"Null", "__xl_tx", "float", "0"}, {"Null", "__xl_ty", "float", "0"}, {"Null", "__xl_tz", "float", "0"}};
 
 // The fields of turtle command `command`, in kFields' order (its constructor's arguments').
 inline std::vector<const Field*> fieldsOf(std::string_view command) {
@@ -184,6 +192,8 @@ inline std::vector<const Field*> fieldsOf(std::string_view command) {
 // What `new X()` is for a command with fields: its shortest form with arguments, each field at
 // its value when it has none (F() is F(1), Cylinder() Cylinder(1, 1)); empty: X has none.
 inline std::vector<std::string> defaultArguments(std::string_view name) {
+  for (const TurtleCommand& c : kTurtleCommands)
+    if (c.name == name && c.arity == 0) return {};  // `Null` is Null's own form without arguments
   int shortest = 0;
   for (const TurtleCommand& c : kTurtleCommands)
     if (c.name == name && c.arity > 0 && (shortest == 0 || c.arity < shortest)) shortest = c.arity;

@@ -21,6 +21,24 @@ inline double normal(double mu, double sigma) {
   return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
 }
 
+// ---- GroIMP's node transforms ----
+// A Null's translation (x, y, z) (Null(x, y, z), setTransform) is in its parent's frame: x along
+// GroIMP's left, y its up, z its head, which are lcjit's −L, −U and H (frontend/xl/Turtle.h), L
+// being U × H. d gets the move in the world's axes, for MoveRel3f.
+inline void __xl_local_move(float x, float y, float z, float d[3]) {
+  float h[3], u[3];
+  for (int k = 0; k < 3; ++k) {
+    h[k] = lcjit_turtle_field(__lc_TurtleHeadingX + k);
+    u[k] = lcjit_turtle_field(__lc_TurtleUpX + k);
+  }
+  const float l[3] = {u[1] * h[2] - u[2] * h[1], u[2] * h[0] - u[0] * h[2], u[0] * h[1] - u[1] * h[0]};
+  for (int k = 0; k < 3; ++k) d[k] = -x * l[k] - y * u[k] + z * h[k];
+}
+// setTransform(x, y, z) on a label of a module extending Null: its translation's fields.
+inline void __xl_set_transform(float& tx, float& ty, float& tz, double x, double y, double z) {
+  tx = (float)x, ty = (float)y, tz = (float)z;
+}
+
 // ---- GroIMP's gravitropism ----
 // RV(g) (GRotation.postTransform): the head v turns to w = v − g·up, normalised (up the world's
 // vertical, lcjit's +y), by the rotation about v × w that takes v to w; when v is vertical the
