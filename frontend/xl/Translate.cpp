@@ -80,7 +80,7 @@ std::string Translator::write() {
   // model's fields), then the model's methods (their graph queries copy nodes into the structs).
   for (const Declaration& d : declarations_) {
     if (d.method) continue;
-    w_.at(d.type, (d.constant ? "const " : "") + javaType(t_[d.type].text));
+    w_.at(d.type, (d.constant ? "const " : "") + javaTypeAt(d.type));
     java(d.rest);
     w_.add(";");
   }
@@ -148,8 +148,16 @@ std::string Translator::write() {
       }
       w_.add("} }");
     }
+    bool noRule = false;
     for (size_t k = 0; k < methods_.size(); ++k) {
       w_.at(methods_[k].name, "group " + std::to_string(groupOf(k)) + ":");
+      // A method of blocks alone is a group too (UseGroup takes only groups with productions):
+      // one production of a module no string holds.
+      if (methods_[k].rules.empty()) {
+        w_.add("XL_NoRule : { produce ; }");
+        if (!noRule) head.add("module XL_NoRule;");
+        noRule = true;
+      }
       for (const Rule& r : methods_[k].rules) {
         production(r);
         for (const Module* m : subclassesMatched(r)) production(r, m);
@@ -280,10 +288,17 @@ std::string Translator::ownDrawing(const Module& m) {
   return body;
 }
 
+std::string Translator::javaTypeAt(size_t at) const {
+  std::string type = javaType(t_[at].text);
+  for (size_t i = at + 1; i + 1 < t_.size() && t_[i].is("[") && t_[i + 1].is("]"); i += 2)
+    type = "__xl_Array<" + type + ">";
+  return type;
+}
+
 std::string Translator::signature(const Declaration& d) const {
-  std::string s = (t_[d.type].is("void") ? std::string("void") : javaType(t_[d.type].text)) + " " + t_[d.name].text + "(";
+  std::string s = (t_[d.type].is("void") ? std::string("void") : javaTypeAt(d.type)) + " " + t_[d.name].text + "(";
   for (size_t k = 0; k < d.params.size(); ++k)
-    s += (k ? ", " : "") + javaType(t_[d.params[k].first].text) + " " + t_[d.params[k].second].text;
+    s += (k ? ", " : "") + javaTypeAt(d.params[k].first) + " " + t_[d.params[k].second].text;
   return s + ")";
 }
 

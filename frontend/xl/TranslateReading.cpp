@@ -166,7 +166,7 @@ void Translator::declaration(bool constant) {
   Declaration d;
   d.constant = constant;
   d.type = p_++;
-  if (cur().is("[")) notYet(cur(), "an array");
+  while (cur().is("[") && t_[p_ + 1].is("]")) p_ += 2;  // an array's `[]` (javaTypeAt)
   d.name = identifier("the name of the field or method");
   if (accept("(")) {
     methodRest(d);
@@ -176,9 +176,8 @@ void Translator::declaration(bool constant) {
     int depth = 0;
     while (!(depth == 0 && cur().is(";"))) {
       if (cur().kind == Token::End) throw XlError{cur(), "expected ';' at the end of the field"};
-      if (cur().is("[") || cur().is("{")) notYet(cur(), "an array");
-      if (cur().is("(")) ++depth;
-      if (cur().is(")")) --depth;
+      if (nesting(cur()) > 0) ++depth;
+      if (nesting(cur()) < 0) --depth;
       ++p_;
     }
     d.rest = {from, p_++};
@@ -193,6 +192,7 @@ void Translator::methodRest(Declaration& d) {
     if (cur().kind != Token::Identifier || javaType(cur().text).empty())
       notYet(cur(), "a parameter of type '" + cur().text + "' (lcjit's XL has Java's number and boolean types)");
     size_t type = p_++;
+    while (cur().is("[") && t_[p_ + 1].is("]")) p_ += 2;
     d.params.push_back({type, identifier("the parameter's name")});
   }
   if (!cur().is("{")) throw XlError{cur(), "expected '{' to begin the method's statements"};

@@ -134,6 +134,39 @@ void Translator::java(Range r) {
       i += 2;
       continue;
     }
+    // Java's arrays (lcjit/xl.h's __xl_Array): `int[]` a type; `new int[n][m]` made by
+    // __xl_new, each dimension's length computed where it is written; `new int[] {1, 2}` an
+    // array of the values in braces.
+    if (t.kind == Token::Identifier && !javaType(t.text).empty() && i + 2 < r.second && t_[i + 1].is("[") &&
+        t_[i + 2].is("]")) {
+      w_.at(i, javaTypeAt(i));
+      while (i + 2 < r.second && t_[i + 1].is("[") && t_[i + 2].is("]")) i += 2;
+      continue;
+    }
+    if (t.is("new") && i + 2 < r.second && !javaType(t_[i + 1].text).empty() && t_[i + 2].is("[")) {
+      std::vector<Range> lengths;
+      size_t at = i + 2, dims = 0;
+      for (; at < r.second && t_[at].is("["); ++dims) {
+        size_t close = at + 1;
+        for (int depth = 1; close < r.second && (depth += nesting(t_[close])) > 0;) ++close;
+        if (close > at + 1) lengths.push_back({at + 1, close});
+        at = close + 1;
+      }
+      std::string type = javaType(t_[i + 1].text);
+      for (size_t k = 0; k < dims; ++k) type = "__xl_Array<" + type + ">";
+      if (lengths.empty()) {  // `new int[] {…}`: the braces follow
+        w_.at(i, type);
+      } else {
+        w_.at(i, "__xl_new<" + type + ">(");
+        for (size_t k = 0; k < lengths.size(); ++k) {
+          if (k) w_.add(",");
+          java(lengths[k]);
+        }
+        w_.add(")");
+      }
+      i = at - 1;
+      continue;
+    }
     if (t.is("boolean")) {
       w_.at(i, "bool");
       continue;

@@ -240,6 +240,9 @@ private:
   std::string ownDrawing(const Module& m);
 
   std::string signature(const Declaration& d) const;
+  // The Java type at token `at` as C++, an array's `[]` after it included (`int[][]` is
+  // lcjit/xl.h's __xl_Array<__xl_Array<int>>).
+  std::string javaTypeAt(size_t at) const;
 
   std::vector<Token> t_;
   size_t p_ = 0;

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
+#include <memory>
+#include <stdexcept>
 #include <string>
 
 // ---- numbers ----
@@ -19,6 +22,46 @@ const double R2D = 180 / M_PI, DEG = M_PI / 180;
 inline double normal(double mu, double sigma) {
   double u = 1 - ran(1), v = ran(1);
   return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
+}
+
+// ---- Java's arrays ----
+// `int[] a = new int[n]`, `float[] b = {1, 2}`, `double[][] m = new double[2][3]`: an array is
+// shared by every variable it is assigned to, as Java's (a method changes its caller's), holds
+// Java's 0 (false) when made with a length, and knows it (`a.length`). An index outside it stops
+// the model code with Java's message (the guard reports an uncaught exception); a variable never
+// given an array has length 0.
+template <class T>
+struct __xl_Array {
+  using value_type = T;
+  std::shared_ptr<T> items;
+  int length = 0;
+  __xl_Array() = default;
+  explicit __xl_Array(long n) : items(new T[n < 0 ? 0 : n](), std::default_delete<T[]>()), length((int)n) {
+    if (n < 0) throw std::length_error("NegativeArraySizeException: " + std::to_string(n));
+  }
+  __xl_Array(std::initializer_list<T> values) : __xl_Array((long)values.size()) {
+    long k = 0;
+    for (const T& v : values) items.get()[k++] = v;
+  }
+  T& operator[](long i) const {
+    if (i < 0 || i >= length)
+      throw std::out_of_range("ArrayIndexOutOfBoundsException: Index " + std::to_string(i) + " out of bounds for length " +
+                              std::to_string(length));
+    return items.get()[i];
+  }
+  T* begin() const { return items.get(); }
+  T* end() const { return items.get() + length; }
+};
+// `new T[n][m]…`: an array of n arrays of m …, each its own (A the whole array's type).
+template <class A>
+A __xl_new(long n) {
+  return A(n);
+}
+template <class A, class... More>
+A __xl_new(long n, long m, More... more) {
+  A a(n);
+  for (auto& row : a) row = __xl_new<typename A::value_type>(m, more...);
+  return a;
 }
 
 // ---- GroIMP's node transforms ----
