@@ -422,12 +422,26 @@ std::string Engine::describe(const Fault& f) const {
   if (runningRule_) {
     const __lc_Rule& r = *runningRule_;
     where = (r.file && *r.file ? std::string(r.file) : where) + ":" + std::to_string(r.line);
-    who = r.kind == __lc_Production      ? "production "
-          : r.kind == __lc_Decomposition ? "decomposition rule "
-                                         : "interpretation rule ";
-    who += r.predecessor ? r.predecessor : "";
+    auto word = [&](const char* own, const char* lc) { return std::string(own ? own : lc) + " "; };
+    const LanguageWords w = words_ ? *words_ : LanguageWords{};
+    who = r.kind == __lc_Production      ? word(w.production, "production")
+          : r.kind == __lc_Decomposition ? word(w.decomposition, "decomposition rule")
+                                         : word(w.interpretation, "interpretation rule");
+    // The predecessor's module as the language names it (XL's F for F_d).
+    std::string predecessor = r.predecessor ? r.predecessor : "";
+    if (shownNames_) {
+      const size_t end = std::min(predecessor.find('('), predecessor.size());
+      predecessor = std::string(shownNames_(std::string_view(predecessor).substr(0, end))) + predecessor.substr(end);
+    }
+    who += predecessor;
   } else if (runningCall_) {
     who = runningCall_;
+    if (words_) {
+      const std::pair<const char*, const char*> calls[] = {{"Start", words_->start}, {"StartEach", words_->startEach},
+                                                           {"EndEach", words_->endEach}, {"End", words_->end}};
+      for (const auto& [lc, own] : calls)
+        if (own && who == lc) who = own;
+    }
   } else {
     who = phase_ == Phase::Interpret ? "the interpretation" : "the derivation";
   }

@@ -26,6 +26,19 @@ namespace lcjit::runtime {
 class FunctionStore;
 struct WindowInput;
 
+// What a language whose front end writes L+C calls the parts of the L+C in its own terms, for
+// the faults' messages: XL's rules are the L+C's productions, its blocks among the rules its
+// StartEach. A null part: L+C's word.
+struct LanguageWords {
+  const char* production = nullptr;  // "rule"
+  const char* decomposition = nullptr;
+  const char* interpretation = nullptr;
+  const char* start = nullptr;  // what the Start statement is, StartEach …
+  const char* startEach = nullptr;
+  const char* endEach = nullptr;
+  const char* end = nullptr;
+};
+
 class Engine final : public ModelRun {
  public:
   Engine(const __lc_Model& model, const FunctionStore* functions);
@@ -39,6 +52,8 @@ class Engine final : public ModelRun {
     shownNames_ = shown;
     modules_.showNames(shown);
   }
+  // The words of the language the model is written in, for the faults' messages (LanguageWords).
+  void useWords(const LanguageWords* words) { words_ = words; }
   const __lc_Model& model() const { return *model_; }
   // The model's `derivation length:` (0 without one), decomposition and interpretation depths
   // (1 without), and whether it is a ring L-system: evaluated now (they are expressions; the
@@ -349,6 +364,7 @@ class Engine final : public ModelRun {
   bool forward_ = true;
   bool cutBranch_ = false;  // the running production asked its branch's rest to go (lcjit_cut_branch)
   ModuleTable::ShownName shownNames_ = nullptr;  // showNames
+  const LanguageWords* words_ = nullptr;         // useWords
   bool stopRequested_ = false;
   int step_ = 0, length_ = 0;
   bool ended_ = false;

@@ -5,6 +5,7 @@
 #include "frontend/cfdg/ReadDesign.h"
 #include "frontend/lc/Rewriter.h"
 #include "frontend/xl/Translate.h"
+#include "runtime/Engine.h"
 #include "runtime/files/Palette.h"
 
 #include <vector>
@@ -23,6 +24,12 @@ llvm::Expected<frontend::Rewritten> rewriteLplusC(const std::string& preprocesse
   return frontend::rewrite(preprocessed, mainFile);
 }
 
+// XL's words for what its L+C holds: each rule a production, init()'s blocks Start, a rule
+// method's blocks StartEach, an instantiation rule (or a module's drawing) an interpretation
+// rule, an axiom with for or Java the decomposition of XL_Init (frontend/xl/Translate.cpp).
+constexpr runtime::LanguageWords kXlWords{"rule", "init()'s rule", "instantiation rule", "init()'s statements",
+                                          "the statements of a rule method", nullptr, nullptr};
+
 constexpr Language kLanguages[] = {
     // lpfg's L+C: frontend/lc/ (the preprocessor and the rewriter) on the L-system engine.
     {"L+C", "L-system", kLplusC, EngineKind::LSystem, &rewriteLplusC},
@@ -32,7 +39,7 @@ constexpr Language kLanguages[] = {
     // Its colours are GroIMP's: the EGA's 16, its turtle's yellow first.
     // Its strings in XL's names: [ ] for branches, the model's modules as it names them.
     {"XL", "XL model", kXl, EngineKind::LSystem, &frontend::xl::rewrite, nullptr, &runtime::Palette::ega,
-     &frontend::xl::shownName},
+     &frontend::xl::shownName, &kXlWords},
 };
 
 }  // namespace

@@ -23,6 +23,7 @@ struct DesignUnit;
 }  // namespace lcjit::frontend
 namespace lcjit::runtime {
 class Palette;
+struct LanguageWords;
 }
 
 namespace lcjit::app {
@@ -68,6 +69,9 @@ struct Language {
   // The name its models' string text (`-out x.str`) gives a module of the L+C its front end
   // wrote; null: the L+C name.
   std::string_view (*shownName)(std::string_view lcName) = nullptr;
+  // What its faults' messages call the parts of the L+C its front end wrote (its rules, its
+  // statements); null: L+C's words.
+  const runtime::LanguageWords* words = nullptr;
 };
 
 // Every language, in the order messages list them.

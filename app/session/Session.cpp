@@ -662,6 +662,7 @@ llvm::Error Session::install(PreparedModel p) {
   if (p.what.lsystem || p.what.parameters) {
     engine_ = std::make_unique<runtime::Engine>(*model_, p.functions.get());
     engine_->showNames(lsystemLanguage(nullptr, lsystem_).shownName);
+    engine_->useWords(lsystemLanguage(nullptr, lsystem_).words);
     engine_->setLimits(limits_);
     engine_->setEnsembleMember(member_);
     engine_->setCodeLocator(codeLocator(columns_));
