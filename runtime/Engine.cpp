@@ -226,6 +226,7 @@ void Engine::begin(const EngineHooks& hooks) {
   CurrentScope scope(this);
   hooks_ = &hooks;
   step_ = 0;
+  sequential_ = false;  // GroIMP's PARALLEL_MODE until the model sets another
   ended_ = false;
   faulted_ = false;
   fault_.reset();
@@ -317,6 +318,7 @@ bool Engine::stepGuarded() {
   int group = group_;
   auto kind = groupKinds_.find(group);
   bool derived = kind != groupKinds_.end() && kind->second == __lc_GillespieGroup ? deriveGillespie(group)
+                 : sequential_                                                    ? deriveSequential(group)
                  : forward_                                                       ? deriveForward(group)
                                                                                   : deriveBackward(group);
   if (!derived) {

@@ -210,6 +210,7 @@ class Engine final : public ModelRun {
   // The turtle interpreting the string now (the innermost pass), null outside interpretation.
   Turtle* interpretingTurtle() { return turtlesInUse_ ? turtles_[turtlesInUse_ - 1].get() : nullptr; }
   void setForward(bool f) { forward_ = f; }
+  void setSequential(bool on) { sequential_ = on; }
   bool forward() const { return forward_; }
   void stop() override { stopRequested_ = true; }
   int stepNo() const { return step_; }
@@ -277,6 +278,9 @@ class Engine final : public ModelRun {
 
   // False when cancelStep() interrupted them (the string is then unchanged).
   bool deriveForward(int group);
+  // One production applied (XL's SEQUENTIAL_MODE): the first of the group's (then group 0's), in
+  // their order, that applies anywhere, where it first applies in the string.
+  bool deriveSequential(int group);
   bool deriveBackward(int group);
   bool deriveGillespie(int group);
   void decompose(int group);
@@ -362,6 +366,11 @@ class Engine final : public ModelRun {
   std::vector<Reaction> reactions_;
   int group_ = 0;
   bool forward_ = true;
+  // XL's sequential derivation (lcjit_derive_sequentially): deriveSequential's production, the
+  // one deriveForward may apply, and whether it has.
+  bool sequential_ = false;
+  const __lc_Rule* onlyRule_ = nullptr;
+  bool onlyRuleApplied_ = false;
   bool cutBranch_ = false;  // the running production asked its branch's rest to go (lcjit_cut_branch)
   ModuleTable::ShownName shownNames_ = nullptr;  // showNames
   const LanguageWords* words_ = nullptr;         // useWords

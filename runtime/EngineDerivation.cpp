@@ -59,11 +59,13 @@ bool Engine::deriveForward(int group) {
       const RuleList* rules = candidates(__lc_Production, g, id, false);
       if (!rules) continue;
       for (const __lc_Rule* r : *rules) {
+        if (onlyRule_ && (r != onlyRule_ || onlyRuleApplied_)) continue;  // deriveSequential's
         if (!matchRule(*r, old, pos, newLeft, Scan{nullptr, 0, false}, m)) continue;
         const size_t from = next_.size();
         cutBranch_ = false;
         if (applyRule(*r, m, next_)) {
           applied = true;
+          onlyRuleApplied_ = true;
           if (counting)  // the successor just written: in cache
             for (size_t q = from; q < next_.size(); q = modules_.next(next_.data(), q)) ++modules;
           if (origins)
@@ -110,6 +112,26 @@ bool Engine::deriveForward(int group) {
   if (counting) noteCount(modules);
   else forgetCount();
   derived_ = true;
+  return true;
+}
+
+bool Engine::deriveSequential(int group) {
+  // Each production in turn, as GroIMP's rules are tried in order, until one applies: a forward
+  // derivation in which that production alone may apply, once (a step that applies none copies
+  // the string).
+  auto clear = llvm::make_scope_exit([&] { onlyRule_ = nullptr; });
+  for (int pass = 0; pass < 2; ++pass) {
+    const int g = pass == 0 ? group : 0;
+    if (pass == 1 && group == 0) break;
+    for (uint32_t k = 0; k < model_->nRules; ++k) {
+      const __lc_Rule& r = model_->rules[k];
+      if (r.kind != __lc_Production || r.group != g) continue;
+      onlyRule_ = &r;
+      onlyRuleApplied_ = false;
+      if (!deriveForward(group)) return false;
+      if (onlyRuleApplied_) return true;
+    }
+  }
   return true;
 }
 

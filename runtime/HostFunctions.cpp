@@ -95,6 +95,9 @@ void lcjit_use_group(int g) {
 void lcjit_cut_branch() {
   if (Engine* e = engine()) e->cutBranch();
 }
+void lcjit_derive_sequentially(int on) {
+  if (Engine* e = engine()) e->setSequential(on != 0);
+}
 const char* lcjit_find_module(__lc_Ctx* c, __lc_ModuleId id, size_t* at) {
   // Outside every rule (lcjit_current_ctx's context of no engine): the running engine's string.
   Engine* e = c && c->engine ? static_cast<Engine*>(c->engine) : engine();
@@ -383,7 +386,7 @@ std::string takeReplOutput() { return std::exchange(replOutput(), {}); }
 std::vector<std::pair<std::string, void*>> hostFunctions() {
 #define LCJIT_HOST(f) {#f, reinterpret_cast<void*>(&f)}
   std::vector<std::pair<std::string, void*>> functions = {
-      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch), LCJIT_HOST(lcjit_find_module), LCJIT_HOST(lcjit_turtle_field), LCJIT_HOST(lcjit_set_turtle_field),
+      LCJIT_HOST(lcjit_repl_output),      LCJIT_HOST(lcjit_buffer_reserve), LCJIT_HOST(lcjit_in_context),     LCJIT_HOST(lcjit_use_group), LCJIT_HOST(lcjit_cut_branch), LCJIT_HOST(lcjit_derive_sequentially), LCJIT_HOST(lcjit_find_module), LCJIT_HOST(lcjit_turtle_field), LCJIT_HOST(lcjit_set_turtle_field),
       LCJIT_HOST(lcjit_current_group),  LCJIT_HOST(lcjit_forward),        LCJIT_HOST(lcjit_backward),
       LCJIT_HOST(lcjit_is_forward),     LCJIT_HOST(lcjit_stop),           LCJIT_HOST(lcjit_step_no),
       LCJIT_HOST(lcjit_ran),            LCJIT_HOST(lcjit_sran),           LCJIT_HOST(lcjit_seed_gillespie), LCJIT_HOST(lcjit_report),

@@ -96,6 +96,11 @@ int lcjit_current_group();
 // the rest of its branch, in this step (lpfg's Cut module waits for the next one). Forward
 // derivation only; elsewhere nothing.
 void lcjit_cut_branch();
+// lcjit's own, for XL's sequential derivation mode (GroIMP's setDerivationMode(SEQUENTIAL_MODE)):
+// from the next step on, a step applies one production, the first of the group's, in their
+// order, that applies anywhere, where it first applies in the string; 0: every production where
+// it applies (L+C's, XL's PARALLEL_MODE). Each run starts with 0.
+void lcjit_derive_sequentially(int on);
 // lcjit's own InString (the rewriter's): the next module `id` of the string as the step found it
 // (the predecessor while it derives, else the string), from byte `*at` on, which it moves past it;
 // null when there is none.

@@ -24,6 +24,24 @@ inline double normal(double mu, double sigma) {
   return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
 }
 
+// ---- derivation modes ----
+// GroIMP's derivation modes (de.grogra.xl.impl.base.Graph's constants, Library.setDerivationMode):
+// PARALLEL_MODE, every rule where it applies (with EXCLUDE_DELETED_FLAG, GroIMP's default: one
+// rule a node, lcjit's engine's way), and SEQUENTIAL_MODE, one rule application a step, the
+// first (lcjit_derive_sequentially). The non-deterministic modes choose among applications at
+// random, which lcjit's engine cannot yet (a production runs only to apply): they stop the model
+// code, at the call, with a message saying so; so does INTERPRETIVE_FLAG.
+const int PARALLEL_MODE = 0, PARALLEL_NON_DETERMINISTIC_MODE = 1, SEQUENTIAL_MODE = 2,
+          SEQUENTIAL_NON_DETERMINISTIC_MODE = 3, INTERPRETIVE_FLAG = 4, EXCLUDE_DELETED_FLAG = 8;
+inline void setDerivationMode(int mode) {
+  if ((mode & 3) == PARALLEL_NON_DETERMINISTIC_MODE || (mode & 3) == SEQUENTIAL_NON_DETERMINISTIC_MODE ||
+      (mode & INTERPRETIVE_FLAG))
+    throw std::invalid_argument("setDerivationMode(" + std::to_string(mode) +
+                                "): the non-deterministic modes and INTERPRETIVE_FLAG are not supported yet by lcjit's XL "
+                                "(docs/xl.md)");
+  lcjit_derive_sequentially((mode & 3) == SEQUENTIAL_MODE);
+}
+
 // ---- Java's arrays ----
 // `int[] a = new int[n]`, `float[] b = {1, 2}`, `double[][] m = new double[2][3]`: an array is
 // shared by every variable it is assigned to, as Java's (a method changes its caller's), holds
