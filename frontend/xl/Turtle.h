@@ -114,7 +114,11 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"Cone", 2, "Cone", "float, float", false, "SB SetWidth(2 * $2) F($1) EB f($1)", {}, "$1"},
     {"Frustum", 3, "Frustum", "float, float, float", false, "SB SetWidth($2 + $3) F($1) EB f($1)", {}, "$1"},
     {"Box", 3, "Box", "float, float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
-    {"Parallelogram", 2, "Parallelogram", "float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
+    // Parallelogram(l, w): a flat rectangle l long along the head and w wide along GroIMP's left
+    // (lcjit's L), centred on the head (Parallelogram's axis (w/2, 0, 0), from −axis to +axis, its
+    // area 2 |axis| l): lpfg's polygon of its four corners, drawn round from the corner at +L.
+    {"Parallelogram", 2, "Parallelogram", "float, float", false,
+     "SB Left(90) f(($2) / 2) SP PP Right(90) f($1) Right(90) f($2) Right(90) f($1) EP EB f($1)", {}, "$1"},
     // Null: a node that does nothing to the turtle; Null(x, y, z) translated by (x, y, z) in its
     // parent's frame (Null's transform), which moves the turtle there (lcjit/xl.h's
     // __xl_local_move), as a module extending Null does after setTransform(x, y, z).
