@@ -94,10 +94,18 @@ size_t Translator::query(size_t i, Range r) {
   const std::vector<Matched> matched = matchedBy(type, fields);
   if (member && !call && fields->fieldIndex(t_[*member].text) == fields->fieldCount())
     throw XlError{t_[*member], "a " + t_[type].text + " has no field '" + t_[*member].text + "'"};
+  // XL's aggregates are of the value's type (de.grogra.xl.util.Operators: sum, mean, max and min
+  // of ints are ints, of floats floats, summed as such; a mean of ints divides as ints).
+  std::string valueType = "int";
+  if (member && !call) valueType = fields->fieldType(fields->fieldIndex(t_[*member].text));
   if (call) {
-    bool has = false;
-    for (const Declaration* d : methodsOf(*fields)) has = has || t_[d->name].text == t_[*member].text;
-    if (!has) throw XlError{t_[*member], "a " + t_[type].text + " has no method '" + t_[*member].text + "'"};
+    const Declaration* method = nullptr;
+    for (const Declaration* d : methodsOf(*fields))
+      if (t_[d->name].text == t_[*member].text) method = d;
+    if (!method) throw XlError{t_[*member], "a " + t_[type].text + " has no method '" + t_[*member].text + "'"};
+    valueType = javaTypeAt(method->type);
+    if (valueType.empty() || valueType == "bool")
+      throw XlError{t_[*member], f + "() of a method that returns no number ('" + t_[method->type].text + "')"};
   }
 
   // The condition and the value, each a lambda of the node's copy (written once, for every
@@ -110,7 +118,7 @@ size_t Translator::query(size_t i, Range r) {
   w_.at(i, "({ auto " + q + "c = [&](auto& " + name + ") -> bool { return");
   if (condition) java(*condition);
   else w_.add("true");
-  w_.add("; }; auto " + q + "v = [&](auto& " + name + ") -> double { return");
+  w_.add("; }; auto " + q + "v = [&](auto& " + name + ") -> " + valueType + " { return");
   if (member) {
     w_.add(name + ".");
     w_.token(*member);
@@ -123,15 +131,18 @@ size_t Translator::query(size_t i, Range r) {
 
   if (f == "count") w_.add("int " + q + " = 0;");
   if (f == "empty") w_.add("bool " + q + " = true;");
-  if (f == "sum") w_.add("double " + q + " = 0;");
-  if (f == "mean") w_.add("double " + q + " = 0; int " + q + "n = 0;");
-  if (f == "max" || f == "min") w_.add("double " + q + " = " + (f == "max" ? "-" : "") + "HUGE_VAL;");
+  if (f == "sum") w_.add(valueType + " " + q + " = 0;");
+  if (f == "mean") w_.add(valueType + " " + q + " = 0; int " + q + "n = 0;");
+  // Of none, max is the type's least (−∞ for floats), min its greatest.
+  if (f == "max" || f == "min")
+    w_.add(valueType + " " + q + " = " + (f == "max" ? "__xl_least<" : "__xl_greatest<") + valueType + ">();");
   std::string take;
   if (f == "count") take = "++" + q;
   if (f == "empty") take = q + " = false";
   if (f == "sum") take = q + " += " + q + "v(__xl_m)";
   if (f == "mean") take = q + " += " + q + "v(__xl_m), ++" + q + "n";
-  if (f == "max" || f == "min") take = q + " = std::f" + f + "(" + q + ", " + q + "v(__xl_m))";
+  if (f == "max") take = "{ auto __xl_v = " + q + "v(__xl_m); if (__xl_v > " + q + ") " + q + " = __xl_v; }";
+  if (f == "min") take = "{ auto __xl_v = " + q + "v(__xl_m); if (__xl_v < " + q + ") " + q + " = __xl_v; }";
   for (const Matched& m : matched) {
     // Each node's fields into locals (InString binds them), then a copy of the fields the label
     // names: a module's struct when it has methods.
@@ -152,7 +163,9 @@ size_t Translator::query(size_t i, Range r) {
     w_.add("{ " + decls + "InString(" + m.module->lcName + (vars.empty() ? "" : "(" + vars + ")") + ", ({ " + type +
            " __xl_m = {" + copy + "}; if (" + q + "c(__xl_m)) " + take + "; false; })); }");
   }
-  w_.add(f == "mean" ? q + "n ? " + q + " / " + q + "n : 0.0; })" : q + "; })");
+  // A mean of none: 0 / 0, NaN for floats (an int's division by zero stops the model code, where
+  // Java throws).
+  w_.add(f == "mean" ? q + " / " + q + "n; })" : q + "; })");
   return at + 1;
 }
 

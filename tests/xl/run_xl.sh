@@ -4,7 +4,8 @@
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model); what the model printed
-#                     is NAME.stdout, when there is one; NAME.options holds more options for lcjit
+#                     is NAME.stdout, when there is one; NAME.options holds more options for lcjit;
+#                     NAME.DATASET.csv is the dataset DATASET's table it wrote (DATASET.csv)
 #   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
 #                     (derived by hand)
 #   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
@@ -42,6 +43,10 @@ case $kind in
     "$lcjit" -b --steps "$steps" "${extra[@]}" -out out.str "$model" >printed || fail "lcjit exited with $?"
     diff -u "$name.expected" out.str || fail "the string differs from $name.expected"
     [ ! -f "$name.stdout" ] || diff -u "$name.stdout" printed || fail "what it printed differs from $name.stdout"
+    for want in "$name".*.csv; do  # NAME.DATASET.csv: the table the model wrote to DATASET.csv
+      [ -e "$want" ] || continue
+      diff -u "$want" "${want#"$name".}" || fail "${want#"$name".} differs from $want"
+    done
     echo "ok: $name" ;;
   segments)
     "$lcjit" -b --steps "$steps" -out out.obj "$name.rgg" || fail "lcjit exited with $?"

@@ -7,9 +7,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
+#include <limits>
+#include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 // ---- numbers ----
 // random(a, b) uniform in [a, b); irandom(a, b) a whole number from a to b; probability(p) true
@@ -22,6 +26,18 @@ const double R2D = 180 / M_PI, DEG = M_PI / 180;
 inline double normal(double mu, double sigma) {
   double u = 1 - ran(1), v = ran(1);
   return mu + sigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * v);
+}
+
+// ---- graph queries ----
+// What max and min of no value are (Operators' initial values): a float's −∞ and +∞, an int's
+// least and greatest.
+template <class T>
+T __xl_least() {
+  return std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
+}
+template <class T>
+T __xl_greatest() {
+  return std::numeric_limits<T>::has_infinity ? std::numeric_limits<T>::infinity() : std::numeric_limits<T>::max();
 }
 
 // ---- derivation modes ----
@@ -236,3 +252,83 @@ inline void print(const T& x) { std::fputs(__xl_text(x).c_str(), stdout); }
 template <class T>
 inline void println(const T& x) { std::printf("%s\n", __xl_text(x).c_str()); }
 inline void println() { std::printf("\n"); }
+
+// ---- datasets and charts ----
+// GroIMP's datasets (Library.dataset(name): a table of rows, each row's cells set by column,
+// de.grogra.pf.data's DatasetRef and Dataseries): lcjit keeps each in the model and writes it,
+// whenever it changes, to NAME.csv in the folder lcjit runs in: the column keys, if any are set,
+// then a line a row, each cell as Java writes its number (a cell never set is empty). GroIMP
+// draws a dataset in a chart panel (chart(dataset, XY_PLOT)); lcjit does not draw charts yet:
+// chart() says once, on the standard error, where the dataset's table is.
+struct __xl_Dataset;
+struct __xl_Dataseries {
+  __xl_Dataset* dataset;
+  size_t row;
+  template <class T>
+  __xl_Dataseries& set(int column, T value);
+  template <class T>
+  __xl_Dataseries& add(T value);
+};
+struct __xl_Dataset {
+  std::string name;
+  std::vector<std::string> keys;
+  std::vector<std::vector<std::string>> rows;
+  void save() const {
+    if (FILE* f = std::fopen((name + ".csv").c_str(), "w")) {
+      auto line = [f](const std::vector<std::string>& cells) {
+        for (size_t k = 0; k < cells.size(); ++k) std::fprintf(f, "%s%s", k ? "," : "", cells[k].c_str());
+        std::fputc('\n', f);
+      };
+      if (!keys.empty()) line(keys);
+      for (const auto& r : rows) line(r);
+      std::fclose(f);
+    }
+  }
+  __xl_Dataset& clear() {
+    rows.clear();
+    save();
+    return *this;
+  }
+  __xl_Dataseries addRow() {
+    rows.emplace_back();
+    save();
+    return {this, rows.size() - 1};
+  }
+  __xl_Dataset& setColumnKey(int column, const __xl_String& key) {
+    if (column >= 0) {
+      if (keys.size() <= (size_t)column) keys.resize(column + 1);
+      keys[column] = key.s;
+      save();
+    }
+    return *this;
+  }
+  __xl_Dataset& setTitle(const __xl_String&) { return *this; }
+};
+template <class T>
+__xl_Dataseries& __xl_Dataseries::set(int column, T value) {
+  if (column < 0) throw std::out_of_range("dataset " + dataset->name + ": column " + std::to_string(column));
+  std::vector<std::string>& cells = dataset->rows[row];
+  if (cells.size() <= (size_t)column) cells.resize(column + 1);
+  cells[column] = __xl_text(value);
+  dataset->save();
+  return *this;
+}
+template <class T>
+__xl_Dataseries& __xl_Dataseries::add(T value) {
+  return set((int)dataset->rows[row].size(), value);
+}
+inline __xl_Dataset& dataset(const __xl_String& name) {
+  static std::map<std::string, __xl_Dataset> all;
+  __xl_Dataset& d = all[name.s];
+  d.name = name.s;
+  return d;
+}
+// ChartPanel's kinds of chart.
+const int AREA_PLOT = 0, STACKED_AREA_PLOT = 1, BAR_PLOT = 2, STACKED_BAR_PLOT = 3, LINE_PLOT = 4, PIE_PLOT = 5,
+          SCATTER_PLOT = 6, XY_PLOT = 7, STATISTICAL_BAR_PLOT = 9;
+inline void chart(__xl_Dataset& d, int) {
+  static std::set<std::string> told;
+  if (told.insert(d.name).second)
+    std::fprintf(stderr, "lcjit: charts are not drawn yet; dataset %s is written to %s.csv\n", d.name.c_str(),
+                 d.name.c_str());
+}
