@@ -88,6 +88,9 @@ struct Node {
 
 struct Rule {
   std::vector<Node> contexts;  // `(* b:Baum *)` written apart (a comma after it): anywhere in the graph
+  // Contexts joined to the rule's node: `(* A *) B` (A the node before B), `B (* C *)` (C the
+  // node after it).
+  std::optional<Node> before, after;
   std::vector<Node> left;
   std::optional<Range> condition;  // `( … )`, its parentheses included
   size_t arrow = 0, end = 0;       // `==>`, `==>>` or `::>`; `;` (or the last token)

@@ -439,14 +439,27 @@ Rule Translator::rule() {
     Node n = patternNode("a module in the context");
     if (!cur().is("*)")) notYet(cur(), "a context of more than one node (`(* A B *)`)");
     ++p_;
-    if (!accept(","))
-      notYet(t_[open], "a context joined to the rule's nodes (`(* A *) B`: lcjit runs contexts written apart, `(* A *), B`)");
-    r.contexts.push_back(n);
+    if (accept(",")) {
+      r.contexts.push_back(n);
+      continue;
+    }
+    if (cur().kind != Token::Identifier)
+      notYet(t_[open], "a context joined to the rule's nodes other than the node before it (`(* A *) B`)");
+    r.before = n;
+    break;
   }
   // The left side: nodes, each perhaps labelled, up to the condition or the arrow.
   do {
     r.left.push_back(patternNode(r.left.empty() ? "a rule (`A ==> B;`)" : "a module of the rule's left side"));
   } while (cur().kind == Token::Identifier);
+  if (cur().is("(*")) {  // the node after it: `B (* C *)`
+    ++p_;
+    r.after = patternNode("a module in the context");
+    if (!cur().is("*)")) notYet(cur(), "a context of more than one node (`(* A B *)`)");
+    ++p_;
+  }
+  if ((r.before || r.after) && r.left.size() > 1)
+    notYet(t_[r.left[1].name], "a context joined to a rule of more than one node");
   if (cur().is("[")) notYet(cur(), "a branch on a rule's left side");
   if (accept(",")) {
     if (!cur().is("(")) throw XlError{cur(), "expected '(' to begin the rule's condition"};

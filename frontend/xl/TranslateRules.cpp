@@ -462,11 +462,20 @@ void Translator::production(const Rule& r, const Module* subclass) {
   if (r.is(t_, "==>>")) right = spoRight(r);
   const size_t node = rewrittenNode(r, t_);
   if (r.left.size() > 1 && !r.is(t_, "==>>")) notYet(t_[r.left[1].name], "a rule of more than one node on its left side");
+  // Joined contexts are L+C's: `(* A *) B` is `A < B`, `B (* C *)` is `B > C`.
+  if (r.before) {
+    pattern(*r.before, r.left.size());
+    w_.add("<");
+  }
   for (size_t k = 0; k < r.left.size(); ++k) {
     if (k == 1 && node == 1) w_.add("<");
     if (subclass && k == node) subclassPattern(r.left[k], *subclass, k);
     else pattern(r.left[k], k);
     if (k == 1 && node == 1) w_.add(">");
+  }
+  if (r.after) {
+    w_.add(">");
+    pattern(*r.after, r.left.size() + 1);
   }
   w_.add(":");
   w_.add("{");
