@@ -215,7 +215,7 @@ std::string Translator::write() {
       twice = twice || (&d < &c && d.module == c.module && used_.count(&d));
     if (twice) continue;
     turtleDecls += "module " + std::string(c.module) + (c.declared.empty() ? "" : "(" + std::string(c.declared) + ")") + "; ";
-    if (c.drawn.empty() && c.body.empty()) continue;
+    if (c.drawn.empty() && c.body.empty() && c.solid.empty()) continue;
     std::vector<std::string> args;
     std::string rule = std::string(c.module);
     if (c.arity > 0) {
@@ -226,9 +226,9 @@ std::string Translator::write() {
       }
       rule += ")";
     }
-    interpretation.push_back({axiomAt(), rule + " : { " +
-                                               (c.body.empty() ? "produce " + drawn(c.drawn, args) + ";" : drawn(c.body, args)) +
-                                               " }"});
+    std::string body = c.body.empty() ? "produce " + drawn(c.drawn, args) + ";" : drawn(c.body, args);
+    if (!c.solid.empty()) body = drawn(c.solid, args) + "produce f(" + drawn(c.advance, args) + ");";
+    interpretation.push_back({axiomAt(), rule + " : { " + body + " }"});
   }
   if (!interpretation.empty()) {
     if (!interpreting) w_.add("interpretation:");
@@ -279,6 +279,14 @@ std::string Translator::ownDrawing(const Module& m) {
     if (f->name != "shader") args.push_back(m.baseField(std::string(f->name)));
   const TurtleCommand* c = turtleNamed(base, (int)args.size());
   if (!c) throw XlError{t_[*m.base], "no turtle command '" + base + "' to extend (lcjit has " + turtleNames() + ")"};
+  if (!c->solid.empty()) {
+    // Its shader (−1: the turtle's colour) for itself alone, in a branch; then to its top.
+    const std::string solid = drawn(c->solid, args), top = "f(" + drawn(c->advance, args) + ")";
+    const std::string shader = m.baseField("shader");
+    if (shader.empty()) return solid + "produce " + top + ";";
+    return "if (" + shader + " < 0) { " + solid + "produce " + top + "; } nproduce SB SetColor(" + shader + " + 2); " +
+           solid + "produce EB " + top + ";";
+  }
   if (c->drawn.empty()) return c->body.empty() ? "" : drawn(c->body, args);
   std::string body = "produce " + drawn(c->drawn, args) + ";";
   // Its shader (−1: the turtle's colour) for itself alone; what follows starts where it ends.

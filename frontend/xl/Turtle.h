@@ -30,7 +30,25 @@ struct TurtleCommand {
   // How far it moves the turtle along its head ($1 …); empty: not at all. A module extending it
   // with a shader of its own draws it in a branch, then moves this far.
   std::string_view advance = {};
+  // A solid drawn of polygons: statements (nproduce) that draw it where the turtle is and leave
+  // the turtle as it was; after them the turtle moves `advance` (in place of drawn and body).
+  std::string_view solid = {};
 };
+
+// GroIMP's Box(l, w, h) (Box.draw: drawBox(w/2, h/2, l)): x from −w/2 to w/2 along its left, y
+// from −h/2 to h/2 along its up, z from 0 to l along its head; its six faces lpfg's polygons,
+// each in a branch, its corners reached by moves in the world's axes (lcjit/xl.h's
+// __xl_local_move: GroIMP's x, y, z are lcjit's −L, −U, H). Corner k has x's sign from bit 0,
+// y's from bit 1, z = l for bit 2.
+inline constexpr std::string_view kBoxFaces =
+    "static const int __xl_faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 3, 7, 6}}; "
+    "float __xl_c[8][3]; "
+    "for (int k = 0; k < 8; ++k) __xl_local_move((k & 1 ? 0.5f : -0.5f) * ($2), (k & 2 ? 0.5f : -0.5f) * ($3), "
+    "(k & 4) ? ($1) : 0.0f, __xl_c[k]); "
+    "for (int f = 0; f < 6; ++f) { nproduce SB SP; float __xl_at[3] = {0, 0, 0}; "
+    "for (int j = 0; j < 4; ++j) { const float* c = __xl_c[__xl_faces[f][j]]; "
+    "nproduce MoveRel3f(V3f(c[0] - __xl_at[0], c[1] - __xl_at[1], c[2] - __xl_at[2])) PP; "
+    "for (int i = 0; i < 3; ++i) __xl_at[i] = c[i]; } nproduce EP EB; } ";
 
 // GroIMP's F(l, d, c): a cylinder l long of diameter d and colour c for itself alone, −1 standing
 // for the turtle state's (F's fields `diameter` and `color`); colour c is lcjit's index c + 2
@@ -107,13 +125,13 @@ inline constexpr TurtleCommand kTurtleCommands[] = {
     {"Sphere", 1, "Sphere", "", true, "Sphere($1)"},
     // GroIMP's solids on an axis (imp3d.objects.Axis): each stands on the turtle's position along
     // its head, and what follows it starts at its top (Axis.postTransform: the length along the
-    // local z), as after an F. lcjit draws each as a line of its diameter (its width): Cylinder(l,
-    // r) and Cone(l, r) 2r wide, Frustum(l, r1, r2) r1 + r2, Box(l, w, h) and Parallelogram(l, w)
-    // w, in the turtle's colour.
+    // local z), as after an F. lcjit draws Box as the cuboid it is (kBoxFaces); the round ones as
+    // a line of their diameter (its width): Cylinder(l, r) and Cone(l, r) 2r wide, Frustum(l,
+    // r1, r2) r1 + r2; in the turtle's colour.
     {"Cylinder", 2, "Cylinder", "float, float", false, "SB SetWidth(2 * $2) F($1) EB f($1)", {}, "$1"},
     {"Cone", 2, "Cone", "float, float", false, "SB SetWidth(2 * $2) F($1) EB f($1)", {}, "$1"},
     {"Frustum", 3, "Frustum", "float, float, float", false, "SB SetWidth($2 + $3) F($1) EB f($1)", {}, "$1"},
-    {"Box", 3, "Box", "float, float, float", false, "SB SetWidth($2) F($1) EB f($1)", {}, "$1"},
+    {"Box", 3, "Box", "float, float, float", false, "", {}, "$1", kBoxFaces},
     // Parallelogram(l, w): a flat rectangle l long along the head and w wide along GroIMP's left
     // (lcjit's L), centred on the head (Parallelogram's axis (w/2, 0, 0), from −axis to +axis, its
     // area 2 |axis| l): lpfg's polygon of its four corners, drawn round from the corner at +L.

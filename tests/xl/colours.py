@@ -3,7 +3,8 @@
 it), compared with a NAME.colours file of `x1 y1 z1  x2 y2 z2  COLOUR` lines derived by hand (in
 any order: the OBJ groups lines by material), within 1e-4; the colours are the names of the XL
 quick reference's colour table (its appendix: 0 black … 15 white), their RGB the EGA's, or
-GroIMP's named shaders (RED …), java.awt.Color's.
+GroIMP's named shaders (RED …), java.awt.Color's. A `faces x1 y1 z1  x2 y2 z2  COLOUR` line: the
+faces of that colour span that box (their corners' least and greatest coordinates), within 1e-4.
 Usage: colours.py OBJ EXPECTED"""
 import os
 import sys
@@ -28,7 +29,7 @@ def segment_colours(obj):
             material = f[1]
         elif f and f[0] == "Kd":
             kd[material] = tuple(float(x) for x in f[1:4])
-    segments = []
+    segments, faces = [], {}
     for line in open(obj):
         f = line.split()
         if f and f[0] == "v":
@@ -38,21 +39,32 @@ def segment_colours(obj):
         elif f and f[0] == "l":
             ids = [int(i.split("/")[0]) - 1 for i in f[1:]]
             segments += [(vertices[a] + vertices[b], current) for a, b in zip(ids, ids[1:])]
-    return segments
+        elif f and f[0] == "f":
+            faces.setdefault(current, []).extend(vertices[int(i.split("/")[0]) - 1] for i in f[1:])
+    return segments, faces
 
 
-def expected(path):
+def expected(path, kind):
     out = []
     for line in open(path):
         line = line.split("#")[0].split()
-        if line:
+        if line and (line[0] == "faces") == (kind == "faces"):
+            line = line[1:] if kind == "faces" else line
             out.append((tuple(float(x) for x in line[:6]), " ".join(line[6:])))
     return out
 
 
-got, want = segment_colours(sys.argv[1]), expected(sys.argv[2])
+(got, faces), want = segment_colours(sys.argv[1]), expected(sys.argv[2], "segments")
+ok = True
+for box, name in expected(sys.argv[2], "faces"):
+    colour = tuple(e / 255 for e in EGA[name])
+    corners = next((v for c, v in faces.items() if all(abs(a - b) < 1e-5 for a, b in zip(c, colour))), [])
+    span = tuple(min(v[k] for v in corners) for k in range(3)) + tuple(max(v[k] for v in corners) for k in range(3)) if corners else ()
+    if not span or not all(abs(a - b) <= 1e-4 for a, b in zip(span, box)):
+        ok = False
+        print(f"FAIL: the faces in {name} span {span}, expected {box}")
 unmatched = list(got)
-ok = len(got) == len(want)
+ok = ok and len(got) == len(want)
 for where, name in want:
     hit = next((g for g in unmatched if all(abs(a - b) <= 1e-4 for a, b in zip(g[0], where)) and
                 all(abs(c - e / 255) < 1e-5 for c, e in zip(g[1], EGA[name]))), None)
