@@ -50,7 +50,7 @@ std::vector<Translator::Matched> Translator::matchedBy(size_t name, const Module
 }
 
 size_t Translator::query(size_t i, Range r) {
-  static const std::set<std::string> kAggregates = {"count", "empty", "sum", "mean", "max", "min"};
+  static const std::set<std::string> kAggregates = {"count", "empty", "sum", "prod", "mean", "max", "min", "first", "last"};
   if (t_[i].kind != Token::Identifier || !kAggregates.count(t_[i].text) || i + 4 >= r.second || !t_[i + 1].is("(") ||
       !t_[i + 2].is("(*"))
     return i;
@@ -132,6 +132,9 @@ size_t Translator::query(size_t i, Range r) {
   if (f == "count") w_.add("int " + q + " = 0;");
   if (f == "empty") w_.add("bool " + q + " = true;");
   if (f == "sum") w_.add(valueType + " " + q + " = 0;");
+  if (f == "prod") w_.add(valueType + " " + q + " = 1;");
+  // first and last of none: NaN for floats, 0 for ints; first takes one value and stops.
+  if (f == "first" || f == "last") w_.add(valueType + " " + q + " = __xl_none<" + valueType + ">(); bool " + q + "d = false;");
   if (f == "mean") w_.add(valueType + " " + q + " = 0; int " + q + "n = 0;");
   // Of none, max is the type's least (−∞ for floats), min its greatest.
   if (f == "max" || f == "min")
@@ -140,6 +143,9 @@ size_t Translator::query(size_t i, Range r) {
   if (f == "count") take = "++" + q;
   if (f == "empty") take = q + " = false";
   if (f == "sum") take = q + " += " + q + "v(__xl_m)";
+  if (f == "prod") take = q + " *= " + q + "v(__xl_m)";
+  if (f == "first") take = "{ if (!" + q + "d) " + q + " = " + q + "v(__xl_m); " + q + "d = true; }";
+  if (f == "last") take = q + " = " + q + "v(__xl_m)";
   if (f == "mean") take = q + " += " + q + "v(__xl_m), ++" + q + "n";
   if (f == "max") take = "{ auto __xl_v = " + q + "v(__xl_m); if (__xl_v > " + q + ") " + q + " = __xl_v; }";
   if (f == "min") take = "{ auto __xl_v = " + q + "v(__xl_m); if (__xl_v < " + q + ") " + q + " = __xl_v; }";

@@ -149,8 +149,8 @@ private:
   // Java in a condition, an argument or a block, as C++: a label's field `t[length]` is `t.length`,
   // Java's Math is C++'s, `boolean` is bool.
   void java(Range r);
-  // XL's aggregate graph queries over the whole graph (de.grogra.rgg.Library's count, empty, sum,
-  // mean, max, min), in rules and in Java (TranslateQueries.cpp). Returns the token after the
+  // XL's aggregate graph queries over the whole graph (de.grogra.xl.util.Operators' count, empty,
+  // sum, prod, mean, max, min, first, last), in rules and in Java (TranslateQueries.cpp). Returns the token after the
   // query, or `i` for none.
   size_t query(size_t i, Range r);
   // The modules a query's or pattern's type `name` matches: the model's module and those

@@ -30,10 +30,14 @@ inline double normal(double mu, double sigma) {
 
 // ---- graph queries ----
 // What max and min of no value are (Operators' initial values): a float's −∞ and +∞, an int's
-// least and greatest.
+// least and greatest; first and last of none are a float's NaN, an int's 0.
 template <class T>
 T __xl_least() {
   return std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
+}
+template <class T>
+T __xl_none() {  // first and last of none
+  return std::numeric_limits<T>::has_quiet_NaN ? std::numeric_limits<T>::quiet_NaN() : T(0);
 }
 template <class T>
 T __xl_greatest() {
