@@ -502,7 +502,7 @@ class Repl {
     deriveTo(INT_MAX);
     runtime::Geometry geometry;
     if (auto err = e.interpret(geometry)) return err;
-    std::fputs(app::profileTable(app::profileRows(*e.profile(), e.model()), limit).c_str(), stdout);
+    std::fputs(app::profileTable(app::profileRows(*e.profile(), e.ruleSources()), limit).c_str(), stdout);
     return llvm::Error::success();
   }
 

@@ -430,12 +430,7 @@ std::string Engine::describe(const Fault& f) const {
           : r.kind == __lc_Decomposition ? word(w.decomposition, "decomposition rule")
                                          : word(w.interpretation, "interpretation rule");
     // The predecessor's module as the language names it (XL's F for F_d).
-    std::string predecessor = r.predecessor ? r.predecessor : "";
-    if (shownNames_) {
-      const size_t end = std::min(predecessor.find('('), predecessor.size());
-      predecessor = std::string(shownNames_(std::string_view(predecessor).substr(0, end))) + predecessor.substr(end);
-    }
-    who += predecessor;
+    who += shownPredecessor(r.predecessor ? r.predecessor : "", shownNames_);
   } else if (runningCall_) {
     who = runningCall_;
     if (words_) {

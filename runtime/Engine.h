@@ -26,19 +26,6 @@ namespace lcjit::runtime {
 class FunctionStore;
 struct WindowInput;
 
-// What a language whose front end writes L+C calls the parts of the L+C in its own terms, for
-// the faults' messages: XL's rules are the L+C's productions, its blocks among the rules its
-// StartEach. A null part: L+C's word.
-struct LanguageWords {
-  const char* production = nullptr;  // "rule"
-  const char* decomposition = nullptr;
-  const char* interpretation = nullptr;
-  const char* start = nullptr;  // what the Start statement is, StartEach …
-  const char* startEach = nullptr;
-  const char* endEach = nullptr;
-  const char* end = nullptr;
-};
-
 class Engine final : public ModelRun {
  public:
   Engine(const __lc_Model& model, const FunctionStore* functions);
@@ -52,8 +39,11 @@ class Engine final : public ModelRun {
     shownNames_ = shown;
     modules_.showNames(shown);
   }
-  // The words of the language the model is written in, for the faults' messages (LanguageWords).
+  // The words of the language the model is written in, for the faults' messages and the reports
+  // (LanguageWords, Profile.h).
   void useWords(const LanguageWords* words) { words_ = words; }
+  // The model's rules as the reports name them, in its language's words and names.
+  std::vector<RuleSource> ruleSources() const { return runtime::ruleSources(*model_, words_, shownNames_); }
   const __lc_Model& model() const { return *model_; }
   // The model's `derivation length:` (0 without one), decomposition and interpretation depths
   // (1 without), and whether it is a ring L-system: evaluated now (they are expressions; the

@@ -34,12 +34,39 @@ void Profile::endStep(int step) {
 
 void Profile::interpreted() { flush(interpretation_, nullptr); }
 
-std::vector<RuleSource> ruleSources(const __lc_Model& model) {
+std::string shownPredecessor(std::string predecessor, std::string_view (*shown)(std::string_view)) {
+  if (!shown) return predecessor;
+  const size_t open = std::min(predecessor.find('('), predecessor.size());
+  std::string out(shown(std::string_view(predecessor).substr(0, open)));
+  if (open == predecessor.size() || predecessor.back() != ')') return out + predecessor.substr(open);
+  // The parameters the user named; those a translation named for itself (reserved names, `__…`:
+  // XL's fields the pattern leaves unnamed) are left out.
+  std::string kept;
+  int depth = 0;
+  size_t from = open + 1;
+  for (size_t i = open + 1; i < predecessor.size(); ++i) {
+    const char c = predecessor[i];
+    if (c == '(') ++depth;
+    if (c == ')' && depth > 0) --depth;
+    else if ((c == ',' && depth == 0) || i + 1 == predecessor.size()) {
+      const std::string arg = predecessor.substr(from, i - from);
+      if (arg.rfind("__", 0) != 0) kept += (kept.empty() ? "" : ",") + arg;
+      from = i + 1;
+    }
+  }
+  return kept.empty() ? out : out + "(" + kept + ")";
+}
+
+std::vector<RuleSource> ruleSources(const __lc_Model& model, const LanguageWords* words,
+                                    std::string_view (*shown)(std::string_view)) {
   std::vector<RuleSource> out(model.nRules);
+  const LanguageWords w = words ? *words : LanguageWords{};
   for (uint32_t i = 0; i < model.nRules; ++i) {
     const __lc_Rule& r = model.rules[i];
     out[i].kind = r.kind == __lc_Production ? "production" : r.kind == __lc_Decomposition ? "decomposition" : "interpretation";
-    out[i].predecessor = r.predecessor ? r.predecessor : "";
+    const char* own = r.kind == __lc_Production ? w.production : r.kind == __lc_Decomposition ? w.decomposition : w.interpretation;
+    out[i].word = own ? own : out[i].kind;
+    out[i].predecessor = shownPredecessor(r.predecessor ? r.predecessor : "", shown);
     out[i].file = r.file && *r.file ? r.file : (model.sourceFile ? model.sourceFile : "");
     out[i].line = r.line;
   }

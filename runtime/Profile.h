@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 struct __lc_Model;
@@ -56,13 +57,31 @@ class Profile {
   std::vector<Step> steps_;
 };
 
-// The rules of `model` by index: kind ("production", "decomposition", "interpretation"), the
-// predecessor as written, file and line. For reports.
+// What a language whose front end writes L+C calls the parts of the L+C in its own terms, for
+// the faults' messages and the reports: XL's rules are the L+C's productions, its blocks among the rules its
+// StartEach. A null part: L+C's word.
+struct LanguageWords {
+  const char* production = nullptr;  // "rule"
+  const char* decomposition = nullptr;
+  const char* interpretation = nullptr;
+  const char* start = nullptr;  // what the Start statement is, StartEach …
+  const char* startEach = nullptr;
+  const char* endEach = nullptr;
+  const char* end = nullptr;
+};
+
+// The rules of `model` by index: kind ("production", "decomposition", "interpretation"), what
+// the model's language calls it (`word`: L+C's "production", XL's "rule"), the predecessor as
+// written (its module named as the language names it, `shown`), file and line. For reports.
 struct RuleSource {
-  std::string kind, predecessor, file;
+  std::string kind, word, predecessor, file;
   int line = 0;
 };
-std::vector<RuleSource> ruleSources(const __lc_Model& model);
+std::vector<RuleSource> ruleSources(const __lc_Model& model, const LanguageWords* words = nullptr,
+                                    std::string_view (*shown)(std::string_view) = nullptr);
+// A rule's predecessor `A(x)` with its module as the language names it and only the parameters
+// its user named (`shown`; null: as it is).
+std::string shownPredecessor(std::string predecessor, std::string_view (*shown)(std::string_view));
 
 // Rules by total time, hottest first (ties: more applications first, then source order); rules that
 // never ran are left out.

@@ -295,12 +295,12 @@ int runOnce(Session& session, const ModelFiles& files, const BatchOptions& optio
     return 1;
   }
   if (options.profile == "-") {
-    const std::vector<ProfileRow> rows = profileRows(*engine.profile(), engine.model());
+    const std::vector<ProfileRow> rows = profileRows(*engine.profile(), engine.ruleSources());
     std::fputs(profileTable(rows, rows.size()).c_str(), stdout);
     std::fflush(stdout);
   } else if (!options.profile.empty())
     if (auto e = support::writeWholeFile(options.profile,
-                                         profileJson(*engine.profile(), engine.model(), engine.stepsDone(), times.deriveMs))) {
+                                         profileJson(*engine.profile(), engine.model(), engine.ruleSources(), engine.stepsDone(), times.deriveMs))) {
       llvm::consumeError(std::move(e));
       fail(llvm::createStringError(options.profile + ": error: cannot write the profile"));
       return 1;

@@ -34,8 +34,8 @@ std::string originText(const runtime::Engine& e, size_t index) {
   runtime::Engine::Origin o = e.originOf(index);
   if (o.rule == runtime::Engine::Origin::kAxiom) return "the axiom";
   if (o.rule >= 0 && uint32_t(o.rule) < e.model().nRules) {
-    runtime::RuleSource r = runtime::ruleSources(e.model())[size_t(o.rule)];
-    return r.kind + " " + r.predecessor + " (" + ruleWhere(r) + ") in step " + std::to_string(o.step);
+    runtime::RuleSource r = e.ruleSources()[size_t(o.rule)];
+    return r.word + " " + r.predecessor + " (" + ruleWhere(r) + ") in step " + std::to_string(o.step);
   }
   return e.provenance() ? "not known (a change outside the derivation, or a Gillespie step)"
                         : "not tracked in this run (origins are kept from the run after they are asked for)";

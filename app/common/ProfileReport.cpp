@@ -26,8 +26,7 @@ std::string where(const runtime::RuleSource& s) { return profileWhere(s.file, s.
 
 }  // namespace
 
-std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_Model& model) {
-  std::vector<runtime::RuleSource> src = runtime::ruleSources(model);
+std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const std::vector<runtime::RuleSource>& src) {
   std::map<uint32_t, runtime::RuleCounts> last;
   if (!profile.steps().empty())
     for (const auto& [i, c] : profile.steps().back().rules) last[i] = c;
@@ -36,7 +35,7 @@ std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_
     if (i >= src.size()) continue;
     const runtime::RuleCounts& c = profile.total()[i];
     ProfileRow r;
-    r.kind = src[i].kind;
+    r.kind = src[i].word;
     r.rule = src[i].predecessor;
     r.where = where(src[i]);
     r.applied = c.produced;
@@ -51,8 +50,8 @@ std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_
   return rows;
 }
 
-std::string profileJson(const runtime::Profile& profile, const __lc_Model& model, int stepsDone, double deriveMs) {
-  std::vector<runtime::RuleSource> src = runtime::ruleSources(model);
+std::string profileJson(const runtime::Profile& profile, const __lc_Model& model, const std::vector<runtime::RuleSource>& src,
+                        int stepsDone, double deriveMs) {
   std::vector<size_t> hot = runtime::hottestRules(profile.total());
   std::map<size_t, size_t> position;  // rule index → place in "rules"
   nlohmann::ordered_json rules = nlohmann::ordered_json::array();

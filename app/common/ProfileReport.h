@@ -11,7 +11,7 @@
 namespace lcjit::app {
 
 struct ProfileRow {
-  std::string kind, rule, where;  // "production", "A(n) < B", "m.l:12"
+  std::string kind, rule, where;  // "production" (XL's "rule"), "A(n) < B", "m.l:12"
   uint64_t applied = 0, ran = 0;  // in total
   double ms = 0;
   uint64_t appliedLastStep = 0;   // in the last step counted
@@ -25,11 +25,12 @@ std::string profileWhere(const std::string& file, int line);
 double profileMs(uint64_t ns);
 
 // Hottest first; rules that never ran are left out. The *LastStep columns: the last step counted.
-std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const __lc_Model& model);
+std::vector<ProfileRow> profileRows(const runtime::Profile& profile, const std::vector<runtime::RuleSource>& rules);
 
 // `--profile`: the model, the steps derived, every rule that ran (hottest first) and, per step,
 // what each rule did in it (rules by their index in "rules").
-std::string profileJson(const runtime::Profile& profile, const __lc_Model& model, int stepsDone, double deriveMs);
+std::string profileJson(const runtime::Profile& profile, const __lc_Model& model, const std::vector<runtime::RuleSource>& rules,
+                        int stepsDone, double deriveMs);
 
 // The rows as aligned text (the REPL's :profile, a design's --profile), at most `limit` rules.
 std::string profileTable(const std::vector<ProfileRow>& rows, size_t limit);

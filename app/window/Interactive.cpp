@@ -237,7 +237,7 @@ class SessionHost final : public ModelHost {
     shown_ = std::move(scene.main);
     shownPanes_ = std::move(scene.panes);
     runtime::Engine& e = session_.engine();
-    if (const runtime::Profile* p = e.profile()) profileRows_ = profileRows(*p, e.model());
+    if (const runtime::Profile* p = e.profile()) profileRows_ = profileRows(*p, e.ruleSources());
     const runtime::DrawingFiles& d = session_.drawing();
     const RenderLook& look = look_.of(d);
     RunEnd& r = news_.run.emplace();

@@ -60,7 +60,7 @@ viewer::Panel StringDebugger::panel(runtime::Engine& e, bool busy, const Request
   stopWhen.label = "stop when";
   stopWhen.options = {"(no production applies)"};
   std::vector<int> ruleOfOption = {-1};
-  std::vector<runtime::RuleSource> rules = runtime::ruleSources(e.model());
+  std::vector<runtime::RuleSource> rules = e.ruleSources();
   for (size_t i = 0; i < rules.size(); ++i) {
     if (rules[i].kind != "production") continue;
     stopWhen.options.push_back(rules[i].predecessor + " applies (" + ruleWhere(rules[i]) + ")");

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked seven ways:
+# XL models (GroIMP's .rgg, docs/xl.md) run by lcjit, checked eight ways:
 #   cross NAME STEPS  NAME.rgg after --steps STEPS draws what NAME.l, the same L-system written by
 #                     hand in L+C, draws: the same turtle commands (-dtf) and the same segments (OBJ)
 #   string NAME STEPS the string after STEPS steps is NAME.expected (derived by hand); NAME.l
 #                     when there is no NAME.rgg (--steps on an L+C model); what the model printed
 #                     is NAME.stdout, when there is one; NAME.options holds more options for lcjit;
 #                     NAME.DATASET.csv is the dataset DATASET's table it wrote (DATASET.csv)
+#   profile NAME STEPS --profile's table has each line of NAME.profile (the rules in XL's words and
+#                     names, as the user wrote their patterns) and no L+C production nor a name
+#                     of the translation's
 #   segments NAME [STEPS] the segments drawn after STEPS steps (0: the axiom) are NAME.segments
 #                     (derived by hand)
 #   colours NAME      the segments drawn from the axiom have the colours NAME.colours names
@@ -48,6 +51,14 @@ case $kind in
       diff -u "$want" "${want#"$name".}" || fail "${want#"$name".} differs from $want"
     done
     echo "ok: $name" ;;
+  profile)
+    "$lcjit" -b --steps "$steps" --profile - "$name.rgg" >profile.txt || fail "lcjit exited with $?"
+    cat profile.txt
+    while IFS= read -r want || [ -n "$want" ]; do
+      [ -z "$want" ] || grep -qF -- "$want" profile.txt || fail "the profile lacks: $want"
+    done <"$name.profile"
+    ! grep -q "production\|__" profile.txt || fail "the profile names L+C's productions or the translation's names"
+    echo "ok: $name's profile in XL's words" ;;
   segments)
     "$lcjit" -b --steps "$steps" -out out.obj "$name.rgg" || fail "lcjit exited with $?"
     python3 "$dir/segments.py" out.obj "$name.segments" ;;

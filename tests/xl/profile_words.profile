@@ -1,0 +1,2 @@
+rule Stem(a) 
+rule F(l,d) 
