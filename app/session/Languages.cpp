@@ -5,7 +5,7 @@
 #include "frontend/cfdg/ReadDesign.h"
 #include "frontend/lc/Rewriter.h"
 #include "frontend/xl/Translate.h"
-#include "runtime/Engine.h"
+#include "runtime/Profile.h"
 #include "runtime/files/Palette.h"
 
 #include <vector>
