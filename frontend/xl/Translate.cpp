@@ -135,21 +135,22 @@ std::string Translator::write() {
     if (init_) blocks(*init_);
     w_.add("}");
   }
-  if (grouped) {
-    bool any = false;
-    for (const Method& m : methods_) any = any || !m.blocks.empty();
-    if (any) {
-      w_.add("StartEach: { switch (lcjit_current_group()) {");
-      for (size_t k = 0; k < methods_.size(); ++k) {
-        if (methods_[k].blocks.empty()) continue;
-        w_.at(methods_[k].blocks.front().first, "case " + std::to_string(groupOf(k)) + ": {");
-        blocks(methods_[k]);
-        w_.add("} break;");
-      }
-      w_.add("} }");
-    }
-    bool noRule = false;
+  // Each method's blocks run in the steps that apply it: those of its group.
+  bool any = false;
+  for (const Method& m : methods_) any = any || !m.blocks.empty();
+  if (any) {
+    w_.add("StartEach: { switch (lcjit_current_group()) {");
     for (size_t k = 0; k < methods_.size(); ++k) {
+      if (methods_[k].blocks.empty()) continue;
+      w_.at(methods_[k].blocks.front().first, "case " + std::to_string(groupOf(k)) + ": {");
+      blocks(methods_[k]);
+      w_.add("} break;");
+    }
+    w_.add("} }");
+  }
+  bool noRule = false;
+  for (size_t k = 0; k < methods_.size(); ++k) {
+    if (grouped) {
       w_.at(methods_[k].name, "group " + std::to_string(groupOf(k)) + ":");
       // A method of blocks alone is a group too (UseGroup takes only groups with productions):
       // one production of a module no string holds.
@@ -158,24 +159,14 @@ std::string Translator::write() {
         if (!noRule) head.add("module XL_NoRule;");
         noRule = true;
       }
-      for (const Rule& r : methods_[k].rules) {
-        production(r);
-        for (const Module* m : subclassesMatched(r)) production(r, m);
-      }
     }
-    w_.add("endgroup");
-  } else if (step_) {
-    if (!step_->blocks.empty()) {
-      w_.at(step_->blocks.front().first, "StartEach: {");
-      blocks(*step_);
-      w_.add("}");
-    }
-    for (const Rule& r : step_->rules) {
+    for (const Rule& r : methods_[k].rules) {
       production(r);
       // Right after it, as XL tries its rules in order: the same rule for the subclasses.
       for (const Module* m : subclassesMatched(r)) production(r, m);
     }
   }
+  if (grouped) w_.add("endgroup");
   if (init_ && (hasControl(init_->rules.front().right) || hasBlock(init_->rules.front().right))) {
     const Rule& axiom = init_->rules.front();
     w_.add("decomposition:");
